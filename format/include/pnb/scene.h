@@ -1,0 +1,58 @@
+// pnb/scene.h — a whole container decoded into typed chunks, written back in streamable order,
+// and checked for cross-references (docs/FORMAT.md §4.1 and §4.3).
+//
+// Does NOT do: GPU upload (player), importing (converter). For progressive loading use
+// streamChunks() + decodeChunk() directly; this is the convenience layer for tools and tests.
+#pragma once
+
+#include <string_view>
+#include <vector>
+
+#include "pnb/chunks.h"
+#include "pnb/reader.h"
+
+namespace pnb {
+
+class Writer;
+
+// Every chunk of a container, decoded. Blobs and strings point into `payloads` (or, for a
+// Scene built by hand for writing, into the caller's memory).
+struct Scene {
+    StringTable strings;
+    SceneInfo info;
+    RenderSettings settings;
+    std::vector<ShaderSource> shaders;
+    std::vector<Program> programs;
+    std::vector<TextureDesc> textures;
+    std::vector<Material> materials;
+    std::vector<Mesh> meshes;
+    LightList lights;
+    CameraList cameras;
+    NodeGraph nodes;
+    std::vector<CameraPath> cameraPaths;
+    std::vector<TextureMip> textureMips;
+
+    std::vector<Payload> payloads; // storage of decoded chunks (owned or views of the mapping)
+    uint32_t unknownChunks = 0;    // chunks with tags this reader does not know (skipped)
+
+    // The string a StringRef names; "" for kNone. Precondition: validateScene passed.
+    std::string_view str(StringRef ref) const {
+        return ref == kNone ? std::string_view{} : strings.strings[ref];
+    }
+};
+
+// Decodes every chunk. Checks the chunk order of FORMAT.md §4.1 (which makes every reference
+// point backwards), that single-instance chunks appear at most once, then validateScene().
+// Unknown tags are skipped and counted.
+Result<Scene> readScene(const Container& container);
+
+// Checks every cross-reference of §4.3: string, shader, program, texture, material, mesh,
+// light, camera and parent indices; mip levels and sizes; stream sizes; index values.
+// `offset` in errors is 0 (the error names the chunk kind and index instead).
+Status validateScene(const Scene& scene);
+
+// Appends all chunks of `scene` to `writer` in the order of §4.1 (it does not commit).
+// Textures' mips are written smallest level first, so something can be shown early.
+Status writeScene(Writer& writer, const Scene& scene);
+
+} // namespace pnb

@@ -1,0 +1,60 @@
+// pnb/writer.h — writing a container: deterministic bytes, atomic replacement of the target.
+//
+// Does NOT do: typed payload encoding (chunks.h); ordering policy (the caller adds chunks in the
+// streamable order of FORMAT.md §4.1; verify.h checks it).
+//
+// Chunks are written as they are added, so memory stays bounded by one chunk. The file is built
+// under a temporary name in the target's directory, then fsync'ed and renamed over the target by
+// commit(): an interrupted save (crash, kill, full disk) leaves any previous file intact.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <memory>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "pnb/container.h"
+#include "pnb/error.h"
+
+namespace pnb {
+
+struct WriteOptions {
+    // Store an XXH3 checksum of every payload. Default: true. The TOC always has one.
+    bool checksums = true;
+    // zstd level for chunks added with Compression::Zstd. Default: 9 (ratio/speed balance).
+    int zstdLevel = 9;
+};
+
+class Writer {
+public:
+    // Starts a file that commit() will atomically place at `path`. The temporary is
+    // "<dir>/.<name>.tmp.<pid>.<n>"; it is removed if the Writer is destroyed uncommitted.
+    static Result<Writer> create(const std::string& path, const WriteOptions& options = {});
+    // Writes into `out` (cleared first) instead of a file; commit() only finalises. For tests.
+    static Writer toMemory(std::vector<std::byte>* out, const WriteOptions& options = {});
+
+    Writer(Writer&&) noexcept;
+    Writer& operator=(Writer&&) noexcept;
+    ~Writer();
+
+    // Appends a chunk. With Compression::Zstd the payload is compressed, but stored raw when
+    // compression would not make it smaller (the flag then says None). Deterministic: the same
+    // arguments always produce the same bytes. Errors: IoError (disk), after which only
+    // destruction is valid.
+    Status addChunk(Tag tag, uint16_t version, std::span<const std::byte> raw,
+                    Compression compression = Compression::None);
+    // Writes the TOC and footer, flushes, fsyncs and renames into place. Call once.
+    Status commit();
+
+    // Bytes written so far (next chunk's offset is alignUp of this).
+    uint64_t size() const;
+
+private:
+    struct Impl;
+    explicit Writer(std::unique_ptr<Impl> impl);
+    std::unique_ptr<Impl> mImpl;
+};
+
+} // namespace pnb

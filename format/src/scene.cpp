@@ -1,0 +1,267 @@
+// Whole-container decode, ordered write and cross-reference validation.
+
+#include "pnb/scene.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+
+#include "bytes.h"
+#include "pnb/writer.h"
+
+namespace pnb {
+
+namespace {
+
+// Rank of each known tag in the streamable order (FORMAT.md §4.1); equal ranks may repeat.
+int orderRank(Tag t) {
+    static constexpr Tag order[] = {tags::kStrings, tags::kSceneInfo, tags::kRenderSettings,
+                                    tags::kShader,  tags::kProgram,   tags::kTexture,
+                                    tags::kMaterial, tags::kMesh,     tags::kLights,
+                                    tags::kCameras, tags::kNodes,     tags::kCameraPath,
+                                    tags::kTextureMip};
+    for (int i = 0; i < int(std::size(order)); ++i)
+        if (order[i] == t) return i;
+    return -1;
+}
+
+bool isSingleton(Tag t) {
+    return t == tags::kStrings || t == tags::kSceneInfo || t == tags::kRenderSettings ||
+           t == tags::kLights || t == tags::kCameras || t == tags::kNodes;
+}
+
+template <class T> Status decodeInto(const Container& c, const ChunkInfo& info, Scene& s, T& out) {
+    auto payload = c.load(info);
+    if (!payload) return payload.error();
+    auto value = decodeChunk<T>(payload->bytes(), info.header.version, info.payloadOffset);
+    if (!value) return value.error();
+    out = std::move(*value);
+    s.payloads.push_back(std::move(*payload));
+    return {};
+}
+
+template <class T>
+Status decodeAppend(const Container& c, const ChunkInfo& info, Scene& s, std::vector<T>& out) {
+    out.emplace_back();
+    return decodeInto(c, info, s, out.back());
+}
+
+Error refError(const char* what, size_t index, const char* field, uint64_t value, size_t count) {
+    return makeError(FormatError::BadReference, 0, "%s %zu: %s = %llu, but there are %zu", what,
+                     index, field, (unsigned long long)value, count);
+}
+
+bool refOk(uint32_t ref, size_t count) { return ref == kNone || ref < count; }
+
+bool finite(const Vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
+
+} // namespace
+
+Result<Scene> readScene(const Container& container) {
+    Scene s;
+    int lastRank = -1;
+    bool seen[16] = {};
+    for (const ChunkInfo& info : container.chunks()) {
+        const Tag tag = info.header.tag;
+        int rank = orderRank(tag);
+        if (rank < 0) {
+            ++s.unknownChunks;
+            continue;
+        }
+        if (rank < lastRank)
+            return makeError(FormatError::BadReference, info.headerOffset,
+                             "chunk %u '%s' is out of order (FORMAT.md 4.1)", info.header.sequence,
+                             tag.str().c_str());
+        if (lastRank < 0 && !(tag == tags::kStrings))
+            return makeError(FormatError::Missing, info.headerOffset,
+                             "the first chunk must be the string table STRS");
+        if (isSingleton(tag) && seen[rank])
+            return makeError(FormatError::BadReference, info.headerOffset,
+                             "second '%s' chunk; only one is allowed", tag.str().c_str());
+        seen[rank] = true;
+        lastRank = rank;
+
+        Status st;
+        if (tag == tags::kStrings) st = decodeInto(container, info, s, s.strings);
+        else if (tag == tags::kSceneInfo) st = decodeInto(container, info, s, s.info);
+        else if (tag == tags::kRenderSettings) st = decodeInto(container, info, s, s.settings);
+        else if (tag == tags::kShader) st = decodeAppend(container, info, s, s.shaders);
+        else if (tag == tags::kProgram) st = decodeAppend(container, info, s, s.programs);
+        else if (tag == tags::kTexture) st = decodeAppend(container, info, s, s.textures);
+        else if (tag == tags::kMaterial) st = decodeAppend(container, info, s, s.materials);
+        else if (tag == tags::kMesh) st = decodeAppend(container, info, s, s.meshes);
+        else if (tag == tags::kLights) st = decodeInto(container, info, s, s.lights);
+        else if (tag == tags::kCameras) st = decodeInto(container, info, s, s.cameras);
+        else if (tag == tags::kNodes) st = decodeInto(container, info, s, s.nodes);
+        else if (tag == tags::kCameraPath) st = decodeAppend(container, info, s, s.cameraPaths);
+        else if (tag == tags::kTextureMip) st = decodeAppend(container, info, s, s.textureMips);
+        if (!isOk(st)) return st;
+    }
+    if (!seen[0])
+        return makeError(FormatError::Missing, 0, "no string table (STRS) chunk");
+    if (Status st = validateScene(s); !isOk(st)) return st;
+    return s;
+}
+
+Status validateScene(const Scene& s) {
+    const size_t nStr = s.strings.strings.size();
+    auto str = [&](const char* what, size_t i, const char* field, StringRef r) -> Status {
+        if (refOk(r, nStr)) return {};
+        return refError(what, i, field, r, nStr);
+    };
+#define PNB_CHECK(expr)                                                                            \
+    do {                                                                                           \
+        if (Status st_ = (expr); !isOk(st_)) return st_;                                           \
+    } while (0)
+
+    PNB_CHECK(str("scene info", 0, "name", s.info.name));
+    PNB_CHECK(str("scene info", 0, "generator", s.info.generator));
+    PNB_CHECK(str("scene info", 0, "source", s.info.source));
+    for (size_t i = 0; i < s.settings.entries.size(); ++i) {
+        PNB_CHECK(str("setting", i, "key", s.settings.entries[i].key));
+        PNB_CHECK(str("setting", i, "value", s.settings.entries[i].value));
+        if (s.settings.entries[i].key == kNone)
+            return makeError(FormatError::BadReference, 0, "setting %zu has no key", i);
+    }
+    for (size_t i = 0; i < s.shaders.size(); ++i) PNB_CHECK(str("shader", i, "name", s.shaders[i].name));
+    for (size_t i = 0; i < s.programs.size(); ++i) {
+        const Program& p = s.programs[i];
+        PNB_CHECK(str("program", i, "name", p.name));
+        if (p.shaders.empty())
+            return makeError(FormatError::BadReference, 0, "program %zu has no shader stages", i);
+        for (uint32_t sh : p.shaders)
+            if (sh >= s.shaders.size()) return refError("program", i, "shader", sh, s.shaders.size());
+        for (StringRef d : p.defines) PNB_CHECK(str("program", i, "define", d));
+    }
+    for (size_t i = 0; i < s.textures.size(); ++i) {
+        const TextureDesc& t = s.textures[i];
+        PNB_CHECK(str("texture", i, "name", t.name));
+        uint32_t maxMips = 1;
+        for (uint32_t d = std::max(t.width, t.height); d > 1; d >>= 1) ++maxMips;
+        bool cube = t.dimension == TextureDimension::Cube;
+        if (t.width == 0 || t.height == 0 || t.mipCount == 0 || t.mipCount > maxMips ||
+            t.layers != (cube ? 6u : 1u) || (cube && t.width != t.height))
+            return makeError(FormatError::BadReference, 0,
+                             "texture %zu: impossible shape %ux%u, %u layers, %u mips", i, t.width,
+                             t.height, t.layers, t.mipCount);
+    }
+    for (size_t i = 0; i < s.materials.size(); ++i) {
+        const Material& m = s.materials[i];
+        PNB_CHECK(str("material", i, "name", m.name));
+        if (!refOk(m.program, s.programs.size()))
+            return refError("material", i, "program", m.program, s.programs.size());
+        for (const TextureSlot& slot : m.textures)
+            if (!refOk(slot.texture, s.textures.size()))
+                return refError("material", i, "texture", slot.texture, s.textures.size());
+    }
+    for (size_t i = 0; i < s.meshes.size(); ++i) {
+        const Mesh& m = s.meshes[i];
+        PNB_CHECK(str("mesh", i, "name", m.name));
+        for (const VertexStream& vs : m.streams) {
+            uint64_t expect = uint64_t(m.vertexCount) * componentSizeBytes(vs.componentType) *
+                              vs.componentCount;
+            if (vs.componentCount < 1 || vs.componentCount > 4 || vs.data.size() != expect)
+                return makeError(FormatError::BadReference, 0,
+                                 "mesh %zu: stream %u holds %zu bytes, %u vertices of %u x %u "
+                                 "need %llu",
+                                 i, unsigned(vs.semantic), vs.data.size(), m.vertexCount,
+                                 vs.componentCount, componentSizeBytes(vs.componentType),
+                                 (unsigned long long)expect);
+        }
+        const size_t indexSize = m.indexType == IndexType::U16 ? 2 : 4;
+        if (m.indices.size() % indexSize != 0)
+            return makeError(FormatError::BadReference, 0,
+                             "mesh %zu: index data is not a whole number of indices", i);
+        const size_t indexCount = m.indices.size() / indexSize;
+        for (size_t k = 0; k < indexCount; ++k) {
+            uint32_t v = indexSize == 2 ? detail::loadLE<uint16_t>(&m.indices[k * 2])
+                                        : detail::loadLE<uint32_t>(&m.indices[k * 4]);
+            if (v >= m.vertexCount)
+                return makeError(FormatError::BadReference, 0,
+                                 "mesh %zu: index %zu = %u, but there are %u vertices", i, k, v,
+                                 m.vertexCount);
+        }
+        for (size_t k = 0; k < m.submeshes.size(); ++k) {
+            const Submesh& sm = m.submeshes[k];
+            if (!refOk(sm.material, s.materials.size()))
+                return refError("submesh", k, "material", sm.material, s.materials.size());
+            if (uint64_t(sm.firstIndex) + sm.indexCount > indexCount)
+                return makeError(FormatError::BadReference, 0,
+                                 "mesh %zu submesh %zu: indices %u..%u, the mesh has %zu", i, k,
+                                 sm.firstIndex, sm.firstIndex + sm.indexCount, indexCount);
+        }
+    }
+    for (size_t i = 0; i < s.lights.lights.size(); ++i)
+        PNB_CHECK(str("light", i, "name", s.lights.lights[i].name));
+    for (size_t i = 0; i < s.cameras.cameras.size(); ++i)
+        PNB_CHECK(str("camera", i, "name", s.cameras.cameras[i].name));
+    for (size_t i = 0; i < s.nodes.nodes.size(); ++i) {
+        const Node& n = s.nodes.nodes[i];
+        PNB_CHECK(str("node", i, "name", n.name));
+        if (n.parent != kNone && n.parent >= i)
+            return makeError(FormatError::BadReference, 0,
+                             "node %zu: parent %u does not come before it", i, n.parent);
+        if (!refOk(n.mesh, s.meshes.size())) return refError("node", i, "mesh", n.mesh, s.meshes.size());
+        if (!refOk(n.light, s.lights.lights.size()))
+            return refError("node", i, "light", n.light, s.lights.lights.size());
+        if (!refOk(n.camera, s.cameras.cameras.size()))
+            return refError("node", i, "camera", n.camera, s.cameras.cameras.size());
+        if (!finite(n.translation) || !finite(n.scale))
+            return makeError(FormatError::BadReference, 0, "node %zu: non-finite transform", i);
+    }
+    for (size_t i = 0; i < s.cameraPaths.size(); ++i) {
+        const CameraPath& p = s.cameraPaths[i];
+        PNB_CHECK(str("camera path", i, "name", p.name));
+        for (size_t k = 1; k < p.keys.size(); ++k)
+            if (!(p.keys[k].timeSeconds > p.keys[k - 1].timeSeconds))
+                return makeError(FormatError::BadReference, 0,
+                                 "camera path %zu: key %zu time does not increase", i, k);
+    }
+    for (size_t i = 0; i < s.textureMips.size(); ++i) {
+        const TextureMip& mip = s.textureMips[i];
+        if (mip.texture >= s.textures.size())
+            return refError("texture mip", i, "texture", mip.texture, s.textures.size());
+        const TextureDesc& t = s.textures[mip.texture];
+        uint32_t w = std::max(1u, t.width >> std::min(mip.level, 31u));
+        uint32_t h = std::max(1u, t.height >> std::min(mip.level, 31u));
+        if (mip.level >= t.mipCount || mip.width != w || mip.height != h ||
+            mip.data.size() != textureLevelSizeBytes(t.format, w, h, t.layers))
+            return makeError(FormatError::BadReference, 0,
+                             "texture mip %zu: level %u of texture %u (%ux%u, %zu bytes) does "
+                             "not fit its descriptor",
+                             i, mip.level, mip.texture, mip.width, mip.height, mip.data.size());
+    }
+#undef PNB_CHECK
+    return {};
+}
+
+Status writeScene(Writer& w, const Scene& s) {
+    Status st = writeChunk(w, s.strings);
+    auto all = [&](const auto& list) {
+        for (const auto& item : list)
+            if (isOk(st)) st = writeChunk(w, item);
+    };
+    if (isOk(st)) st = writeChunk(w, s.info);
+    if (isOk(st)) st = writeChunk(w, s.settings);
+    all(s.shaders);
+    all(s.programs);
+    all(s.textures);
+    all(s.materials);
+    all(s.meshes);
+    if (isOk(st)) st = writeChunk(w, s.lights);
+    if (isOk(st)) st = writeChunk(w, s.cameras);
+    if (isOk(st)) st = writeChunk(w, s.nodes);
+    all(s.cameraPaths);
+    // Smallest level first across all textures: a streaming reader can show every texture
+    // coarsely before any full-resolution level arrives. Stable for determinism.
+    std::vector<const TextureMip*> mips;
+    for (const TextureMip& m : s.textureMips) mips.push_back(&m);
+    std::stable_sort(mips.begin(), mips.end(), [](const TextureMip* a, const TextureMip* b) {
+        return a->level > b->level;
+    });
+    for (const TextureMip* m : mips)
+        if (isOk(st)) st = writeChunk(w, *m);
+    return st;
+}
+
+} // namespace pnb

@@ -1,0 +1,188 @@
+// Container writer: deterministic layout, streaming output, atomic replacement of the target.
+
+#include "pnb/writer.h"
+
+#include <atomic>
+#include <cerrno>
+#include <cstring>
+#include <fcntl.h>
+#include <unistd.h>
+
+#include <zstd.h>
+
+namespace pnb {
+
+struct Writer::Impl {
+    WriteOptions options;
+    std::vector<std::byte>* memory = nullptr; // memory sink, or
+    int fd = -1;                              // file sink
+    std::string path, tempPath;
+    uint64_t size = 0;
+    std::vector<TocEntry> toc;
+    std::vector<std::byte> scratch;
+    bool committed = false;
+    bool failed = false;
+
+    ~Impl() {
+        if (fd >= 0) ::close(fd);
+        if (!committed && !tempPath.empty()) ::unlink(tempPath.c_str());
+    }
+
+    Status write(std::span<const std::byte> bytes) {
+        if (memory) {
+            memory->insert(memory->end(), bytes.begin(), bytes.end());
+        } else {
+            const std::byte* p = bytes.data();
+            size_t left = bytes.size();
+            while (left > 0) {
+                ssize_t n = ::write(fd, p, left);
+                if (n < 0 && errno == EINTR) continue;
+                if (n <= 0) {
+                    failed = true;
+                    return makeError(FormatError::IoError, size, "cannot write '%s': %s",
+                                     tempPath.c_str(), std::strerror(errno));
+                }
+                p += n;
+                left -= size_t(n);
+            }
+        }
+        size += bytes.size();
+        return {};
+    }
+
+    Status pad() {
+        static constexpr std::byte zeros[kAlignment] = {};
+        return write({zeros, size_t(alignUp(size) - size)});
+    }
+};
+
+namespace {
+
+std::string directoryOf(const std::string& path) {
+    size_t slash = path.find_last_of('/');
+    if (slash == std::string::npos) return ".";
+    return slash == 0 ? "/" : path.substr(0, slash);
+}
+
+std::string baseNameOf(const std::string& path) {
+    size_t slash = path.find_last_of('/');
+    return slash == std::string::npos ? path : path.substr(slash + 1);
+}
+
+} // namespace
+
+Writer::Writer(std::unique_ptr<Impl> impl) : mImpl(std::move(impl)) {}
+Writer::Writer(Writer&&) noexcept = default;
+Writer& Writer::operator=(Writer&&) noexcept = default;
+Writer::~Writer() = default;
+
+Result<Writer> Writer::create(const std::string& path, const WriteOptions& options) {
+    static std::atomic<unsigned> counter{0};
+    auto impl = std::make_unique<Impl>();
+    impl->options = options;
+    impl->path = path;
+    // Same directory as the target, so rename() is atomic (same file system).
+    impl->tempPath = directoryOf(path) + "/." + baseNameOf(path) + ".tmp." +
+                     std::to_string(::getpid()) + "." + std::to_string(counter++);
+    impl->fd = ::open(impl->tempPath.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0644);
+    if (impl->fd < 0) {
+        int e = errno;
+        impl->tempPath.clear(); // nothing to remove
+        return makeError(FormatError::IoError, 0, "cannot create a temporary file next to '%s': %s",
+                         path.c_str(), std::strerror(e));
+    }
+    auto header = encodeFileHeader(FileHeader{});
+    if (Status s = impl->write(header); !isOk(s)) return s;
+    return Writer(std::move(impl));
+}
+
+Writer Writer::toMemory(std::vector<std::byte>* out, const WriteOptions& options) {
+    auto impl = std::make_unique<Impl>();
+    impl->options = options;
+    impl->memory = out;
+    out->clear();
+    auto header = encodeFileHeader(FileHeader{});
+    (void)impl->write(header);
+    return Writer(std::move(impl));
+}
+
+uint64_t Writer::size() const { return mImpl->size; }
+
+Status Writer::addChunk(Tag tag, uint16_t version, std::span<const std::byte> raw,
+                        Compression compression) {
+    Impl& w = *mImpl;
+    if (w.failed || w.committed)
+        return makeError(FormatError::IoError, w.size, "writer is closed after an earlier error");
+    std::span<const std::byte> stored = raw;
+    Compression used = Compression::None;
+    if (compression == Compression::Zstd && !raw.empty()) {
+        w.scratch.resize(ZSTD_compressBound(raw.size()));
+        size_t n = ZSTD_compress(w.scratch.data(), w.scratch.size(), raw.data(), raw.size(),
+                                 w.options.zstdLevel);
+        if (!ZSTD_isError(n) && n < raw.size()) {
+            stored = {w.scratch.data(), n};
+            used = Compression::Zstd;
+        }
+    }
+    ChunkHeader h;
+    h.tag = tag;
+    h.version = version;
+    h.flags = uint16_t(used) | (w.options.checksums ? kChunkHasChecksum : 0);
+    h.storedSize = stored.size();
+    h.rawSize = raw.size();
+    h.payloadChecksum = w.options.checksums ? checksum(stored) : 0;
+    h.sequence = uint32_t(w.toc.size());
+    uint64_t offset = w.size;
+    if (Status s = w.write(encodeChunkHeader(h)); !isOk(s)) return s;
+    if (Status s = w.write(stored); !isOk(s)) return s;
+    if (Status s = w.pad(); !isOk(s)) return s;
+    w.toc.push_back(TocEntry{h.tag, h.version, h.flags, offset, h.storedSize, h.rawSize,
+                             h.payloadChecksum});
+    return {};
+}
+
+Status Writer::commit() {
+    Impl& w = *mImpl;
+    if (w.failed || w.committed)
+        return makeError(FormatError::IoError, w.size, "writer is closed after an earlier error");
+    std::vector<std::byte> toc = encodeToc(w.toc);
+    ChunkHeader h;
+    h.tag = tags::kToc;
+    h.version = 1;
+    h.flags = kChunkHasChecksum;
+    h.storedSize = h.rawSize = toc.size();
+    h.payloadChecksum = checksum(toc);
+    h.sequence = uint32_t(w.toc.size());
+    uint64_t tocOffset = w.size;
+    if (Status s = w.write(encodeChunkHeader(h)); !isOk(s)) return s;
+    if (Status s = w.write(toc); !isOk(s)) return s;
+    if (Status s = w.write(encodeFooter(Footer{tocOffset, w.size + kFooterSize})); !isOk(s))
+        return s;
+    if (w.memory) {
+        w.committed = true;
+        return {};
+    }
+    // Data must be durable before the rename makes it visible, and the rename itself must be
+    // durable (directory fsync), or a power cut could leave an empty or missing file.
+    if (::fsync(w.fd) != 0 || ::close(w.fd) != 0) {
+        w.fd = -1;
+        w.failed = true;
+        return makeError(FormatError::IoError, w.size, "cannot flush '%s': %s",
+                         w.tempPath.c_str(), std::strerror(errno));
+    }
+    w.fd = -1;
+    if (::rename(w.tempPath.c_str(), w.path.c_str()) != 0) {
+        w.failed = true;
+        return makeError(FormatError::IoError, 0, "cannot rename '%s' to '%s': %s",
+                         w.tempPath.c_str(), w.path.c_str(), std::strerror(errno));
+    }
+    w.committed = true;
+    int dir = ::open(directoryOf(w.path).c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+    if (dir >= 0) {
+        ::fsync(dir);
+        ::close(dir);
+    }
+    return {};
+}
+
+} // namespace pnb
