@@ -6,6 +6,8 @@
 #include <cmath>
 #include <string>
 
+#include "sample_shaders.h" // generated from shaders/sample/ at build time
+
 namespace pnb::assets {
 
 namespace {
@@ -110,35 +112,6 @@ Mesh finishMesh(SceneBuilder& sb, const char* name, MeshData& m) {
     return mesh;
 }
 
-const char* kVertexShader = R"(#version 450 core
-layout(location = 0) in vec3 inPosition;
-layout(location = 1) in vec3 inNormal;
-layout(location = 2) in vec2 inTexCoord0;
-layout(location = 0) uniform mat4 uModelViewProjection;
-layout(location = 0) out vec3 vNormal;
-layout(location = 1) out vec2 vTexCoord0;
-void main() {
-    vNormal = inNormal;
-    vTexCoord0 = inTexCoord0;
-    gl_Position = uModelViewProjection * vec4(inPosition, 1.0);
-}
-)";
-
-const char* kFragmentShader = R"(#version 450 core
-layout(location = 0) in vec3 vNormal;
-layout(location = 1) in vec2 vTexCoord0;
-layout(binding = 0) uniform sampler2D uBaseColor;
-layout(location = 1) uniform vec4 uBaseColorFactor;
-layout(location = 0) out vec4 outColor;
-void main() {
-    vec4 base = uBaseColorFactor;
-#ifdef HAS_BASE_COLOR_TEXTURE
-    base *= texture(uBaseColor, vTexCoord0);
-#endif
-    float ndotl = max(dot(normalize(vNormal), normalize(vec3(0.3, 0.8, 0.5))), 0.0);
-    outColor = vec4(base.rgb * (0.2 + 0.8 * ndotl), base.a);
-}
-)";
 
 // A two-tone checker with a box-filtered mip chain (RGBA8, sRGB).
 void addCheckerTexture(SceneBuilder& sb, uint32_t size) {

@@ -1,0 +1,46 @@
+// pnb_editor/material_fields.h — every editable material field, described once (STYLE.md §17).
+//
+// The table drives the editor's command-line `--set MATERIAL.FIELD=VALUE` and `--list`, and
+// (issue 6) the ImGui widgets; serialisation is the format library's. Field names are stable
+// snake_case: they are part of the command-line interface.
+#pragma once
+
+#include <span>
+#include <string>
+#include <string_view>
+
+#include "pnb/chunks.h"
+#include "pnb/error.h"
+
+namespace pnb::editor {
+
+enum class FieldType : uint8_t {
+    Float,      // one number in [min, max]
+    Color3,     // "r,g,b", each in [min, max]
+    Color4,     // "r,g,b,a", each in [min, max]
+    Bool,       // true|false
+    Choice,     // one of `choices`
+    Integer,    // whole number in [min, max]
+    TextureRef, // TEXR index or "none"
+};
+
+struct MaterialField {
+    const char* name;
+    FieldType type;
+    float min, max;
+    const char* choices; // Choice only: "|"-separated, in enum order
+    const char* help;
+};
+
+// All fields, in display order.
+std::span<const MaterialField> materialFields();
+
+// Sets `field` from text. Errors (BadReference, with a message that lists what is valid): an
+// unknown field name, or a value that does not parse or is out of range. `material` is left
+// unchanged on error.
+Status setMaterialField(Material& material, std::string_view field, std::string_view value);
+
+// The field's value as text, in the form setMaterialField accepts. Precondition: a valid name.
+std::string getMaterialField(const Material& material, std::string_view field);
+
+} // namespace pnb::editor

@@ -1,0 +1,192 @@
+#include "pnb_editor/material_fields.h"
+
+#include <charconv>
+#include <cmath>
+#include <cstdio>
+#include <vector>
+
+namespace pnb::editor {
+
+namespace {
+
+constexpr MaterialField kFields[] = {
+    {"base_color", FieldType::Color4, 0, 1, nullptr, "linear RGBA multiplier of the base colour"},
+    {"emissive", FieldType::Color3, 0, 1, nullptr, "linear RGB emitted colour"},
+    {"emissive_strength", FieldType::Float, 0, 10000, nullptr, "scale of the emissive colour"},
+    {"metallic", FieldType::Float, 0, 1, nullptr, "0 = dielectric, 1 = metal"},
+    {"roughness", FieldType::Float, 0, 1, nullptr, "perceptual roughness"},
+    {"normal_scale", FieldType::Float, 0, 10, nullptr, "strength of the normal map"},
+    {"occlusion_strength", FieldType::Float, 0, 1, nullptr, "strength of the occlusion map"},
+    {"alpha_mode", FieldType::Choice, 0, 0, "opaque|mask|blend", "how alpha is used"},
+    {"alpha_cutoff", FieldType::Float, 0, 1, nullptr, "mask threshold (alpha_mode = mask)"},
+    {"shading_path", FieldType::Choice, 0, 0, "deferred|forward", "pipeline placement"},
+    {"layer_priority", FieldType::Integer, 0, 65535, nullptr, "deferred layer order, ascending"},
+    {"double_sided", FieldType::Bool, 0, 0, nullptr, "render back faces"},
+    {"casts_shadows", FieldType::Bool, 0, 0, nullptr, "drawn into shadow maps"},
+    {"receives_shadows", FieldType::Bool, 0, 0, nullptr, "shadowed when lit"},
+    {"base_color_texture", FieldType::TextureRef, 0, 0, nullptr, "texture index or none"},
+    {"metallic_roughness_texture", FieldType::TextureRef, 0, 0, nullptr, "texture index or none"},
+    {"normal_texture", FieldType::TextureRef, 0, 0, nullptr, "texture index or none"},
+    {"occlusion_texture", FieldType::TextureRef, 0, 0, nullptr, "texture index or none"},
+    {"emissive_texture", FieldType::TextureRef, 0, 0, nullptr, "texture index or none"},
+};
+
+// Storage of each field inside Material, in kFields order.
+struct Slot {
+    float* floats = nullptr; // Float, Color3, Color4: first component
+    bool* flag = nullptr;
+    uint8_t* choice = nullptr;
+    uint16_t* integer = nullptr;
+    uint32_t* texture = nullptr;
+};
+
+Slot slotOf(Material& m, size_t index) {
+    auto tex = [&](TextureSlotKind k) { return Slot{.texture = &m.textures[size_t(k)].texture}; };
+    switch (index) {
+    case 0: return {.floats = &m.baseColorFactor.x};
+    case 1: return {.floats = &m.emissiveFactor.x};
+    case 2: return {.floats = &m.emissiveStrength};
+    case 3: return {.floats = &m.metallicFactor};
+    case 4: return {.floats = &m.roughnessFactor};
+    case 5: return {.floats = &m.normalScale};
+    case 6: return {.floats = &m.occlusionStrength};
+    case 7: return {.choice = reinterpret_cast<uint8_t*>(&m.alphaMode)};
+    case 8: return {.floats = &m.alphaCutoff};
+    case 9: return {.choice = reinterpret_cast<uint8_t*>(&m.shadingPath)};
+    case 10: return {.integer = &m.layerPriority};
+    case 11: return {.flag = &m.doubleSided};
+    case 12: return {.flag = &m.castsShadows};
+    case 13: return {.flag = &m.receivesShadows};
+    case 14: return tex(TextureSlotKind::BaseColor);
+    case 15: return tex(TextureSlotKind::MetallicRoughness);
+    case 16: return tex(TextureSlotKind::Normal);
+    case 17: return tex(TextureSlotKind::Occlusion);
+    case 18: return tex(TextureSlotKind::Emissive);
+    }
+    return {};
+}
+
+std::vector<std::string_view> split(std::string_view s, char sep) {
+    std::vector<std::string_view> parts;
+    size_t start = 0;
+    while (true) {
+        size_t at = s.find(sep, start);
+        parts.push_back(s.substr(start, at == std::string_view::npos ? at : at - start));
+        if (at == std::string_view::npos) return parts;
+        start = at + 1;
+    }
+}
+
+bool parseFloat(std::string_view s, float& out) {
+    auto r = std::from_chars(s.data(), s.data() + s.size(), out);
+    return r.ec == std::errc() && r.ptr == s.data() + s.size() && std::isfinite(out);
+}
+
+Error invalid(const MaterialField& f, std::string_view value, const std::string& expected) {
+    return makeError(FormatError::BadReference, 0, "%s = '%.*s' is invalid: expected %s",
+                     f.name, int(value.size()), value.data(), expected.c_str());
+}
+
+std::string rangeText(const MaterialField& f, const char* what) {
+    char buf[96];
+    std::snprintf(buf, sizeof(buf), "%s in [%g, %g]", what, f.min, f.max);
+    return buf;
+}
+
+} // namespace
+
+std::span<const MaterialField> materialFields() { return kFields; }
+
+Status setMaterialField(Material& material, std::string_view field, std::string_view value) {
+    size_t index = 0;
+    while (index < std::size(kFields) && field != kFields[index].name) ++index;
+    if (index == std::size(kFields)) {
+        std::string names;
+        for (const MaterialField& f : kFields) names += std::string(names.empty() ? "" : ", ") + f.name;
+        return makeError(FormatError::BadReference, 0, "unknown material field '%.*s'; fields: %s",
+                         int(field.size()), field.data(), names.c_str());
+    }
+    const MaterialField& f = kFields[index];
+    Material edited = material;
+    Slot slot = slotOf(edited, index);
+    switch (f.type) {
+    case FieldType::Float:
+    case FieldType::Color3:
+    case FieldType::Color4: {
+        size_t n = f.type == FieldType::Float ? 1 : f.type == FieldType::Color3 ? 3 : 4;
+        auto parts = split(value, ',');
+        if (parts.size() != n)
+            return invalid(f, value, rangeText(f, n == 1 ? "a number" : n == 3 ? "r,g,b" : "r,g,b,a"));
+        for (size_t i = 0; i < n; ++i) {
+            float v = 0;
+            if (!parseFloat(parts[i], v) || v < f.min || v > f.max)
+                return invalid(f, value, rangeText(f, n == 1 ? "a number" : "components"));
+            slot.floats[i] = v; // Vec3/Vec4 components are consecutive floats
+        }
+        break;
+    }
+    case FieldType::Bool:
+        if (value == "true") *slot.flag = true;
+        else if (value == "false") *slot.flag = false;
+        else return invalid(f, value, "true or false");
+        break;
+    case FieldType::Choice: {
+        auto choices = split(f.choices, '|');
+        size_t c = 0;
+        while (c < choices.size() && choices[c] != value) ++c;
+        if (c == choices.size()) return invalid(f, value, std::string("one of ") + f.choices);
+        *slot.choice = uint8_t(c);
+        break;
+    }
+    case FieldType::Integer: {
+        unsigned v = 0;
+        auto r = std::from_chars(value.data(), value.data() + value.size(), v);
+        if (r.ec != std::errc() || r.ptr != value.data() + value.size() || v < f.min || v > f.max)
+            return invalid(f, value, rangeText(f, "a whole number"));
+        *slot.integer = uint16_t(v);
+        break;
+    }
+    case FieldType::TextureRef: {
+        if (value == "none") {
+            *slot.texture = kNone;
+            break;
+        }
+        unsigned v = 0;
+        auto r = std::from_chars(value.data(), value.data() + value.size(), v);
+        if (r.ec != std::errc() || r.ptr != value.data() + value.size() || v == kNone)
+            return invalid(f, value, "a texture index or none");
+        *slot.texture = v;
+        break;
+    }
+    }
+    material = edited;
+    return {};
+}
+
+std::string getMaterialField(const Material& material, std::string_view field) {
+    size_t index = 0;
+    while (index < std::size(kFields) && field != kFields[index].name) ++index;
+    if (index == std::size(kFields)) return {};
+    const MaterialField& f = kFields[index];
+    Slot slot = slotOf(const_cast<Material&>(material), index);
+    char buf[128];
+    switch (f.type) {
+    case FieldType::Float: std::snprintf(buf, sizeof(buf), "%.9g", slot.floats[0]); return buf;
+    case FieldType::Color3:
+        std::snprintf(buf, sizeof(buf), "%.9g,%.9g,%.9g", slot.floats[0], slot.floats[1],
+                      slot.floats[2]);
+        return buf;
+    case FieldType::Color4:
+        std::snprintf(buf, sizeof(buf), "%.9g,%.9g,%.9g,%.9g", slot.floats[0], slot.floats[1],
+                      slot.floats[2], slot.floats[3]);
+        return buf;
+    case FieldType::Bool: return *slot.flag ? "true" : "false";
+    case FieldType::Choice: return std::string(split(f.choices, '|')[*slot.choice]);
+    case FieldType::Integer: return std::to_string(*slot.integer);
+    case FieldType::TextureRef:
+        return *slot.texture == kNone ? "none" : std::to_string(*slot.texture);
+    }
+    return {};
+}
+
+} // namespace pnb::editor

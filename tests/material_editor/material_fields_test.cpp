@@ -1,0 +1,72 @@
+#include <gtest/gtest.h>
+
+#include <string>
+
+#include "pnb_editor/material_fields.h"
+
+namespace {
+
+using namespace pnb;
+using namespace pnb::editor;
+
+// A valid value for each field that differs from the default Material's.
+std::string changedValue(const MaterialField& f) {
+    switch (f.type) {
+    case FieldType::Float: return "0.25";
+    case FieldType::Color3: return "0.5,0.25,0.125";
+    case FieldType::Color4: return "0.5,0.25,0.125,0.75";
+    case FieldType::Bool: return "false"; // defaults: double_sided false, others true
+    case FieldType::Choice: return "forward";
+    case FieldType::Integer: return "7";
+    case FieldType::TextureRef: return "3";
+    }
+    return {};
+}
+
+TEST(MaterialFields, EveryFieldRoundTripsAndChangesTheEncodedMaterial) {
+    for (const MaterialField& f : materialFields()) {
+        Material m;
+        std::string value = changedValue(f);
+        if (f.type == FieldType::Choice && std::string(f.name) == "alpha_mode") value = "blend";
+        if (std::string(f.name) == "double_sided") value = "true";
+        ASSERT_TRUE(isOk(setMaterialField(m, f.name, value))) << f.name;
+        EXPECT_EQ(getMaterialField(m, f.name), value) << f.name;
+        // The edit must reach the serialised material, i.e. the table points at a real field.
+        EXPECT_NE(encodeChunk(m), encodeChunk(Material{})) << f.name;
+    }
+}
+
+TEST(MaterialFields, FieldsWriteDistinctStorage) {
+    // Setting field A must not disturb field B: catches two table rows aliasing one member.
+    for (const MaterialField& a : materialFields()) {
+        Material m;
+        std::string value = changedValue(a);
+        if (std::string(a.name) == "alpha_mode") value = "blend";
+        if (std::string(a.name) == "double_sided") value = "true";
+        ASSERT_TRUE(isOk(setMaterialField(m, a.name, value)));
+        for (const MaterialField& b : materialFields()) {
+            if (&a == &b) continue;
+            EXPECT_EQ(getMaterialField(m, b.name), getMaterialField(Material{}, b.name))
+                << a.name << " disturbed " << b.name;
+        }
+    }
+}
+
+TEST(MaterialFields, InvalidInputIsRejectedWithTheValidChoicesAndNoChange) {
+    Material m;
+    Status s = setMaterialField(m, "rougness", "0.5");
+    EXPECT_EQ(s.code, FormatError::BadReference);
+    EXPECT_NE(s.message.find("roughness"), std::string::npos) << "lists valid names";
+    s = setMaterialField(m, "shading_path", "sideways");
+    EXPECT_NE(s.message.find("deferred|forward"), std::string::npos);
+    for (const char* bad : {"1.5", "-0.1", "nan", "inf", "", "0.5x"})
+        EXPECT_FALSE(isOk(setMaterialField(m, "metallic", bad))) << bad;
+    EXPECT_FALSE(isOk(setMaterialField(m, "base_color", "1,1,1")));
+    EXPECT_FALSE(isOk(setMaterialField(m, "base_color", "1,1,1,0.5,1")));
+    EXPECT_FALSE(isOk(setMaterialField(m, "layer_priority", "70000")));
+    EXPECT_FALSE(isOk(setMaterialField(m, "double_sided", "yes")));
+    EXPECT_FALSE(isOk(setMaterialField(m, "normal_texture", "4294967295")));
+    EXPECT_EQ(encodeChunk(m), encodeChunk(Material{})) << "failed edits change nothing";
+}
+
+} // namespace
