@@ -49,11 +49,12 @@ struct Error {
     std::string describe() const;
 };
 
-// Either a value or an Error. A minimal std::expected stand-in (C++20 has none).
-template <class T> class [[nodiscard]] Result {
+// Either a value or an error (pnb::Error unless stated). A minimal std::expected stand-in
+// (C++20 has none). Other modules reuse it with their own error type.
+template <class T, class E = Error> class [[nodiscard]] Result {
 public:
     Result(T value) : mValue(std::move(value)) {}
-    Result(Error error) : mValue(std::move(error)) {}
+    Result(E error) : mValue(std::move(error)) {}
 
     bool ok() const { return mValue.index() == 0; }
     explicit operator bool() const { return ok(); }
@@ -68,10 +69,10 @@ public:
     const T& operator*() const& { return value(); }
 
     // Precondition: !ok().
-    const Error& error() const { return std::get<1>(mValue); }
+    const E& error() const { return std::get<1>(mValue); }
 
 private:
-    std::variant<T, Error> mValue;
+    std::variant<T, E> mValue;
 };
 
 // Result of an operation with no value: Error with code None means success.

@@ -1,0 +1,33 @@
+// pnb_converter/importers.h — source files into the IR (scene_ir.h).
+//
+// Does NOT do: processing of any kind (see mesh_processing.h, texture_processing.h); image
+// decoding (images stay paths or encoded bytes until the texture stage).
+//
+// Both importers: never crash on malformed input (every error names the file and the item at
+// fault); turn every primitive mode into triangle lists; drop what they cannot use with a warning
+// naming it; order nodes parents first; convert to +Y-up right-handed metres.
+#pragma once
+
+#include <string>
+
+#include "pnb/error.h"
+#include "pnb_converter/scene_ir.h"
+
+namespace pnb::converter {
+
+// glTF 2.0 (.gltf with external or data-URI buffers, .glb) through tinygltf, with
+// KHR_draco_mesh_compression (Draco), KHR_texture_transform, KHR_materials_emissive_strength,
+// KHR_lights_punctual, KHR_mesh_quantization, sparse accessors, normalized integer attributes,
+// cameras, node TRS or matrices. Unsupported extensions: a warning naming each; an
+// Unsupported error if one is in extensionsRequired.
+Result<IrScene, ConvertError> importGltf(const std::string& path);
+
+// OBJ/MTL (and the other formats assimp reads) through assimp. MTL parameters map onto PBR as
+// mtl_to_pbr.h documents; map_Kd → base colour, map_d → alpha (a warning if it is not the base
+// colour's alpha), map_bump/norm → normal map, map_Ke → emissive.
+Result<IrScene, ConvertError> importWithAssimp(const std::string& path);
+
+// Picks the importer by extension (.gltf/.glb → glTF, anything else → assimp).
+Result<IrScene, ConvertError> importScene(const std::string& path);
+
+} // namespace pnb::converter

@@ -1,0 +1,121 @@
+// pnb_converter/scene_ir.h — the format-neutral scene the importers produce and the processing
+// stages consume (importer → IR → processing → container writer).
+//
+// Does NOT do: any processing (welding, mips, ...): the IR holds what the source said, in plain
+// float arrays and decoded-or-not images, so every importer stays a translation and every
+// processing step is written once.
+//
+// Conventions: right-handed, +Y up, metres, glTF's (the assimp importer converts). Triangles
+// only: importers turn strips, fans and quads into triangle lists; lines and points are dropped
+// with a warning. Indices are 32-bit and refer to the primitive's own vertex arrays.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "pnb/chunks.h"
+
+namespace pnb::converter {
+
+// What went wrong, and the exit code it maps to (STYLE.md §16).
+enum class ConvertErrorKind : uint8_t {
+    Input = 2,       // the source is malformed, missing, or inconsistent
+    Unsupported = 3, // the source is valid but needs something we do not do (required extension)
+    Output = 4,      // the container could not be written
+};
+
+// An error that stops the conversion. `message` names the file and the item at fault
+// ("scene.gltf: accessor 7 (mesh 'Wheel' primitive 0 POSITION): index 812 out of range 0..799").
+struct ConvertError {
+    ConvertErrorKind kind = ConvertErrorKind::Input;
+    std::string message;
+};
+
+// An image as the source refers to it. Exactly one of `path` and `encoded` is set: a file on disk
+// (already resolved relative to the source file), or bytes embedded in the source (a data URI or
+// a glb buffer view) still in their file format (PNG, JPEG, ...).
+struct IrImage {
+    std::string name;                 // for messages and the container's texture name
+    std::string path;                 // absolute or relative to the working directory
+    std::vector<uint8_t> encoded;     // embedded image file bytes
+    std::string mimeType;             // "image/png", ... if known
+};
+
+// How a material uses a texture. `image` indexes IrScene::images, or -1 for "no texture".
+struct IrTextureRef {
+    int image = -1;
+    uint8_t texCoord = 0;
+    Vec2 offset{0, 0}, scale{1, 1}; // KHR_texture_transform
+    float rotationRadians = 0;
+    MinFilter minFilter = MinFilter::LinearMipLinear;
+    MagFilter magFilter = MagFilter::Linear;
+    Wrap wrapU = Wrap::Repeat, wrapV = Wrap::Repeat;
+};
+
+struct IrMaterial {
+    std::string name;
+    // PBR factors, alpha mode, double-sided, as the source gives them; `program`, the texture
+    // indices inside `pbr.textures` and the pipeline placement are decided later (material
+    // resolve), so importers leave them at their defaults.
+    Material pbr;
+    std::array<IrTextureRef, size_t(TextureSlotKind::Count)> textures{};
+};
+
+// One draw's worth of geometry: separate float streams, empty when the source has none.
+struct IrPrimitive {
+    std::vector<float> positions; // xyz per vertex (required)
+    std::vector<float> normals;   // xyz
+    std::vector<float> tangents;  // xyzw (w = bitangent sign)
+    std::vector<float> uv0, uv1;  // uv, glTF orientation (v down the image)
+    std::vector<float> colors;    // rgba, linear
+    std::vector<uint32_t> indices; // triangle list; importers generate 0..n-1 when unindexed
+    int material = -1;             // IrScene::materials index, -1 = the default material
+
+    size_t vertexCount() const { return positions.size() / 3; }
+};
+
+struct IrMesh {
+    std::string name;
+    std::vector<IrPrimitive> primitives;
+};
+
+struct IrNode {
+    std::string name;
+    int parent = -1; // an earlier node, or -1
+    Vec3 translation{0, 0, 0};
+    Vec4 rotation{0, 0, 0, 1}; // unit quaternion xyzw
+    Vec3 scale{1, 1, 1};
+    int mesh = -1, light = -1, camera = -1;
+};
+
+struct IrLight {
+    std::string name;
+    LightType type = LightType::Directional;
+    Vec3 color{1, 1, 1};
+    float intensity = 1; // lux or candela (KHR_lights_punctual)
+    float range = 0;
+    float innerConeRadians = 0, outerConeRadians = 0.7853982f;
+};
+
+struct IrCamera {
+    std::string name;
+    Projection projection = Projection::Perspective;
+    float yfovRadians = 0.8f, aspectRatio = 0, znear = 0.1f, zfar = 0, xmag = 1, ymag = 1;
+};
+
+// A whole imported scene. Nodes are ordered parents first (importers reorder if needed).
+struct IrScene {
+    std::string sourcePath;
+    std::vector<IrImage> images;
+    std::vector<IrMaterial> materials;
+    std::vector<IrMesh> meshes;
+    std::vector<IrNode> nodes;
+    std::vector<IrLight> lights;
+    std::vector<IrCamera> cameras;
+    // Non-fatal findings, each naming the item ("ignored extension KHR_materials_sheen").
+    std::vector<std::string> warnings;
+};
+
+} // namespace pnb::converter

@@ -1,0 +1,60 @@
+// pnb_converter/texture_processing.h — source images into container-ready textures.
+//
+// Per texture: decode (OpenImageIO: PNG, JPEG, TGA, BMP, EXR, HDR, and what else it reads);
+// resize to --max-texture-size; build the full mip chain filtered in linear light (sRGB data is
+// linearised before filtering and re-encoded after); preserve alpha coverage in the mips of
+// alpha-masked textures; store only the channels its uses read, dropping constant channels and
+// merging duplicates into a swizzle (greyscale RGBA → R8 + swizzle R,R,R,One); optionally block
+// compress (BC1/BC3/BC4/BC5 with libsquish) and report the PSNR it cost. Textures are processed
+// in parallel; the result does not depend on the number of jobs.
+//
+// Does NOT do: deciding usages (the caller groups material slots per image), writing the
+// container.
+//
+// Based on: Castaño, "Computing Alpha Mipmaps" (2010) for coverage preservation.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "pnb/chunks.h"
+#include "pnb/error.h"
+#include "pnb_converter/scene_ir.h"
+
+namespace pnb::converter {
+
+// Which source channels are read, and how they are interpreted.
+struct TextureRequest {
+    const IrImage* image = nullptr;
+    std::string name;
+    ColorSpace colorSpace = ColorSpace::Linear; // Srgb for base colour and emissive
+    bool channels[4] = {true, true, true, true}; // r, g, b, a read by some material slot
+    bool alphaMask = false;   // alpha is compared with alphaCutoff (MASK materials)
+    float alphaCutoff = 0.5f;
+    MinFilter minFilter = MinFilter::LinearMipLinear;
+    MagFilter magFilter = MagFilter::Linear;
+    Wrap wrapU = Wrap::Repeat, wrapV = Wrap::Repeat;
+};
+
+struct TextureSettings {
+    bool compress = false;     // BC1/BC3/BC4/BC5 block compression. Default: false.
+    uint32_t maxSize = 0;      // longest edge in texels after resizing; 0 = unlimited. Default: 0.
+    uint32_t jobs = 0;         // worker threads; 0 = hardware concurrency. Default: 0.
+    uint32_t maxSourceTexels = 1u << 28; // refuse larger decoded images (a clear error, not an
+                                         // out-of-memory). Default: 268 M texels.
+};
+
+struct ProcessedTexture {
+    TextureDesc desc;                            // name left kNone: the writer interns it
+    std::vector<std::vector<std::byte>> levels; // level 0 first, each all layers
+    uint32_t sourceWidth = 0, sourceHeight = 0, sourceChannels = 0;
+    double psnrDb = 0;                           // of level 0 after compression; 0 if lossless
+};
+
+// Processes every request. Errors (Input) name the image: missing file, undecodable data, zero
+// size, over maxSourceTexels. Deterministic for any `jobs`.
+Result<std::vector<ProcessedTexture>, ConvertError>
+processTextures(const std::vector<TextureRequest>& requests, const TextureSettings& settings);
+
+} // namespace pnb::converter
