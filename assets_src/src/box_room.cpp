@@ -113,6 +113,12 @@ Mesh finishMesh(SceneBuilder& sb, const char* name, MeshData& m) {
 }
 
 
+std::string_view sampleShader(std::string_view name) {
+    for (const EmbeddedFile& f : kSampleShaders)
+        if (f.name == name) return f.text;
+    return {}; // unreachable: the build embeds both files
+}
+
 // A two-tone checker with a box-filtered mip chain (RGBA8, sRGB).
 void addCheckerTexture(SceneBuilder& sb, uint32_t size) {
     TextureDesc t;
@@ -185,8 +191,10 @@ void buildBoxRoom(SceneBuilder& sb, const BoxRoomOptions& o) {
         {sb.intern("gi.enabled"), sb.intern("false")},
     };
 
-    s.shaders.push_back({sb.intern("basic.vert"), ShaderStage::Vertex, sb.keep(kVertexShader)});
-    s.shaders.push_back({sb.intern("basic.frag"), ShaderStage::Fragment, sb.keep(kFragmentShader)});
+    s.shaders.push_back({sb.intern("basic.vert"), ShaderStage::Vertex,
+                         sb.keep(sampleShader("basic.vert"))});
+    s.shaders.push_back({sb.intern("basic.frag"), ShaderStage::Fragment,
+                         sb.keep(sampleShader("basic.frag"))});
     s.programs.push_back({sb.intern("basic"), {0, 1}, {}});
     s.programs.push_back({sb.intern("basic+texture"), {0, 1}, {sb.intern("HAS_BASE_COLOR_TEXTURE")}});
 

@@ -2,6 +2,11 @@
 
 namespace pnb::detail {
 
+namespace {
+// No chunk of a real file ends beyond 2^62 bytes; keeps alignUp and offset sums far from overflow.
+constexpr uint64_t kMaxChunkEnd = uint64_t(1) << 62;
+} // namespace
+
 Status FrameRules::accept(const ChunkHeader& h, uint64_t offset) {
     std::string tag = h.tag.str();
     if (offset != mNext)
@@ -12,10 +17,19 @@ Status FrameRules::accept(const ChunkHeader& h, uint64_t offset) {
                          "chunk '%s' has sequence number %u, expected %u", tag.c_str(), h.sequence,
                          mCount);
     uint64_t payloadOffset = offset + kChunkHeaderSize;
-    if (payloadOffset > mLimit || h.storedSize > mLimit - payloadOffset)
+    if (payloadOffset > mLimit || h.storedSize > mLimit - payloadOffset) {
+        // The header passed its checksum, so a size a real file can have means the file ends
+        // early; sizes past kMaxChunkEnd cannot be real and stay BadChunkSize.
+        if (mLimitIsEndOfData && payloadOffset <= kMaxChunkEnd &&
+            h.storedSize <= kMaxChunkEnd - payloadOffset)
+            return makeError(FormatError::Truncated, mLimit,
+                             "file ends inside chunk %u '%s' (%llu payload bytes from byte %llu)",
+                             h.sequence, tag.c_str(), (unsigned long long)h.storedSize,
+                             (unsigned long long)payloadOffset);
         return makeError(FormatError::BadChunkSize, offset + 8,
                          "chunk %u '%s' of %llu bytes runs past the end of the file", h.sequence,
                          tag.c_str(), (unsigned long long)h.storedSize);
+    }
     if (h.tag == tags::kToc) {
         if (h.version != 1 || h.compression() != Compression::None || !h.hasChecksum())
             return makeError(FormatError::BadToc, offset,
@@ -23,9 +37,9 @@ Status FrameRules::accept(const ChunkHeader& h, uint64_t offset) {
         mNext = payloadOffset + h.storedSize; // the footer follows without padding
     } else {
         // alignUp cannot overflow: payloadOffset + storedSize <= mLimit, and a real limit is a
-        // file size; with an unknown limit (streaming) sizes beyond 2^63 are refused here.
+        // file size; with an unknown limit (streaming) ends beyond kMaxChunkEnd are refused here.
         uint64_t end = payloadOffset + h.storedSize;
-        if (end > (uint64_t(1) << 62))
+        if (end > kMaxChunkEnd)
             return makeError(FormatError::BadChunkSize, offset + 8, "chunk '%s' is too large",
                              tag.c_str());
         mNext = alignUp(end);

@@ -15,8 +15,12 @@ namespace pnb::detail {
 class FrameRules {
 public:
     // `limit` is the first byte that chunk data may not reach (the footer's offset), or
-    // UINT64_MAX when the total size is not known yet (streaming).
-    explicit FrameRules(uint64_t limit) : mLimit(limit) {}
+    // UINT64_MAX when the total size is not known yet (streaming). `limitIsEndOfData` says the
+    // limit is merely where the available bytes end (a header scan of a file that may have been
+    // cut short): a chunk of possible size reaching past it is then Truncated, as the stream
+    // reader reports when read() runs dry, rather than BadChunkSize.
+    explicit FrameRules(uint64_t limit, bool limitIsEndOfData = false)
+        : mLimit(limit), mLimitIsEndOfData(limitIsEndOfData) {}
 
     // Checks a decoded chunk header found at `offset`: position, sequence number, size bounds,
     // and the TOC chunk's fixed properties. On success advances to the next chunk position.
@@ -27,6 +31,7 @@ public:
 
 private:
     uint64_t mLimit;
+    bool mLimitIsEndOfData;
     uint64_t mNext = kFileHeaderSize;
     uint32_t mCount = 0;
 };

@@ -86,7 +86,8 @@ Status checkRawLimit(const ChunkInfo& c, const ReadOptions& o) {
 // A buffer too short for a file header: wrong magic, or a truncated container.
 Status checkHeaderPrefix(std::span<const std::byte> bytes) {
     size_t n = std::min<size_t>(bytes.size(), kFileMagic.size());
-    if (std::memcmp(bytes.data(), kFileMagic.data(), n) != 0)
+    // An empty file maps nothing: data() is null, and memcmp(null, p, 0) is undefined behaviour.
+    if (n > 0 && std::memcmp(bytes.data(), kFileMagic.data(), n) != 0)
         return makeError(FormatError::BadMagic, 0, "not a Penumbra container");
     return makeError(FormatError::Truncated, bytes.size(),
                      "file of %zu bytes is shorter than the %zu-byte header", bytes.size(),
@@ -195,7 +196,7 @@ namespace {
 // Index by walking chunk headers from the start; the TOC must then agree with what was walked.
 Status indexByScan(std::span<const std::byte> b, std::vector<ChunkInfo>& chunks) {
     const uint64_t size = b.size();
-    FrameRules rules(size);
+    FrameRules rules(size, /*limitIsEndOfData=*/true);
     chunks.clear();
     while (true) {
         uint64_t off = rules.nextOffset();

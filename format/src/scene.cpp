@@ -235,7 +235,7 @@ Status validateScene(const Scene& s) {
     return {};
 }
 
-Status writeScene(Writer& w, const Scene& s) {
+Status writeScene(Writer& w, const Scene& s, Compression bulk) {
     Status st = writeChunk(w, s.strings);
     auto all = [&](const auto& list) {
         for (const auto& item : list)
@@ -247,7 +247,8 @@ Status writeScene(Writer& w, const Scene& s) {
     all(s.programs);
     all(s.textures);
     all(s.materials);
-    all(s.meshes);
+    for (const Mesh& m : s.meshes)
+        if (isOk(st)) st = writeChunk(w, m, bulk);
     if (isOk(st)) st = writeChunk(w, s.lights);
     if (isOk(st)) st = writeChunk(w, s.cameras);
     if (isOk(st)) st = writeChunk(w, s.nodes);
@@ -260,7 +261,7 @@ Status writeScene(Writer& w, const Scene& s) {
         return a->level > b->level;
     });
     for (const TextureMip* m : mips)
-        if (isOk(st)) st = writeChunk(w, *m);
+        if (isOk(st)) st = writeChunk(w, *m, bulk);
     return st;
 }
 

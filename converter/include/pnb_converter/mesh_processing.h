@@ -30,24 +30,44 @@ struct StreamNeeds {
     bool colors = false;   // COLOR_0 present and multiplying base colour
 };
 
+// Stream encodings. Without `quantize` every stream is F32, Plain, not normalized, dequantScale
+// (1,1,1), dequantOffset (0,0,0): Position ×3, Normal ×3, Tangent ×4 (w = ±1), TexCoord ×2,
+// Color0 ×4. With `quantize` (decode per FORMAT.md §4.3: normalise, then × scale + offset):
+//   Position  U16 ×3 normalized, Plain: value = (q / 65535) × extent + min, dequantScale = the
+//             mesh box's extent, dequantOffset = its min (an axis of zero extent: scale 0).
+//             Error <= extent / 131070 per axis, plus float rounding of the decode. (An
+//             extent beyond float range cannot be a scale: such positions stay F32.)
+//   Normal    I16 ×2 normalized, Octahedral: (u, v) = max(q / 32767, -1); z = 1 - |u| - |v|;
+//             if z < 0: (u, v) = ((1 - |v|) × sign(u), (1 - |u|) × sign(v)), sign(0) = +1;
+//             normalise (u, v, z). Scale (1,1,1), offset (0,0,0).
+//   Tangent   I16 ×4 normalized, Plain: xyz = max(q / 32767, -1) (normalise after decoding),
+//             w = exactly ±1. (Octahedral would need a third component for w; not worth it.)
+//   TexCoord  F16 ×2, Plain, not normalized (IEEE half; magnitudes clamped to 65504).
+//   Color0    U8 ×4 normalized, Plain (linear RGBA clamped to [0, 1]).
+// Indices: U16 when vertexCount <= 65535, else U32, quantized or not.
 struct MeshSettings {
     bool optimize = true;    // meshoptimizer cache/overdraw/fetch passes. Default: true.
-    bool quantize = false;   // 16-bit normalized positions (per-mesh box), octahedral 16-bit
-                             // normals/tangents, half-float UVs. Default: false.
-    uint32_t lodCount = 0;   // extra simplified levels (meshopt_simplify). Default: 0.
-    float lodRatio = 0.5f;   // index count of each level relative to the previous. Default: 0.5.
+    bool quantize = false;   // the encodings above. Default: false.
+    uint32_t lodCount = 0;   // extra simplified levels (meshopt_simplify); fewer when it
+                             // stops reducing, at most 255 (Submesh::lod). Default: 0.
+    float lodRatio = 0.5f;   // index count of each level relative to the previous, in (0, 1).
+                             // Default: 0.5.
 };
 
 struct MeshStats {
     uint64_t inputTriangles = 0;
-    uint64_t degenerateTriangles = 0;   // removed: repeated index or zero area
+    uint64_t degenerateTriangles = 0;   // removed: repeated index or zero area (height at most
+                                        // FLT_EPSILON × the mesh's box diagonal)
     uint64_t nonFiniteTriangles = 0;    // removed: a NaN/Inf position
     uint64_t outputTriangles = 0;       // level 0 only
     uint64_t inputVertices = 0, outputVertices = 0;
     bool normalsGenerated = false, tangentsGenerated = false;
+    bool tangentsArbitrary = false;     // tangents were needed but a primitive has no uv0: its
+                                        // tangents are an arbitrary orthonormal basis (warn)
     float maxPositionError = 0;         // quantisation error, mesh units (0 if not quantized)
     float maxNormalErrorRadians = 0;    // quantisation error of normals
-    std::vector<float> lodErrors;       // per extra level, mesh units
+    std::vector<float> lodErrors;       // per extra level produced, mesh units: the largest
+                                        // Submesh::lodError of that level (against level 0)
 };
 
 // A vertex stream with the bytes it owns (a pnb::VertexStream's `data` is filled from `bytes`
@@ -68,8 +88,12 @@ struct ProcessedMesh {
     Sphere boundingSphere;
 };
 
-// Processes one mesh. Errors (Input): no positions, index out of range, array sizes that do not
-// match the vertex count — each naming the mesh and primitive. Deterministic.
+// Processes one mesh; `stats` is overwritten. Errors (Input): no primitives, no positions, index
+// out of range, index count not a multiple of 3, array sizes that do not match the vertex count,
+// material below -1 — each naming the mesh and primitive — and lodRatio outside (0, 1) when
+// lodCount > 0. A mesh whose triangles are all dropped is not an error: it comes back with no
+// vertices and empty submeshes (the caller decides whether to keep it). Deterministic.
+// Thread-safe: no shared state, so different meshes may be processed concurrently.
 Result<ProcessedMesh, ConvertError> processMesh(const IrMesh& mesh, const StreamNeeds& needs,
                                                 const MeshSettings& settings, MeshStats& stats);
 

@@ -116,6 +116,9 @@ struct IrScene {
     std::vector<IrCamera> cameras;
     // Non-fatal findings, each naming the item ("ignored extension KHR_materials_sheen").
     std::vector<std::string> warnings;
+    // Files read besides the source itself (buffers, MTL libraries), for build-system
+    // dependency files. External images are listed in `images`.
+    std::vector<std::string> dependencies;
 };
 
 } // namespace pnb::converter

@@ -49,11 +49,23 @@ struct ProcessedTexture {
     TextureDesc desc;                            // name left kNone: the writer interns it
     std::vector<std::vector<std::byte>> levels; // level 0 first, each all layers
     uint32_t sourceWidth = 0, sourceHeight = 0, sourceChannels = 0;
-    double psnrDb = 0;                           // of level 0 after compression; 0 if lossless
+    double psnrDb = 0; // of level 0 after compression, over the stored channels; 0 if lossless
 };
 
 // Processes every request. Errors (Input) name the image: missing file, undecodable data, zero
-// size, over maxSourceTexels. Deterministic for any `jobs`.
+// size, over maxSourceTexels; with several failures, the lowest-indexed request's error is
+// returned. Deterministic for any `jobs`.
+//
+// Results, per request (texture_processing.cpp and channel_packing.cpp give the reasons):
+// - Rows are stored top row of the image first: GL's t = 0 is the image's top, so glTF UVs
+//   (v down the image, as the IR keeps them) sample correctly with no flip anywhere.
+// - Integer (8/16-bit) sources: R8/RG8/RGB8/RGBA8 (BC4/BC5/BC1/BC3 with `compress`). Srgb keeps
+//   sRGB storage (colorSpace Srgb, RGB8/RGBA8/BC1/BC3) when two or more colour channels remain;
+//   a single colour channel (greyscale) is stored linearised in R8/RG8/BC4/BC5, colorSpace
+//   Linear, as GL has no core one- or two-channel sRGB format.
+// - HDR sources (float files such as EXR and Radiance HDR, or values outside [0, 1]):
+//   R16F/RG16F/RGBA16F, Linear, never block compressed (psnrDb stays 0).
+// - mipCount is the full chain to 1×1 for mipmapping min filters, 1 for Nearest/Linear.
 Result<std::vector<ProcessedTexture>, ConvertError>
 processTextures(const std::vector<TextureRequest>& requests, const TextureSettings& settings);
 

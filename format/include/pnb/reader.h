@@ -1,7 +1,7 @@
 // pnb/reader.h — reading a container: random access from a memory mapping, or a forward-only
 // stream that hands over each chunk as soon as its bytes have arrived (docs/FORMAT.md §5).
 //
-// Does NOT do: decoding typed payloads (chunks.h), cross-reference checks (verify.h).
+// Does NOT do: decoding typed payloads (chunks.h), cross-reference checks (scene.h validateScene).
 //
 // Both modes share one bounds-checked frame parser (container.h decoders + the rules of
 // FORMAT.md §3), so they accept and reject exactly the same files.

@@ -52,7 +52,9 @@ Result<Scene> readScene(const Container& container);
 Status validateScene(const Scene& scene);
 
 // Appends all chunks of `scene` to `writer` in the order of §4.1 (it does not commit).
-// Textures' mips are written smallest level first, so something can be shown early.
-Status writeScene(Writer& writer, const Scene& scene);
+// Textures' mips are written smallest level first, so something can be shown early. Small
+// structured chunks use their ChunkTraits compression; bulk chunks (MESH, TMIP) use `bulk`
+// (default None, so they load zero-copy from a mapping).
+Status writeScene(Writer& writer, const Scene& scene, Compression bulk = Compression::None);
 
 } // namespace pnb

@@ -1,7 +1,7 @@
 // pnb/writer.h — writing a container: deterministic bytes, atomic replacement of the target.
 //
 // Does NOT do: typed payload encoding (chunks.h); ordering policy (the caller adds chunks in the
-// streamable order of FORMAT.md §4.1; verify.h checks it).
+// streamable order of FORMAT.md §4.1; scene.h readScene checks it).
 //
 // Chunks are written as they are added, so memory stays bounded by one chunk. The file is built
 // under a temporary name in the target's directory, then fsync'ed and renamed over the target by

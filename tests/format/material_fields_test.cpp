@@ -2,12 +2,12 @@
 
 #include <string>
 
-#include "pnb_editor/material_fields.h"
+#include "pnb/material_fields.h"
 
 namespace {
 
 using namespace pnb;
-using namespace pnb::editor;
+
 
 // A valid value for each field that differs from the default Material's.
 std::string changedValue(const MaterialField& f) {
@@ -67,6 +67,22 @@ TEST(MaterialFields, InvalidInputIsRejectedWithTheValidChoicesAndNoChange) {
     EXPECT_FALSE(isOk(setMaterialField(m, "double_sided", "yes")));
     EXPECT_FALSE(isOk(setMaterialField(m, "normal_texture", "4294967295")));
     EXPECT_EQ(encodeChunk(m), encodeChunk(Material{})) << "failed edits change nothing";
+}
+
+TEST(MaterialFields, GlobMatch) {
+    EXPECT_TRUE(globMatch("*", ""));
+    EXPECT_TRUE(globMatch("glass*", "glass"));
+    EXPECT_TRUE(globMatch("glass*", "glass-pane"));
+    EXPECT_TRUE(globMatch("*_trunk", "oak_trunk"));
+    EXPECT_TRUE(globMatch("a?c", "abc"));
+    EXPECT_TRUE(globMatch("*a*b*c*", "xxaxxbxxcxx"));
+    EXPECT_FALSE(globMatch("glass*", "tinted-glass"));
+    EXPECT_FALSE(globMatch("a?c", "ac"));
+    EXPECT_FALSE(globMatch("abc", "abcd"));
+    EXPECT_FALSE(globMatch("", "a"));
+    // Pathological backtracking stays fast.
+    std::string text(2000, 'a');
+    EXPECT_FALSE(globMatch("*a*a*a*a*a*a*b", text));
 }
 
 } // namespace

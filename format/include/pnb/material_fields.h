@@ -1,8 +1,9 @@
-// pnb_editor/material_fields.h — every editable material field, described once (STYLE.md §17).
+// pnb/material_fields.h — every editable material field, described once (STYLE.md §17).
 //
-// The table drives the editor's command-line `--set MATERIAL.FIELD=VALUE` and `--list`, and
-// (issue 6) the ImGui widgets; serialisation is the format library's. Field names are stable
-// snake_case: they are part of the command-line interface.
+// The table drives the converter's per-material sidecar overrides, the editor's command line
+// (`--set MATERIAL.FIELD=VALUE`, `--list`) and its widgets; serialisation is chunks.h's. Field
+// names are stable snake_case: they are part of the command-line and sidecar interfaces. It lives
+// in the format library because every tool that edits a Material shares it (no GL, no UI).
 #pragma once
 
 #include <span>
@@ -12,7 +13,7 @@
 #include "pnb/chunks.h"
 #include "pnb/error.h"
 
-namespace pnb::editor {
+namespace pnb {
 
 enum class FieldType : uint8_t {
     Float,      // one number in [min, max]
@@ -43,4 +44,8 @@ Status setMaterialField(Material& material, std::string_view field, std::string_
 // The field's value as text, in the form setMaterialField accepts. Precondition: a valid name.
 std::string getMaterialField(const Material& material, std::string_view field);
 
-} // namespace pnb::editor
+// Shell-style wildcard match of a material name: '*' matches any run (also empty), '?' one byte,
+// everything else itself. Used by sidecar files and batch edits ("glass*", "*_trunk").
+bool globMatch(std::string_view pattern, std::string_view text);
+
+} // namespace pnb

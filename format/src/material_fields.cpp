@@ -1,11 +1,11 @@
-#include "pnb_editor/material_fields.h"
+#include "pnb/material_fields.h"
 
 #include <charconv>
 #include <cmath>
 #include <cstdio>
 #include <vector>
 
-namespace pnb::editor {
+namespace pnb {
 
 namespace {
 
@@ -189,4 +189,25 @@ std::string getMaterialField(const Material& material, std::string_view field) {
     return {};
 }
 
-} // namespace pnb::editor
+bool globMatch(std::string_view pattern, std::string_view text) {
+    // Iterative matcher with one backtrack point: linear in practice, no recursion depth to blow.
+    size_t p = 0, t = 0, starP = std::string_view::npos, starT = 0;
+    while (t < text.size()) {
+        if (p < pattern.size() && (pattern[p] == '?' || pattern[p] == text[t])) {
+            ++p;
+            ++t;
+        } else if (p < pattern.size() && pattern[p] == '*') {
+            starP = p++;
+            starT = t;
+        } else if (starP != std::string_view::npos) {
+            p = starP + 1;
+            t = ++starT;
+        } else {
+            return false;
+        }
+    }
+    while (p < pattern.size() && pattern[p] == '*') ++p;
+    return p == pattern.size();
+}
+
+} // namespace pnb

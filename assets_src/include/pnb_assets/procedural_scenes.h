@@ -1,0 +1,143 @@
+// pnb_assets/procedural_scenes.h — procedural *source* test scenes, built as glTF documents.
+//
+// The rendering work (cascaded shadow maps, deferred shading, GI) needs scenes that provoke
+// specific problems; these generators build them at build time (pnb-make-scene) so nothing large
+// is committed. Each returns a gltf::Document (gltf_writer.h) that encodeGlb() turns into a .glb
+// for the converter.
+//
+//   street-canyon  low sun across a street of tall buildings; two very tall towers outside the
+//                  street camera's frustum whose shadows land in view (seed 000's Sehir case)
+//   flat-city      ~0.5 M rendered triangles of instanced buildings on a 2 km ground, sun at 45°
+//   box-room       the Cornell-style room of box_room.h, as a glTF source
+//   terrain        fractal heightfield with floating slabs and arches, far plane kilometres away
+//   grazing-plane  a large plane with poles and boxes under a 3° sun (shadow acne and
+//                  peter-panning)
+//
+// Conventions: glTF's (metres, +Y up, right-handed, cameras and lights look along local -Z).
+// Every scene's first camera is the intended view. Every scene has one directional light on a
+// node named "sun" with intensity 3: the artist-scale value box_room.cpp uses, not physical
+// daylight (~100 000 lux), so all bundled scenes share one exposure. Scenes with a "seed" use a seeded PCG32
+// generator with our own integer-to-float mapping (never std::random_device or std::*
+// distributions, whose outputs differ between standard libraries), so the same options give the
+// same Document and the same .glb bytes with a given build. (Across libm versions, sin/cos/pow
+// may differ in the last bit; the layouts do not depend on that.)
+//
+// Does NOT do: write files (see gltf_writer.h), animation, textures beyond small checkers.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <span>
+#include <string_view>
+
+#include "pnb_assets/gltf_writer.h"
+
+namespace pnb::assets {
+
+// street-canyon: a straight street along -Z between two rows of boxes, and a street-level camera
+// at the origin looking down it (identity rotation). The sun travels across the street (+X),
+// tilted `sunAzimuthDegrees` towards -Z, so the left row's shadows cover the street and climb
+// the right row's facades. Each off-screen caster is a tower far out on the sun side whose top
+// casts its shadow onto the middle of the street inside the camera frustum; the left row leaves
+// an empty lot in front of that spot so the spot is otherwise sunlit. Caster 0 stands behind the
+// camera; caster 1 stands ahead of it but outside the left frustum plane (for any aspect ratio up
+// to 2.4). Node names: "street-camera", "sun", "building-L<n>"/"building-R<n>",
+// "offscreen-tower-<n>", "ground".
+struct StreetCanyonOptions {
+    uint64_t seed = 1;
+    uint64_t targetTriangles = 10000;  // facades are subdivided to get close. Default 10 000.
+    float streetLengthMeters = 400.0f; // in front of the camera. Default 400.
+    float streetWidthMeters = 20.0f;   // asphalt, kerb to kerb. Default 20.
+    float sidewalkMeters = 3.0f;       // between the kerb and the facades. Default 3.
+    float minHeightMeters = 20.0f;     // row buildings. Default 20.
+    float maxHeightMeters = 120.0f;    // row buildings. Default 120.
+    float sunElevationDegrees = 15.0f; // low sun. Default 15.
+    float sunAzimuthDegrees = 25.0f;   // 0 = straight across the street. Default 25.
+    uint32_t offscreenCasters = 2;     // 0, 1 or 2 towers. Default 2.
+    float cameraYFovDegrees = 60.0f;   // Default 60.
+    float cameraAspect = 16.0f / 9.0f; // written into the camera. Default 16:9.
+};
+gltf::Document buildStreetCanyon(const StreetCanyonOptions& options = {});
+
+// flat-city: a square grid of blocks (3 x 3 lots each) separated by streets, with building
+// archetypes instanced across the lots (taller towards the centre), pavement, asphalt and a
+// grass ring out to the ground size; a sun at 45°, and a camera overlooking the city from a
+// corner. Blocks are nodes ("block-<i>-<j>") whose children are the buildings, so the hierarchy
+// is exercised. Facades are subdivided so the *rendered* triangle count (every instance counted)
+// is close to targetTriangles (within 1 % for targets from 50 000 up).
+struct FlatCityOptions {
+    uint64_t seed = 1;
+    uint64_t targetTriangles = 500000; // rendered triangles. Default 500 000.
+    float groundSizeMeters = 2000.0f;  // edge of the square ground. Default 2000.
+    float citySizeMeters = 1600.0f;    // edge of the built-up square (<= ground). Default 1600.
+    float blockMeters = 100.0f;        // edge of a block. Default 100.
+    float streetMeters = 20.0f;        // street width between blocks. Default 20.
+    uint32_t archetypes = 24;          // distinct building meshes. Default 24.
+    bool instancing = true;            // false: one mesh per building (a big file). Default on.
+    float sunElevationDegrees = 45.0f; // Default 45.
+};
+gltf::Document buildFlatCity(const FlatCityOptions& options = {});
+
+// box-room: the layout of box_room.h (a closed room open towards +Z, red left wall, green right
+// wall, white floor/ceiling/back, a tall and a short box, a translucent BLEND double-sided pane),
+// with an embedded checker PNG on the floor, a ceiling point light, a sun shining in through the
+// open side and a camera looking in. No randomness.
+struct BoxRoomGltfOptions {
+    float roomSize = 10.0f;    // metres, edge of the cubic room. Default 10.
+    uint32_t subdivisions = 1; // quads per face edge (walls and boxes). Default 1.
+    uint32_t textureSize = 64; // checker edge in texels. Default 64.
+};
+gltf::Document buildBoxRoomGltf(const BoxRoomGltfOptions& options = {});
+
+// terrain: a fractal value-noise heightfield (our own lattice hash and quintic interpolation) in
+// square tiles (one mesh and node per tile, for culling), floating rock slabs and arches above it
+// (the overhangs), and a camera 2 m above the ground at one corner looking across to the far
+// corner with a far plane several kilometres away.
+struct TerrainOptions {
+    uint64_t seed = 1;
+    uint32_t quadsPerSide = 512;       // grid resolution; 2 triangles per quad. Default 512.
+    uint32_t tileQuads = 64;           // quads per tile edge. Default 64.
+    float sizeMeters = 4096.0f;        // edge of the square terrain. Default 4096.
+    float heightMeters = 320.0f;       // highest possible elevation. Default 320.
+    uint32_t octaves = 6;              // fBm octaves. Default 6.
+    uint32_t slabs = 6;                // floating rock slabs. Default 6.
+    uint32_t arches = 3;               // rock arches (one instanced mesh). Default 3.
+    float sunElevationDegrees = 35.0f; // Default 35.
+};
+gltf::Document buildTerrain(const TerrainOptions& options = {});
+
+// grazing-plane: a large checkered plane with thin poles, boxes resting on it, a box floating
+// 2 cm above it (peter-panning makes it look like the resting ones or worse), a thin wall and a
+// slightly tilted ramp, under a sun just above the horizon so shadows are very long and every
+// surface is lit at a grazing angle (shadow acne). The camera stands at eye height looking along
+// -Z; the sun shines across the view (+X).
+struct GrazingPlaneOptions {
+    uint64_t seed = 1;
+    float sunElevationDegrees = 3.0f; // meant for 2..5. Default 3.
+    float planeSizeMeters = 2000.0f;  // Default 2000.
+    uint32_t planeSubdivisions = 1;   // quads per plane edge. Default 1.
+    uint32_t poles = 12;              // Default 12.
+    uint32_t textureSize = 64;        // checker edge in texels. Default 64.
+};
+gltf::Document buildGrazingPlane(const GrazingPlaneOptions& options = {});
+
+// --- Registry (what pnb-make-scene lists) -----------------------------------------------------
+
+struct ProceduralScene {
+    std::string_view name;    // e.g. "street-canyon"
+    std::string_view summary; // one line
+};
+// All scenes, in a fixed order.
+std::span<const ProceduralScene> proceduralScenes();
+
+struct SceneRequest {
+    uint64_t targetTriangles = 0; // 0 = the scene's default detail
+    uint64_t seed = 1;            // ignored by box-room
+};
+// Builds the named scene. targetTriangles maps onto each scene's detail knob (facade cells,
+// grid resolution or subdivisions); the result is as close as that knob allows. Returns nullopt
+// for an unknown name.
+std::optional<gltf::Document> buildProceduralScene(std::string_view name,
+                                                   const SceneRequest& request);
+
+} // namespace pnb::assets

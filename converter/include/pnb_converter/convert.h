@@ -1,0 +1,71 @@
+// pnb_converter/convert.h — the whole conversion as one callable function (the CLI is a thin
+// wrapper; tests call this directly).
+//
+// Stages: import (glTF/assimp → IR) → materials (placement, sidecar, texture requests) →
+// meshes → textures → lights, cameras, nodes, camera paths (defaults added where missing) →
+// shaders (permutations the materials need, validated with glslang) → write (streamable order,
+// atomic). Deterministic: the same input and settings give a byte-identical file whatever `jobs`.
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "pnb/error.h"
+#include "pnb_converter/mesh_processing.h"
+#include "pnb_converter/scene_ir.h"
+#include "pnb_converter/texture_processing.h"
+
+namespace pnb::converter {
+
+struct ConvertSettings {
+    std::string input;          // source scene file
+    std::string output;         // .pnb to write (atomically)
+    std::string sidecar;        // material overrides; "" = <input stem>.pnb.json if it exists
+    bool noSidecar = false;     // ignore any sidecar. Default: false.
+    std::string cameraPath;     // --path keyframe file; "" = the source's or a generated orbit
+    std::string depfile;        // write a Make-style dependency file (for Ninja); "" = none
+    MeshSettings mesh;          // see mesh_processing.h for defaults
+    TextureSettings texture;    // see texture_processing.h for defaults
+    uint32_t jobs = 0;          // worker threads for meshes and textures; 0 = all cores
+    bool validateShaders = true; // glslang-check every packed program. Default: true.
+    bool checksums = true;      // payload checksums. Default: true.
+    bool compressBulk = false;  // zstd also for meshes and texels (smaller file, no zero-copy
+                                // load). Default: false.
+    // Render settings stored in the container (RSET), e.g. {"shadows.cascades", "4"}.
+    std::vector<std::pair<std::string, std::string>> renderSettings;
+};
+
+struct StageTiming {
+    std::string stage;
+    double seconds = 0;
+};
+
+struct ConvertSummary {
+    size_t meshes = 0, submeshes = 0, nodes = 0, materials = 0, textures = 0, lights = 0,
+           cameras = 0, cameraPaths = 0;
+    uint64_t inputTriangles = 0, outputTriangles = 0, degenerateTriangles = 0,
+             nonFiniteTriangles = 0, inputVertices = 0, outputVertices = 0;
+    float maxPositionError = 0, maxNormalErrorRadians = 0; // quantisation, worst mesh
+    std::vector<float> lodErrors;                          // worst error per extra LOD level
+    size_t deferredMaterials = 0, forwardMaterials = 0;
+    std::vector<uint16_t> deferredLayers;                  // distinct priorities, ascending
+    std::vector<std::string> programs;                     // "gbuffer[HAS_UV0 ...]"
+    std::vector<std::string> omitted;  // what the scene does not need and so was not written
+    std::vector<std::string> warnings; // dropped or repaired input, each naming the item
+    bool defaultSun = false, defaultCamera = false, defaultPath = false;
+    double minTexturePsnrDb = 0;       // worst PSNR of compressed textures (0 = none compressed)
+    uint64_t outputBytes = 0, meshBytes = 0, textureBytes = 0;
+    std::vector<StageTiming> stages;
+    std::vector<std::string> dependencies; // files read (source, buffers, images, sidecar, path)
+};
+
+// Called as work progresses: stage name, items done, items in the stage.
+using ProgressFn = std::function<void(const std::string& stage, size_t done, size_t total)>;
+
+Result<ConvertSummary, ConvertError> convertScene(const ConvertSettings& settings,
+                                                  const ProgressFn& progress = {});
+
+} // namespace pnb::converter

@@ -1,0 +1,506 @@
+// The conversion pipeline (convert.h): import → materials → meshes → textures → scene graph →
+// shaders → write. Each stage lives in its own file; this one sequences them, adds the defaults
+// a scene lacks, and assembles the container in streamable order.
+
+#include "pnb_converter/convert.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <optional>
+#include <set>
+
+#include "parallel_for.h"
+#include "pnb/scene_builder.h"
+#include "pnb/writer.h"
+#include "pnb_converter/camera_path.h"
+#include "pnb_converter/importers.h"
+#include "pnb_converter/material_resolve.h"
+#include "pnb_converter/shader_permutations.h"
+
+namespace pnb::converter {
+
+namespace {
+
+namespace fs = std::filesystem;
+
+constexpr const char* kGenerator = "pnb-convert 0.1";
+
+// Default sun when a scene has no directional light: 50° elevation, from 30° azimuth. Its
+// intensity matches the player's default exposure (1.0) for mid-grey surfaces.
+constexpr float kSunElevationRadians = 0.8726646f;
+constexpr float kSunAzimuthRadians = 0.5235988f;
+constexpr float kSunIntensityLux = 3.0f;
+
+class StageClock {
+public:
+    explicit StageClock(std::vector<StageTiming>& out) : mOut(out) {}
+    void start(const char* stage) {
+        mStage = stage;
+        mStart = std::chrono::steady_clock::now();
+    }
+    void stop() {
+        auto d = std::chrono::steady_clock::now() - mStart;
+        mOut.push_back({mStage, std::chrono::duration<double>(d).count()});
+    }
+
+private:
+    std::vector<StageTiming>& mOut;
+    std::string mStage;
+    std::chrono::steady_clock::time_point mStart;
+};
+
+// Column-major 4x4 in double: world transforms of deep hierarchies far from the origin keep
+// their precision until the final float bounds.
+struct Mat4d {
+    double m[16];
+};
+
+Mat4d trs(const Vec3& t, const Vec4& q, const Vec3& s) {
+    double x = q.x, y = q.y, z = q.z, w = q.w;
+    double n = std::sqrt(x * x + y * y + z * z + w * w);
+    if (n > 0) x /= n, y /= n, z /= n, w /= n;
+    else x = y = z = 0, w = 1;
+    Mat4d r{};
+    r.m[0] = (1 - 2 * (y * y + z * z)) * s.x;
+    r.m[1] = (2 * (x * y + z * w)) * s.x;
+    r.m[2] = (2 * (x * z - y * w)) * s.x;
+    r.m[4] = (2 * (x * y - z * w)) * s.y;
+    r.m[5] = (1 - 2 * (x * x + z * z)) * s.y;
+    r.m[6] = (2 * (y * z + x * w)) * s.y;
+    r.m[8] = (2 * (x * z + y * w)) * s.z;
+    r.m[9] = (2 * (y * z - x * w)) * s.z;
+    r.m[10] = (1 - 2 * (x * x + y * y)) * s.z;
+    r.m[12] = t.x;
+    r.m[13] = t.y;
+    r.m[14] = t.z;
+    r.m[15] = 1;
+    return r;
+}
+
+Mat4d multiply(const Mat4d& a, const Mat4d& b) {
+    Mat4d r{};
+    for (int c = 0; c < 4; ++c)
+        for (int row = 0; row < 4; ++row)
+            for (int k = 0; k < 4; ++k) r.m[c * 4 + row] += a.m[k * 4 + row] * b.m[c * 4 + k];
+    return r;
+}
+
+void grow(Aabb& box, Vec3 p) {
+    if (box.min.x > box.max.x) {
+        box.min = box.max = p;
+        return;
+    }
+    box.min = {std::min(box.min.x, p.x), std::min(box.min.y, p.y), std::min(box.min.z, p.z)};
+    box.max = {std::max(box.max.x, p.x), std::max(box.max.y, p.y), std::max(box.max.z, p.z)};
+}
+
+Aabb transformBounds(const Mat4d& m, const Aabb& b) {
+    Aabb out;
+    if (b.min.x > b.max.x) return out;
+    for (int i = 0; i < 8; ++i) {
+        double p[3] = {(i & 1) ? b.max.x : b.min.x, (i & 2) ? b.max.y : b.min.y,
+                       (i & 4) ? b.max.z : b.min.z};
+        double r[3];
+        for (int k = 0; k < 3; ++k)
+            r[k] = m.m[k] * p[0] + m.m[4 + k] * p[1] + m.m[8 + k] * p[2] + m.m[12 + k];
+        grow(out, {float(r[0]), float(r[1]), float(r[2])});
+    }
+    return out;
+}
+
+std::string defaultSidecarPath(const std::string& input) {
+    fs::path p(input);
+    return (p.parent_path() / (p.stem().string() + ".pnb.json")).string();
+}
+
+ConvertError outputError(std::string message) {
+    return ConvertError{ConvertErrorKind::Output, std::move(message)};
+}
+
+std::string escapeDepfilePath(const std::string& path) {
+    std::string out;
+    for (char c : path) {
+        if (c == ' ' || c == '#' || c == '\\') out += '\\';
+        if (c == '$') out += '$';
+        out += c;
+    }
+    return out;
+}
+
+Result<bool, ConvertError> writeDepfile(const ConvertSettings& s,
+                                        const std::vector<std::string>& deps) {
+    std::string tmp = s.depfile + ".tmp";
+    {
+        std::ofstream f(tmp, std::ios::binary | std::ios::trunc);
+        f << escapeDepfilePath(s.output) << ":";
+        for (const std::string& d : deps) f << " \\\n  " << escapeDepfilePath(d);
+        f << "\n";
+        if (!f) return outputError(s.depfile + ": cannot write the dependency file");
+    }
+    std::error_code ec;
+    fs::rename(tmp, s.depfile, ec);
+    if (ec) return outputError(s.depfile + ": " + ec.message());
+    return true;
+}
+
+// Lists what the scene does not need and so was not written ("model only what is required").
+void describeOmissions(const ResolvedMaterials& r, const ShaderPlan& plan,
+                       const SceneShaderNeeds& needs, ConvertSummary& sum) {
+    bool any[6] = {};
+    for (const MaterialFeatures& f : r.features) {
+        any[0] |= f.normalMap;
+        any[1] |= f.uv0;
+        any[2] |= f.uv1;
+        any[3] |= f.vertexColor;
+        any[4] |= f.alphaMask;
+    }
+    if (!any[0]) sum.omitted.push_back("tangents and normal-map variants: no material has a normal map");
+    if (!any[1]) sum.omitted.push_back("texture coordinates: no material samples a texture");
+    else if (!any[2]) sum.omitted.push_back("second UV set: no material reads TEXCOORD_1");
+    if (!any[3]) sum.omitted.push_back("vertex colours: none in the source");
+    if (!any[4]) sum.omitted.push_back("alpha-test variants: no MASK material");
+    auto hasProgram = [&](const char* name) {
+        return std::any_of(plan.programs.begin(), plan.programs.end(),
+                           [&](const ProgramVariant& v) { return v.name == name; });
+    };
+    if (!hasProgram("forward")) sum.omitted.push_back("forward programs: no forward material");
+    if (!hasProgram("gbuffer"))
+        sum.omitted.push_back("G-buffer and deferred lighting programs: no deferred material");
+    if (!needs.shadows)
+        sum.omitted.push_back("shadow programs: no shadow-casting light and caster");
+    if (!needs.gi) sum.omitted.push_back("GI programs: gi.enabled is not true");
+}
+
+} // namespace
+
+Result<ConvertSummary, ConvertError> convertScene(const ConvertSettings& s,
+                                                  const ProgressFn& progress) {
+    ConvertSummary sum;
+    StageClock clock(sum.stages);
+    auto report = [&](const char* stage, size_t done, size_t total) {
+        if (progress) progress(stage, done, total);
+    };
+
+    // [SECTION] import
+    clock.start("import");
+    report("import", 0, 1);
+    auto imported = importScene(s.input);
+    if (!imported) return imported.error();
+    IrScene& scene = *imported;
+    sum.warnings = scene.warnings;
+    sum.dependencies.push_back(s.input);
+    for (const std::string& d : scene.dependencies) sum.dependencies.push_back(d);
+    clock.stop();
+
+    // [SECTION] materials
+    clock.start("materials");
+    MaterialOverrides overrides;
+    std::string sidecar = s.sidecar;
+    if (sidecar.empty() && !s.noSidecar && fs::exists(defaultSidecarPath(s.input)))
+        sidecar = defaultSidecarPath(s.input);
+    if (!sidecar.empty() && !s.noSidecar) {
+        auto loaded = loadSidecar(sidecar);
+        if (!loaded) return loaded.error();
+        overrides = std::move(*loaded);
+        sum.dependencies.push_back(sidecar);
+    }
+    auto resolvedResult = resolveMaterials(scene, overrides);
+    if (!resolvedResult) return resolvedResult.error();
+    ResolvedMaterials& materials = *resolvedResult;
+    for (const std::string& w : materials.warnings) sum.warnings.push_back(w);
+    clock.stop();
+
+    // [SECTION] meshes
+    clock.start("meshes");
+    std::vector<std::optional<ProcessedMesh>> meshes(scene.meshes.size());
+    std::vector<MeshStats> meshStats(scene.meshes.size());
+    std::vector<std::optional<ConvertError>> meshErrors(scene.meshes.size());
+    report("meshes", 0, scene.meshes.size());
+    parallelFor(scene.meshes.size(), s.jobs, [&](size_t i) {
+        auto r = processMesh(scene.meshes[i], materials.meshNeeds[i], s.mesh, meshStats[i]);
+        if (r) meshes[i] = std::move(*r);
+        else meshErrors[i] = r.error();
+    });
+    for (size_t i = 0; i < scene.meshes.size(); ++i) {
+        if (meshErrors[i]) return *meshErrors[i]; // the first failing mesh, deterministically
+        const MeshStats& st = meshStats[i];
+        sum.inputTriangles += st.inputTriangles;
+        sum.outputTriangles += st.outputTriangles;
+        sum.degenerateTriangles += st.degenerateTriangles;
+        sum.nonFiniteTriangles += st.nonFiniteTriangles;
+        sum.inputVertices += st.inputVertices;
+        sum.outputVertices += st.outputVertices;
+        sum.maxPositionError = std::max(sum.maxPositionError, st.maxPositionError);
+        sum.maxNormalErrorRadians = std::max(sum.maxNormalErrorRadians, st.maxNormalErrorRadians);
+        if (sum.lodErrors.size() < st.lodErrors.size()) sum.lodErrors.resize(st.lodErrors.size());
+        for (size_t l = 0; l < st.lodErrors.size(); ++l)
+            sum.lodErrors[l] = std::max(sum.lodErrors[l], st.lodErrors[l]);
+        if (st.nonFiniteTriangles)
+            sum.warnings.push_back("mesh '" + scene.meshes[i].name + "': dropped " +
+                                   std::to_string(st.nonFiniteTriangles) +
+                                   " triangles with non-finite positions");
+    }
+    report("meshes", scene.meshes.size(), scene.meshes.size());
+    clock.stop();
+
+    // [SECTION] textures
+    clock.start("textures");
+    report("textures", 0, materials.textures.size());
+    TextureSettings textureSettings = s.texture;
+    textureSettings.jobs = s.jobs;
+    auto texturesResult = processTextures(materials.textures, textureSettings);
+    if (!texturesResult) return texturesResult.error();
+    std::vector<ProcessedTexture>& textures = *texturesResult;
+    for (const IrImage& img : scene.images)
+        if (!img.path.empty()) sum.dependencies.push_back(img.path);
+    report("textures", textures.size(), textures.size());
+    clock.stop();
+
+    // [SECTION] scene graph: lights, cameras, nodes, defaults
+    clock.start("scene");
+    bool hasSun = std::any_of(scene.lights.begin(), scene.lights.end(),
+                              [](const IrLight& l) { return l.type == LightType::Directional; });
+    std::vector<bool> generatedLight(scene.lights.size(), false);
+    // World bounds first: the default camera and path frame them.
+    std::vector<Mat4d> world(scene.nodes.size());
+    Aabb sceneBounds;
+    std::vector<Aabb> nodeBounds(scene.nodes.size());
+    for (size_t i = 0; i < scene.nodes.size(); ++i) {
+        const IrNode& n = scene.nodes[i];
+        Mat4d local = trs(n.translation, n.rotation, n.scale);
+        world[i] = n.parent >= 0 ? multiply(world[size_t(n.parent)], local) : local;
+        if (n.mesh >= 0 && size_t(n.mesh) < meshes.size()) {
+            nodeBounds[i] = transformBounds(world[i], meshes[size_t(n.mesh)]->bounds);
+            if (nodeBounds[i].min.x <= nodeBounds[i].max.x) {
+                grow(sceneBounds, nodeBounds[i].min);
+                grow(sceneBounds, nodeBounds[i].max);
+            }
+        }
+    }
+    Vec3 center{0, 0, 0};
+    float radius = 1;
+    if (sceneBounds.min.x <= sceneBounds.max.x) {
+        center = {(sceneBounds.min.x + sceneBounds.max.x) / 2,
+                  (sceneBounds.min.y + sceneBounds.max.y) / 2,
+                  (sceneBounds.min.z + sceneBounds.max.z) / 2};
+        Vec3 e{sceneBounds.max.x - center.x, sceneBounds.max.y - center.y,
+               sceneBounds.max.z - center.z};
+        radius = std::max(std::sqrt(e.x * e.x + e.y * e.y + e.z * e.z), 1e-3f);
+    }
+    if (!hasSun) {
+        IrLight sun;
+        sun.name = "default-sun";
+        sun.type = LightType::Directional;
+        sun.color = {1.0f, 0.97f, 0.92f};
+        sun.intensity = kSunIntensityLux;
+        scene.lights.push_back(sun);
+        generatedLight.push_back(true);
+        Vec3 toSun{std::cos(kSunElevationRadians) * std::sin(kSunAzimuthRadians),
+                   std::sin(kSunElevationRadians),
+                   std::cos(kSunElevationRadians) * std::cos(kSunAzimuthRadians)};
+        IrNode node;
+        node.name = "default-sun";
+        node.translation = {center.x + toSun.x * 2 * radius, center.y + toSun.y * 2 * radius,
+                            center.z + toSun.z * 2 * radius};
+        node.rotation = lookAtRotation(node.translation, center); // shines down its -Z
+        node.light = int(scene.lights.size() - 1);
+        scene.nodes.push_back(node);
+        world.push_back(trs(node.translation, node.rotation, node.scale));
+        nodeBounds.emplace_back();
+        sum.defaultSun = true;
+        sum.warnings.push_back("no directional light in the source: added 'default-sun' "
+                               "(flagged as generated)");
+    }
+    if (scene.cameras.empty()) {
+        IrCamera cam;
+        cam.name = "default-camera";
+        cam.znear = std::max(radius * 1e-3f, 1e-4f);
+        scene.cameras.push_back(cam);
+        IrNode node;
+        node.name = "default-camera";
+        node.translation = {center.x, center.y + radius * 0.5f, center.z + radius * 2.2f};
+        node.rotation = lookAtRotation(node.translation, center);
+        node.camera = 0;
+        scene.nodes.push_back(node);
+        world.push_back(trs(node.translation, node.rotation, node.scale));
+        nodeBounds.emplace_back();
+        sum.defaultCamera = true;
+    }
+    std::vector<PathSpec> paths;
+    if (!s.cameraPath.empty()) {
+        auto p = loadCameraPath(s.cameraPath);
+        if (!p) return p.error();
+        paths.push_back(std::move(*p));
+        sum.dependencies.push_back(s.cameraPath);
+    } else {
+        paths.push_back(defaultCameraPath(sceneBounds));
+        sum.defaultPath = true;
+    }
+    clock.stop();
+
+    // [SECTION] shaders
+    clock.start("shaders");
+    SceneShaderNeeds needs;
+    bool shadowLight = false;
+    for (const IrLight& l : scene.lights) shadowLight |= l.type == LightType::Directional;
+    for (const Material& m : materials.materials) {
+        needs.shadows |= shadowLight && m.castsShadows;
+        needs.maskedCasters |= shadowLight && m.castsShadows && m.alphaMode == AlphaMode::Mask;
+    }
+    for (const auto& [key, value] : s.renderSettings)
+        if (key == "gi.enabled" && value == "true") needs.gi = true;
+    if (needs.gi)
+        sum.warnings.push_back("gi.enabled = true, but this version has no GI shaders to pack");
+    ShaderPlan plan = planShaders(materials.materials, materials.features, needs);
+    if (s.validateShaders) {
+        report("shaders", 0, plan.programs.size());
+        auto validated = validateShaders(plan, builtinShaderFiles());
+        if (!validated) return validated.error();
+    }
+    for (const ProgramVariant& v : plan.programs) sum.programs.push_back(describeVariant(v));
+    describeOmissions(materials, plan, needs, sum);
+    clock.stop();
+
+    // [SECTION] assemble
+    clock.start("write");
+    SceneBuilder b;
+    Scene& out = b.scene;
+    out.info.name = b.intern(fs::path(s.input).stem().string());
+    out.info.generator = b.intern(kGenerator);
+    out.info.source = b.intern(fs::path(s.input).filename().string());
+    out.info.bounds = sceneBounds;
+    for (const auto& [key, value] : s.renderSettings)
+        out.settings.entries.push_back({b.intern(key), b.intern(value)});
+
+    // Shader stage files: each resolved once, shared by every program that uses it.
+    std::vector<std::string> stageFiles;
+    for (const ProgramVariant& v : plan.programs)
+        for (size_t k = 0; k < v.stageFiles.size(); ++k)
+            if (std::find(stageFiles.begin(), stageFiles.end(), v.stageFiles[k]) == stageFiles.end()) {
+                stageFiles.push_back(v.stageFiles[k]);
+                auto resolved = resolveShaderSource(v.stageFiles[k], builtinShaderFiles());
+                if (!resolved) return resolved.error();
+                out.shaders.push_back(
+                    {b.intern(v.stageFiles[k]), v.stages[k], b.keep(resolved->text)});
+            }
+    for (const ProgramVariant& v : plan.programs) {
+        Program p;
+        p.name = b.intern(v.name);
+        for (const std::string& f : v.stageFiles)
+            p.shaders.push_back(uint32_t(std::find(stageFiles.begin(), stageFiles.end(), f) -
+                                         stageFiles.begin()));
+        for (const std::string& d : v.defines) p.defines.push_back(b.intern(d));
+        out.programs.push_back(p);
+    }
+    for (size_t i = 0; i < textures.size(); ++i) {
+        ProcessedTexture& t = textures[i];
+        TextureDesc desc = t.desc;
+        desc.name = b.intern(materials.textures[i].name);
+        out.textures.push_back(desc);
+        for (uint32_t level = 0; level < t.levels.size(); ++level)
+            out.textureMips.push_back({uint32_t(i), level, std::max(1u, desc.width >> level),
+                                       std::max(1u, desc.height >> level), Blob(t.levels[level])});
+        sum.textureBytes += [&] {
+            uint64_t n = 0;
+            for (const auto& l : t.levels) n += l.size();
+            return n;
+        }();
+        if (t.psnrDb > 0)
+            sum.minTexturePsnrDb =
+                sum.minTexturePsnrDb == 0 ? t.psnrDb : std::min(sum.minTexturePsnrDb, t.psnrDb);
+    }
+    std::set<uint16_t> layers;
+    for (size_t i = 0; i < materials.materials.size(); ++i) {
+        Material m = materials.materials[i];
+        m.name = b.intern(materials.names[i]);
+        m.program = plan.materialProgram[i];
+        out.materials.push_back(m);
+        if (m.shadingPath == ShadingPath::Deferred) {
+            ++sum.deferredMaterials;
+            layers.insert(m.layerPriority);
+        } else {
+            ++sum.forwardMaterials;
+        }
+    }
+    sum.deferredLayers.assign(layers.begin(), layers.end());
+    for (size_t i = 0; i < meshes.size(); ++i) {
+        ProcessedMesh& pm = *meshes[i];
+        Mesh m;
+        m.name = b.intern(pm.name.empty() ? "mesh" + std::to_string(i) : pm.name);
+        m.indexType = pm.indexType;
+        m.vertexCount = pm.vertexCount;
+        for (OwnedStream& st : pm.streams) {
+            VertexStream vs = st.desc;
+            vs.data = st.bytes;
+            m.streams.push_back(vs);
+            sum.meshBytes += st.bytes.size();
+        }
+        m.indices = pm.indices;
+        sum.meshBytes += pm.indices.size();
+        m.submeshes = pm.submeshes;
+        for (Submesh& sm : m.submeshes)
+            if (sm.material == kNone) sm.material = uint32_t(materials.defaultMaterial);
+        m.bounds = pm.bounds;
+        m.boundingSphere = pm.boundingSphere;
+        sum.submeshes += m.submeshes.size();
+        out.meshes.push_back(m);
+    }
+    for (size_t i = 0; i < scene.lights.size(); ++i) {
+        const IrLight& l = scene.lights[i];
+        out.lights.lights.push_back(Light{b.intern(l.name), l.type, l.color, l.intensity, l.range,
+                                          l.innerConeRadians, l.outerConeRadians,
+                                          l.type == LightType::Directional, generatedLight[i]});
+    }
+    for (const IrCamera& c : scene.cameras)
+        out.cameras.cameras.push_back(Camera{b.intern(c.name), c.projection, c.yfovRadians,
+                                             c.aspectRatio, c.znear, c.zfar, c.xmag, c.ymag});
+    for (size_t i = 0; i < scene.nodes.size(); ++i) {
+        const IrNode& n = scene.nodes[i];
+        Node node;
+        node.name = b.intern(n.name);
+        node.parent = n.parent >= 0 ? uint32_t(n.parent) : kNone;
+        node.translation = n.translation;
+        node.rotation = n.rotation;
+        node.scale = n.scale;
+        node.mesh = n.mesh >= 0 ? uint32_t(n.mesh) : kNone;
+        node.light = n.light >= 0 ? uint32_t(n.light) : kNone;
+        node.camera = n.camera >= 0 ? uint32_t(n.camera) : kNone;
+        node.worldBounds = nodeBounds[i];
+        out.nodes.nodes.push_back(node);
+    }
+    for (const PathSpec& p : paths)
+        out.cameraPaths.push_back(CameraPath{b.intern(p.name), p.interpolation, p.loop, p.keys});
+
+    // The format library re-checks every cross-reference before anything reaches the disk.
+    if (Status st = validateScene(out); !isOk(st))
+        return ConvertError{ConvertErrorKind::Input,
+                            s.input + ": internal consistency check failed: " + st.message};
+
+    WriteOptions wo;
+    wo.checksums = s.checksums;
+    auto writer = Writer::create(s.output, wo);
+    if (!writer) return outputError(writer.error().message);
+    Status st = writeScene(*writer, out, s.compressBulk ? Compression::Zstd : Compression::None);
+    if (isOk(st)) st = writer->commit();
+    if (!isOk(st)) return outputError(st.message);
+    sum.outputBytes = writer->size();
+    clock.stop();
+
+    sum.meshes = out.meshes.size();
+    sum.nodes = out.nodes.nodes.size();
+    sum.materials = out.materials.size();
+    sum.textures = out.textures.size();
+    sum.lights = out.lights.lights.size();
+    sum.cameras = out.cameras.cameras.size();
+    sum.cameraPaths = out.cameraPaths.size();
+    if (!s.depfile.empty()) {
+        auto d = writeDepfile(s, sum.dependencies);
+        if (!d) return d.error();
+    }
+    return sum;
+}
+
+} // namespace pnb::converter

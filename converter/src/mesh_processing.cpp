@@ -1,0 +1,480 @@
+// converter/src/mesh_processing.cpp — processMesh: the per-mesh pipeline, in this order.
+//
+//  1. Validate every primitive (sizes, index range) before touching data: hostile input fails
+//     with a message naming mesh and primitive, and no later step needs bounds checks.
+//  2. Drop triangles with a non-finite position, then degenerate ones (repeated index, or a
+//     height below float resolution at the mesh's scale; see isDegenerate). Done first so that
+//     NaNs never reach normals, tangents, bounds or meshoptimizer, and a zero-area triangle
+//     cannot poison a normal sum or a UV gradient.
+//  3. Merge the primitives into one vertex/index buffer, one submesh (index range) per
+//     primitive. Only streams the materials need (StreamNeeds) plus positions and normals are
+//     carried; a primitive lacking a needed stream gets defaults (uv 0, colour 1). Non-finite
+//     uv/colour components become those defaults too; -0 becomes +0 so equal values weld.
+//  4. Normals: kept (normalised) where the source has usable ones, generated elsewhere
+//     (mesh_normals.cpp). Before the weld, so generated normals take part in it.
+//  5. Tangents, only when a normal map needs them: kept from the source, else derived from uv0
+//     (mesh_tangents.cpp). After normals (they are orthogonalised against them), before the weld.
+//  6. Weld: vertices equal in every *output* stream merge (meshopt_generateVertexRemapMulti,
+//     bitwise). Streams that are not output do not keep vertices apart. Unreferenced vertices
+//     (e.g. only used by dropped triangles) disappear here.
+//  7. Optimise (settings.optimize): vertex cache then overdraw per submesh — each submesh is a
+//     draw call, and the optimisers reorder triangles only within the range they are given —
+//     then one global vertex-fetch reorder (the vertex buffer is shared by all submeshes).
+//     meshoptimizer's recommended order: remap → cache → overdraw → fetch.
+//  8. LODs: each level simplifies the *level-0* submesh to previous level × lodRatio indices, so
+//     lodError is the error against full detail rather than an accumulation; simplified indices
+//     reference the same vertices. Appended after all level-0 submeshes, ordered by level then
+//     submesh. A submesh stops when simplification no longer reduces it.
+//  9. Encode streams and indices (mesh_encode.cpp). Quantization is last: every geometric step
+//     above works on the source floats.
+// 10. Bounds: AABB of the mesh and of each submesh range, bounding sphere (mesh_bounds.cpp), of
+//     the positions *as stored*, so they contain what a reader decodes even when quantization
+//     rounds a coordinate an ulp past the float box.
+//
+// Determinism: single-threaded, no hashing of pointers, no unordered iteration; meshoptimizer's
+// functions are deterministic. Equal input gives equal output bytes.
+
+#include "pnb_converter/mesh_processing.h"
+
+#include <algorithm>
+#include <cfloat>
+#include <cmath>
+#include <limits>
+#include <optional>
+#include <span>
+#include <string>
+
+#include <meshoptimizer.h>
+
+#include "mesh_internal.h"
+
+namespace pnb::converter {
+
+namespace {
+
+using namespace mesh_detail;
+
+// A triangle whose height over its longest edge is at most this fraction of the mesh's box
+// diagonal is degenerate: float positions at that scale resolve about FLT_EPSILON × size, so
+// the triangle is a line or a point as far as the data can tell. It rasterises to nothing and
+// only breaks normal and tangent sums. Exactly-zero area is the special case.
+constexpr double kDegenerateHeight = std::numeric_limits<float>::epsilon();
+
+// meshopt_simplify's target error, relative to the mesh extent: 1% deformation at most.
+constexpr float kLodTargetError = 1e-2f;
+// meshopt_optimizeOverdraw: accept up to 5% worse vertex-cache efficiency for less overdraw.
+constexpr float kOverdrawThreshold = 1.05f;
+// Submesh::lod is a u8.
+constexpr uint32_t kMaxLodLevels = 255;
+
+struct Range {
+    uint32_t first = 0, count = 0;
+};
+
+ConvertError inputError(const IrMesh& mesh, size_t primitive, const std::string& what) {
+    return {ConvertErrorKind::Input,
+            "mesh '" + mesh.name + "' primitive " + std::to_string(primitive) + ": " + what};
+}
+
+ConvertError inputError(const IrMesh& mesh, const std::string& what) {
+    return {ConvertErrorKind::Input, "mesh '" + mesh.name + "': " + what};
+}
+
+std::optional<ConvertError> validate(const IrMesh& mesh, size_t index) {
+    const IrPrimitive& p = mesh.primitives[index];
+    if (p.positions.empty()) return inputError(mesh, index, "no positions");
+    if (p.positions.size() % 3 != 0)
+        return inputError(mesh, index,
+                          std::to_string(p.positions.size()) +
+                              " position floats, not a multiple of 3");
+    const size_t n = p.vertexCount();
+    struct Named {
+        const char* name;
+        const std::vector<float>* data;
+        size_t components;
+    };
+    for (const Named& s :
+         {Named{"normal", &p.normals, kNormalComponents},
+          Named{"tangent", &p.tangents, kTangentComponents}, Named{"uv0", &p.uv0, kUvComponents},
+          Named{"uv1", &p.uv1, kUvComponents}, Named{"colour", &p.colors, kColorComponents}}) {
+        if (!s.data->empty() && s.data->size() != n * s.components)
+            return inputError(mesh, index,
+                              std::to_string(s.data->size()) + " " + s.name + " floats, expected " +
+                                  std::to_string(n * s.components) + " (" + std::to_string(n) +
+                                  " vertices × " + std::to_string(s.components) + ")");
+    }
+    if (p.indices.size() % 3 != 0)
+        return inputError(mesh, index,
+                          std::to_string(p.indices.size()) + " indices, not a multiple of 3");
+    for (uint32_t i : p.indices) {
+        if (i >= n)
+            return inputError(mesh, index,
+                              "index " + std::to_string(i) + " out of range (" + std::to_string(n) +
+                                  " vertices)");
+    }
+    if (p.material < -1)
+        return inputError(mesh, index,
+                          "material index " + std::to_string(p.material) +
+                              " (-1 is the default material, others index the scene's)");
+    return std::nullopt;
+}
+
+bool finiteVertex(const float* p) {
+    return std::isfinite(p[0]) && std::isfinite(p[1]) && std::isfinite(p[2]);
+}
+
+bool finiteTriangle(const IrPrimitive& p, size_t t) {
+    return finiteVertex(&p.positions[size_t(p.indices[t]) * 3]) &&
+           finiteVertex(&p.positions[size_t(p.indices[t + 1]) * 3]) &&
+           finiteVertex(&p.positions[size_t(p.indices[t + 2]) * 3]);
+}
+
+// Diagonal of the box of all vertices used by finite triangles, in double (float could
+// overflow for coordinates near its range).
+double finiteDiagonal(const IrMesh& mesh) {
+    double lo[3] = {HUGE_VAL, HUGE_VAL, HUGE_VAL}, hi[3] = {-HUGE_VAL, -HUGE_VAL, -HUGE_VAL};
+    bool any = false;
+    for (const IrPrimitive& p : mesh.primitives) {
+        for (size_t t = 0; t + 2 < p.indices.size(); t += 3) {
+            if (!finiteTriangle(p, t)) continue;
+            any = true;
+            for (size_t c = 0; c < 3; ++c) {
+                const float* v = &p.positions[size_t(p.indices[t + c]) * 3];
+                for (int k = 0; k < 3; ++k)
+                    lo[k] = std::min(lo[k], double(v[k])), hi[k] = std::max(hi[k], double(v[k]));
+            }
+        }
+    }
+    if (!any) return 0;
+    double d[3] = {hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]};
+    return std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+}
+
+bool isDegenerate(const float* a, const float* b, const float* c, double diagonal) {
+    double e0[3], e1[3], e2[3];
+    for (int k = 0; k < 3; ++k) {
+        e0[k] = double(b[k]) - a[k];
+        e1[k] = double(c[k]) - a[k];
+        e2[k] = double(c[k]) - b[k];
+    }
+    double x = e0[1] * e1[2] - e0[2] * e1[1], y = e0[2] * e1[0] - e0[0] * e1[2],
+           z = e0[0] * e1[1] - e0[1] * e1[0];
+    double twiceArea = std::sqrt(x * x + y * y + z * z);
+    auto len = [](const double* e) { return std::sqrt(e[0] * e[0] + e[1] * e[1] + e[2] * e[2]); };
+    double longest = std::max({len(e0), len(e1), len(e2)});
+    // height = twiceArea / longest <= kDegenerateHeight * diagonal, without dividing by zero.
+    return twiceArea <= kDegenerateHeight * diagonal * longest;
+}
+
+// Copies n×components floats, replacing non-finite components by `fallback`, -0 by +0.
+void appendSanitised(std::vector<float>& dst, const std::vector<float>& src, size_t count,
+                     float fallback) {
+    if (src.empty()) {
+        dst.insert(dst.end(), count, fallback);
+        return;
+    }
+    for (float f : src)
+        dst.push_back(std::isfinite(f) ? f + 0.0f : fallback);
+}
+
+// Normalises xyz in double (tiny vectors would underflow in float). False when unusable.
+bool normalise3(const float* in, float* out) {
+    double x = in[0], y = in[1], z = in[2];
+    double len = std::sqrt(x * x + y * y + z * z);
+    if (!(len > 0) || !std::isfinite(len)) return false;
+    out[0] = float(x / len) + 0.0f;
+    out[1] = float(y / len) + 0.0f;
+    out[2] = float(z / len) + 0.0f;
+    return true;
+}
+
+// Reorders `indices` in place with a meshoptimizer pass that wants the range's own compact
+// vertex numbering: passing the whole mesh's vertex count instead would cost O(vertexCount) per
+// submesh (the optimisers allocate per-vertex tables), quadratic with many primitives.
+class LocalRange {
+public:
+    explicit LocalRange(size_t vertexCount) : mLocal(vertexCount, ~0u) {}
+
+    template <class Optimise>
+    void run(std::span<uint32_t> indices, std::span<const float> positions, Optimise&& optimise) {
+        mGlobal.clear();
+        mIndices.resize(indices.size());
+        for (size_t i = 0; i < indices.size(); ++i) {
+            uint32_t& local = mLocal[indices[i]];
+            if (local == ~0u) {
+                local = uint32_t(mGlobal.size());
+                mGlobal.push_back(indices[i]);
+            }
+            mIndices[i] = local;
+        }
+        mPositions.resize(mGlobal.size() * 3);
+        for (size_t i = 0; i < mGlobal.size(); ++i)
+            std::copy_n(&positions[size_t(mGlobal[i]) * 3], 3, &mPositions[i * 3]);
+        optimise(mIndices, mPositions, mGlobal.size());
+        for (size_t i = 0; i < indices.size(); ++i)
+            indices[i] = mGlobal[mIndices[i]];
+        for (uint32_t g : mGlobal)
+            mLocal[g] = ~0u;
+    }
+
+private:
+    std::vector<uint32_t> mLocal, mGlobal, mIndices;
+    std::vector<float> mPositions;
+};
+
+void optimiseCacheAndOverdraw(std::vector<uint32_t>& indices, const std::vector<float>& positions,
+                              size_t vertexCount) {
+    std::vector<uint32_t> scratch(indices.size());
+    meshopt_optimizeVertexCache(scratch.data(), indices.data(), indices.size(), vertexCount);
+    meshopt_optimizeOverdraw(indices.data(), scratch.data(), indices.size(), positions.data(),
+                             vertexCount, sizeof(float) * 3, kOverdrawThreshold);
+}
+
+void optimiseCache(std::vector<uint32_t>& indices, const std::vector<float>&, size_t vertexCount) {
+    std::vector<uint32_t> scratch(indices.size());
+    meshopt_optimizeVertexCache(scratch.data(), indices.data(), indices.size(), vertexCount);
+    indices.swap(scratch);
+}
+
+void remapStream(std::vector<float>& stream, size_t components, size_t oldCount, size_t newCount,
+                 const std::vector<uint32_t>& remap) {
+    if (stream.empty()) return;
+    std::vector<float> out(newCount * components);
+    if (newCount)
+        meshopt_remapVertexBuffer(out.data(), stream.data(), oldCount, sizeof(float) * components,
+                                  remap.data());
+    stream.swap(out);
+}
+
+void remapAll(VertexData& v, size_t newCount, const std::vector<uint32_t>& remap) {
+    remapStream(v.positions, kPositionComponents, v.count, newCount, remap);
+    remapStream(v.normals, kNormalComponents, v.count, newCount, remap);
+    remapStream(v.tangents, kTangentComponents, v.count, newCount, remap);
+    remapStream(v.uv0, kUvComponents, v.count, newCount, remap);
+    remapStream(v.uv1, kUvComponents, v.count, newCount, remap);
+    remapStream(v.colors, kColorComponents, v.count, newCount, remap);
+    v.count = newCount;
+}
+
+} // namespace
+
+Result<ProcessedMesh, ConvertError> processMesh(const IrMesh& mesh, const StreamNeeds& needs,
+                                                const MeshSettings& settings, MeshStats& stats) {
+    stats = MeshStats{};
+
+    // 1. Validate.
+    if (mesh.primitives.empty()) return inputError(mesh, "no primitives");
+    if (settings.lodCount > 0 && !(settings.lodRatio > 0 && settings.lodRatio < 1))
+        return inputError(mesh, "LOD ratio " + std::to_string(settings.lodRatio) +
+                                    " is not between 0 and 1");
+    uint64_t totalVertices = 0;
+    for (size_t i = 0; i < mesh.primitives.size(); ++i) {
+        if (auto error = validate(mesh, i)) return *error;
+        totalVertices += mesh.primitives[i].vertexCount();
+        stats.inputTriangles += mesh.primitives[i].indices.size() / 3;
+    }
+    stats.inputVertices = totalVertices;
+    // Merged indices are u32 and ~0u is meshoptimizer's "unused" marker.
+    if (totalVertices >= 0xFFFFFFFFull)
+        return inputError(mesh, std::to_string(totalVertices) + " vertices, the limit is 2^32 - 2");
+
+    // 2 + 3. Filter triangles while merging indices; merge the vertex streams.
+    const double diagonal = finiteDiagonal(mesh);
+    const bool carryUv0 = needs.uv0 || needs.tangents; // tangents are derived from uv0
+    VertexData v;
+    v.count = size_t(totalVertices);
+    std::vector<uint32_t> indices;
+    std::vector<Range> ranges;
+    std::vector<uint8_t> generateNormal(v.count, 0);
+    std::vector<TangentSource> tangentSource(needs.tangents ? v.count : 0, TangentSource::Keep);
+    std::vector<uint8_t> noUv0(v.count, 0); // tangents arbitrary because the primitive has no uv0
+    v.positions.reserve(v.count * 3);
+    v.normals.resize(v.count * 3);
+    if (needs.tangents) v.tangents.resize(v.count * 4);
+    uint32_t base = 0;
+    for (const IrPrimitive& p : mesh.primitives) {
+        const size_t n = p.vertexCount();
+        Range range{uint32_t(indices.size()), 0};
+        for (size_t t = 0; t < p.indices.size(); t += 3) {
+            uint32_t a = p.indices[t], b = p.indices[t + 1], c = p.indices[t + 2];
+            if (!finiteTriangle(p, t)) {
+                ++stats.nonFiniteTriangles;
+                continue;
+            }
+            if (a == b || b == c || a == c ||
+                isDegenerate(&p.positions[size_t(a) * 3], &p.positions[size_t(b) * 3],
+                             &p.positions[size_t(c) * 3], diagonal)) {
+                ++stats.degenerateTriangles;
+                continue;
+            }
+            indices.insert(indices.end(), {base + a, base + b, base + c});
+        }
+        range.count = uint32_t(indices.size() - range.first);
+        ranges.push_back(range);
+
+        // Non-finite positions are only in unreferenced vertices now; keep them out of the
+        // weld's equality anyway (0 is as good as anything for a vertex that will vanish).
+        for (float f : p.positions)
+            v.positions.push_back(std::isfinite(f) ? f + 0.0f : 0.0f);
+        for (size_t i = 0; i < n; ++i) {
+            bool ok =
+                !p.normals.empty() && normalise3(&p.normals[i * 3], &v.normals[(base + i) * 3]);
+            generateNormal[base + i] = !ok;
+        }
+        if (needs.tangents) {
+            for (size_t i = 0; i < n; ++i) {
+                float* t = &v.tangents[(base + i) * 4];
+                if (!p.tangents.empty() && normalise3(&p.tangents[i * 4], t)) {
+                    t[3] = p.tangents[i * 4 + 3] < 0 ? -1.0f : 1.0f; // NaN w: +1
+                    tangentSource[base + i] = TangentSource::Keep;
+                } else if (!p.uv0.empty()) {
+                    tangentSource[base + i] = TangentSource::FromUv;
+                } else {
+                    tangentSource[base + i] = TangentSource::Arbitrary;
+                    noUv0[base + i] = 1;
+                }
+            }
+        }
+        if (carryUv0) appendSanitised(v.uv0, p.uv0, n * kUvComponents, 0.0f);
+        if (needs.uv1) appendSanitised(v.uv1, p.uv1, n * kUvComponents, 0.0f);
+        if (needs.colors) appendSanitised(v.colors, p.colors, n * kColorComponents, 1.0f);
+        base += uint32_t(n);
+    }
+    stats.outputTriangles = indices.size() / 3;
+
+    std::vector<uint8_t> referenced(v.count, 0);
+    for (uint32_t i : indices)
+        referenced[i] = 1;
+    for (size_t i = 0; i < v.count; ++i) {
+        if (!referenced[i]) continue;
+        stats.normalsGenerated |= generateNormal[i] != 0;
+        if (needs.tangents) stats.tangentsGenerated |= tangentSource[i] != TangentSource::Keep;
+        stats.tangentsArbitrary |= noUv0[i] != 0;
+    }
+
+    // 4. Normals.
+    if (stats.normalsGenerated) generateNormals(v, indices, generateNormal);
+    // 5. Tangents.
+    if (stats.tangentsGenerated) generateTangents(v, indices, tangentSource);
+    if (!needs.uv0) v.uv0.clear();
+
+    // 6. Weld over the output streams.
+    {
+        std::vector<meshopt_Stream> keys;
+        auto key = [&](const std::vector<float>& s, size_t components) {
+            if (!s.empty())
+                keys.push_back({s.data(), sizeof(float) * components, sizeof(float) * components});
+        };
+        key(v.positions, kPositionComponents);
+        key(v.normals, kNormalComponents);
+        key(v.tangents, kTangentComponents);
+        key(v.uv0, kUvComponents);
+        key(v.uv1, kUvComponents);
+        key(v.colors, kColorComponents);
+        // meshoptimizer asserts on a null index pointer: no triangles means no vertices.
+        std::vector<uint32_t> remap(v.count, ~0u);
+        size_t unique = 0;
+        if (!indices.empty()) {
+            unique = meshopt_generateVertexRemapMulti(remap.data(), indices.data(), indices.size(),
+                                                      v.count, keys.data(), keys.size());
+            meshopt_remapIndexBuffer(indices.data(), indices.data(), indices.size(), remap.data());
+        }
+        remapAll(v, unique, remap);
+    }
+
+    // 7. Optimise.
+    if (settings.optimize && !indices.empty()) {
+        LocalRange local(v.count);
+        for (const Range& r : ranges) {
+            if (r.count == 0) continue;
+            local.run(std::span(indices).subspan(r.first, r.count), v.positions,
+                      [](std::vector<uint32_t>& ix, const std::vector<float>& pos, size_t count) {
+                          optimiseCacheAndOverdraw(ix, pos, count);
+                      });
+        }
+        std::vector<uint32_t> remap(v.count);
+        size_t unique =
+            meshopt_optimizeVertexFetchRemap(remap.data(), indices.data(), indices.size(), v.count);
+        meshopt_remapIndexBuffer(indices.data(), indices.data(), indices.size(), remap.data());
+        remapAll(v, unique, remap);
+    }
+
+    ProcessedMesh out;
+    out.name = mesh.name;
+    for (size_t i = 0; i < mesh.primitives.size(); ++i) {
+        Submesh s;
+        int material = mesh.primitives[i].material;
+        s.material = material < 0 ? kNone : uint32_t(material);
+        s.firstIndex = ranges[i].first;
+        s.indexCount = ranges[i].count;
+        out.submeshes.push_back(s);
+    }
+
+    // 8. LODs.
+    const uint32_t levels = std::min(settings.lodCount, kMaxLodLevels);
+    if (levels > 0 && !indices.empty()) {
+        const float scale = meshopt_simplifyScale(v.positions.data(), v.count, sizeof(float) * 3);
+        const size_t level0Submeshes = out.submeshes.size();
+        std::vector<size_t> previous(level0Submeshes);
+        for (size_t s = 0; s < level0Submeshes; ++s)
+            previous[s] = ranges[s].count;
+        std::vector<uint32_t> simplified;
+        LocalRange local(v.count);
+        for (uint32_t level = 1; level <= levels; ++level) {
+            bool produced = false;
+            float levelError = 0;
+            for (size_t s = 0; s < level0Submeshes; ++s) {
+                if (previous[s] < 6) continue; // one triangle cannot be reduced
+                const Range& r = ranges[s];
+                size_t target = size_t(double(previous[s] / 3) * settings.lodRatio) * 3;
+                simplified.resize(r.count);
+                float error = 0;
+                size_t count = meshopt_simplify(simplified.data(), &indices[r.first], r.count,
+                                                v.positions.data(), v.count, sizeof(float) * 3,
+                                                target, kLodTargetError, 0, &error);
+                if (count == 0 || count >= previous[s]) {
+                    previous[s] = 0; // no further reduction: this submesh's chain ends
+                    continue;
+                }
+                simplified.resize(count);
+                if (settings.optimize) {
+                    local.run(simplified, v.positions,
+                              [](std::vector<uint32_t>& ix, const std::vector<float>& pos,
+                                 size_t n) { optimiseCache(ix, pos, n); });
+                }
+                Submesh lod = out.submeshes[s];
+                lod.firstIndex = uint32_t(indices.size());
+                lod.indexCount = uint32_t(count);
+                lod.lod = uint8_t(level);
+                // Coordinates near float's limit make the scale infinite: keep the error a
+                // finite float (0 × inf would be NaN).
+                lod.lodError = error > 0 ? std::min(error * scale, FLT_MAX) : 0.0f;
+                out.submeshes.push_back(lod);
+                indices.insert(indices.end(), simplified.begin(), simplified.end());
+                previous[s] = count;
+                levelError = std::max(levelError, lod.lodError);
+                produced = true;
+            }
+            if (!produced) break;
+            stats.lodErrors.push_back(levelError);
+        }
+    }
+
+    // 9. Encode. U16 indices stop at 65535 vertices so that no index is 0xFFFF, the primitive
+    // restart value a player may enable.
+    out.vertexCount = uint32_t(v.count);
+    std::vector<float> stored;
+    out.streams =
+        encodeStreams(v, needs, boundsOfAll(v.positions), settings.quantize, stored, stats);
+    // 10. Bounds of the stored positions.
+    out.bounds = boundsOfAll(stored);
+    out.boundingSphere = boundingSphere(stored, out.bounds);
+    for (Submesh& s : out.submeshes)
+        s.bounds = boundsOfIndexed(stored, std::span(indices).subspan(s.firstIndex, s.indexCount));
+    out.indexType = v.count <= 65535 ? IndexType::U16 : IndexType::U32;
+    out.indices = encodeIndices(indices, out.indexType);
+    stats.outputVertices = v.count;
+    return out;
+}
+
+} // namespace pnb::converter

@@ -1,0 +1,85 @@
+// Program selection: one variant per distinct feature combination, plus the scene-level
+// programs something in the scene uses.
+
+#include <algorithm>
+#include <map>
+
+#include "pnb_converter/shader_permutations.h"
+
+namespace pnb::converter {
+
+namespace {
+
+ProgramVariant variant(std::string name, std::vector<std::string> files,
+                       std::vector<std::string> defines) {
+    ProgramVariant v;
+    v.name = std::move(name);
+    for (const std::string& f : files) {
+        bool vertex = f.size() > 5 && f.compare(f.size() - 5, 5, ".vert") == 0;
+        v.stages.push_back(vertex ? ShaderStage::Vertex : ShaderStage::Fragment);
+    }
+    v.stageFiles = std::move(files);
+    std::sort(defines.begin(), defines.end());
+    v.defines = std::move(defines);
+    return v;
+}
+
+std::vector<std::string> surfaceDefines(const MaterialFeatures& f) {
+    std::vector<std::string> d;
+    if (f.baseColorMap) d.push_back("HAS_BASE_COLOR_MAP");
+    if (f.metallicRoughnessMap) d.push_back("HAS_METALLIC_ROUGHNESS_MAP");
+    if (f.normalMap) d.push_back("HAS_NORMAL_MAP");
+    if (f.normalMap) d.push_back("HAS_TANGENT");
+    if (f.occlusionMap) d.push_back("HAS_OCCLUSION_MAP");
+    if (f.emissiveMap) d.push_back("HAS_EMISSIVE_MAP");
+    if (f.vertexColor) d.push_back("HAS_VERTEX_COLOR");
+    if (f.uv0) d.push_back("HAS_UV0");
+    if (f.uv1) d.push_back("HAS_UV1");
+    if (f.alphaMask) d.push_back("ALPHA_MASK");
+    return d;
+}
+
+} // namespace
+
+ShaderPlan planShaders(std::span<const Material> materials,
+                       std::span<const MaterialFeatures> features, const SceneShaderNeeds& needs) {
+    ShaderPlan plan;
+    std::map<std::pair<std::string, std::vector<std::string>>, uint32_t> index;
+    auto add = [&](ProgramVariant v) {
+        auto key = std::make_pair(v.name, v.defines);
+        auto it = index.find(key);
+        if (it != index.end()) return it->second;
+        uint32_t i = uint32_t(plan.programs.size());
+        plan.programs.push_back(std::move(v));
+        index.emplace(key, i);
+        return i;
+    };
+    bool anyDeferred = false;
+    for (size_t i = 0; i < materials.size(); ++i) {
+        bool deferred = materials[i].shadingPath == ShadingPath::Deferred;
+        anyDeferred |= deferred;
+        plan.materialProgram.push_back(
+            add(deferred ? variant("gbuffer", {"surface.vert", "gbuffer.frag"},
+                                   surfaceDefines(features[i]))
+                         : variant("forward", {"surface.vert", "forward.frag"},
+                                   surfaceDefines(features[i]))));
+    }
+    if (anyDeferred)
+        add(variant("deferred_lighting", {"fullscreen.vert", "deferred_lighting.frag"}, {}));
+    if (needs.shadows) {
+        add(variant("shadow", {"shadow.vert", "shadow.frag"}, {}));
+        if (needs.maskedCasters)
+            add(variant("shadow", {"shadow.vert", "shadow.frag"}, {"ALPHA_MASK"}));
+    }
+    // GI (issue: LPV) adds its programs here when needs.gi; none exist yet, so none are packed.
+    add(variant("tonemap", {"fullscreen.vert", "tonemap.frag"}, {}));
+    return plan;
+}
+
+std::string describeVariant(const ProgramVariant& v) {
+    std::string s = v.name + "[";
+    for (size_t i = 0; i < v.defines.size(); ++i) s += (i ? " " : "") + v.defines[i];
+    return s + "]";
+}
+
+} // namespace pnb::converter

@@ -1,0 +1,140 @@
+// converter/src/texture_internal.h — private interfaces between the texture processing files
+// (texture_processing.cpp drives one request and runs the worker pool; image_decode.cpp decodes
+// and resizes with OpenImageIO; mip_chain.cpp filters mip levels and preserves alpha coverage;
+// channel_packing.cpp chooses what is stored where and quantises; block_compress.cpp wraps
+// libsquish). Not installed, not used outside converter/src.
+//
+// Images here are float RGBA, 4 floats per texel, rows top to bottom as the image file shows
+// them; that is also the order TMIP stores them in (see texture_processing.cpp for why). Colour
+// channels of sRGB requests are in linear light from decode onwards: every filter works on light,
+// and only quantisation re-encodes.
+//
+// Thread safety: every function is reentrant (no shared state besides constant tables); the
+// pool in texture_processing.cpp calls them from several threads at once.
+#pragma once
+
+#include <array>
+#include <cstddef>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "pnb/chunks.h"
+#include "pnb/error.h"
+#include "pnb_converter/scene_ir.h"
+#include "pnb_converter/texture_processing.h"
+
+namespace pnb::converter::texture_detail {
+
+struct ImageF {
+    uint32_t width = 0, height = 0;
+    std::vector<float> texels; // r, g, b, a per texel, width * height * 4 floats
+
+    size_t texelCount() const { return size_t(width) * height; }
+};
+
+// [SECTION] decode — image_decode.cpp
+
+struct DecodedImage {
+    ImageF image; // grey → r = g = b; no alpha channel → a = 1; no blue → b = 0
+    uint32_t sourceChannels = 0;
+    bool floatSource = false; // EXR, HDR, float TIFF...: linear light, values may leave [0, 1]
+};
+
+// "image 'wood' (textures/wood.png)" or "image 'wood' (embedded, 1234 bytes)", for messages.
+std::string describeImage(const IrImage& image);
+
+// Decodes the first subimage's full-resolution level to float RGBA with straight (not
+// premultiplied) alpha. The header is checked before any pixel is read: zero size or more than
+// `maxSourceTexels` texels fail. Errors (Input) start with describeImage(image).
+Result<DecodedImage, ConvertError> decodeImage(const IrImage& image, uint64_t maxSourceTexels);
+
+// Resamples to width × height (each ≥ 1) with a Lanczos-3 filter (OIIO resize), on the calling
+// thread only, so results do not depend on OIIO's thread pool. Values are not clamped.
+ImageF resizeImage(const ImageF& src, uint32_t width, uint32_t height);
+
+// [SECTION] mip chain — mip_chain.cpp
+
+// The next mip level: max(1, w >> 1) × max(1, h >> 1), each texel the area-weighted mean of
+// the source texels under its footprint (a box filter; exact 2×2 averages for even sizes, a
+// 2.5-texel footprint when 5 halves to 2). All four channels are filtered alike.
+ImageF downsample(const ImageF& src);
+
+// How alpha is stored, which decides what a shader's `alpha >= cutoff` test sees.
+enum class AlphaStorage : uint8_t { Unorm8, Half };
+
+// Fraction of texels whose alpha, scaled by `scale`, clamped to 1 and quantised as `storage`,
+// passes `alpha >= cutoff`.
+double alphaCoverage(const ImageF& image, float cutoff, float scale, AlphaStorage storage);
+
+// The alpha scale that brings this level's coverage closest to `targetCoverage` (binary search,
+// Castaño 2010). Returns 1 when the cutoff makes coverage independent of the scale.
+float findAlphaScale(const ImageF& image, float cutoff, double targetCoverage,
+                     AlphaStorage storage);
+
+// [SECTION] channel packing — channel_packing.cpp
+
+// How one stored channel is quantised.
+enum class Encoding : uint8_t {
+    Unorm8, // round(clamp(v, 0, 1) * 255)
+    Srgb8,  // linear v → sRGB transfer → 8 bits (sRGB formats; GL decodes when sampling)
+    Half,   // IEEE binary16, clamped to ±65504, NaN → 0
+};
+
+// What is stored where, and how a shader gets the source channels back.
+struct ChannelLayout {
+    TextureFormat format = TextureFormat::RGBA8; // uncompressed: R8..RGBA8 or R16F/RG16F/RGBA16F
+    uint32_t positions = 4;                      // stored channels per texel, 1..4
+    std::array<int8_t, 4> source{0, 1, 2, 3};    // source channel at each position; -1 = unused
+    std::array<Encoding, 4> encoding{};          // per position
+    ColorSpace colorSpace = ColorSpace::Linear;
+    std::array<Swizzle, 4> swizzle{Swizzle::R, Swizzle::G, Swizzle::B, Swizzle::A};
+
+    bool storesAlpha() const {
+        for (int8_t s : source)
+            if (s == 3) return true;
+        return false;
+    }
+};
+
+// Chooses the layout from level 0 (colour in linear light for sRGB requests). Constant and
+// duplicate channels are found on level 0 quantised as they would be stored. `hdr` selects
+// 16-bit float storage. The rules are documented in channel_packing.cpp.
+ChannelLayout planLayout(const ImageF& level0, const TextureRequest& request, bool hdr);
+
+// Quantises one level into `layout`: positions interleaved per texel, one byte per value
+// (8-bit encodings) or two little-endian bytes (Half); unused positions hold 0. Alpha is
+// multiplied by `alphaScale` and clamped to 1 first (coverage preservation).
+std::vector<std::byte> packLevel(const ImageF& level, const ChannelLayout& layout,
+                                 float alphaScale);
+
+// Quantisers, exposed for the coverage search and the tests.
+uint8_t quantizeUnorm8(float v);
+uint8_t quantizeSrgb8(float linear);
+uint16_t floatToHalf(float v); // round to nearest even; clamps to ±65504; NaN → 0
+float halfToFloat(uint16_t h);
+float srgbToLinear(float encoded);
+float linearToSrgb(float linear);
+
+// [SECTION] block compression — block_compress.cpp
+
+// The block format for `positions` stored 8-bit channels: 1 → BC4, 2 → BC5, 3 → BC1, 4 → BC3.
+TextureFormat blockFormatFor(uint32_t positions);
+
+// Compresses a level packed by packLevel (8-bit encodings only) into `format`, blocks in row
+// order from the top, partial edge blocks padded (their outside texels do not influence the
+// fit). Output size is textureLevelSizeBytes(format, width, height, 1).
+std::vector<std::byte> compressLevel(const std::vector<std::byte>& packed, uint32_t positions,
+                                     uint32_t width, uint32_t height, TextureFormat format);
+
+// Decodes blocks back to `positions` interleaved 8-bit channels (the inverse layout of
+// compressLevel's input), for PSNR and tests.
+std::vector<uint8_t> decompressLevel(const std::vector<std::byte>& blocks, uint32_t positions,
+                                     uint32_t width, uint32_t height, TextureFormat format);
+
+// PSNR in dB of `decoded` against `original` over the positions `used` marks, 255 peak; 0 when
+// they are identical (the header's "0 if lossless").
+double psnrDb(const std::vector<std::byte>& original, const std::vector<uint8_t>& decoded,
+              uint32_t positions, const std::array<bool, 4>& used);
+
+} // namespace pnb::converter::texture_detail

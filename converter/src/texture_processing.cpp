@@ -1,0 +1,221 @@
+// converter/src/texture_processing.cpp — processTextures: one request's pipeline, and the worker
+// pool that runs the requests.
+//
+// Pipeline per request: decode (image_decode.cpp) → linearise sRGB colour → resize to maxSize
+// (Lanczos-3, linear light) → plan the stored channels on level 0 (channel_packing.cpp) → for
+// each level: box-filter from the previous one (mip_chain.cpp), scale alpha to keep level 0's
+// coverage for alpha-masked textures, quantise, optionally block compress (block_compress.cpp).
+//
+// Orientation: TMIP rows are "bottom-up, OpenGL order", i.e. the first row stored is the one GL
+// addresses as t = 0. We store the image's top row first, unflipped, so GL's t = 0 is the top of
+// the image. glTF puts UV (0, 0) at the image's top-left and the IR keeps glTF's UVs (v grows
+// down the image; the OBJ importer converts), so a shader sampling at (u, v) as-is lands on the
+// right texel: no flip in the importers, the player or the shaders. The only visible effect is
+// that the texture looks upside down in a GL debugger. (Flipping the rows instead would force
+// v' = 1 - v everywhere, including in KHR_texture_transform.)
+//
+// Choices that are not obvious from the header:
+// - Only mipmapping min filters get a mip chain (Nearest/Linear sample level 0 only, so their
+//   textures have mipCount 1).
+// - HDR textures (float sources, or values outside [0, 1]) are stored as 16-bit float and never
+//   block compressed, even with settings.compress (libsquish has no BC6H); psnrDb stays 0.
+// - Determinism: each request is processed by one thread from start to end and OIIO runs
+//   single-threaded inside it, so bytes do not depend on `jobs`; results are placed by index.
+//   The error returned is the lowest-indexed request's: workers stop taking new requests after a
+//   failure, and every lower index was taken (and is finished) before the failing one.
+#include <algorithm>
+#include <atomic>
+#include <cassert>
+#include <cmath>
+#include <new>
+#include <optional>
+#include <system_error>
+#include <thread>
+
+#include "texture_internal.h"
+
+namespace pnb::converter {
+
+using namespace texture_detail;
+
+namespace {
+
+bool usesMips(MinFilter f) {
+    return f != MinFilter::Nearest && f != MinFilter::Linear;
+}
+
+uint32_t fullMipCount(uint32_t width, uint32_t height) {
+    uint32_t count = 1;
+    for (uint32_t m = std::max(width, height); m > 1; m >>= 1)
+        ++count;
+    return count;
+}
+
+// Replaces NaN by 0 and infinities by the largest half (a NaN would otherwise spread through
+// every filter kernel it touches). Returns whether any value lies outside [0, 1] and whether any
+// is negative.
+struct ValueRange {
+    bool outside01 = false, negative = false;
+};
+ValueRange sanitize(ImageF& image) {
+    ValueRange r;
+    for (float& v : image.texels) {
+        if (std::isnan(v))
+            v = 0.0f;
+        else if (std::isinf(v))
+            v = v > 0 ? 65504.0f : -65504.0f;
+        r.outside01 |= v < 0.0f || v > 1.0f;
+        r.negative |= v < 0.0f;
+    }
+    return r;
+}
+
+Result<ProcessedTexture, ConvertError> processOne(const TextureRequest& request,
+                                                  const TextureSettings& settings) {
+    if (!request.image)
+        return ConvertError{ConvertErrorKind::Input, "texture '" + request.name + "': no image"};
+    auto decoded = decodeImage(*request.image, settings.maxSourceTexels);
+    if (!decoded) return decoded.error();
+
+    ProcessedTexture out;
+    out.sourceWidth = decoded->image.width;
+    out.sourceHeight = decoded->image.height;
+    out.sourceChannels = decoded->sourceChannels;
+    ImageF level = std::move(decoded->image);
+    ValueRange range = sanitize(level);
+    bool hdr = decoded->floatSource || range.outside01;
+
+    // Float sources are linear light whatever the request says (EXR and Radiance HDR are linear
+    // by definition); 8/16-bit sRGB data is linearised here, before any filter runs.
+    if (request.colorSpace == ColorSpace::Srgb && !hdr) {
+        for (size_t i = 0, n = level.texelCount(); i < n; ++i)
+            for (int c = 0; c < 3; ++c)
+                level.texels[i * 4 + c] = srgbToLinear(level.texels[i * 4 + c]);
+    }
+
+    uint32_t longest = std::max(level.width, level.height);
+    if (settings.maxSize > 0 && longest > settings.maxSize) {
+        double scale = double(settings.maxSize) / double(longest);
+        auto edge = [&](uint32_t e) {
+            return std::clamp(uint32_t(std::lround(e * scale)), 1u, settings.maxSize);
+        };
+        level = resizeImage(level, edge(level.width), edge(level.height));
+        // Lanczos lobes overshoot: keep LDR data in [0, 1] and non-negative data non-negative.
+        float lo = range.negative ? -65504.0f : 0.0f, hi = hdr ? 65504.0f : 1.0f;
+        for (float& v : level.texels)
+            v = std::clamp(v, lo, hi);
+    }
+
+    ChannelLayout layout = planLayout(level, request, hdr);
+    bool compress = settings.compress && !hdr;
+    TextureFormat format = compress ? blockFormatFor(layout.positions) : layout.format;
+
+    bool keepCoverage = request.alphaMask && layout.storesAlpha();
+    AlphaStorage alphaStorage = hdr ? AlphaStorage::Half : AlphaStorage::Unorm8;
+    double targetCoverage =
+        keepCoverage ? alphaCoverage(level, request.alphaCutoff, 1.0f, alphaStorage) : 0.0;
+
+    TextureDesc& d = out.desc;
+    d.dimension = TextureDimension::Tex2D;
+    d.format = format;
+    d.colorSpace = layout.colorSpace;
+    d.swizzle = layout.swizzle;
+    d.width = level.width;
+    d.height = level.height;
+    d.layers = 1;
+    d.mipCount = usesMips(request.minFilter) ? fullMipCount(level.width, level.height) : 1;
+    d.minFilter = request.minFilter;
+    d.magFilter = request.magFilter;
+    d.wrapU = request.wrapU;
+    d.wrapV = request.wrapV;
+
+    out.levels.reserve(d.mipCount);
+    for (uint32_t l = 0; l < d.mipCount; ++l) {
+        // Each level comes from the previous level's unscaled alpha, so the coverage scale of
+        // one level never compounds into the next.
+        if (l > 0) level = downsample(level);
+        float alphaScale = keepCoverage && l > 0 ? findAlphaScale(level, request.alphaCutoff,
+                                                                  targetCoverage, alphaStorage)
+                                                 : 1.0f;
+        std::vector<std::byte> packed = packLevel(level, layout, alphaScale);
+        if (!compress) {
+            out.levels.push_back(std::move(packed));
+            continue;
+        }
+        std::vector<std::byte> blocks =
+            compressLevel(packed, layout.positions, level.width, level.height, format);
+        if (l == 0) {
+            std::array<bool, 4> used{};
+            for (uint32_t p = 0; p < layout.positions; ++p)
+                used[p] = layout.source[p] >= 0;
+            out.psnrDb =
+                psnrDb(packed,
+                       decompressLevel(blocks, layout.positions, level.width, level.height, format),
+                       layout.positions, used);
+        }
+        out.levels.push_back(std::move(blocks));
+    }
+    return out;
+}
+
+// Keeps exceptions (allocation failure on a huge image, anything OIIO lets escape) from crossing
+// the thread boundary or the module's interface.
+Result<ProcessedTexture, ConvertError> processGuarded(const TextureRequest& request,
+                                                      const TextureSettings& settings) {
+    auto fail = [&](const std::string& what) {
+        std::string name =
+            request.image ? describeImage(*request.image) : "texture '" + request.name + "'";
+        return ConvertError{ConvertErrorKind::Input, name + ": " + what};
+    };
+    try {
+        return processOne(request, settings);
+    } catch (const std::bad_alloc&) {
+        return fail("out of memory");
+    } catch (const std::exception& e) {
+        return fail(e.what());
+    }
+}
+
+} // namespace
+
+Result<std::vector<ProcessedTexture>, ConvertError>
+processTextures(const std::vector<TextureRequest>& requests, const TextureSettings& settings) {
+    size_t count = requests.size();
+    std::vector<std::optional<Result<ProcessedTexture, ConvertError>>> results(count);
+    std::atomic<size_t> next{0};
+    std::atomic<bool> failed{false};
+    auto work = [&] {
+        while (!failed.load(std::memory_order_relaxed)) {
+            size_t i = next.fetch_add(1);
+            if (i >= count) break;
+            results[i] = processGuarded(requests[i], settings);
+            if (!results[i]->ok()) failed = true;
+        }
+    };
+
+    size_t jobs = settings.jobs ? settings.jobs : std::max(1u, std::thread::hardware_concurrency());
+    jobs = std::min(jobs, count);
+    std::vector<std::thread> threads;
+    for (size_t j = 1; j < jobs; ++j) {
+        try {
+            threads.emplace_back(work);
+        } catch (const std::system_error&) {
+            break; // fewer threads than asked for: slower, same bytes
+        }
+    }
+    work(); // the calling thread is worker 0
+    for (std::thread& t : threads)
+        t.join();
+
+    std::vector<ProcessedTexture> out;
+    out.reserve(count);
+    for (auto& r : results) {
+        // Unprocessed entries only follow a failure, which returns first.
+        assert(r.has_value());
+        if (!r->ok()) return r->error();
+        out.push_back(std::move(*r).value());
+    }
+    return out;
+}
+
+} // namespace pnb::converter

@@ -1,0 +1,367 @@
+// pnb-convert: OBJ/MTL, glTF 2.0 (and what else assimp reads) → .pnb container.
+// A thin command line over convertScene() (pnb_converter/convert.h).
+
+#include <unistd.h>
+
+#include <algorithm>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <filesystem>
+#include <functional>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "pnb/reader.h"
+#include "pnb/scene.h"
+#include "pnb_converter/convert.h"
+
+namespace {
+
+using pnb::converter::ConvertErrorKind;
+using pnb::converter::ConvertSettings;
+using pnb::converter::ConvertSummary;
+namespace fs = std::filesystem;
+
+constexpr int kExitOk = 0, kExitUsage = 1, kExitInput = 2, kExitUnsupported = 3, kExitOutput = 4;
+
+struct CliState {
+    ConvertSettings settings;
+    bool verbose = false, quiet = false;
+    std::string testDir;
+};
+
+// Declarative option table: it parses the command line and prints --help (STYLE.md §16).
+struct Option {
+    const char* section;
+    const char* name;  // "--quantize", or "-o, --output"
+    const char* arg;   // nullptr for flags
+    const char* help;
+    std::function<bool(CliState&, const char*)> apply; // false: bad argument
+};
+
+bool parseUnsigned(const char* text, uint32_t lo, uint32_t hi, uint32_t& out) {
+    char* end = nullptr;
+    long v = std::strtol(text, &end, 10);
+    if (!*text || *end || v < long(lo) || v > long(hi)) return false;
+    out = uint32_t(v);
+    return true;
+}
+
+const std::vector<Option>& options() {
+    static const std::vector<Option> table = {
+        {"Input and output", "-o, --output", "FILE", "the .pnb file to write (required)",
+         [](CliState& c, const char* a) { c.settings.output = a; return true; }},
+        {"Input and output", "--sidecar", "FILE",
+         "material overrides (default: <input stem>.pnb.json next to the input, if present)",
+         [](CliState& c, const char* a) { c.settings.sidecar = a; return true; }},
+        {"Input and output", "--no-sidecar", nullptr, "ignore any sidecar file",
+         [](CliState& c, const char*) { c.settings.noSidecar = true; return true; }},
+        {"Input and output", "--path", "FILE",
+         "camera path keyframes (JSON; default: an orbit around the scene)",
+         [](CliState& c, const char* a) { c.settings.cameraPath = a; return true; }},
+        {"Input and output", "--depfile", "FILE",
+         "write a Make-style dependency file listing every file read (for Ninja)",
+         [](CliState& c, const char* a) { c.settings.depfile = a; return true; }},
+        {"Meshes", "--quantize", nullptr,
+         "16-bit positions, octahedral normals, half-float UVs; prints the error introduced",
+         [](CliState& c, const char*) { c.settings.mesh.quantize = true; return true; }},
+        {"Meshes", "--lods", "N", "add N simplified levels of detail (0..8, default 0)",
+         [](CliState& c, const char* a) { return parseUnsigned(a, 0, 8, c.settings.mesh.lodCount); }},
+        {"Meshes", "--lod-ratio", "R", "index count of each level vs the previous (default 0.5)",
+         [](CliState& c, const char* a) {
+             char* end = nullptr;
+             float r = std::strtof(a, &end);
+             c.settings.mesh.lodRatio = r;
+             return *a && !*end && r > 0.01f && r < 1.0f;
+         }},
+        {"Meshes", "--no-optimize", nullptr, "skip vertex-cache/overdraw/fetch optimisation",
+         [](CliState& c, const char*) { c.settings.mesh.optimize = false; return true; }},
+        {"Textures", "--compress-textures", nullptr,
+         "BC1/BC3/BC4/BC5 block compression; prints the PSNR it cost",
+         [](CliState& c, const char*) { c.settings.texture.compress = true; return true; }},
+        {"Textures", "--max-texture-size", "N", "scale textures down to at most N texels a side",
+         [](CliState& c, const char* a) {
+             return parseUnsigned(a, 1, 65536, c.settings.texture.maxSize);
+         }},
+        {"Container", "--compress", nullptr,
+         "zstd-compress meshes and texels too (smaller file; loads can no longer be zero-copy)",
+         [](CliState& c, const char*) { c.settings.compressBulk = true; return true; }},
+        {"Container", "--no-checksums", nullptr, "do not store payload checksums",
+         [](CliState& c, const char*) { c.settings.checksums = false; return true; }},
+        {"Container", "--set", "KEY=VALUE",
+         "store a render setting, e.g. shadows.cascades=4 (repeatable)",
+         [](CliState& c, const char* a) {
+             const char* eq = std::strchr(a, '=');
+             if (!eq || eq == a) return false;
+             c.settings.renderSettings.emplace_back(std::string(a, eq), std::string(eq + 1));
+             return true;
+         }},
+        {"General", "-j, --jobs", "N", "worker threads (default: all cores)",
+         [](CliState& c, const char* a) { return parseUnsigned(a, 1, 256, c.settings.jobs); }},
+        {"General", "--no-validate-shaders", nullptr, "skip the glslang check of packed shaders",
+         [](CliState& c, const char*) { c.settings.validateShaders = false; return true; }},
+        {"General", "-v, --verbose", nullptr, "also print per-chunk-kind size statistics",
+         [](CliState& c, const char*) { c.verbose = true; return true; }},
+        {"General", "-q, --quiet", nullptr, "print errors only",
+         [](CliState& c, const char*) { c.quiet = true; return true; }},
+        {"General", "--test", "DIR",
+         "convert every scene under DIR to a temporary file and verify it; one line each",
+         [](CliState& c, const char* a) { c.testDir = a; return true; }},
+    };
+    return table;
+}
+
+bool optionMatches(const Option& o, const std::string& arg) {
+    std::string names = o.name;
+    size_t start = 0;
+    while (start < names.size()) {
+        size_t comma = names.find(", ", start);
+        std::string n = names.substr(start, comma == std::string::npos ? comma : comma - start);
+        if (n == arg) return true;
+        if (comma == std::string::npos) break;
+        start = comma + 2;
+    }
+    return false;
+}
+
+void printHelp() {
+    std::printf("usage: pnb-convert INPUT -o OUTPUT.pnb [options]\n"
+                "       pnb-convert --test DIR [options]\n\n"
+                "Converts OBJ/MTL and glTF 2.0 (.gltf, .glb, Draco) scenes, and the other formats\n"
+                "assimp reads, into a Penumbra container.\n");
+    const char* section = "";
+    for (const Option& o : options()) {
+        if (std::strcmp(section, o.section) != 0) {
+            section = o.section;
+            std::printf("\n%s:\n", section);
+        }
+        std::string left = std::string(o.name) + (o.arg ? std::string(" ") + o.arg : "");
+        std::printf("  %-26s %s\n", left.c_str(), o.help);
+    }
+    std::printf("  %-26s %s\n", "-h, --help", "print this help");
+    std::printf("\nExit codes:\n  0  ok\n  1  usage error\n"
+                "  2  input error (missing, malformed or inconsistent source; the message names "
+                "the file and item)\n"
+                "  3  unsupported (a required glTF extension we do not implement)\n"
+                "  4  output error (the container could not be written; any old file is intact)\n");
+}
+
+int exitCodeOf(ConvertErrorKind k) {
+    switch (k) {
+    case ConvertErrorKind::Input: return kExitInput;
+    case ConvertErrorKind::Unsupported: return kExitUnsupported;
+    case ConvertErrorKind::Output: return kExitOutput;
+    }
+    return kExitInput;
+}
+
+// Progress: a redrawn bar on a terminal, one line per stage otherwise.
+class Progress {
+public:
+    explicit Progress(bool enabled) : mEnabled(enabled), mTty(isatty(STDERR_FILENO)) {}
+    void operator()(const std::string& stage, size_t done, size_t total) {
+        if (!mEnabled) return;
+        if (mTty) {
+            int width = 30;
+            int filled = total ? int(double(done) / double(total) * width) : width;
+            std::fprintf(stderr, "\r%-9s [%.*s%*s] %zu/%zu", stage.c_str(), filled,
+                         "##############################", width - filled, "", done, total);
+            if (done == total) std::fprintf(stderr, "\n");
+            std::fflush(stderr);
+        } else if (stage != mLastStage) {
+            std::fprintf(stderr, "%s: %zu items\n", stage.c_str(), total);
+        }
+        mLastStage = stage;
+    }
+
+private:
+    bool mEnabled, mTty;
+    std::string mLastStage;
+};
+
+std::string bytesText(uint64_t n) {
+    char buf[32];
+    if (n >= (1u << 20)) std::snprintf(buf, sizeof(buf), "%.2f MiB", double(n) / (1 << 20));
+    else if (n >= 1024) std::snprintf(buf, sizeof(buf), "%.1f KiB", double(n) / 1024);
+    else std::snprintf(buf, sizeof(buf), "%llu B", (unsigned long long)n);
+    return buf;
+}
+
+void printSummary(const ConvertSettings& s, const ConvertSummary& r) {
+    std::printf("wrote %s (%s)\n", s.output.c_str(), bytesText(r.outputBytes).c_str());
+    std::printf("  meshes %zu (%zu submeshes), nodes %zu, materials %zu (%zu deferred in %zu "
+                "layer%s, %zu forward), textures %zu, lights %zu, cameras %zu, paths %zu\n",
+                r.meshes, r.submeshes, r.nodes, r.materials, r.deferredMaterials,
+                r.deferredLayers.size(), r.deferredLayers.size() == 1 ? "" : "s",
+                r.forwardMaterials, r.textures, r.lights, r.cameras, r.cameraPaths);
+    std::printf("  triangles %llu in, %llu out (%llu degenerate, %llu non-finite removed); "
+                "vertices %llu in, %llu out\n",
+                (unsigned long long)r.inputTriangles, (unsigned long long)r.outputTriangles,
+                (unsigned long long)r.degenerateTriangles,
+                (unsigned long long)r.nonFiniteTriangles, (unsigned long long)r.inputVertices,
+                (unsigned long long)r.outputVertices);
+    if (s.mesh.quantize)
+        std::printf("  quantisation: max position error %.3g units, max normal error %.3g deg\n",
+                    r.maxPositionError, r.maxNormalErrorRadians * 57.2957795);
+    for (size_t l = 0; l < r.lodErrors.size(); ++l)
+        std::printf("  LOD %zu: max simplification error %.3g units\n", l + 1, r.lodErrors[l]);
+    std::printf("  mesh data %s, texture data %s", bytesText(r.meshBytes).c_str(),
+                bytesText(r.textureBytes).c_str());
+    if (r.minTexturePsnrDb > 0) std::printf(" (block compressed, worst PSNR %.1f dB)", r.minTexturePsnrDb);
+    std::printf("\n  programs (%zu):", r.programs.size());
+    for (const std::string& p : r.programs) std::printf(" %s", p.c_str());
+    std::printf("\n");
+    for (const std::string& o : r.omitted) std::printf("  not written: %s\n", o.c_str());
+    if (r.defaultSun) std::printf("  added: default sun (no directional light in the source)\n");
+    if (r.defaultCamera) std::printf("  added: default camera (none in the source)\n");
+    if (r.defaultPath) std::printf("  added: default camera path (orbit; use --path for yours)\n");
+    std::printf("  time:");
+    double total = 0;
+    for (const auto& st : r.stages) {
+        std::printf(" %s %.3fs", st.stage.c_str(), st.seconds);
+        total += st.seconds;
+    }
+    std::printf(" (total %.3fs)\n", total);
+}
+
+void printChunkStats(const std::string& path) {
+    auto c = pnb::Container::open(path);
+    if (!c) return;
+    std::map<std::string, std::array<uint64_t, 3>> byTag; // count, stored, raw
+    std::vector<std::string> order;
+    for (const pnb::ChunkInfo& ch : c->chunks()) {
+        std::string tag = ch.header.tag.str();
+        if (!byTag.count(tag)) order.push_back(tag);
+        auto& e = byTag[tag];
+        e[0] += 1;
+        e[1] += ch.header.storedSize;
+        e[2] += ch.header.rawSize;
+    }
+    std::printf("  chunks:  tag   count      stored         raw  ratio\n");
+    for (const std::string& t : order) {
+        auto& e = byTag[t];
+        std::printf("           %s %6llu %11s %11s  %.2fx\n", t.c_str(), (unsigned long long)e[0],
+                    bytesText(e[1]).c_str(), bytesText(e[2]).c_str(),
+                    e[1] ? double(e[2]) / double(e[1]) : 1.0);
+    }
+}
+
+bool isSceneFile(const fs::path& p) {
+    static const char* kExtensions[] = {".gltf", ".glb", ".obj", ".fbx", ".dae", ".3ds", ".ply",
+                                        ".stl", ".blend", ".off", ".x", ".ac", ".ase", ".lwo"};
+    std::string ext = p.extension().string();
+    std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char ch) { return std::tolower(ch); });
+    for (const char* e : kExtensions)
+        if (ext == e) return true;
+    return false;
+}
+
+// --test DIR: every scene file converts and verifies, or fails with a one-line error.
+int runTest(CliState& c) {
+    std::error_code ec;
+    std::vector<fs::path> files;
+    for (auto it = fs::recursive_directory_iterator(c.testDir, ec);
+         !ec && it != fs::recursive_directory_iterator(); it.increment(ec))
+        if (it->is_regular_file() && isSceneFile(it->path())) files.push_back(it->path());
+    if (ec) {
+        std::fprintf(stderr, "Error: cannot list %s: %s\n", c.testDir.c_str(), ec.message().c_str());
+        return kExitInput;
+    }
+    std::sort(files.begin(), files.end());
+    fs::path out = fs::temp_directory_path() / ("pnb-convert-test-" + std::to_string(getpid()) + ".pnb");
+    size_t ok = 0, failed = 0;
+    for (const fs::path& f : files) {
+        ConvertSettings s = c.settings;
+        s.input = f.string();
+        s.output = out.string();
+        auto r = pnb::converter::convertScene(s);
+        std::string line;
+        if (r) {
+            auto container = pnb::Container::open(s.output);
+            pnb::Status st = container ? container->verifyAll() : container.error();
+            if (pnb::isOk(st)) {
+                auto scene = pnb::readScene(*container);
+                if (!scene) st = scene.error();
+            }
+            if (pnb::isOk(st)) {
+                ++ok;
+                line = "ok " + std::to_string(r->outputTriangles) + " triangles";
+            } else {
+                ++failed;
+                line = "VERIFY FAILED: " + st.describe();
+            }
+        } else {
+            ++failed;
+            std::string m = r.error().message;
+            std::replace(m.begin(), m.end(), '\n', ' ');
+            line = std::string("error ") + std::to_string(exitCodeOf(r.error().kind)) + ": " + m;
+        }
+        std::printf("%s\t%s\n", fs::relative(f, c.testDir).string().c_str(), line.c_str());
+        std::fflush(stdout);
+    }
+    fs::remove(out, ec);
+    std::printf("%zu converted and verified, %zu failed with an error\n", ok, failed);
+    return kExitOk;
+}
+
+} // namespace
+
+int main(int argc, char** argv) {
+    CliState c;
+    std::vector<std::string> positional;
+    for (int i = 1; i < argc; ++i) {
+        std::string arg = argv[i];
+        if (arg == "-h" || arg == "--help") {
+            printHelp();
+            return kExitOk;
+        }
+        if (arg.size() > 1 && arg[0] == '-') {
+            const Option* match = nullptr;
+            for (const Option& o : options())
+                if (optionMatches(o, arg)) match = &o;
+            if (!match) {
+                std::fprintf(stderr, "Error: unknown option '%s' (see --help)\n", arg.c_str());
+                return kExitUsage;
+            }
+            const char* value = nullptr;
+            if (match->arg) {
+                if (i + 1 >= argc) {
+                    std::fprintf(stderr, "Error: %s needs %s\n", arg.c_str(), match->arg);
+                    return kExitUsage;
+                }
+                value = argv[++i];
+            }
+            if (!match->apply(c, value)) {
+                std::fprintf(stderr, "Error: invalid value '%s' for %s (see --help)\n",
+                             value ? value : "", arg.c_str());
+                return kExitUsage;
+            }
+        } else {
+            positional.push_back(arg);
+        }
+    }
+    if (!c.testDir.empty()) return runTest(c);
+    if (positional.size() != 1 || c.settings.output.empty()) {
+        std::fprintf(stderr, "Error: expected one INPUT and -o OUTPUT (see --help)\n");
+        return kExitUsage;
+    }
+    c.settings.input = positional[0];
+    Progress progress(!c.quiet);
+    auto result = pnb::converter::convertScene(
+        c.settings, [&](const std::string& stage, size_t done, size_t total) {
+            progress(stage, done, total);
+        });
+    if (!result) {
+        std::fprintf(stderr, "Error: %s\n", result.error().message.c_str());
+        return exitCodeOf(result.error().kind);
+    }
+    if (!c.quiet) {
+        for (const std::string& w : result->warnings)
+            std::fprintf(stderr, "Warning: %s\n", w.c_str());
+        printSummary(c.settings, *result);
+        if (c.verbose) printChunkStats(c.settings.output);
+    }
+    return kExitOk;
+}

@@ -1,0 +1,34 @@
+#version 450 core
+// deferred_lighting.frag — composes one G-buffer layer into the HDR target. Runs with depth
+// writes off and SRC_ALPHA / ONE_MINUS_SRC_ALPHA blending, so translucent layers blend over the
+// layers before them (seed 003's layered deferred shading).
+#include "include/interface.glsl"
+#include "include/octahedral.glsl"
+#include "include/lights.glsl"
+
+layout(binding = 0) uniform sampler2D uGBaseColor;
+layout(binding = 1) uniform sampler2D uGNormalMaterial;
+layout(binding = 2) uniform sampler2D uGEmissive;
+layout(binding = 3) uniform sampler2D uGDepth;
+
+// Inverse of the camera-relative view-projection: NDC (reversed-Z) -> camera-relative world.
+layout(location = 0) uniform mat4 uInverseViewProjection;
+
+layout(location = 0) in vec2 vUv;
+layout(location = 0) out vec4 outColor;
+
+void main() {
+    vec4 base = texture(uGBaseColor, vUv);
+    if (base.a <= 0.0) discard; // nothing was drawn into this layer here
+    vec4 nm = texture(uGNormalMaterial, vUv);
+    float depth = texture(uGDepth, vUv).r;
+    vec4 p = uInverseViewProjection * vec4(vUv * 2.0 - 1.0, depth, 1.0);
+    vec3 position = p.xyz / p.w;
+    vec3 n = octDecode(nm.xy * 2.0 - 1.0);
+    float packed = floor(nm.w * 65535.0 + 0.5);
+    float metallic = floor(packed / 256.0) / 255.0;
+    float occlusion = mod(packed, 256.0) / 255.0;
+    vec3 v = normalize(-position);
+    vec3 color = shadeLights(base.rgb, metallic, nm.z, n, position, v) * occlusion;
+    outColor = vec4(color + texture(uGEmissive, vUv).rgb, base.a);
+}

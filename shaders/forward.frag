@@ -1,0 +1,15 @@
+#version 450 core
+// forward.frag — shades a surface directly into the HDR target (forward materials: blended or
+// otherwise kept out of the G-buffer). Output alpha drives SRC_ALPHA / ONE_MINUS_SRC_ALPHA.
+#include "include/surface_input.glsl"
+#include "include/lights.glsl"
+
+layout(location = 0) out vec4 outColor;
+
+void main() {
+    Surface s = evaluateSurface(surfaceInput());
+    vec3 v = normalize(-vPosition); // camera at the origin of camera-relative space
+    vec3 color = shadeLights(s.baseColor, s.metallic, s.roughness, s.normal, vPosition, v);
+    color = color * s.occlusion + s.emissive;
+    outColor = vec4(color, s.alpha);
+}

@@ -1,0 +1,54 @@
+#version 450 core
+// surface.vert — every mesh draw (G-buffer and forward). Streams are optional per permutation:
+// HAS_UV0/HAS_UV1/HAS_TANGENT/HAS_VERTEX_COLOR are defined only when a material reads them.
+#include "include/interface.glsl"
+
+layout(location = PNB_ATTR_POSITION) in vec3 inPosition;
+layout(location = PNB_ATTR_NORMAL) in vec3 inNormal;
+#ifdef HAS_TANGENT
+layout(location = PNB_ATTR_TANGENT) in vec4 inTangent;
+#endif
+#ifdef HAS_UV0
+layout(location = PNB_ATTR_UV0) in vec2 inUv0;
+#endif
+#ifdef HAS_UV1
+layout(location = PNB_ATTR_UV1) in vec2 inUv1;
+#endif
+#ifdef HAS_VERTEX_COLOR
+layout(location = PNB_ATTR_COLOR) in vec4 inColor;
+#endif
+
+layout(location = 0) out vec3 vPosition; // camera-relative world
+layout(location = 1) out vec3 vNormal;
+layout(location = 2) out vec4 vTangent;
+layout(location = 3) out vec2 vUv0;
+layout(location = 4) out vec2 vUv1;
+layout(location = 5) out vec4 vColor;
+
+void main() {
+    vec3 objectPosition = inPosition * uDequantScale.xyz + uDequantOffset.xyz;
+    vec4 world = uModel * vec4(objectPosition, 1.0);
+    vPosition = world.xyz;
+    vNormal = mat3(uNormalMatrix) * inNormal;
+#ifdef HAS_TANGENT
+    vTangent = vec4(mat3(uModel) * inTangent.xyz, inTangent.w);
+#else
+    vTangent = vec4(1.0, 0.0, 0.0, 1.0);
+#endif
+#ifdef HAS_UV0
+    vUv0 = inUv0;
+#else
+    vUv0 = vec2(0.0);
+#endif
+#ifdef HAS_UV1
+    vUv1 = inUv1;
+#else
+    vUv1 = vec2(0.0);
+#endif
+#ifdef HAS_VERTEX_COLOR
+    vColor = inColor;
+#else
+    vColor = vec4(1.0);
+#endif
+    gl_Position = uViewProjection * world;
+}

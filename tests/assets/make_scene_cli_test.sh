@@ -1,0 +1,67 @@
+#!/bin/sh
+# make_scene_cli_test.sh PNB_MAKE_SCENE WORK_DIR
+#
+# pnb-make-scene's documented interface: --list, --help, exit codes 0 ok / 2 usage / 4 output,
+# and the summary line (triangles, bytes).
+set -u
+tool=${1:?usage: make_scene_cli_test.sh PNB_MAKE_SCENE WORK_DIR}
+dir=${2:?}
+status=0
+rm -rf "$dir"
+mkdir -p "$dir"
+
+# expect CODE ARGS...: runs the tool, keeps stdout/stderr in $dir/out and $dir/err.
+expect() {
+    want=$1
+    shift
+    "$tool" "$@" >"$dir/out" 2>"$dir/err"
+    got=$?
+    if [ "$got" != "$want" ]; then
+        echo "FAIL: pnb-make-scene $* exited $got, expected $want" >&2
+        cat "$dir/err" >&2
+        status=1
+    fi
+}
+# contains FILE TEXT
+contains() {
+    grep -qF -- "$2" "$dir/$1" || { echo "FAIL: $1 lacks '$2'" >&2; cat "$dir/$1" >&2; status=1; }
+}
+
+expect 0 --list
+for scene in street-canyon flat-city box-room terrain grazing-plane; do contains out "$scene"; done
+expect 0 --help
+contains out "usage: pnb-make-scene"
+
+expect 2
+contains err "Error:"
+expect 2 box-room
+expect 2 no-such-scene "$dir/x.glb"
+contains err "unknown scene"
+expect 2 box-room "$dir/x.glb" --triangles
+expect 2 box-room "$dir/x.glb" --triangles 0
+expect 2 box-room "$dir/x.glb" --triangles -5
+expect 2 box-room "$dir/x.glb" --seed 12abc
+expect 2 box-room "$dir/x.glb" --bogus
+expect 2 box-room "$dir/x.glb" extra-argument
+[ -e "$dir/x.glb" ] && { echo "FAIL: a usage error wrote a file" >&2; status=1; }
+
+expect 4 box-room "$dir/no/such/dir/x.glb"
+contains err "Error:"
+
+expect 0 street-canyon "$dir/canyon.glb" --triangles 20000 --seed 7
+contains out "triangles rendered"
+size=$(wc -c <"$dir/canyon.glb" | tr -d ' ')
+contains out "$size bytes"
+# Deterministic: the same arguments give identical bytes.
+expect 0 street-canyon "$dir/canyon2.glb" --triangles 20000 --seed 7
+if ! cmp -s "$dir/canyon.glb" "$dir/canyon2.glb"; then
+    echo "FAIL: output differs between runs" >&2
+    status=1
+fi
+# Overwriting an existing file works (atomic rename), and leaves no temporary behind.
+expect 0 street-canyon "$dir/canyon.glb"
+leftovers=$(ls -A "$dir" | grep -c '\.tmp\.' || true)
+[ "$leftovers" = 0 ] || { echo "FAIL: temporary files left behind" >&2; status=1; }
+
+[ $status = 0 ] && echo "pnb-make-scene CLI: all checks passed"
+exit $status
