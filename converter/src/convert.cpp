@@ -215,6 +215,33 @@ Result<ConvertSummary, ConvertError> convertScene(const ConvertSettings& s,
 
     // [SECTION] meshes
     clock.start("meshes");
+    // Meshes left without primitives by the importer (only points or lines, which we do not
+    // draw) are dropped and their node references cleared: nothing is written for them.
+    std::vector<int> meshRemap(scene.meshes.size(), -1);
+    {
+        std::vector<IrMesh> kept;
+        std::vector<StreamNeeds> keptNeeds;
+        for (size_t i = 0; i < scene.meshes.size(); ++i) {
+            if (scene.meshes[i].primitives.empty()) {
+                sum.warnings.push_back("mesh '" + scene.meshes[i].name +
+                                       "': no triangles (points and lines are not drawn); "
+                                       "dropped");
+                continue;
+            }
+            meshRemap[i] = int(kept.size());
+            kept.push_back(std::move(scene.meshes[i]));
+            keptNeeds.push_back(materials.meshNeeds[i]);
+        }
+        if (kept.empty() && !scene.meshes.empty())
+            return ConvertError{ConvertErrorKind::Input,
+                                s.input + ": no triangle geometry to convert (the source's " +
+                                    std::to_string(scene.meshes.size()) +
+                                    " mesh(es) hold only points or lines)"};
+        scene.meshes = std::move(kept);
+        materials.meshNeeds = std::move(keptNeeds);
+        for (IrNode& n : scene.nodes)
+            if (n.mesh >= 0) n.mesh = size_t(n.mesh) < meshRemap.size() ? meshRemap[size_t(n.mesh)] : -1;
+    }
     std::vector<std::optional<ProcessedMesh>> meshes(scene.meshes.size());
     std::vector<MeshStats> meshStats(scene.meshes.size());
     std::vector<std::optional<ConvertError>> meshErrors(scene.meshes.size());
@@ -238,6 +265,10 @@ Result<ConvertSummary, ConvertError> convertScene(const ConvertSettings& s,
         if (sum.lodErrors.size() < st.lodErrors.size()) sum.lodErrors.resize(st.lodErrors.size());
         for (size_t l = 0; l < st.lodErrors.size(); ++l)
             sum.lodErrors[l] = std::max(sum.lodErrors[l], st.lodErrors[l]);
+        if (st.tangentsArbitrary)
+            sum.warnings.push_back("mesh '" + scene.meshes[i].name +
+                                   "': a normal map needs tangents but a primitive has no UVs; "
+                                   "its tangents are arbitrary");
         if (st.nonFiniteTriangles)
             sum.warnings.push_back("mesh '" + scene.meshes[i].name + "': dropped " +
                                    std::to_string(st.nonFiniteTriangles) +

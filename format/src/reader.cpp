@@ -38,22 +38,48 @@ Status verifyChecksum(const ChunkInfo& c, std::span<const std::byte> stored) {
                      c.header.tag.str().c_str(), (unsigned long long)stored.size());
 }
 
+// One decompression context per thread, reused: creating one per chunk costs more than
+// inflating a small chunk.
+ZSTD_DCtx* threadDctx() {
+    struct Holder {
+        ZSTD_DCtx* ctx = ZSTD_createDCtx();
+        ~Holder() { ZSTD_freeDCtx(ctx); }
+    };
+    thread_local Holder holder;
+    ZSTD_DCtx_reset(holder.ctx, ZSTD_reset_session_and_parameters);
+    return holder.ctx;
+}
+
+Error decompressionError(const ChunkInfo& c, const char* why) {
+    return makeError(FormatError::DecompressionFailed, c.payloadOffset,
+                     "chunk %u '%s': zstd %s (raw size %llu)", c.header.sequence,
+                     c.header.tag.str().c_str(), why, (unsigned long long)c.header.rawSize);
+}
+
+// A frame that declares its content size must declare rawSize: checked before allocating, so a
+// small damaged chunk cannot make the reader reserve gigabytes first.
+Status checkFrameContentSize(const ChunkInfo& c, std::span<const std::byte> stored) {
+    unsigned long long declared = ZSTD_getFrameContentSize(stored.data(), stored.size());
+    if (declared == ZSTD_CONTENTSIZE_ERROR) return decompressionError(c, "frame header is invalid");
+    if (declared != ZSTD_CONTENTSIZE_UNKNOWN && declared != c.header.rawSize)
+        return decompressionError(c, "frame declares a different size");
+    return {};
+}
+
 Status decompressInto(const ChunkInfo& c, std::span<const std::byte> stored,
                       std::span<std::byte> dst) {
-    size_t n = ZSTD_decompress(dst.data(), dst.size(), stored.data(), stored.size());
-    if (ZSTD_isError(n) || n != c.header.rawSize)
-        return makeError(FormatError::DecompressionFailed, c.payloadOffset,
-                         "chunk %u '%s': zstd %s (raw size %llu)", c.header.sequence,
-                         c.header.tag.str().c_str(),
-                         ZSTD_isError(n) ? ZSTD_getErrorName(n) : "produced the wrong size",
-                         (unsigned long long)c.header.rawSize);
+    size_t n = ZSTD_decompressDCtx(threadDctx(), dst.data(), dst.size(), stored.data(),
+                                   stored.size());
+    if (ZSTD_isError(n)) return decompressionError(c, ZSTD_getErrorName(n));
+    if (n != c.header.rawSize) return decompressionError(c, "produced the wrong size");
     return {};
 }
 
 // Inflates through a small window, checking the output size without allocating it.
 Status checkDecompressedSize(const ChunkInfo& c, std::span<const std::byte> stored) {
-    ZSTD_DCtx* ctx = ZSTD_createDCtx();
-    std::vector<std::byte> window(ZSTD_DStreamOutSize());
+    if (Status s = checkFrameContentSize(c, stored); !isOk(s)) return s;
+    ZSTD_DCtx* ctx = threadDctx();
+    thread_local std::vector<std::byte> window(ZSTD_DStreamOutSize());
     ZSTD_inBuffer in{stored.data(), stored.size(), 0};
     uint64_t produced = 0;
     size_t ret = 1;
@@ -62,15 +88,11 @@ Status checkDecompressedSize(const ChunkInfo& c, std::span<const std::byte> stor
         ret = ZSTD_decompressStream(ctx, &out, &in);
         produced += out.pos;
         if (ZSTD_isError(ret) || produced > c.header.rawSize) break;
-        if (ret == 0 && in.pos == in.size) break;               // frame complete, input used
-        if (in.pos == in.size && out.pos < out.size) break;     // input exhausted mid-frame
+        if (ret == 0 && in.pos == in.size) break;           // frame complete, input used
+        if (in.pos == in.size && out.pos < out.size) break; // input exhausted mid-frame
     }
-    ZSTD_freeDCtx(ctx);
     if (ZSTD_isError(ret) || ret != 0 || produced != c.header.rawSize || in.pos != in.size)
-        return makeError(FormatError::DecompressionFailed, c.payloadOffset,
-                         "chunk %u '%s': zstd payload does not inflate to its raw size %llu",
-                         c.header.sequence, c.header.tag.str().c_str(),
-                         (unsigned long long)c.header.rawSize);
+        return decompressionError(c, "payload does not inflate to its raw size");
     return {};
 }
 
@@ -337,6 +359,7 @@ Result<Payload> Container::load(const ChunkInfo& c) const {
     if (!bytes) return bytes.error();
     if (c.header.compression() == Compression::None) return Payload::view(*bytes);
     if (Status s = checkRawLimit(c, mOptions); !isOk(s)) return s;
+    if (Status s = checkFrameContentSize(c, *bytes); !isOk(s)) return s;
     std::vector<std::byte> raw(c.header.rawSize);
     if (Status s = decompressInto(c, *bytes, raw); !isOk(s)) return s;
     return Payload::own(std::move(raw));
@@ -476,6 +499,7 @@ Status streamChunks(int fd, const ReadOptions& options, const ChunkCallback& onC
         std::span<const std::byte> payload = buf;
         if (h->compression() == Compression::Zstd) {
             if (Status s = checkRawLimit(info, options); !isOk(s)) return s;
+            if (Status s = checkFrameContentSize(info, buf); !isOk(s)) return s;
             raw.resize(h->rawSize);
             if (Status s = decompressInto(info, buf, raw); !isOk(s)) return s;
             payload = raw;

@@ -6,6 +6,7 @@
 #include <cerrno>
 #include <cstring>
 #include <fcntl.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <zstd.h>
@@ -91,6 +92,9 @@ Result<Writer> Writer::create(const std::string& path, const WriteOptions& optio
         return makeError(FormatError::IoError, 0, "cannot create a temporary file next to '%s': %s",
                          path.c_str(), std::strerror(e));
     }
+    // Replacing a file keeps its permissions (the temporary is created 0644).
+    struct stat existing {};
+    if (::stat(path.c_str(), &existing) == 0) ::fchmod(impl->fd, existing.st_mode & 07777);
     auto header = encodeFileHeader(FileHeader{});
     if (Status s = impl->write(header); !isOk(s)) return s;
     return Writer(std::move(impl));

@@ -10,7 +10,6 @@
 #include <filesystem>
 #include <fstream>
 #include <iterator>
-#include <regex>
 #include <sstream>
 #include <string>
 #include <unistd.h>
@@ -448,7 +447,22 @@ TEST_F(Inspect, NoChecksumsSkipsHashingButVerifyStillHashes) {
 TEST_F(Inspect, TruncatedFilesAreInputErrorsNotCrashes) {
     writeSample(sample);
     const auto bytes = readFile(sample);
-    const std::regex kErrorLine("Error: [a-z-]+ at byte [0-9]+: [^\n]+\n");
+    // "Error: <code> at byte <offset>: <message>\n", one line. (Checked by hand: GCC 12's
+    // std::regex trips -Wmaybe-uninitialized under ASan at -O2.)
+    auto isErrorLine = [](const std::string& e) {
+        const std::string prefix = "Error: ";
+        if (e.rfind(prefix, 0) != 0 || e.empty() || e.back() != '\n') return false;
+        if (e.find('\n') != e.size() - 1) return false;
+        size_t at = e.find(" at byte ", prefix.size());
+        if (at == std::string::npos || at == prefix.size()) return false;
+        for (size_t i = prefix.size(); i < at; ++i)
+            if (!(std::islower(static_cast<unsigned char>(e[i])) || e[i] == '-')) return false;
+        size_t digits = at + 9, colon = e.find(": ", digits);
+        if (colon == std::string::npos || colon == digits) return false;
+        for (size_t i = digits; i < colon; ++i)
+            if (!std::isdigit(static_cast<unsigned char>(e[i]))) return false;
+        return colon + 3 < e.size();
+    };
     std::vector<size_t> lengths = {0,
                                    1,
                                    8,
@@ -476,7 +490,7 @@ TEST_F(Inspect, TruncatedFilesAreInputErrorsNotCrashes) {
                              (json ? " json" : " text"));
                 EXPECT_EQ(r.code, kInspectInputError);
                 // What and where: "Error: <code> at byte <offset>: <message>", one line.
-                EXPECT_TRUE(std::regex_match(r.err, kErrorLine)) << r.err;
+                EXPECT_TRUE(isErrorLine(r.err)) << r.err;
                 if (json)
                     EXPECT_TRUE(isValidJson(r.out)) << r.out;
                 else
