@@ -105,7 +105,7 @@ void touchScene(const Scene& s) {
     for (std::string_view str : s.strings.strings) touch(str);
     for (const ShaderSource& shader : s.shaders) touch(shader.source);
     for (const Mesh& mesh : s.meshes) {
-        for (const VertexStream& stream : mesh.streams) touch(stream.data);
+        for (const VertexStream& vs : mesh.streams) touch(vs.data);
         touch(mesh.indices);
     }
     for (const TextureMip& mip : s.textureMips) touch(mip.data);

@@ -1,6 +1,6 @@
 // pnb-make-sample: writes the bundled box-room scene to a .pnb file.
 //
-//   pnb-make-sample OUT.pnb [--subdivisions N] [--texture-size N] [--no-compress]
+//   pnb-make-sample OUT.pnb [--subdivisions N] [--texture-size N]
 //
 // Exit codes: 0 ok, 2 usage error, 4 output error.
 

@@ -912,7 +912,9 @@ Result<std::optional<IrPrimitive>, ConvertError> importPrimitive(Ctx& ctx, int m
         {"TANGENT", &p.tangents, {4, 4, false}},    {"TEXCOORD_0", &p.uv0, {2, 2, false}},
         {"TEXCOORD_1", &p.uv1, {2, 2, false}},      {"COLOR_0", &p.colors, {3, 4, true}},
     };
-    for (const auto& [semantic, accessor] : src.attributes) {
+    for (const auto& attribute : src.attributes) {
+        // A named reference, not a structured binding: clang 14 cannot capture bindings.
+        const std::string& semantic = attribute.first;
         const bool known = std::any_of(std::begin(streams), std::end(streams),
                                        [&](const Stream& s) { return semantic == s.semantic; });
         // Skinning is reported once per file (importGltf), not per primitive.
