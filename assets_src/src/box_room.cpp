@@ -261,7 +261,10 @@ void buildBoxRoom(SceneBuilder& sb, const BoxRoomOptions& o) {
         node.mesh = mesh;
         node.light = light;
         node.camera = camera;
-        if (mesh != kNone) node.worldBounds = s.meshes[mesh].bounds; // identity transforms
+        if (mesh != kNone) { // identity transforms: world bounds are the mesh's
+            node.worldBounds = s.meshes[mesh].bounds;
+            node.worldSphere = s.meshes[mesh].boundingSphere;
+        }
         s.nodes.nodes.push_back(node);
     };
     Node root;

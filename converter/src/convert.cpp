@@ -111,6 +111,22 @@ Aabb transformBounds(const Mat4d& m, const Aabb& b) {
     return out;
 }
 
+// A sphere through a transform: the centre moves, the radius grows by the largest axis scale,
+// so the result still contains everything the original did.
+Sphere transformSphere(const Mat4d& m, const Sphere& s) {
+    if (!(s.radius > 0)) return {};
+    double c[3];
+    for (int k = 0; k < 3; ++k)
+        c[k] = m.m[k] * s.center.x + m.m[4 + k] * s.center.y + m.m[8 + k] * s.center.z +
+               m.m[12 + k];
+    double maxScale = 0;
+    for (int col = 0; col < 3; ++col)
+        maxScale = std::max(maxScale, std::sqrt(m.m[col * 4] * m.m[col * 4] +
+                                                 m.m[col * 4 + 1] * m.m[col * 4 + 1] +
+                                                 m.m[col * 4 + 2] * m.m[col * 4 + 2]));
+    return {{float(c[0]), float(c[1]), float(c[2])}, float(s.radius * maxScale)};
+}
+
 std::string defaultSidecarPath(const std::string& input) {
     fs::path p(input);
     return (p.parent_path() / (p.stem().string() + ".pnb.json")).string();
@@ -299,12 +315,14 @@ Result<ConvertSummary, ConvertError> convertScene(const ConvertSettings& s,
     std::vector<Mat4d> world(scene.nodes.size());
     Aabb sceneBounds;
     std::vector<Aabb> nodeBounds(scene.nodes.size());
+    std::vector<Sphere> nodeSpheres(scene.nodes.size());
     for (size_t i = 0; i < scene.nodes.size(); ++i) {
         const IrNode& n = scene.nodes[i];
         Mat4d local = trs(n.translation, n.rotation, n.scale);
         world[i] = n.parent >= 0 ? multiply(world[size_t(n.parent)], local) : local;
         if (n.mesh >= 0 && size_t(n.mesh) < meshes.size()) {
             nodeBounds[i] = transformBounds(world[i], meshes[size_t(n.mesh)]->bounds);
+            nodeSpheres[i] = transformSphere(world[i], meshes[size_t(n.mesh)]->boundingSphere);
             if (nodeBounds[i].min.x <= nodeBounds[i].max.x) {
                 grow(sceneBounds, nodeBounds[i].min);
                 grow(sceneBounds, nodeBounds[i].max);
@@ -341,6 +359,7 @@ Result<ConvertSummary, ConvertError> convertScene(const ConvertSettings& s,
         scene.nodes.push_back(node);
         world.push_back(trs(node.translation, node.rotation, node.scale));
         nodeBounds.emplace_back();
+        nodeSpheres.emplace_back();
         sum.defaultSun = true;
         sum.warnings.push_back("no directional light in the source: added 'default-sun' "
                                "(flagged as generated)");
@@ -358,6 +377,7 @@ Result<ConvertSummary, ConvertError> convertScene(const ConvertSettings& s,
         scene.nodes.push_back(node);
         world.push_back(trs(node.translation, node.rotation, node.scale));
         nodeBounds.emplace_back();
+        nodeSpheres.emplace_back();
         sum.defaultCamera = true;
     }
     std::vector<PathSpec> paths;
@@ -500,6 +520,7 @@ Result<ConvertSummary, ConvertError> convertScene(const ConvertSettings& s,
         node.light = n.light >= 0 ? uint32_t(n.light) : kNone;
         node.camera = n.camera >= 0 ? uint32_t(n.camera) : kNone;
         node.worldBounds = nodeBounds[i];
+        node.worldSphere = nodeSpheres[i];
         out.nodes.nodes.push_back(node);
     }
     for (const PathSpec& p : paths)

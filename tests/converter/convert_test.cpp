@@ -345,6 +345,59 @@ TEST_F(Convert, SidecarNextToTheSourceIsAppliedAndDepfileListsInputs) {
         EXPECT_NE(dep.find(needed), std::string::npos) << needed << " missing from\n" << dep;
 }
 
+TEST_F(Convert, NodeBoundsContainTheirMeshInstances) {
+    fs::path in = writeScene("canyon", assets::buildStreetCanyon({.targetTriangles = 2000}));
+    ASSERT_TRUE(convertScene(settings(in, "canyon.pnb")).ok());
+    auto c = Container::open((dir / "canyon.pnb").string());
+    ASSERT_TRUE(c.ok());
+    auto scene = readScene(*c);
+    ASSERT_TRUE(scene.ok());
+    // World transforms (parents precede children), in double.
+    const auto& nodes = scene->nodes.nodes;
+    std::vector<std::array<double, 12>> world(nodes.size()); // 3x4, column-major
+    size_t checked = 0;
+    for (size_t i = 0; i < nodes.size(); ++i) {
+        const Node& n = nodes[i];
+        double x = n.rotation.x, y = n.rotation.y, z = n.rotation.z, w = n.rotation.w;
+        std::array<double, 12> local = {
+            (1 - 2 * (y * y + z * z)) * n.scale.x, 2 * (x * y + z * w) * n.scale.x,
+            2 * (x * z - y * w) * n.scale.x,       2 * (x * y - z * w) * n.scale.y,
+            (1 - 2 * (x * x + z * z)) * n.scale.y, 2 * (y * z + x * w) * n.scale.y,
+            2 * (x * z + y * w) * n.scale.z,       2 * (y * z - x * w) * n.scale.z,
+            (1 - 2 * (x * x + y * y)) * n.scale.z, n.translation.x, n.translation.y,
+            n.translation.z};
+        if (n.parent == kNone) {
+            world[i] = local;
+        } else {
+            const auto& p = world[n.parent];
+            for (int col = 0; col < 4; ++col)
+                for (int row = 0; row < 3; ++row) {
+                    double v = col == 3 ? p[9 + row] : 0;
+                    for (int k = 0; k < 3; ++k) v += p[k * 3 + row] * local[col * 3 + k];
+                    world[i][col * 3 + row] = v;
+                }
+        }
+        if (n.mesh == kNone) continue;
+        const Mesh& m = scene->meshes[n.mesh];
+        ASSERT_GT(n.worldSphere.radius, 0.0f) << "node " << i;
+        for (uint32_t v = 0; v < m.vertexCount; ++v) {
+            auto p = attribute(m, VertexSemantic::Position, v);
+            double q[3];
+            for (int row = 0; row < 3; ++row)
+                q[row] = world[i][row] * p[0] + world[i][3 + row] * p[1] +
+                         world[i][6 + row] * p[2] + world[i][9 + row];
+            double dx = q[0] - n.worldSphere.center.x, dy = q[1] - n.worldSphere.center.y,
+                   dz = q[2] - n.worldSphere.center.z;
+            double slack = 1e-4 * (1 + n.worldSphere.radius);
+            EXPECT_LE(std::sqrt(dx * dx + dy * dy + dz * dz), n.worldSphere.radius + slack);
+            EXPECT_GE(q[0], n.worldBounds.min.x - slack);
+            EXPECT_LE(q[1], n.worldBounds.max.y + slack);
+        }
+        ++checked;
+    }
+    EXPECT_GT(checked, 2u);
+}
+
 // [SECTION] errors
 
 TEST_F(Convert, ErrorsNameTheProblemAndNeverLeaveAPartialFile) {

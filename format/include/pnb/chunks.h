@@ -263,10 +263,11 @@ struct Node {
     Vec4 rotation{0, 0, 0, 1}; // unit quaternion xyzw
     Vec3 scale{1, 1, 1};
     uint32_t mesh = kNone, light = kNone, camera = kNone; // MESH chunk / LGHT / CAMR index
-    Aabb worldBounds; // of this node's mesh instance, world space; empty if none
+    Aabb worldBounds;   // of this node's mesh instance, world space; empty if none
+    Sphere worldSphere; // the same instance's bounding sphere, world space; radius 0 if none
     template <class V> void fields(V& v) {
         v(name); v(parent); v(translation); v(rotation); v(scale); v(mesh); v(light); v(camera);
-        v(worldBounds);
+        v(worldBounds); v(worldSphere);
     }
 };
 struct NodeGraph {
