@@ -24,15 +24,6 @@ Vec3 cross(Vec3 a, Vec3 b) {
     return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
 }
 
-void grow(Aabb& box, Vec3 p) {
-    if (box.min.x > box.max.x) {
-        box.min = box.max = p;
-        return;
-    }
-    box.min = {std::min(box.min.x, p.x), std::min(box.min.y, p.y), std::min(box.min.z, p.z)};
-    box.max = {std::max(box.max.x, p.x), std::max(box.max.y, p.y), std::max(box.max.z, p.z)};
-}
-
 // A planar grid of n x n quads at `origin` spanning edges u and v; the face normal is u x v
 // (counter-clockwise winding seen from the front).
 void addQuad(MeshData& m, Vec3 origin, Vec3 u, Vec3 v, uint32_t n, Aabb& bounds) {
@@ -47,7 +38,7 @@ void addQuad(MeshData& m, Vec3 origin, Vec3 u, Vec3 v, uint32_t n, Aabb& bounds)
             m.positions.insert(m.positions.end(), {p.x, p.y, p.z});
             m.normals.insert(m.normals.end(), {normal.x, normal.y, normal.z});
             m.uvs.insert(m.uvs.end(), {s, t});
-            grow(bounds, p);
+            bounds.grow(p);
         }
     for (uint32_t j = 0; j < n; ++j)
         for (uint32_t i = 0; i < n; ++i) {
@@ -103,8 +94,8 @@ Mesh finishMesh(SceneBuilder& sb, const char* name, MeshData& m) {
     mesh.streams = {pos, nrm, uv};
     mesh.submeshes = m.submeshes;
     for (const Submesh& s : m.submeshes) {
-        grow(mesh.bounds, s.bounds.min);
-        grow(mesh.bounds, s.bounds.max);
+        mesh.bounds.grow(s.bounds.min);
+        mesh.bounds.grow(s.bounds.max);
     }
     Vec3 c = mul(add(mesh.bounds.min, mesh.bounds.max), 0.5f);
     Vec3 e = mul(add(mesh.bounds.max, mul(mesh.bounds.min, -1)), 0.5f);
@@ -278,8 +269,8 @@ void buildBoxRoom(SceneBuilder& sb, const BoxRoomOptions& o) {
     addNode("ceiling-lamp", {0, 0.9f * r, 0}, {0, 0, 0, 1}, kNone, 1, kNone);
     addNode("camera", {0, 0.5f * r, 1.4f * r}, {0, 0, 0, 1}, kNone, kNone, 0);
     for (const Mesh& m : s.meshes) {
-        grow(s.info.bounds, m.bounds.min);
-        grow(s.info.bounds, m.bounds.max);
+        s.info.bounds.grow(m.bounds.min);
+        s.info.bounds.grow(m.bounds.max);
     }
 
     CameraPath path;

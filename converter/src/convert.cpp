@@ -88,15 +88,6 @@ Mat4d multiply(const Mat4d& a, const Mat4d& b) {
     return r;
 }
 
-void grow(Aabb& box, Vec3 p) {
-    if (box.min.x > box.max.x) {
-        box.min = box.max = p;
-        return;
-    }
-    box.min = {std::min(box.min.x, p.x), std::min(box.min.y, p.y), std::min(box.min.z, p.z)};
-    box.max = {std::max(box.max.x, p.x), std::max(box.max.y, p.y), std::max(box.max.z, p.z)};
-}
-
 Aabb transformBounds(const Mat4d& m, const Aabb& b) {
     Aabb out;
     if (b.min.x > b.max.x) return out;
@@ -106,7 +97,7 @@ Aabb transformBounds(const Mat4d& m, const Aabb& b) {
         double r[3];
         for (int k = 0; k < 3; ++k)
             r[k] = m.m[k] * p[0] + m.m[4 + k] * p[1] + m.m[8 + k] * p[2] + m.m[12 + k];
-        grow(out, {float(r[0]), float(r[1]), float(r[2])});
+        out.grow({float(r[0]), float(r[1]), float(r[2])});
     }
     return out;
 }
@@ -324,8 +315,8 @@ Result<ConvertSummary, ConvertError> convertScene(const ConvertSettings& s,
             nodeBounds[i] = transformBounds(world[i], meshes[size_t(n.mesh)]->bounds);
             nodeSpheres[i] = transformSphere(world[i], meshes[size_t(n.mesh)]->boundingSphere);
             if (nodeBounds[i].min.x <= nodeBounds[i].max.x) {
-                grow(sceneBounds, nodeBounds[i].min);
-                grow(sceneBounds, nodeBounds[i].max);
+                sceneBounds.grow(nodeBounds[i].min);
+                sceneBounds.grow(nodeBounds[i].max);
             }
         }
     }

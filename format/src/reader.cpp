@@ -339,7 +339,9 @@ const ChunkInfo* Container::findFirst(Tag tag) const {
     return nullptr;
 }
 
-Result<std::span<const std::byte>> Container::stored(const ChunkInfo& c) const {
+// The chunk header in the file must be intact and equal to the index entry (which, on the TOC
+// path, came from the table of contents without reading the chunk).
+Status Container::checkHeader(const ChunkInfo& c) const {
     // Indexing proved the header and payload lie inside the file.
     auto actual = decodeChunkHeader(mBytes.subspan(c.headerOffset, kChunkHeaderSize),
                                     c.headerOffset);
@@ -348,6 +350,11 @@ Result<std::span<const std::byte>> Container::stored(const ChunkInfo& c) const {
         return makeError(FormatError::BadToc, c.headerOffset,
                          "chunk %u header disagrees with the table of contents",
                          c.header.sequence);
+    return {};
+}
+
+Result<std::span<const std::byte>> Container::stored(const ChunkInfo& c) const {
+    if (Status s = checkHeader(c); !isOk(s)) return s;
     auto bytes = mBytes.subspan(c.payloadOffset, c.header.storedSize);
     if (mOptions.verifyChecksums)
         if (Status s = verifyChecksum(c, bytes); !isOk(s)) return s;
@@ -381,13 +388,7 @@ Status Container::loadInto(const ChunkInfo& c, std::span<std::byte> dst) const {
 
 Status Container::verifyAll() const {
     for (const ChunkInfo& c : mChunks) {
-        auto actual = decodeChunkHeader(mBytes.subspan(c.headerOffset, kChunkHeaderSize),
-                                        c.headerOffset);
-        if (!actual) return actual.error();
-        if (!sameHeader(*actual, c.header))
-            return makeError(FormatError::BadToc, c.headerOffset,
-                             "chunk %u header disagrees with the table of contents",
-                             c.header.sequence);
+        if (Status s = checkHeader(c); !isOk(s)) return s;
         auto bytes = mBytes.subspan(c.payloadOffset, c.header.storedSize);
         if (Status s = verifyChecksum(c, bytes); !isOk(s)) return s;
         uint64_t end = c.payloadOffset + c.header.storedSize;

@@ -43,6 +43,17 @@ struct Vec4 {
 struct Aabb {
     Vec3 min{1, 1, 1}, max{-1, -1, -1};
     template <class V> void fields(V& v) { v(min); v(max); }
+
+    bool empty() const { return min.x > max.x; }
+    // Extends the box to contain p (an empty box becomes the point).
+    void grow(Vec3 p) {
+        if (empty()) {
+            min = max = p;
+            return;
+        }
+        min = {p.x < min.x ? p.x : min.x, p.y < min.y ? p.y : min.y, p.z < min.z ? p.z : min.z};
+        max = {p.x > max.x ? p.x : max.x, p.y > max.y ? p.y : max.y, p.z > max.z ? p.z : max.z};
+    }
 };
 struct Sphere {
     Vec3 center;

@@ -93,6 +93,7 @@ public:
 private:
     Container() = default;
     Status index();
+    Status checkHeader(const ChunkInfo& chunk) const;
 
     ReadOptions mOptions;
     FileHeader mHeader;
