@@ -25,10 +25,11 @@ void main() {
     vec4 p = uInverseViewProjection * vec4(vUv * 2.0 - 1.0, depth, 1.0);
     vec3 position = p.xyz / p.w;
     vec3 n = octDecode(nm.xy * 2.0 - 1.0);
-    float packed = floor(nm.w * 65535.0 + 0.5);
-    float metallic = floor(packed / 256.0) / 255.0;
-    float occlusion = mod(packed, 256.0) / 255.0;
+    float packedBits = floor(nm.w * 65535.0 + 0.5);
+    float metallic = floor(packedBits / 256.0) / 255.0;
+    float occlusion = mod(packedBits, 256.0) / 255.0;
     vec3 v = normalize(-position);
-    vec3 color = shadeLights(base.rgb, metallic, nm.z, n, position, v) * occlusion;
+    vec3 color = (shadeLights(base.rgb, metallic, nm.z, n, position, v) + uAmbient.rgb * base.rgb) *
+                 occlusion;
     outColor = vec4(color + texture(uGEmissive, vUv).rgb, base.a);
 }

@@ -10,6 +10,6 @@ void main() {
     Surface s = evaluateSurface(surfaceInput());
     vec3 v = normalize(-vPosition); // camera at the origin of camera-relative space
     vec3 color = shadeLights(s.baseColor, s.metallic, s.roughness, s.normal, vPosition, v);
-    color = color * s.occlusion + s.emissive;
+    color = (color + uAmbient.rgb * s.baseColor) * s.occlusion + s.emissive;
     outColor = vec4(color, s.alpha);
 }

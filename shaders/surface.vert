@@ -2,6 +2,7 @@
 // surface.vert — every mesh draw (G-buffer and forward). Streams are optional per permutation:
 // HAS_UV0/HAS_UV1/HAS_TANGENT/HAS_VERTEX_COLOR are defined only when a material reads them.
 #include "include/interface.glsl"
+#include "include/octahedral.glsl"
 
 layout(location = PNB_ATTR_POSITION) in vec3 inPosition;
 layout(location = PNB_ATTR_NORMAL) in vec3 inNormal;
@@ -29,7 +30,9 @@ void main() {
     vec3 objectPosition = inPosition * uDequantScale.xyz + uDequantOffset.xyz;
     vec4 world = uModel * vec4(objectPosition, 1.0);
     vPosition = world.xyz;
-    vNormal = mat3(uNormalMatrix) * inNormal;
+    // Quantised meshes store normals as two octahedral components (the third reads as 0).
+    vec3 normal = uObjectParams.x > 0.5 ? octDecode(inNormal.xy) : inNormal;
+    vNormal = mat3(uNormalMatrix) * normal;
 #ifdef HAS_TANGENT
     vTangent = vec4(mat3(uModel) * inTangent.xyz, inTangent.w);
 #else

@@ -132,6 +132,11 @@ Result<ResolvedSource, ConvertError> resolveShaderSource(std::string_view name,
     // The version line is emitted above; the defines the player inserts go between it and the
     // #line directive, so line numbers stay true.
     if (!r.append(std::string(name), true, error)) return error;
+    // The file table that `#line N F` refers to, so the player can name the file in a compile
+    // error (FORMAT.md, SHDR).
+    std::string table = "// pnb-files:";
+    for (const std::string& f : r.out.files) table += " " + f;
+    r.out.text.insert(r.out.text.find('\n') + 1, table + "\n");
     return std::move(r.out);
 }
 

@@ -26,6 +26,7 @@ layout(std140, binding = 0) uniform FrameBlock {
     mat4 uView;             // camera-relative world -> view
     vec4 uCameraPosition;   // xyz world (for reference only; shading uses camera-relative)
     vec4 uViewport;         // width, height, 1/width, 1/height
+    vec4 uAmbient;          // rgb: uniform ambient radiance (a stand-in until GI), a unused
 };
 
 // Per draw.
@@ -34,6 +35,7 @@ layout(std140, binding = 1) uniform ObjectBlock {
     mat4 uNormalMatrix;     // inverse-transpose of uModel's upper 3x3 (in a mat4 for std140)
     vec4 uDequantScale;     // position = stored * scale + offset (identity for float streams)
     vec4 uDequantOffset;
+    vec4 uObjectParams;     // x: 1 if normals are octahedral-encoded (2 components), y-w unused
 };
 
 // Per material: the MATL chunk's factors.
@@ -41,7 +43,7 @@ layout(std140, binding = 2) uniform MaterialBlock {
     vec4 uBaseColorFactor;
     vec4 uEmissive;         // rgb * strength, a unused
     vec4 uMaterialParams;   // metallic, roughness, normalScale, occlusionStrength
-    vec4 uAlphaParams;      // alphaCutoff, 0, 0, 0
+    vec4 uAlphaParams;      // alphaCutoff, 1 if BLEND (else alpha is forced to 1), 0, 0
     vec4 uTexTransform[5 * 2]; // per slot: (offset.xy, scale.xy), (rotation, texCoord, 0, 0)
 };
 

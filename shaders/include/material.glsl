@@ -62,6 +62,7 @@ Surface evaluateSurface(SurfaceInput s) {
     if (o.alpha < uAlphaParams.x) discard;
     o.alpha = 1.0;
 #endif
+    if (uAlphaParams.y < 0.5) o.alpha = 1.0; // OPAQUE ignores alpha (glTF)
     o.metallic = uMaterialParams.x;
     o.roughness = uMaterialParams.y;
 #ifdef HAS_METALLIC_ROUGHNESS_MAP

@@ -1,0 +1,72 @@
+// pnb_player/benchmark.h — deterministic fly-throughs that write timings, plots and images.
+//
+// The camera follows one of the container's camera paths. With a fixed time step, frame k is
+// always rendered at path time k*dt, so two configurations can be compared frame by frame and
+// image by image; without it, the path advances with the wall clock (what a viewer would see).
+//
+// Output directory:
+//   frames.csv     one row per frame: path time, CPU ms, GPU ms per pass and total, draw calls,
+//                  triangles, visible/culled items, deferred layers drawn
+//   summary.json   min/median/p95/max per pass and for CPU time; load-time split; GPU memory by
+//                  category; machine, GL vendor/renderer/version; resolution; every setting
+//   frame_times.png  per-pass stacked GPU time and CPU time along the path (player/tools/
+//                  plot_frames.py, needs python3-matplotlib; skipped with a warning otherwise)
+//   screenshots and dumps asked for (PNG for colour, EXR for float buffers)
+#pragma once
+
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "pnb_player/gl_context.h"
+#include "pnb_player/gpu_scene.h"
+#include "pnb_player/renderer.h"
+
+namespace pnb::player {
+
+struct CaptureRequest {
+    CaptureBuffer buffer = CaptureBuffer::Color;
+    uint32_t frame = 0;
+    std::string path; // .png for Color, .exr otherwise
+};
+
+struct BenchOptions {
+    std::string pathName;        // "" = the container's first camera path
+    uint32_t frames = 0;         // 0 = as many as the path (or `seconds`) takes
+    double seconds = 0;          // stop after this much path time; 0 = the whole path
+    bool fixedDt = false;        // frame k at path time k * dt
+    double dt = 1.0 / 60.0;      // with fixedDt (when `frames` is given: duration / frames)
+    uint32_t width = 512, height = 288;
+    std::string outDir;          // "" = no files (tests)
+    std::vector<CaptureRequest> captures;
+    bool plot = true;
+    std::string sceneFile, commandLine; // recorded in the summary
+};
+
+struct PassSummary {
+    std::string pass;
+    double min = 0, median = 0, p95 = 0, max = 0;
+};
+
+struct BenchResult {
+    uint32_t frames = 0;
+    std::vector<PassSummary> gpu; // per pass, then "total"
+    PassSummary cpu;
+    std::vector<std::string> written; // files, in the order written
+};
+
+// Renders the fly-through with `renderer` in the current context. `present` (optional) shows
+// each frame (window mode) and returns false to stop early.
+PlayResult<BenchResult> runBenchmark(const GpuScene& scene, Renderer& renderer,
+                                     const BenchOptions& options, const LoadStats& load,
+                                     const GlInfo& gl,
+                                     const std::function<bool()>& present = {});
+
+// Writes a captured buffer: PNG for 8-bit, EXR for float; rows flipped to top-down.
+PlayResult<Done> saveCapture(const std::string& path, const CapturedImage& image);
+
+// The camera a run starts from: the path's first key, else the container's first camera, else
+// one framing the scene bounds.
+CameraState initialCamera(const GpuScene& scene, const std::string& pathName);
+
+} // namespace pnb::player

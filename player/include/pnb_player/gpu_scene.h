@@ -1,0 +1,143 @@
+// pnb_player/gpu_scene.h — a container loaded onto the GPU, plus the CPU-side scene description
+// the renderer needs each frame (draw items with world bounds, lights, cameras, paths).
+//
+// Loading (scene_load.cpp): map the file, verify payload checksums ("read"), decompress and
+// decode chunks and check every cross-reference ("decode"), then create GL objects in file order
+// straight from the mapping — uncompressed mesh and texel payloads are handed to the driver
+// without an intermediate copy ("upload"), ending with glFinish so "GPU-ready" is real.
+//
+// World transforms are kept in double precision; the renderer subtracts the camera position
+// before converting to float (camera-relative rendering).
+//
+// Does NOT do: skinning, morph targets, animation other than camera paths, streaming textures
+// in after the first frame.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <glm/glm.hpp>
+#include <glm/gtc/quaternion.hpp>
+
+#include "pnb/chunks.h"
+#include "pnb/reader.h"
+#include "pnb_player/gl_handles.h"
+#include "pnb_player/play_error.h"
+
+namespace pnb::player {
+
+struct GpuTexture {
+    GlHandle texture;
+    uint32_t width = 0, height = 0, mipCount = 0;
+    uint64_t bytes = 0;
+};
+
+struct GpuMesh {
+    GlHandle buffer; // all streams, then the indices
+    GlHandle vertexArray;
+    GLenum indexType = GL_UNSIGNED_INT;
+    uint32_t indexSize = 4;
+    uint64_t indexOffset = 0; // bytes into `buffer`
+    GLenum primitive = GL_TRIANGLES;
+    glm::vec3 dequantScale{1}, dequantOffset{0};
+    bool octahedralNormals = false;
+    std::vector<Submesh> submeshes;
+    uint64_t bytes = 0;
+};
+
+struct GpuMaterial {
+    Material desc;
+    std::string name;
+    uint32_t program = kNone;    // index into GpuScene::programs (= the PROG chunk index)
+    uint32_t uniformOffset = 0;  // bytes into GpuScene::materialBuffer
+    bool translucent() const { return desc.alphaMode == AlphaMode::Blend; }
+};
+
+// One submesh of one mesh instance: the unit the renderer culls, sorts and draws.
+struct DrawItem {
+    uint32_t node = 0, mesh = 0, submesh = 0, material = 0;
+    glm::dmat4 world{1.0};
+    glm::mat3 normalMatrix{1.0f}; // inverse-transpose of world's 3x3 (no translation: float is fine)
+    glm::dvec3 boundsMin{0.0}, boundsMax{0.0}; // world-space AABB of the submesh
+    uint32_t triangles = 0;
+};
+
+struct SceneLight {
+    Light desc;
+    std::string name;
+    glm::dvec3 position{0.0};
+    glm::vec3 direction{0, 0, -1}; // the direction light travels (node's -Z)
+};
+
+struct SceneCamera {
+    Camera desc;
+    std::string name;
+    glm::dvec3 position{0.0};
+    glm::dquat rotation{1, 0, 0, 0};
+};
+
+struct ScenePath {
+    std::string name;
+    CameraPath path; // keys copied out of the mapping
+};
+
+struct GpuMemory {
+    uint64_t meshBytes = 0, textureBytes = 0, uniformBytes = 0;
+};
+
+struct LoadStats {
+    double openMs = 0;       // mmap + table of contents
+    double readMs = 0;       // page in + checksum every payload
+    double decodeMs = 0;     // decompress, decode, validate cross-references
+    double compileMs = 0;    // shader programs (compile + link)
+    double uploadMs = 0;     // buffers and textures, through glFinish
+    double totalMs = 0;      // open to GPU-ready
+    double firstFrameMs = 0; // process start to the first finished frame (set by pnb-play)
+    uint64_t fileBytes = 0, zeroCopyBytes = 0, decompressedBytes = 0;
+    uint32_t chunks = 0, unknownChunks = 0;
+};
+
+struct LoadOptions {
+    bool verifyChecksums = true;
+};
+
+struct GpuScene {
+    std::string name;
+    Aabb bounds;
+    std::vector<std::pair<std::string, std::string>> settings; // the RSET chunk
+
+    std::vector<std::string> programLabels; // "gbuffer[HAS_UV0 ...]" per PROG chunk
+    std::vector<GlHandle> programs;         // per PROG chunk; empty handle if not compiled
+    std::optional<uint32_t> deferredLightingProgram, tonemapProgram;
+
+    std::vector<GpuTexture> textures;
+    std::vector<GpuMaterial> materials;
+    GlHandle materialBuffer; // one std140 MaterialBlock per material, at uniformOffset
+    uint32_t materialStride = 0;
+    std::vector<GpuMesh> meshes;
+    std::vector<DrawItem> items;
+    std::vector<SceneLight> lights;
+    std::vector<SceneCamera> cameras;
+    std::vector<ScenePath> paths;
+    GpuMemory memory;
+    uint64_t triangles = 0;
+
+    // Distinct deferred layer priorities in drawing order (ascending), and whether the scene
+    // has forward materials: what the frame needs to allocate and run.
+    std::vector<uint16_t> deferredLayers;
+    bool hasForward = false;
+
+    const ScenePath* findPath(std::string_view pathName) const; // "" = the first
+};
+
+// Needs a current GL 4.5 context. Errors: Input (damaged or inconsistent container, naming the
+// chunk and byte offset), Gl (a program does not compile).
+PlayResult<std::unique_ptr<GpuScene>> loadScene(const std::string& path,
+                                                const LoadOptions& options = {},
+                                                LoadStats* stats = nullptr);
+
+} // namespace pnb::player

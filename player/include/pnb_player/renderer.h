@@ -1,0 +1,102 @@
+// pnb_player/renderer.h — draws a GpuScene: layered deferred + forward shading (seed 003) into an
+// HDR target, tone mapping to sRGB, optional FXAA and debug views.
+//
+// The frame (one pass per file, src/pass_*.cpp):
+//   1. cull draw items against the view frustum (world AABBs, camera-relative);
+//   2. for each deferred layer in ascending priority that has visible items: clear the G-buffer
+//      colour but keep the shared depth, draw the layer (opaque front-to-back, layers holding
+//      translucent materials back-to-front), compose its lighting into the HDR target with
+//      alpha blending and depth writes off. Empty layers cost nothing;
+//   3. forward materials against the same depth: opaque front-to-back, then blended
+//      back-to-front with depth writes off;
+//   4. tone map (exposure, ACES fit) into an sRGB target; FXAA; or a debug view instead.
+//
+// Allocation follows the scene: no G-buffer without deferred materials, no FXAA target unless
+// enabled, debug-view targets only while a debug view is on. GPU memory is accounted by category.
+//
+// Threading: one GL context, one thread.
+#pragma once
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "pnb_player/camera.h"
+#include "pnb_player/gpu_scene.h"
+#include "pnb_player/gpu_timer.h"
+#include "pnb_player/settings.h"
+
+namespace pnb::player {
+
+struct FrameStats {
+    uint64_t frame = 0;
+    double cpuMs = 0;          // CPU time to record and submit the frame
+    uint32_t drawCalls = 0;
+    uint64_t triangles = 0;    // submitted
+    uint32_t visibleItems = 0, culledItems = 0;
+    uint32_t deferredLayersDrawn = 0; // layers with visible items (each: one clear, one compose)
+};
+
+struct TargetMemory {
+    uint64_t gbufferBytes = 0;   // colour attachments of the one G-buffer (depth is shared)
+    uint64_t depthBytes = 0;
+    uint64_t hdrBytes = 0;
+    uint64_t outputBytes = 0;    // sRGB output (+ FXAA intermediate)
+    uint64_t debugBytes = 0;
+    uint64_t streamingBytes = 0; // per-frame uniform/storage ring
+    uint64_t total() const {
+        return gbufferBytes + depthBytes + hdrBytes + outputBytes + debugBytes + streamingBytes;
+    }
+};
+
+// Exact buffers for comparison with ground truth (rows bottom-up, as GL returns them).
+enum class CaptureBuffer {
+    Color,  // sRGB output, RGBA8 (what is shown)
+    Hdr,    // linear HDR radiance, RGBA float
+    Depth,  // reversed-Z depth buffer, 1 float
+    LinearDepth, // view-space distance along -Z, 1 float (infinity where nothing was drawn)
+    Normal, // world normal of the last deferred layer, 3 floats (0 where none)
+};
+
+struct CapturedImage {
+    uint32_t width = 0, height = 0, channels = 0;
+    std::vector<uint8_t> u8;
+    std::vector<float> f32;
+};
+
+class Renderer {
+public:
+    // Compiles the player's built-in programs the scene needs; errors name the program.
+    static PlayResult<std::unique_ptr<Renderer>> create(const GpuScene& scene,
+                                                        const RenderSettings& settings);
+    ~Renderer();
+
+    void setSettings(const RenderSettings& settings);
+    const RenderSettings& settings() const { return mSettings; }
+
+    // Renders one frame at width x height into the output target.
+    PlayResult<Done> render(const CameraState& camera, uint32_t width, uint32_t height);
+
+    // Copies the output to the default framebuffer of a window (after render()).
+    void presentToWindow(int windowWidth, int windowHeight);
+
+    PlayResult<CapturedImage> capture(CaptureBuffer buffer);
+
+    const FrameStats& lastFrame() const { return mStats; }
+    GpuTimer& timer() { return mTimer; }
+    TargetMemory targetMemory() const;
+    // Debug-view helpers need the view of the last frame.
+    const ViewMatrices& lastView() const { return mView; }
+
+    struct Impl;
+
+private:
+    Renderer() = default;
+    RenderSettings mSettings;
+    FrameStats mStats;
+    GpuTimer mTimer;
+    ViewMatrices mView;
+    std::unique_ptr<Impl> mImpl;
+};
+
+} // namespace pnb::player

@@ -1,0 +1,65 @@
+// pnb_player/settings.h — every render setting, addressable by a dotted key.
+//
+// One table (settings.cpp) names each setting, its type, default, range and meaning; the
+// command line (`--set key=value`), the container's RSET chunk and the ImGui overlay all go
+// through it. Precedence: defaults < container < command line. Unknown keys from the command
+// line are errors; unknown keys in a container are reported as warnings (a newer converter may
+// write settings for features this player does not have).
+#pragma once
+
+#include <string>
+#include <string_view>
+#include <utility>
+#include <vector>
+
+#include "pnb_player/play_error.h"
+
+namespace pnb::player {
+
+enum class DebugView {
+    None,      // the lit, tone-mapped image
+    BaseColor, // G-buffer RT0 rgb of the last deferred layer
+    Alpha,     // G-buffer RT0 a
+    Normal,    // decoded world normal, 0.5 + 0.5 n
+    Roughness,
+    Metallic,
+    Occlusion,
+    Emissive,
+    Depth,     // linearised view depth, log-scaled
+    Layer,     // which deferred layer (or forward) last wrote each pixel
+    Overdraw,  // fragments shaded per pixel across all geometry passes
+    Count
+};
+
+struct RenderSettings {
+    float exposure = 1.0f;       // lighting.exposure: HDR scale before tone mapping
+    float ambient = 0.03f;       // lighting.ambient: uniform ambient radiance (times base colour)
+    bool fxaa = false;           // post.fxaa: FXAA 3.11-style edge anti-aliasing after tone mapping
+    bool frustumCulling = true;  // cull.frustum: skip draws whose world AABB is outside the view
+    float nearPlane = 0.0f;      // camera.near: metres; 0 = the container camera's znear
+    float farPlane = -1.0f;      // camera.far: metres; 0 = infinite; -1 = the container camera's
+    DebugView debugView = DebugView::None; // debug.view
+};
+
+struct SettingInfo {
+    std::string_view key, type, description;
+};
+
+// Every key, in a stable order (for --list-settings, the JSON summary and the overlay).
+const std::vector<SettingInfo>& settingInfos();
+
+// Parses `value` into the setting `key`. Errors (Usage) name the key and what is accepted.
+PlayResult<Done> applySetting(RenderSettings& settings, std::string_view key,
+                              std::string_view value);
+// "key=value"
+PlayResult<Done> applySetting(RenderSettings& settings, std::string_view assignment);
+
+// The current value of `key` in the same syntax applySetting accepts ("" for an unknown key).
+std::string settingValue(const RenderSettings& settings, std::string_view key);
+
+// Every key with its current value, in settingInfos() order.
+std::vector<std::pair<std::string, std::string>> settingValues(const RenderSettings& settings);
+
+std::string_view toString(DebugView view);
+
+} // namespace pnb::player

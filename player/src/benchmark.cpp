@@ -1,0 +1,271 @@
+#include "pnb_player/benchmark.h"
+
+#include <sys/utsname.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <sstream>
+#include <thread>
+
+#include <nlohmann/json.hpp>
+
+#include "pnb_player/camera_path.h"
+#include "pnb_player/image_write.h"
+
+namespace pnb::player {
+
+namespace {
+
+struct FrameRecord {
+    double pathTime = 0;
+    FrameStats stats;
+    std::map<std::string, double> gpu; // summed per pass name
+    double gpuTotal = -1;              // -1 = not measured
+};
+
+PassSummary summarize(std::string name, std::vector<double> v) {
+    PassSummary s;
+    s.pass = std::move(name);
+    if (v.empty()) return s;
+    std::sort(v.begin(), v.end());
+    auto at = [&](double q) { return v[size_t(std::min(q * double(v.size() - 1) + 0.5, double(v.size() - 1)))]; };
+    s.min = v.front();
+    s.median = at(0.5);
+    s.p95 = at(0.95);
+    s.max = v.back();
+    return s;
+}
+
+nlohmann::json toJson(const PassSummary& s) {
+    return {{"min_ms", s.min}, {"median_ms", s.median}, {"p95_ms", s.p95}, {"max_ms", s.max}};
+}
+
+std::string cpuModel() {
+    std::ifstream in("/proc/cpuinfo");
+    for (std::string line; std::getline(in, line);)
+        if (line.rfind("model name", 0) == 0) return line.substr(line.find(':') + 2);
+    return "unknown";
+}
+
+PlayResult<Done> writeText(const std::string& path, const std::string& text) {
+    Status s = writeFileAtomic(path, std::span(reinterpret_cast<const uint8_t*>(text.data()), text.size()));
+    if (!isOk(s)) return PlayError{PlayErrorKind::Io, s.describe()};
+    return Done{};
+}
+
+std::string plotScript() {
+    if (const char* env = std::getenv("PNB_PLOT_SCRIPT")) return env;
+    return PNB_PLOT_SCRIPT; // the source tree's player/tools/plot_frames.py
+}
+
+} // namespace
+
+CameraState initialCamera(const GpuScene& scene, const std::string& pathName) {
+    CameraState cam;
+    if (!scene.cameras.empty()) {
+        const SceneCamera& c = scene.cameras.front();
+        cam.position = c.position;
+        cam.rotation = c.rotation;
+        cam.yfovRadians = c.desc.yfovRadians;
+        cam.znear = c.desc.znear;
+        cam.zfar = c.desc.zfar;
+    } else {
+        cam = framingCamera(scene.bounds, 0.8f);
+    }
+    if (const ScenePath* p = scene.findPath(pathName); p && !p->path.keys.empty())
+        evaluatePath(p->path, p->path.keys.front().timeSeconds, cam);
+    return cam;
+}
+
+PlayResult<Done> saveCapture(const std::string& path, const CapturedImage& image) {
+    ImageView view{image.width, image.height, image.channels, {}, {}};
+    size_t row = size_t(image.width) * image.channels;
+    Status s;
+    if (!image.u8.empty()) {
+        std::vector<uint8_t> flipped(image.u8.size());
+        for (uint32_t y = 0; y < image.height; ++y)
+            std::copy_n(image.u8.data() + size_t(image.height - 1 - y) * row, row, flipped.data() + y * row);
+        view.u8 = flipped;
+        s = writePng(path, view);
+    } else {
+        std::vector<float> flipped(image.f32.size());
+        for (uint32_t y = 0; y < image.height; ++y)
+            std::copy_n(image.f32.data() + size_t(image.height - 1 - y) * row, row, flipped.data() + y * row);
+        view.f32 = flipped;
+        s = writeExr(path, view);
+    }
+    if (!isOk(s)) return PlayError{PlayErrorKind::Io, s.describe()};
+    return Done{};
+}
+
+PlayResult<BenchResult> runBenchmark(const GpuScene& scene, Renderer& renderer,
+                                     const BenchOptions& options, const LoadStats& load,
+                                     const GlInfo& gl, const std::function<bool()>& present) {
+    const ScenePath* path = scene.findPath(options.pathName);
+    if (!options.pathName.empty() && !path)
+        return PlayError{PlayErrorKind::Usage, "no camera path named '" + options.pathName + "'"};
+    double start = path && !path->path.keys.empty() ? path->path.keys.front().timeSeconds : 0.0;
+    double duration = path ? pathDuration(path->path) : 0.0;
+    double span = options.seconds > 0 ? options.seconds : duration;
+    double dt = options.dt;
+    if (options.fixedDt && options.frames > 0 && span > 0) dt = span / options.frames;
+    uint32_t frames = options.frames;
+    if (frames == 0) frames = options.fixedDt ? uint32_t(std::max(1.0, std::ceil(span / dt))) : ~0u;
+    if (!options.fixedDt && span <= 0 && options.frames == 0) frames = 1;
+    if (!options.outDir.empty()) {
+        std::error_code ec;
+        std::filesystem::create_directories(options.outDir, ec);
+        if (ec) return PlayError{PlayErrorKind::Io, "cannot create " + options.outDir + ": " + ec.message()};
+    }
+
+    CameraState camera = initialCamera(scene, options.pathName);
+    std::vector<FrameRecord> records;
+    BenchResult result;
+    auto wallStart = std::chrono::steady_clock::now();
+    auto collect = [&] {
+        for (FrameGpuTimes& f : renderer.timer().completed()) {
+            if (f.frame >= records.size()) continue;
+            FrameRecord& r = records[f.frame];
+            for (const PassTime& p : f.passes) r.gpu[p.pass] += p.ms;
+            r.gpuTotal = f.totalMs;
+        }
+        renderer.timer().completed().clear();
+    };
+    for (uint32_t k = 0; k < frames; ++k) {
+        double t = options.fixedDt
+                       ? double(k) * dt
+                       : std::chrono::duration<double>(std::chrono::steady_clock::now() - wallStart).count();
+        if (!options.fixedDt && options.frames == 0 && span > 0 && t > span) break;
+        if (path) evaluatePath(path->path, start + t, camera);
+        auto r = renderer.render(camera, options.width, options.height);
+        if (!r) return r.error();
+        FrameRecord rec;
+        rec.pathTime = t;
+        rec.stats = renderer.lastFrame();
+        records.push_back(rec);
+        // Timer results are keyed by the renderer's frame number; map them to this run's index.
+        for (FrameGpuTimes& f : renderer.timer().completed()) f.frame -= rec.stats.frame - k;
+        collect();
+        for (const CaptureRequest& c : options.captures) {
+            if (c.frame != k) continue;
+            auto img = renderer.capture(c.buffer);
+            if (!img) return img.error();
+            if (auto s = saveCapture(c.path, *img); !s) return s.error();
+            result.written.push_back(c.path);
+        }
+        if (present && !present()) break;
+    }
+    // The last frames' timers: wait for them now that nothing else is queued.
+    uint64_t lastRendererFrame = renderer.lastFrame().frame;
+    renderer.timer().drain();
+    for (FrameGpuTimes& f : renderer.timer().completed())
+        f.frame -= lastRendererFrame - (records.size() - 1);
+    collect();
+    result.frames = uint32_t(records.size());
+
+    // Per-pass statistics over frames that have timings.
+    std::vector<std::string> passNames;
+    for (const FrameRecord& r : records)
+        for (const auto& [name, ms] : r.gpu)
+            if (std::find(passNames.begin(), passNames.end(), name) == passNames.end()) passNames.push_back(name);
+    const std::vector<std::string> order = {"setup", "gbuffer", "lighting", "forward", "tonemap", "fxaa", "debug"};
+    std::stable_sort(passNames.begin(), passNames.end(), [&](const std::string& a, const std::string& b) {
+        auto ia = std::find(order.begin(), order.end(), a) - order.begin();
+        auto ib = std::find(order.begin(), order.end(), b) - order.begin();
+        return ia < ib;
+    });
+    std::vector<double> cpu, total;
+    for (const std::string& name : passNames) {
+        std::vector<double> v;
+        for (const FrameRecord& r : records)
+            if (r.gpuTotal >= 0) v.push_back(r.gpu.count(name) ? r.gpu.at(name) : 0.0);
+        result.gpu.push_back(summarize(name, v));
+    }
+    for (const FrameRecord& r : records) {
+        cpu.push_back(r.stats.cpuMs);
+        if (r.gpuTotal >= 0) total.push_back(r.gpuTotal);
+    }
+    result.gpu.push_back(summarize("total", total));
+    result.cpu = summarize("cpu", cpu);
+    if (options.outDir.empty()) return result;
+
+    // frames.csv
+    std::ostringstream csv;
+    csv << "frame,time_s,cpu_ms,gpu_total_ms";
+    for (const std::string& n : passNames) csv << ",gpu_" << n << "_ms";
+    csv << ",draw_calls,triangles,visible_items,culled_items,deferred_layers\n";
+    for (size_t k = 0; k < records.size(); ++k) {
+        const FrameRecord& r = records[k];
+        csv << k << ',' << r.pathTime << ',' << r.stats.cpuMs << ',';
+        if (r.gpuTotal >= 0) csv << r.gpuTotal;
+        for (const std::string& n : passNames) {
+            csv << ',';
+            if (r.gpuTotal >= 0) csv << (r.gpu.count(n) ? r.gpu.at(n) : 0.0);
+        }
+        csv << ',' << r.stats.drawCalls << ',' << r.stats.triangles << ',' << r.stats.visibleItems
+            << ',' << r.stats.culledItems << ',' << r.stats.deferredLayersDrawn << '\n';
+    }
+    std::string csvPath = options.outDir + "/frames.csv";
+    if (auto w = writeText(csvPath, csv.str()); !w) return w.error();
+    result.written.push_back(csvPath);
+
+    // summary.json
+    nlohmann::json j;
+    j["scene"] = {{"file", options.sceneFile}, {"name", scene.name}, {"triangles", scene.triangles},
+                  {"draw_items", scene.items.size()}, {"materials", scene.materials.size()},
+                  {"lights", scene.lights.size()}, {"deferred_layers", scene.deferredLayers},
+                  {"has_forward", scene.hasForward}};
+    utsname u{};
+    uname(&u);
+    j["machine"] = {{"cpu", cpuModel()}, {"cores", std::thread::hardware_concurrency()},
+                    {"kernel", std::string(u.sysname) + " " + u.release}};
+    j["gl"] = {{"vendor", gl.vendor}, {"renderer", gl.renderer}, {"version", gl.version}, {"glsl", gl.glsl}};
+    j["run"] = {{"command", options.commandLine}, {"path", path ? path->name : ""},
+                {"path_duration_s", duration}, {"fixed_dt", options.fixedDt},
+                {"dt_s", options.fixedDt ? dt : 0.0}, {"frames", result.frames},
+                {"width", options.width}, {"height", options.height},
+                {"timer_stalls", renderer.timer().stalls()}};
+    nlohmann::json settings = nlohmann::json::object();
+    for (const auto& [k, v] : settingValues(renderer.settings())) settings[k] = v;
+    j["settings"] = settings;
+    j["load_ms"] = {{"open", load.openMs}, {"read", load.readMs}, {"decode", load.decodeMs},
+                    {"upload", load.uploadMs}, {"compile", load.compileMs}, {"total", load.totalMs},
+                    {"file_bytes", load.fileBytes}, {"zero_copy_bytes", load.zeroCopyBytes},
+                    {"decompressed_bytes", load.decompressedBytes}};
+    TargetMemory tm = renderer.targetMemory();
+    j["gpu_memory_bytes"] = {{"meshes", scene.memory.meshBytes}, {"textures", scene.memory.textureBytes},
+                             {"material_uniforms", scene.memory.uniformBytes},
+                             {"gbuffer", tm.gbufferBytes}, {"depth", tm.depthBytes}, {"hdr", tm.hdrBytes},
+                             {"output", tm.outputBytes}, {"debug", tm.debugBytes},
+                             {"per_frame_stream", tm.streamingBytes}};
+    nlohmann::json gpu = nlohmann::json::object();
+    for (const PassSummary& s : result.gpu) gpu[s.pass] = toJson(s);
+    j["gpu_ms"] = gpu;
+    j["cpu_ms"] = toJson(result.cpu);
+    const FrameRecord& last = records.back();
+    j["last_frame"] = {{"draw_calls", last.stats.drawCalls}, {"triangles", last.stats.triangles},
+                       {"visible_items", last.stats.visibleItems}, {"culled_items", last.stats.culledItems},
+                       {"deferred_layers_drawn", last.stats.deferredLayersDrawn}};
+    std::string jsonPath = options.outDir + "/summary.json";
+    if (auto w = writeText(jsonPath, j.dump(2) + "\n"); !w) return w.error();
+    result.written.push_back(jsonPath);
+
+    if (options.plot) {
+        std::string png = options.outDir + "/frame_times.png";
+        std::string title = scene.name + " " + std::to_string(options.width) + "x" +
+                            std::to_string(options.height);
+        std::replace(title.begin(), title.end(), '\'', ' ');
+        std::string cmd = "python3 '" + plotScript() + "' '" + csvPath + "' '" + png +
+                          "' --title '" + title + "' 2>&1";
+        if (std::system(cmd.c_str()) == 0) result.written.push_back(png);
+        else std::fprintf(stderr, "pnb-play: warning: plot not written (needs python3-matplotlib)\n");
+    }
+    return result;
+}
+
+} // namespace pnb::player

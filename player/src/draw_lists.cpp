@@ -1,0 +1,117 @@
+// Culling, per-draw uniform data and the sort orders of seed 003 (opaque front-to-back for early
+// depth rejection; translucent back-to-front so blending composes in order).
+#include <algorithm>
+
+#include <glm/gtc/matrix_transform.hpp>
+
+#include "frame_context.h"
+
+namespace pnb::player {
+
+namespace {
+
+// std140 ObjectBlock (interface.glsl).
+struct ObjectBlock {
+    glm::mat4 model;
+    glm::mat4 normalMatrix;
+    glm::vec4 dequantScale, dequantOffset, params;
+};
+static_assert(sizeof(ObjectBlock) == 176);
+
+bool layerHasTranslucency(const GpuScene& scene, std::span<const DrawRef> refs) {
+    return std::any_of(refs.begin(), refs.end(), [&](const DrawRef& r) {
+        return scene.materials[scene.items[r.item].material].translucent();
+    });
+}
+
+} // namespace
+
+DrawLists buildDrawLists(const GpuScene& scene, const ViewMatrices& view, bool cull,
+                         StreamRing& ring) {
+    DrawLists lists;
+    lists.layers.resize(scene.deferredLayers.size());
+    glm::dvec3 forward = glm::dvec3(glm::transpose(glm::dmat3(view.view)) * glm::dvec3(0, 0, -1));
+    glm::dmat4 toCamera = glm::translate(glm::dmat4(1.0), -view.position);
+    for (uint32_t i = 0; i < scene.items.size(); ++i) {
+        const DrawItem& item = scene.items[i];
+        if (cull && !intersectsFrustum(view, item.boundsMin, item.boundsMax)) {
+            ++lists.culled;
+            continue;
+        }
+        ++lists.visible;
+        const GpuMesh& mesh = scene.meshes[item.mesh];
+        ObjectBlock block;
+        block.model = glm::mat4(toCamera * item.world); // relative in double, then float
+        block.normalMatrix = glm::mat4(item.normalMatrix);
+        block.dequantScale = glm::vec4(mesh.dequantScale, 0);
+        block.dequantOffset = glm::vec4(mesh.dequantOffset, 0);
+        block.params = {mesh.octahedralNormals ? 1.0f : 0.0f, 0, 0, 0};
+        DrawRef ref;
+        ref.item = i;
+        ref.viewDepth = float(glm::dot((item.boundsMin + item.boundsMax) * 0.5 - view.position, forward));
+        ref.objectOffset = ring.push(&block, sizeof block);
+        const Material& m = scene.materials[item.material].desc;
+        if (m.shadingPath == ShadingPath::Deferred) {
+            auto layer = std::lower_bound(scene.deferredLayers.begin(), scene.deferredLayers.end(),
+                                          m.layerPriority);
+            lists.layers[size_t(layer - scene.deferredLayers.begin())].push_back(ref);
+        } else if (m.alphaMode == AlphaMode::Blend) {
+            lists.forwardBlended.push_back(ref);
+        } else {
+            lists.forwardOpaque.push_back(ref);
+        }
+    }
+    auto frontToBack = [](const DrawRef& a, const DrawRef& b) {
+        return a.viewDepth != b.viewDepth ? a.viewDepth < b.viewDepth : a.item < b.item;
+    };
+    auto backToFront = [](const DrawRef& a, const DrawRef& b) {
+        return a.viewDepth != b.viewDepth ? a.viewDepth > b.viewDepth : a.item < b.item;
+    };
+    for (auto& layer : lists.layers)
+        std::sort(layer.begin(), layer.end(),
+                  layerHasTranslucency(scene, layer) ? +backToFront : +frontToBack);
+    std::sort(lists.forwardOpaque.begin(), lists.forwardOpaque.end(), frontToBack);
+    std::sort(lists.forwardBlended.begin(), lists.forwardBlended.end(), backToFront);
+    return lists;
+}
+
+void drawItems(FrameContext& ctx, std::span<const DrawRef> refs, GLuint program) {
+    const GpuScene& scene = ctx.scene;
+    GLuint boundProgram = ~0u, boundVao = ~0u;
+    uint32_t boundMaterial = kNone;
+    int cullState = -1;
+    for (const DrawRef& ref : refs) {
+        const DrawItem& item = scene.items[ref.item];
+        const GpuMesh& mesh = scene.meshes[item.mesh];
+        const GpuMaterial& material = scene.materials[item.material];
+        GLuint p = program ? program : scene.programs[material.program].id();
+        if (p != boundProgram) glUseProgram(boundProgram = p);
+        if (item.material != boundMaterial) {
+            boundMaterial = item.material;
+            glBindBufferRange(GL_UNIFORM_BUFFER, 2, scene.materialBuffer.id(),
+                              GLintptr(material.uniformOffset), 14 * 16); // MaterialBlock
+            for (size_t slot = 0; slot < material.desc.textures.size(); ++slot) {
+                uint32_t t = material.desc.textures[slot].texture;
+                glBindTextureUnit(GLuint(slot), t == kNone ? 0 : scene.textures[t].texture.id());
+            }
+            int wantCull = material.desc.doubleSided ? 0 : 1;
+            if (wantCull != cullState) {
+                (cullState = wantCull) ? glEnable(GL_CULL_FACE) : glDisable(GL_CULL_FACE);
+            }
+        }
+        glBindBufferRange(GL_UNIFORM_BUFFER, 1, ctx.ring.buffer(), GLintptr(ref.objectOffset),
+                          GLsizeiptr(ctx.objectBlockBytes));
+        if (mesh.vertexArray.id() != boundVao) glBindVertexArray(boundVao = mesh.vertexArray.id());
+        const Submesh& sm = mesh.submeshes[item.submesh];
+        glDrawElements(mesh.primitive, GLsizei(sm.indexCount), mesh.indexType,
+                       reinterpret_cast<const void*>(mesh.indexOffset +
+                                                     uint64_t(sm.firstIndex) * mesh.indexSize));
+        ++ctx.stats.drawCalls;
+        ctx.stats.triangles += item.triangles;
+    }
+    glEnable(GL_CULL_FACE);
+}
+
+void drawFullscreenTriangle() { glDrawArrays(GL_TRIANGLES, 0, 3); }
+
+} // namespace pnb::player

@@ -1,0 +1,79 @@
+// Reading the frame's buffers back exactly (for screenshots, dumps and tests).
+#include <cmath>
+#include <limits>
+
+#include "frame_context.h"
+#include "pnb_player/renderer.h"
+
+namespace pnb::player {
+
+namespace {
+
+std::vector<float> readFloats(GLuint texture, GLenum format, uint32_t channels, uint32_t w, uint32_t h) {
+    std::vector<float> data(size_t(w) * h * channels);
+    glGetTextureImage(texture, 0, format, GL_FLOAT, GLsizei(data.size() * sizeof(float)), data.data());
+    return data;
+}
+
+// Same mapping as shaders/include/octahedral.glsl.
+glm::vec3 octDecode(glm::vec2 e) {
+    glm::vec3 v(e, 1.0f - std::abs(e.x) - std::abs(e.y));
+    if (v.z < 0) {
+        glm::vec2 s(v.x >= 0 ? 1.0f : -1.0f, v.y >= 0 ? 1.0f : -1.0f);
+        glm::vec2 xy = (1.0f - glm::abs(glm::vec2(v.y, v.x))) * s;
+        v.x = xy.x;
+        v.y = xy.y;
+    }
+    return glm::normalize(v);
+}
+
+} // namespace
+
+PlayResult<CapturedImage> Renderer::capture(CaptureBuffer buffer) {
+    const FrameTargets& t = mImpl->targets;
+    if (t.width == 0) return PlayError{PlayErrorKind::Usage, "capture before the first frame"};
+    CapturedImage img;
+    img.width = t.width;
+    img.height = t.height;
+    glPixelStorei(GL_PACK_ALIGNMENT, 1);
+    switch (buffer) {
+    case CaptureBuffer::Color:
+        img.channels = 4;
+        img.u8.resize(size_t(t.width) * t.height * 4);
+        glGetTextureImage(t.output.id(), 0, GL_RGBA, GL_UNSIGNED_BYTE, GLsizei(img.u8.size()), img.u8.data());
+        break;
+    case CaptureBuffer::Hdr:
+        img.channels = 4;
+        img.f32 = readFloats(t.hdr.id(), GL_RGBA, 4, t.width, t.height);
+        break;
+    case CaptureBuffer::Depth:
+    case CaptureBuffer::LinearDepth:
+        img.channels = 1;
+        img.f32 = readFloats(t.depth.id(), GL_DEPTH_COMPONENT, 1, t.width, t.height);
+        if (buffer == CaptureBuffer::LinearDepth) {
+            double n = mView.znear, f = mView.zfar;
+            for (float& d : img.f32)
+                d = d <= 0 ? std::numeric_limits<float>::infinity()
+                           : float(f > 0 ? n * f / (d * (f - n) + n) : n / d);
+        }
+        break;
+    case CaptureBuffer::Normal: {
+        img.channels = 3;
+        img.f32.assign(size_t(t.width) * t.height * 3, 0.0f);
+        if (!t.gbuffer[0]) break;
+        std::vector<float> base = readFloats(t.gbuffer[0].id(), GL_RGBA, 4, t.width, t.height);
+        std::vector<float> nm = readFloats(t.gbuffer[1].id(), GL_RGBA, 4, t.width, t.height);
+        for (size_t i = 0; i < size_t(t.width) * t.height; ++i) {
+            if (base[i * 4 + 3] <= 0) continue;
+            glm::vec3 n = octDecode(glm::vec2(nm[i * 4], nm[i * 4 + 1]) * 2.0f - 1.0f);
+            img.f32[i * 3] = n.x;
+            img.f32[i * 3 + 1] = n.y;
+            img.f32[i * 3 + 2] = n.z;
+        }
+        break;
+    }
+    }
+    return img;
+}
+
+} // namespace pnb::player

@@ -1,0 +1,74 @@
+// frame_context.h — what every pass of one frame reads: the scene, the view, the targets, the
+// visible draws sorted into lists, and the built-in programs. Passes are free functions over it
+// (pass_*.cpp), so each file holds one pass and its GL state.
+#pragma once
+
+#include <span>
+#include <vector>
+
+#include "frame_targets.h"
+#include "pnb_player/renderer.h"
+#include "stream_ring.h"
+
+namespace pnb::player {
+
+// One visible item: where its ObjectBlock lives in the ring, and its view depth for sorting.
+struct DrawRef {
+    uint32_t item = 0;
+    float viewDepth = 0;      // distance of the bounds' centre along the view direction
+    size_t objectOffset = 0;  // ObjectBlock in the stream ring
+};
+
+struct DrawLists {
+    std::vector<std::vector<DrawRef>> layers; // parallel to GpuScene::deferredLayers
+    std::vector<DrawRef> forwardOpaque;       // front to back
+    std::vector<DrawRef> forwardBlended;      // back to front
+    uint32_t visible = 0, culled = 0;
+};
+
+// Culls, writes one ObjectBlock per visible item into the ring, and sorts.
+DrawLists buildDrawLists(const GpuScene& scene, const ViewMatrices& view, bool cull,
+                         StreamRing& ring);
+
+struct BuiltinPrograms {
+    GlHandle fxaa, debugView, flat;
+};
+
+struct FrameContext {
+    const GpuScene& scene;
+    const RenderSettings& settings;
+    const ViewMatrices& view;
+    FrameTargets& targets;
+    StreamRing& ring;
+    const DrawLists& lists;
+    FrameStats& stats;
+    GpuTimer& timer;
+    BuiltinPrograms& builtins;
+    size_t objectBlockBytes = 0;
+};
+
+// The renderer's private state (renderer.cpp, frame_capture.cpp).
+struct Renderer::Impl {
+    const GpuScene* scene = nullptr;
+    FrameTargets targets;
+    StreamRing ring;
+    BuiltinPrograms builtins;
+    GlHandle emptyVao; // fullscreen passes draw without attributes
+    size_t alignment = 256;
+    uint64_t frame = 0;
+};
+
+// Binds material state and draws `refs` with each material's own program, or with `program`
+// if non-zero (depth-only and debug draws). Counts draws and triangles in ctx.stats.
+void drawItems(FrameContext& ctx, std::span<const DrawRef> refs, GLuint program = 0);
+
+// Full-screen triangle (fullscreen.vert: no vertex buffer).
+void drawFullscreenTriangle();
+
+// The passes, in frame order.
+void runDeferredLayers(FrameContext& ctx);
+void runForward(FrameContext& ctx);
+void runTonemap(FrameContext& ctx);
+void runDebugView(FrameContext& ctx);
+
+} // namespace pnb::player

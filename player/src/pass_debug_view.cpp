@@ -1,0 +1,80 @@
+// Debug views: a G-buffer channel or depth straight from the frame's targets, or — for the layer
+// and overdraw views — the visible draws re-rendered with the flat program into a debug target
+// (nearest surface's layer colour; additive fragment counts), then mapped to the output.
+// G-buffer views show the last deferred layer drawn (the G-buffer is reused per layer).
+#include <glm/glm.hpp>
+
+#include "frame_context.h"
+
+namespace pnb::player {
+
+namespace {
+
+glm::vec4 layerColor(size_t index) {
+    static const glm::vec4 palette[] = {{0.2f, 0.4f, 1.0f, 1}, {0.1f, 0.8f, 0.2f, 1},
+                                        {1.0f, 0.8f, 0.1f, 1}, {0.9f, 0.3f, 0.8f, 1},
+                                        {0.1f, 0.8f, 0.8f, 1}, {0.6f, 0.4f, 0.2f, 1}};
+    return palette[index % std::size(palette)];
+}
+
+void renderLayerColors(FrameContext& ctx) {
+    GLuint flat = ctx.builtins.flat.id();
+    glBindFramebuffer(GL_FRAMEBUFFER, ctx.targets.debugFb.id());
+    const float zero[4] = {0, 0, 0, 0};
+    glClearNamedFramebufferfv(ctx.targets.debugFb.id(), GL_COLOR, 0, zero);
+    glClearNamedFramebufferfi(ctx.targets.debugFb.id(), GL_DEPTH_STENCIL, 0, 0.0f, 0);
+    glEnable(GL_DEPTH_TEST);
+    glDepthFunc(GL_GREATER);
+    glDepthMask(GL_TRUE);
+    glDisable(GL_BLEND);
+    for (size_t layer = 0; layer < ctx.lists.layers.size(); ++layer) {
+        glProgramUniform4fv(flat, 1, 1, &layerColor(layer)[0]);
+        drawItems(ctx, ctx.lists.layers[layer], flat);
+    }
+    const glm::vec4 forward(1.0f, 0.25f, 0.1f, 1);
+    glProgramUniform4fv(flat, 1, 1, &forward[0]);
+    drawItems(ctx, ctx.lists.forwardOpaque, flat);
+    drawItems(ctx, ctx.lists.forwardBlended, flat);
+}
+
+void renderOverdraw(FrameContext& ctx) {
+    GLuint flat = ctx.builtins.flat.id();
+    glBindFramebuffer(GL_FRAMEBUFFER, ctx.targets.debugFb.id());
+    const float zero[4] = {0, 0, 0, 0};
+    glClearNamedFramebufferfv(ctx.targets.debugFb.id(), GL_COLOR, 0, zero);
+    glDisable(GL_DEPTH_TEST);
+    glEnable(GL_BLEND);
+    glBlendFunc(GL_ONE, GL_ONE);
+    const glm::vec4 one(1, 0, 0, 0);
+    glProgramUniform4fv(flat, 1, 1, &one[0]);
+    for (const auto& layer : ctx.lists.layers) drawItems(ctx, layer, flat);
+    drawItems(ctx, ctx.lists.forwardOpaque, flat);
+    drawItems(ctx, ctx.lists.forwardBlended, flat);
+    glDisable(GL_BLEND);
+    glEnable(GL_DEPTH_TEST);
+}
+
+} // namespace
+
+void runDebugView(FrameContext& ctx) {
+    DebugView mode = ctx.settings.debugView;
+    if (mode == DebugView::None) return;
+    ctx.timer.mark("debug");
+    if (mode == DebugView::Layer) renderLayerColors(ctx);
+    if (mode == DebugView::Overdraw) renderOverdraw(ctx);
+    glBindFramebuffer(GL_FRAMEBUFFER, ctx.targets.outputFb.id());
+    glDisable(GL_DEPTH_TEST);
+    glDisable(GL_FRAMEBUFFER_SRGB); // values are shown as stored, not as colours
+    GLuint p = ctx.builtins.debugView.id();
+    glUseProgram(p);
+    glProgramUniform1i(p, 0, int(mode));
+    glProgramUniform2f(p, 1, ctx.view.znear, ctx.view.zfar);
+    for (GLuint unit = 0; unit < 3; ++unit)
+        glBindTextureUnit(unit, ctx.targets.gbuffer[0] ? ctx.targets.gbuffer[unit].id() : 0);
+    glBindTextureUnit(3, ctx.targets.depth.id());
+    glBindTextureUnit(4, ctx.targets.debugColor ? ctx.targets.debugColor.id() : 0);
+    drawFullscreenTriangle();
+    glEnable(GL_DEPTH_TEST);
+}
+
+} // namespace pnb::player

@@ -1,0 +1,172 @@
+// The frame: per-frame data into the stream ring, culling and sorting, then the passes in order.
+#include "pnb_player/renderer.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+
+#include <glm/gtc/type_ptr.hpp>
+
+#include "frame_context.h"
+#include "program_compile.h"
+
+namespace pnb::player {
+
+namespace {
+
+// std140 FrameBlock (interface.glsl).
+struct FrameBlock {
+    glm::mat4 viewProjection, view;
+    glm::vec4 cameraPosition, viewport, ambient;
+};
+
+// std430 GpuLight (lights.glsl).
+struct GpuLight {
+    glm::vec4 positionRange, directionType, colorIntensity, cone;
+};
+
+constexpr size_t kObjectBlockBytes = 176;
+
+} // namespace
+
+PlayResult<std::unique_ptr<Renderer>> Renderer::create(const GpuScene& scene,
+                                                       const RenderSettings& settings) {
+    std::unique_ptr<Renderer> r(new Renderer());
+    r->mImpl = std::make_unique<Impl>();
+    Impl& impl = *r->mImpl;
+    impl.scene = &scene;
+    GLint uboAlign = 256, ssboAlign = 256;
+    glGetIntegerv(GL_UNIFORM_BUFFER_OFFSET_ALIGNMENT, &uboAlign);
+    glGetIntegerv(GL_SHADER_STORAGE_BUFFER_OFFSET_ALIGNMENT, &ssboAlign);
+    impl.alignment = size_t(std::max({uboAlign, ssboAlign, 16}));
+    impl.emptyVao = createVertexArray();
+    r->setSettings(settings);
+    // Reversed-Z: depth in [0, 1] with 1 at the near plane.
+    glClipControl(GL_LOWER_LEFT, GL_ZERO_TO_ONE);
+    glEnable(GL_CULL_FACE);
+    glCullFace(GL_BACK);
+    glFrontFace(GL_CCW);
+    // Per frame: frame block, light list, one object block per item.
+    size_t lightBytes = 16 + sizeof(GpuLight) * std::max<size_t>(scene.lights.size(), 1);
+    impl.ring.reserve(sizeof(FrameBlock) + lightBytes + impl.alignment * 2 +
+                          scene.items.size() * ((kObjectBlockBytes + impl.alignment - 1) /
+                                                impl.alignment * impl.alignment),
+                      impl.alignment);
+    impl.targets.memory.streamingBytes = impl.ring.totalBytes();
+    return r;
+}
+
+Renderer::~Renderer() = default;
+
+void Renderer::setSettings(const RenderSettings& settings) {
+    mSettings = settings;
+    BuiltinPrograms& b = mImpl->builtins;
+    // Built-in programs exist only while a setting uses them.
+    auto ensure = [](GlHandle& program, bool needed, std::string_view vert, std::string_view frag) {
+        if (!needed) {
+            program = {};
+            return;
+        }
+        if (program) return;
+        auto p = compileEmbeddedProgram(vert, frag);
+        if (p) program = std::move(*p);
+        else std::fprintf(stderr, "pnb-play: %s\n", p.error().message.c_str());
+    };
+    ensure(b.fxaa, settings.fxaa, "fullscreen.vert", "fxaa.frag");
+    bool debug = settings.debugView != DebugView::None;
+    ensure(b.debugView, debug, "fullscreen.vert", "debug_view.frag");
+    ensure(b.flat, settings.debugView == DebugView::Layer || settings.debugView == DebugView::Overdraw,
+           "flat.vert", "flat.frag");
+}
+
+TargetMemory Renderer::targetMemory() const { return mImpl->targets.memory; }
+
+PlayResult<Done> Renderer::render(const CameraState& camera, uint32_t width, uint32_t height) {
+    auto cpuStart = std::chrono::steady_clock::now();
+    Impl& impl = *mImpl;
+    const GpuScene& scene = *impl.scene;
+    if (width == 0 || height == 0)
+        return PlayError{PlayErrorKind::Usage, "render size must be at least 1x1"};
+    mStats = {};
+    mStats.frame = impl.frame++;
+
+    CameraState cam = camera;
+    if (mSettings.nearPlane > 0) cam.znear = mSettings.nearPlane;
+    if (mSettings.farPlane >= 0) cam.zfar = mSettings.farPlane;
+    if (cam.zfar > 0 && cam.zfar <= cam.znear)
+        return PlayError{PlayErrorKind::Usage, "camera.far must exceed camera.near"};
+    mView = makeViewMatrices(cam, float(width) / float(height));
+
+    bool debugTargets = mSettings.debugView == DebugView::Layer ||
+                        mSettings.debugView == DebugView::Overdraw;
+    impl.targets.ensure(width, height, !scene.deferredLayers.empty(),
+                        mSettings.fxaa && impl.builtins.fxaa, debugTargets);
+
+    mTimer.beginFrame(mStats.frame);
+    mTimer.mark("setup");
+    impl.ring.beginFrame();
+    FrameBlock fb;
+    fb.viewProjection = mView.viewProjection;
+    fb.view = mView.view;
+    fb.cameraPosition = glm::vec4(glm::vec3(mView.position), 1);
+    fb.viewport = {float(width), float(height), 1.0f / float(width), 1.0f / float(height)};
+    fb.ambient = glm::vec4(glm::vec3(mSettings.ambient), 0);
+    size_t frameOffset = impl.ring.push(&fb, sizeof fb);
+
+    std::vector<std::byte> lightData(16 + sizeof(GpuLight) * scene.lights.size());
+    auto count = uint32_t(scene.lights.size());
+    std::memcpy(lightData.data(), &count, 4);
+    for (size_t i = 0; i < scene.lights.size(); ++i) {
+        const SceneLight& l = scene.lights[i];
+        GpuLight g;
+        g.positionRange = glm::vec4(glm::vec3(l.position - mView.position), l.desc.range);
+        g.directionType = glm::vec4(l.direction, float(int(l.desc.type)));
+        g.colorIntensity = glm::vec4(l.desc.color.x, l.desc.color.y, l.desc.color.z, l.desc.intensity);
+        float cosOuter = std::cos(l.desc.outerConeRadians), cosInner = std::cos(l.desc.innerConeRadians);
+        g.cone = {cosOuter, 1.0f / std::max(cosInner - cosOuter, 1e-4f), 0, 0};
+        std::memcpy(lightData.data() + 16 + i * sizeof g, &g, sizeof g);
+    }
+    size_t lightOffset = impl.ring.push(lightData.data(), lightData.size());
+    glBindBufferRange(GL_UNIFORM_BUFFER, 0, impl.ring.buffer(), GLintptr(frameOffset), sizeof fb);
+    glBindBufferRange(GL_SHADER_STORAGE_BUFFER, 3, impl.ring.buffer(), GLintptr(lightOffset),
+                      GLsizeiptr(lightData.size()));
+
+    DrawLists lists = buildDrawLists(scene, mView, mSettings.frustumCulling, impl.ring);
+    mStats.visibleItems = lists.visible;
+    mStats.culledItems = lists.culled;
+
+    FrameContext ctx{scene, mSettings, mView, impl.targets, impl.ring, lists, mStats, mTimer,
+                     impl.builtins, kObjectBlockBytes};
+    glViewport(0, 0, GLsizei(width), GLsizei(height));
+    const float black[4] = {0, 0, 0, 0};
+    glClearNamedFramebufferfv(impl.targets.hdrFb.id(), GL_COLOR, 0, black);
+    glDepthMask(GL_TRUE);
+    glClearNamedFramebufferfi(impl.targets.hdrFb.id(), GL_DEPTH_STENCIL, 0, 0.0f, 0); // reversed-Z far
+    glBindVertexArray(impl.emptyVao.id());
+
+    runDeferredLayers(ctx);
+    runForward(ctx);
+    glBindVertexArray(impl.emptyVao.id());
+    runTonemap(ctx);
+    runDebugView(ctx);
+    glBindVertexArray(impl.emptyVao.id());
+
+    mTimer.endFrame();
+    impl.ring.endFrame();
+    glBindFramebuffer(GL_FRAMEBUFFER, 0);
+    mStats.cpuMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - cpuStart).count();
+    return Done{};
+}
+
+void Renderer::presentToWindow(int windowWidth, int windowHeight) {
+    const FrameTargets& t = mImpl->targets;
+    glDisable(GL_FRAMEBUFFER_SRGB); // copy the encoded bytes as they are
+    const float black[4] = {0, 0, 0, 1};
+    glClearNamedFramebufferfv(0, GL_COLOR, 0, black);
+    glBlitNamedFramebuffer(t.outputFb.id(), 0, 0, 0, GLint(t.width), GLint(t.height), 0, 0,
+                           windowWidth, windowHeight, GL_COLOR_BUFFER_BIT, GL_LINEAR);
+}
+
+} // namespace pnb::player

@@ -1,0 +1,256 @@
+// Loads a container onto the GPU (see gpu_scene.h for the phases and what each one costs).
+#include <algorithm>
+#include <chrono>
+#include <cstring>
+#include <limits>
+#include <set>
+
+#include <glm/gtc/matrix_inverse.hpp>
+#include <glm/gtc/type_ptr.hpp>
+
+#include "pnb/scene.h"
+#include "program_compile.h"
+#include "upload.h"
+
+namespace pnb::player {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double msSince(Clock::time_point t) {
+    return std::chrono::duration<double, std::milli>(Clock::now() - t).count();
+}
+
+// std140 MaterialBlock (interface.glsl): 14 vec4.
+struct MaterialBlock {
+    glm::vec4 baseColorFactor, emissive, params, alphaParams;
+    glm::vec4 texTransform[5 * 2];
+};
+static_assert(sizeof(MaterialBlock) == 14 * 16);
+
+MaterialBlock materialBlock(const Material& m) {
+    MaterialBlock b{};
+    b.baseColorFactor = {m.baseColorFactor.x, m.baseColorFactor.y, m.baseColorFactor.z,
+                         m.baseColorFactor.w};
+    b.emissive = glm::vec4(m.emissiveFactor.x, m.emissiveFactor.y, m.emissiveFactor.z, 0) *
+                 m.emissiveStrength;
+    b.params = {m.metallicFactor, m.roughnessFactor, m.normalScale, m.occlusionStrength};
+    b.alphaParams = {m.alphaCutoff, m.alphaMode == AlphaMode::Blend ? 1.0f : 0.0f, 0, 0};
+    for (size_t i = 0; i < m.textures.size(); ++i) {
+        const TextureSlot& s = m.textures[i];
+        b.texTransform[i * 2] = {s.offset.x, s.offset.y, s.scale.x, s.scale.y};
+        b.texTransform[i * 2 + 1] = {s.rotationRadians, float(s.texCoord), 0, 0};
+    }
+    return b;
+}
+
+glm::dmat4 localMatrix(const Node& n) {
+    glm::dquat q(n.rotation.w, n.rotation.x, n.rotation.y, n.rotation.z);
+    glm::dmat4 m = glm::mat4_cast(glm::normalize(q));
+    m[0] *= double(n.scale.x);
+    m[1] *= double(n.scale.y);
+    m[2] *= double(n.scale.z);
+    m[3] = glm::dvec4(n.translation.x, n.translation.y, n.translation.z, 1.0);
+    return m;
+}
+
+void transformBounds(const glm::dmat4& m, const Aabb& box, glm::dvec3& outMin, glm::dvec3& outMax) {
+    outMin = glm::dvec3(std::numeric_limits<double>::max());
+    outMax = -outMin;
+    for (int c = 0; c < 8; ++c) {
+        glm::dvec3 p((c & 1) ? box.max.x : box.min.x, (c & 2) ? box.max.y : box.min.y,
+                     (c & 4) ? box.max.z : box.min.z);
+        glm::dvec3 w = glm::dvec3(m * glm::dvec4(p, 1.0));
+        outMin = glm::min(outMin, w);
+        outMax = glm::max(outMax, w);
+    }
+}
+
+// Materials' programs, the lighting pass if anything is deferred, and the tone mapper: only what
+// the frame will use is compiled.
+std::set<uint32_t> programsToCompile(const Scene& scene, GpuScene& gpu) {
+    std::set<uint32_t> wanted;
+    for (const Material& m : scene.materials)
+        if (m.program != kNone) wanted.insert(m.program);
+    for (uint32_t i = 0; i < scene.programs.size(); ++i) {
+        std::string_view name = scene.str(scene.programs[i].name);
+        if (name == "deferred_lighting" && !gpu.deferredLayers.empty()) {
+            gpu.deferredLightingProgram = i;
+            wanted.insert(i);
+        }
+        if (name == "tonemap") {
+            gpu.tonemapProgram = i;
+            wanted.insert(i);
+        }
+    }
+    return wanted;
+}
+
+PlayResult<Done> buildSceneGraph(const Scene& scene, GpuScene& gpu) {
+    std::vector<glm::dmat4> world(scene.nodes.nodes.size());
+    for (size_t i = 0; i < scene.nodes.nodes.size(); ++i) {
+        const Node& n = scene.nodes.nodes[i];
+        world[i] = n.parent == kNone ? localMatrix(n) : world[n.parent] * localMatrix(n);
+        if (n.mesh != kNone) {
+            const GpuMesh& mesh = gpu.meshes[n.mesh];
+            glm::mat3 normal = glm::mat3(glm::inverseTranspose(glm::dmat3(world[i])));
+            for (uint32_t s = 0; s < mesh.submeshes.size(); ++s) {
+                const Submesh& sm = mesh.submeshes[s];
+                if (sm.lod != 0 || sm.material == kNone) continue;
+                DrawItem item;
+                item.node = uint32_t(i);
+                item.mesh = n.mesh;
+                item.submesh = s;
+                item.material = sm.material;
+                item.world = world[i];
+                item.normalMatrix = normal;
+                transformBounds(world[i], sm.bounds, item.boundsMin, item.boundsMax);
+                item.triangles = mesh.primitive == GL_TRIANGLES ? sm.indexCount / 3 : 0;
+                gpu.triangles += item.triangles;
+                gpu.items.push_back(item);
+            }
+        }
+        if (n.light != kNone) {
+            SceneLight l;
+            l.desc = scene.lights.lights[n.light];
+            l.name = scene.str(l.desc.name);
+            l.position = glm::dvec3(world[i][3]);
+            l.direction = glm::normalize(glm::vec3(glm::dmat3(world[i]) * glm::dvec3(0, 0, -1)));
+            gpu.lights.push_back(l);
+        }
+        if (n.camera != kNone) {
+            SceneCamera c;
+            c.desc = scene.cameras.cameras[n.camera];
+            c.name = scene.str(c.desc.name);
+            c.position = glm::dvec3(world[i][3]);
+            glm::dmat3 r(world[i]);
+            for (int k = 0; k < 3; ++k) r[k] = glm::normalize(r[k]);
+            c.rotation = glm::normalize(glm::quat_cast(r));
+            gpu.cameras.push_back(c);
+        }
+    }
+    return Done{};
+}
+
+} // namespace
+
+const ScenePath* GpuScene::findPath(std::string_view pathName) const {
+    for (const ScenePath& p : paths)
+        if (pathName.empty() || p.name == pathName) return &p;
+    return nullptr;
+}
+
+PlayResult<std::unique_ptr<GpuScene>> loadScene(const std::string& path,
+                                                const LoadOptions& options, LoadStats* statsOut) {
+    LoadStats stats;
+    auto start = Clock::now();
+
+    // Open: map + table of contents. Checksums are verified below, once, in the read phase.
+    ReadOptions readOptions;
+    readOptions.verifyChecksums = false;
+    auto container = Container::open(path, readOptions);
+    if (!container) return inputError(container.error());
+    stats.openMs = msSince(start);
+    stats.fileBytes = container->bytes().size();
+    stats.chunks = uint32_t(container->chunks().size());
+
+    // Read: touch every payload page and check its checksum.
+    auto phase = Clock::now();
+    for (const ChunkInfo& chunk : container->chunks()) {
+        auto stored = container->stored(chunk);
+        if (!stored) return inputError(stored.error());
+        if (options.verifyChecksums && chunk.header.hasChecksum() &&
+            checksum(*stored) != chunk.header.payloadChecksum)
+            return inputError(makeError(FormatError::ChecksumMismatch, chunk.payloadOffset,
+                                        "chunk %u '%s': payload checksum does not match its "
+                                        "bytes (the file is damaged)",
+                                        chunk.header.sequence, chunk.header.tag.str().c_str()));
+        if (chunk.header.compression() == Compression::None) stats.zeroCopyBytes += stored->size();
+        else stats.decompressedBytes += chunk.header.rawSize;
+    }
+    stats.readMs = msSince(phase);
+
+    // Decode: decompress, decode every chunk, check order and cross-references.
+    phase = Clock::now();
+    auto decoded = readScene(*container);
+    if (!decoded) return inputError(decoded.error());
+    const Scene& scene = *decoded;
+    stats.unknownChunks = scene.unknownChunks;
+    stats.decodeMs = msSince(phase);
+
+    // Upload, in file order: textures (storage), meshes, then texels (smallest mips first).
+    phase = Clock::now();
+    auto gpu = std::make_unique<GpuScene>();
+    gpu->name = std::string(scene.str(scene.info.name));
+    gpu->bounds = scene.info.bounds;
+    for (const Setting& s : scene.settings.entries)
+        gpu->settings.emplace_back(std::string(scene.str(s.key)), std::string(scene.str(s.value)));
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 1); // RGB8 and R8 rows are tightly packed
+    for (uint32_t i = 0; i < scene.textures.size(); ++i) {
+        auto t = createTexture(scene.textures[i], i);
+        if (!t) return t.error();
+        gpu->memory.textureBytes += t->bytes;
+        gpu->textures.push_back(std::move(*t));
+    }
+    for (const TextureMip& mip : scene.textureMips)
+        uploadTextureMip(gpu->textures[mip.texture], scene.textures[mip.texture], mip);
+    for (uint32_t i = 0; i < scene.meshes.size(); ++i) {
+        auto m = uploadMesh(scene.meshes[i], i);
+        if (!m) return m.error();
+        gpu->memory.meshBytes += m->bytes;
+        gpu->meshes.push_back(std::move(*m));
+    }
+
+    // Materials: one std140 block each, at the UBO offset alignment.
+    GLint alignment = 256;
+    glGetIntegerv(GL_UNIFORM_BUFFER_OFFSET_ALIGNMENT, &alignment);
+    gpu->materialStride =
+        uint32_t((sizeof(MaterialBlock) + size_t(alignment) - 1) / size_t(alignment) * size_t(alignment));
+    std::vector<std::byte> blocks(std::max<size_t>(scene.materials.size(), 1) * gpu->materialStride);
+    std::set<uint16_t> layers;
+    for (uint32_t i = 0; i < scene.materials.size(); ++i) {
+        GpuMaterial m;
+        m.desc = scene.materials[i];
+        m.name = std::string(scene.str(m.desc.name));
+        m.program = m.desc.program;
+        m.uniformOffset = i * gpu->materialStride;
+        MaterialBlock b = materialBlock(m.desc);
+        std::memcpy(blocks.data() + m.uniformOffset, &b, sizeof b);
+        gpu->materials.push_back(m);
+    }
+    gpu->materialBuffer = createBuffer();
+    glNamedBufferStorage(gpu->materialBuffer.id(), GLsizeiptr(blocks.size()), blocks.data(), 0);
+    gpu->memory.uniformBytes += blocks.size();
+
+    for (const CameraPath& p : scene.cameraPaths) {
+        ScenePath sp{std::string(scene.str(p.name)), p};
+        sp.path.name = kNone;
+        gpu->paths.push_back(std::move(sp));
+    }
+    if (auto r = buildSceneGraph(scene, *gpu); !r) return r.error();
+    // Layers and paths present among the drawn items (materials nothing draws cost nothing).
+    for (const DrawItem& item : gpu->items) {
+        const Material& m = gpu->materials[item.material].desc;
+        if (m.shadingPath == ShadingPath::Deferred) layers.insert(m.layerPriority);
+        else gpu->hasForward = true;
+    }
+    gpu->deferredLayers.assign(layers.begin(), layers.end());
+    glFinish();
+    stats.uploadMs = msSince(phase);
+
+    // Programs last: on a real driver they compile in parallel with the uploads above.
+    phase = Clock::now();
+    gpu->programs.resize(scene.programs.size());
+    for (uint32_t i = 0; i < scene.programs.size(); ++i) gpu->programLabels.push_back(programLabel(scene, i));
+    for (uint32_t i : programsToCompile(scene, *gpu)) {
+        auto p = compileSceneProgram(scene, i);
+        if (!p) return p.error();
+        gpu->programs[i] = std::move(*p);
+    }
+    stats.compileMs = msSince(phase);
+    stats.totalMs = msSince(start);
+    if (statsOut) *statsOut = stats;
+    return gpu;
+}
+
+} // namespace pnb::player

@@ -1,0 +1,54 @@
+#include "stream_ring.h"
+
+#include <cassert>
+
+namespace pnb::player {
+
+StreamRing::~StreamRing() {
+    for (GLsync& f : mFences)
+        if (f) glDeleteSync(f);
+    if (mMapped) glUnmapNamedBuffer(mBuffer.id());
+}
+
+void StreamRing::reserve(size_t sectionBytes, size_t alignment) {
+    mAlignment = alignment;
+    sectionBytes = (sectionBytes + alignment - 1) / alignment * alignment;
+    if (sectionBytes <= mSectionBytes) return;
+    for (GLsync& f : mFences) {
+        if (f) {
+            glClientWaitSync(f, GL_SYNC_FLUSH_COMMANDS_BIT, ~GLuint64(0));
+            glDeleteSync(f);
+            f = nullptr;
+        }
+    }
+    if (mMapped) glUnmapNamedBuffer(mBuffer.id());
+    mSectionBytes = sectionBytes;
+    mBuffer = createBuffer();
+    GLbitfield flags = GL_MAP_WRITE_BIT | GL_MAP_PERSISTENT_BIT | GL_MAP_COHERENT_BIT;
+    glNamedBufferStorage(mBuffer.id(), GLsizeiptr(totalBytes()), nullptr, flags);
+    mMapped = static_cast<std::byte*>(
+        glMapNamedBufferRange(mBuffer.id(), 0, GLsizeiptr(totalBytes()), flags));
+    glObjectLabel(GL_BUFFER, mBuffer.id(), -1, "per-frame stream ring");
+}
+
+void StreamRing::beginFrame() {
+    mSection = (mSection + 1) % kSections;
+    if (GLsync& f = mFences[mSection]; f) {
+        glClientWaitSync(f, GL_SYNC_FLUSH_COMMANDS_BIT, ~GLuint64(0));
+        glDeleteSync(f);
+        f = nullptr;
+    }
+    mUsed = 0;
+}
+
+size_t StreamRing::push(const void* data, size_t bytes) {
+    assert(mUsed + bytes <= mSectionBytes && "StreamRing::reserve was too small");
+    size_t offset = size_t(mSection) * mSectionBytes + mUsed;
+    std::memcpy(mMapped + offset, data, bytes);
+    mUsed += (bytes + mAlignment - 1) / mAlignment * mAlignment;
+    return offset;
+}
+
+void StreamRing::endFrame() { mFences[mSection] = glFenceSync(GL_SYNC_GPU_COMMANDS_COMPLETE, 0); }
+
+} // namespace pnb::player

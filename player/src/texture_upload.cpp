@@ -1,0 +1,113 @@
+#include <algorithm>
+
+#include "upload.h"
+
+namespace pnb::player {
+
+namespace {
+
+struct GlFormat {
+    GLenum internal = GL_NONE, linearInternal = GL_NONE; // sRGB (if any) and linear
+    GLenum format = GL_NONE, type = GL_NONE;             // for uncompressed uploads
+    bool compressed = false;
+};
+
+GlFormat glFormat(TextureFormat f) {
+    switch (f) {
+    case TextureFormat::R8: return {GL_R8, GL_R8, GL_RED, GL_UNSIGNED_BYTE};
+    case TextureFormat::RG8: return {GL_RG8, GL_RG8, GL_RG, GL_UNSIGNED_BYTE};
+    case TextureFormat::RGB8: return {GL_SRGB8, GL_RGB8, GL_RGB, GL_UNSIGNED_BYTE};
+    case TextureFormat::RGBA8: return {GL_SRGB8_ALPHA8, GL_RGBA8, GL_RGBA, GL_UNSIGNED_BYTE};
+    case TextureFormat::R16F: return {GL_R16F, GL_R16F, GL_RED, GL_HALF_FLOAT};
+    case TextureFormat::RG16F: return {GL_RG16F, GL_RG16F, GL_RG, GL_HALF_FLOAT};
+    case TextureFormat::RGBA16F: return {GL_RGBA16F, GL_RGBA16F, GL_RGBA, GL_HALF_FLOAT};
+    case TextureFormat::R32F: return {GL_R32F, GL_R32F, GL_RED, GL_FLOAT};
+    case TextureFormat::RG32F: return {GL_RG32F, GL_RG32F, GL_RG, GL_FLOAT};
+    case TextureFormat::RGBA32F: return {GL_RGBA32F, GL_RGBA32F, GL_RGBA, GL_FLOAT};
+    case TextureFormat::BC1:
+        return {GL_COMPRESSED_SRGB_S3TC_DXT1_EXT, GL_COMPRESSED_RGB_S3TC_DXT1_EXT, 0, 0, true};
+    case TextureFormat::BC3:
+        return {GL_COMPRESSED_SRGB_ALPHA_S3TC_DXT5_EXT, GL_COMPRESSED_RGBA_S3TC_DXT5_EXT, 0, 0,
+                true};
+    case TextureFormat::BC4: return {GL_COMPRESSED_RED_RGTC1, GL_COMPRESSED_RED_RGTC1, 0, 0, true};
+    case TextureFormat::BC5: return {GL_COMPRESSED_RG_RGTC2, GL_COMPRESSED_RG_RGTC2, 0, 0, true};
+    case TextureFormat::BC7:
+        return {GL_COMPRESSED_SRGB_ALPHA_BPTC_UNORM, GL_COMPRESSED_RGBA_BPTC_UNORM, 0, 0, true};
+    default: return {};
+    }
+}
+
+GLint glSwizzle(Swizzle s) {
+    constexpr GLint k[] = {GL_RED, GL_GREEN, GL_BLUE, GL_ALPHA, GL_ZERO, GL_ONE};
+    return k[size_t(s)];
+}
+GLint glMin(MinFilter f) {
+    constexpr GLint k[] = {GL_NEAREST, GL_LINEAR, GL_NEAREST_MIPMAP_NEAREST,
+                           GL_LINEAR_MIPMAP_NEAREST, GL_NEAREST_MIPMAP_LINEAR,
+                           GL_LINEAR_MIPMAP_LINEAR};
+    return k[size_t(f)];
+}
+GLint glWrap(Wrap w) {
+    constexpr GLint k[] = {GL_REPEAT, GL_MIRRORED_REPEAT, GL_CLAMP_TO_EDGE};
+    return k[size_t(w)];
+}
+
+} // namespace
+
+PlayResult<GpuTexture> createTexture(const TextureDesc& desc, uint32_t index) {
+    GlFormat f = glFormat(desc.format);
+    if (f.internal == GL_NONE)
+        return PlayError{PlayErrorKind::Input,
+                         "TEXR " + std::to_string(index) + ": unsupported texture format"};
+    GLenum internal = desc.colorSpace == ColorSpace::Srgb ? f.internal : f.linearInternal;
+    bool cube = desc.dimension == TextureDimension::Cube;
+    GpuTexture t;
+    t.texture = pnb::player::createTexture(cube ? GL_TEXTURE_CUBE_MAP : GL_TEXTURE_2D);
+    t.width = desc.width;
+    t.height = desc.height;
+    t.mipCount = desc.mipCount;
+    glTextureStorage2D(t.texture.id(), GLsizei(desc.mipCount), internal, GLsizei(desc.width),
+                       GLsizei(desc.height));
+    GLint swizzle[4];
+    for (int i = 0; i < 4; ++i) swizzle[i] = glSwizzle(desc.swizzle[size_t(i)]);
+    glTextureParameteriv(t.texture.id(), GL_TEXTURE_SWIZZLE_RGBA, swizzle);
+    glTextureParameteri(t.texture.id(), GL_TEXTURE_MIN_FILTER, glMin(desc.minFilter));
+    glTextureParameteri(t.texture.id(), GL_TEXTURE_MAG_FILTER,
+                        desc.magFilter == MagFilter::Nearest ? GL_NEAREST : GL_LINEAR);
+    glTextureParameteri(t.texture.id(), GL_TEXTURE_WRAP_S, glWrap(desc.wrapU));
+    glTextureParameteri(t.texture.id(), GL_TEXTURE_WRAP_T, glWrap(desc.wrapV));
+    glTextureParameteri(t.texture.id(), GL_TEXTURE_MAX_LEVEL, GLint(desc.mipCount) - 1);
+    if (epoxy_has_gl_extension("GL_EXT_texture_filter_anisotropic") &&
+        desc.minFilter == MinFilter::LinearMipLinear)
+        glTextureParameterf(t.texture.id(), GL_TEXTURE_MAX_ANISOTROPY_EXT, 8.0f);
+    for (uint32_t level = 0; level < desc.mipCount; ++level)
+        t.bytes += textureLevelSizeBytes(desc.format, std::max(desc.width >> level, 1u),
+                                         std::max(desc.height >> level, 1u), desc.layers);
+    std::string label = "texture " + std::to_string(index);
+    glObjectLabel(GL_TEXTURE, t.texture.id(), GLsizei(label.size()), label.c_str());
+    return t;
+}
+
+void uploadTextureMip(const GpuTexture& texture, const TextureDesc& desc, const TextureMip& mip) {
+    GlFormat f = glFormat(desc.format);
+    GLenum internal = desc.colorSpace == ColorSpace::Srgb ? f.internal : f.linearInternal;
+    GLint level = GLint(mip.level);
+    auto w = GLsizei(mip.width), h = GLsizei(mip.height);
+    if (desc.dimension == TextureDimension::Cube) {
+        if (f.compressed)
+            glCompressedTextureSubImage3D(texture.texture.id(), level, 0, 0, 0, w, h, 6, internal,
+                                          GLsizei(mip.data.size()), mip.data.data());
+        else
+            glTextureSubImage3D(texture.texture.id(), level, 0, 0, 0, w, h, 6, f.format, f.type,
+                                mip.data.data());
+        return;
+    }
+    if (f.compressed)
+        glCompressedTextureSubImage2D(texture.texture.id(), level, 0, 0, w, h, internal,
+                                      GLsizei(mip.data.size()), mip.data.data());
+    else
+        glTextureSubImage2D(texture.texture.id(), level, 0, 0, w, h, f.format, f.type,
+                            mip.data.data());
+}
+
+} // namespace pnb::player

@@ -1,0 +1,82 @@
+#include "overlay.h"
+
+#include <epoxy/gl.h>
+#define GLFW_INCLUDE_NONE
+#include <GLFW/glfw3.h>
+#include <backends/imgui_impl_glfw.h>
+#include <backends/imgui_impl_opengl3.h>
+#include <imgui.h>
+
+#include <string>
+
+namespace pnb::player {
+
+Overlay::Overlay(GLFWwindow* window) {
+    IMGUI_CHECKVERSION();
+    ImGui::CreateContext();
+    ImGui::GetIO().IniFilename = nullptr; // no imgui.ini next to the user's files
+    ImGui::StyleColorsDark();
+    ImGui_ImplGlfw_InitForOpenGL(window, true);
+    ImGui_ImplOpenGL3_Init("#version 450 core");
+}
+
+Overlay::~Overlay() {
+    ImGui_ImplOpenGL3_Shutdown();
+    ImGui_ImplGlfw_Shutdown();
+    ImGui::DestroyContext();
+}
+
+bool Overlay::wantsInput() const {
+    return ImGui::GetIO().WantCaptureMouse || ImGui::GetIO().WantCaptureKeyboard;
+}
+
+bool Overlay::draw(const Renderer& renderer, const FrameGpuTimes* times, RenderSettings& settings) {
+    ImGui_ImplOpenGL3_NewFrame();
+    ImGui_ImplGlfw_NewFrame();
+    ImGui::NewFrame();
+    bool changed = false;
+    ImGui::SetNextWindowPos(ImVec2(8, 8), ImGuiCond_FirstUseEver);
+    ImGui::Begin("pnb-play", nullptr, ImGuiWindowFlags_AlwaysAutoResize);
+    const FrameStats& s = renderer.lastFrame();
+    ImGui::Text("CPU %.2f ms   draws %u   triangles %llu", s.cpuMs, s.drawCalls,
+                static_cast<unsigned long long>(s.triangles));
+    ImGui::Text("items %u visible, %u culled; deferred layers drawn %u", s.visibleItems,
+                s.culledItems, s.deferredLayersDrawn);
+    if (times) {
+        ImGui::Text("GPU %.2f ms (frame %llu)", times->totalMs, static_cast<unsigned long long>(times->frame));
+        for (const PassTime& p : times->passes) ImGui::BulletText("%-9s %.3f ms", p.pass.c_str(), p.ms);
+    }
+    TargetMemory m = renderer.targetMemory();
+    ImGui::Text("targets %.1f MiB (G-buffer %.1f)", double(m.total()) / 1048576.0,
+                double(m.gbufferBytes) / 1048576.0);
+    ImGui::Separator();
+    for (const SettingInfo& info : settingInfos()) {
+        std::string key(info.key), value = settingValue(settings, info.key);
+        if (info.type == "bool") {
+            bool b = value == "true";
+            if (ImGui::Checkbox(key.c_str(), &b)) changed |= bool(applySetting(settings, key, b ? "1" : "0"));
+        } else if (info.type.rfind("float", 0) == 0) {
+            float f = std::stof(value);
+            if (ImGui::DragFloat(key.c_str(), &f, 0.01f * std::max(std::abs(f), 0.1f)))
+                changed |= bool(applySetting(settings, key, std::to_string(f)));
+        } else if (key == "debug.view") {
+            int current = int(settings.debugView);
+            const char* names[size_t(DebugView::Count)];
+            std::string storage[size_t(DebugView::Count)];
+            for (size_t i = 0; i < size_t(DebugView::Count); ++i) {
+                storage[i] = std::string(toString(DebugView(i)));
+                names[i] = storage[i].c_str();
+            }
+            if (ImGui::Combo(key.c_str(), &current, names, int(DebugView::Count)))
+                changed |= bool(applySetting(settings, key, names[current]));
+        }
+        if (ImGui::IsItemHovered()) ImGui::SetTooltip("%s", std::string(info.description).c_str());
+    }
+    ImGui::TextDisabled("WASD/QE move, right-drag look, O orbit");
+    ImGui::End();
+    ImGui::Render();
+    ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
+    return changed;
+}
+
+} // namespace pnb::player

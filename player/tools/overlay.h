@@ -1,0 +1,24 @@
+// overlay.h — the Dear ImGui overlay of pnb-play (--ui): frame timings per pass, draw counts,
+// GPU memory, and every render setting as a control generated from the settings table.
+#pragma once
+
+#include "pnb_player/renderer.h"
+
+struct GLFWwindow;
+
+namespace pnb::player {
+
+class Overlay {
+public:
+    explicit Overlay(GLFWwindow* window);
+    ~Overlay();
+    Overlay(const Overlay&) = delete;
+    Overlay& operator=(const Overlay&) = delete;
+
+    // Draws the overlay into the default framebuffer; returns true if a setting changed
+    // (`settings` then holds the new values).
+    bool draw(const Renderer& renderer, const FrameGpuTimes* lastTimes, RenderSettings& settings);
+    bool wantsInput() const;
+};
+
+} // namespace pnb::player

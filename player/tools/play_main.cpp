@@ -1,0 +1,320 @@
+// pnb-play — loads a .pnb container and renders it: interactively in a window, or headless for
+// benchmarks, screenshots and buffer dumps. A thin shell over the pnb_player library.
+#include <epoxy/gl.h>
+#define GLFW_INCLUDE_NONE
+#include <GLFW/glfw3.h>
+
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <filesystem>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "fly_camera.h"
+#include "overlay.h"
+#include "pnb_player/benchmark.h"
+#include "pnb_player/gl_context.h"
+#include "pnb_player/renderer.h"
+
+using namespace pnb::player;
+
+namespace {
+
+const char* kUsage = R"(usage: pnb-play SCENE.pnb [options]
+
+Modes (default: an interactive window):
+  --headless              render offscreen through EGL (no display needed)
+  --bench                 fly through a camera path, write timings (needs --out)
+  --ui                    Dear ImGui overlay with timings and setting toggles (window mode)
+
+Run:
+  --path NAME             camera path (default: the container's first)
+  --frames N              number of frames (window mode: quit after N)
+  --seconds S             stop after S seconds of path time
+  --fixed-dt [DT]         frame k at path time k*DT (default: path duration / frames, or 1/60 s)
+  --size WxH              render size (default 512x288 headless, 1280x720 window)
+  --out DIR               output directory for --bench and --dump
+  --screenshot FILE       save the output image (PNG) of frame --frame
+  --dump KIND[,KIND...]   save exact buffers of frame --frame into --out as EXR/PNG:
+                          color, hdr, depth, lineardepth, normal
+  --frame K               frame for --screenshot and --dump (default 0)
+  --no-plot               do not call the plot script
+
+Settings (container RSET < command line):
+  --set KEY=VALUE         e.g. --set lighting.exposure=1.5 (repeatable)
+  --list-settings         print every key, its type and meaning
+
+Other:
+  --no-checksums          skip payload checksum verification when loading
+  --gl-debug              report GL performance messages too
+  -q, --quiet             print only errors
+
+Exit codes: 0 ok, 1 usage, 2 bad input, 3 GL or output failure.
+)";
+
+struct Args {
+    std::string scene, pathName, outDir, screenshot;
+    std::vector<std::string> sets, dumps;
+    bool headless = false, bench = false, ui = false, fixedDt = false, plot = true,
+         checksums = true, glDebug = false, quiet = false;
+    double dt = 0, seconds = 0;
+    uint32_t frames = 0, frame = 0, width = 0, height = 0;
+};
+
+[[noreturn]] void usageError(const std::string& message) {
+    std::fprintf(stderr, "pnb-play: %s\n(run pnb-play --help for usage)\n", message.c_str());
+    std::exit(1);
+}
+
+uint32_t parseCount(const char* option, const std::string& v) {
+    char* end = nullptr;
+    unsigned long n = std::strtoul(v.c_str(), &end, 10);
+    if (v.empty() || *end || n > 1000000000ul) usageError(std::string(option) + " expects a count, got '" + v + "'");
+    return uint32_t(n);
+}
+
+double parsePositive(const char* option, const std::string& v) {
+    char* end = nullptr;
+    double d = std::strtod(v.c_str(), &end);
+    if (v.empty() || *end || !(d > 0) || d > 1e9) usageError(std::string(option) + " expects a positive number, got '" + v + "'");
+    return d;
+}
+
+Args parseArgs(int argc, char** argv) {
+    Args a;
+    auto next = [&](int& i) -> std::string {
+        if (i + 1 >= argc) usageError(std::string(argv[i]) + " needs a value");
+        return argv[++i];
+    };
+    for (int i = 1; i < argc; ++i) {
+        std::string s = argv[i];
+        if (s == "-h" || s == "--help") {
+            std::fputs(kUsage, stdout);
+            std::exit(0);
+        } else if (s == "--list-settings") {
+            for (const SettingInfo& info : settingInfos())
+                std::printf("%-20s %-24s %s\n", std::string(info.key).c_str(),
+                            std::string(info.type).c_str(), std::string(info.description).c_str());
+            std::exit(0);
+        } else if (s == "--headless") a.headless = true;
+        else if (s == "--bench") a.bench = true;
+        else if (s == "--ui") a.ui = true;
+        else if (s == "--path") a.pathName = next(i);
+        else if (s == "--frames") a.frames = parseCount("--frames", next(i));
+        else if (s == "--seconds") a.seconds = parsePositive("--seconds", next(i));
+        else if (s == "--fixed-dt") {
+            a.fixedDt = true;
+            if (i + 1 < argc && argv[i + 1][0] != '-') a.dt = parsePositive("--fixed-dt", next(i));
+        } else if (s == "--size") {
+            std::string v = next(i);
+            unsigned w = 0, h = 0;
+            char tail = 0;
+            if (std::sscanf(v.c_str(), "%ux%u%c", &w, &h, &tail) != 2 || w == 0 || h == 0 || w > 16384 || h > 16384)
+                usageError("--size expects WxH (1..16384), got '" + v + "'");
+            a.width = w;
+            a.height = h;
+        } else if (s == "--out") a.outDir = next(i);
+        else if (s == "--screenshot") a.screenshot = next(i);
+        else if (s == "--dump") {
+            std::string v = next(i);
+            for (size_t p = 0; p <= v.size();) {
+                size_t c = v.find(',', p);
+                if (c == std::string::npos) c = v.size();
+                a.dumps.push_back(v.substr(p, c - p));
+                p = c + 1;
+            }
+        } else if (s == "--frame") a.frame = parseCount("--frame", next(i));
+        else if (s == "--set") a.sets.push_back(next(i));
+        else if (s == "--no-plot") a.plot = false;
+        else if (s == "--no-checksums") a.checksums = false;
+        else if (s == "--gl-debug") a.glDebug = true;
+        else if (s == "-q" || s == "--quiet") a.quiet = true;
+        else if (!s.empty() && s[0] == '-') usageError("unknown option " + s);
+        else if (a.scene.empty()) a.scene = s;
+        else usageError("more than one scene given ('" + a.scene + "', '" + s + "')");
+    }
+    if (a.scene.empty()) usageError("no scene given");
+    if (a.bench && a.outDir.empty()) usageError("--bench needs --out DIR");
+    if (!a.dumps.empty() && a.outDir.empty()) usageError("--dump needs --out DIR");
+    return a;
+}
+
+int exitCode(const PlayError& e) {
+    switch (e.kind) {
+    case PlayErrorKind::Usage: return 1;
+    case PlayErrorKind::Input: return 2;
+    default: return 3;
+    }
+}
+
+int fail(const PlayError& e) {
+    std::fprintf(stderr, "pnb-play: %s\n", e.message.c_str());
+    return exitCode(e);
+}
+
+PlayResult<CaptureRequest> dumpRequest(const std::string& kind, const Args& a) {
+    struct Kind { const char* name; CaptureBuffer buffer; const char* ext; };
+    static const Kind kinds[] = {{"color", CaptureBuffer::Color, "png"},
+                                 {"hdr", CaptureBuffer::Hdr, "exr"},
+                                 {"depth", CaptureBuffer::Depth, "exr"},
+                                 {"lineardepth", CaptureBuffer::LinearDepth, "exr"},
+                                 {"normal", CaptureBuffer::Normal, "exr"}};
+    for (const Kind& k : kinds)
+        if (kind == k.name)
+            return CaptureRequest{k.buffer, a.frame,
+                                  a.outDir + "/frame" + std::to_string(a.frame) + "_" + k.name + "." + k.ext};
+    return PlayError{PlayErrorKind::Usage,
+                     "--dump: unknown buffer '" + kind + "' (color, hdr, depth, lineardepth, normal)"};
+}
+
+} // namespace
+
+int main(int argc, char** argv) {
+    auto processStart = std::chrono::steady_clock::now();
+    Args args = parseArgs(argc, argv);
+    std::string commandLine;
+    for (int i = 0; i < argc; ++i) commandLine += (i ? " " : "") + std::string(argv[i]);
+
+    bool window = !args.headless;
+    std::unique_ptr<GlContext> context;
+    if (window) {
+        WindowOptions wo;
+        wo.width = int(args.width ? args.width : 1280);
+        wo.height = int(args.height ? args.height : 720);
+        wo.title = "pnb-play — " + args.scene;
+        wo.vsync = !args.bench;
+        wo.debug = args.glDebug;
+        auto c = createWindowContext(wo);
+        if (!c) return fail({c.error().kind, c.error().message + " (or run with --headless)"});
+        context = std::move(*c);
+    } else {
+        auto c = createHeadlessContext(args.glDebug);
+        if (!c) return fail(c.error());
+        context = std::move(*c);
+    }
+    GlInfo gl = context->info();
+
+    LoadOptions lo;
+    lo.verifyChecksums = args.checksums;
+    LoadStats load;
+    auto scene = loadScene(args.scene, lo, &load);
+    if (!scene) return fail(scene.error());
+
+    RenderSettings settings;
+    for (const auto& [k, v] : (*scene)->settings) {
+        auto r = applySetting(settings, k, v);
+        if (!r && !args.quiet)
+            std::fprintf(stderr, "pnb-play: warning: container setting ignored: %s\n", r.error().message.c_str());
+    }
+    for (const std::string& s : args.sets)
+        if (auto r = applySetting(settings, s); !r) return fail(r.error());
+    auto renderer = Renderer::create(**scene, settings);
+    if (!renderer) return fail(renderer.error());
+
+    if (!args.quiet) {
+        std::printf("%s: %zu draw items, %llu triangles, %zu materials (%zu deferred layers%s), %zu lights\n",
+                    args.scene.c_str(), (*scene)->items.size(), (unsigned long long)(*scene)->triangles,
+                    (*scene)->materials.size(), (*scene)->deferredLayers.size(),
+                    (*scene)->hasForward ? " + forward" : "", (*scene)->lights.size());
+        std::printf("load: %.2f ms total = open %.2f + read %.2f + decode %.2f + upload %.2f + "
+                    "shaders %.2f (%.1f MiB, %.1f MiB zero-copy)\n",
+                    load.totalMs, load.openMs, load.readMs, load.decodeMs, load.uploadMs, load.compileMs,
+                    double(load.fileBytes) / 1048576.0, double(load.zeroCopyBytes) / 1048576.0);
+        std::printf("GL: %s | %s\n", gl.renderer.c_str(), gl.version.c_str());
+    }
+
+    BenchOptions bo;
+    bo.pathName = args.pathName;
+    bo.frames = args.frames;
+    bo.seconds = args.seconds;
+    bo.fixedDt = args.fixedDt || !args.bench; // screenshots and dumps are deterministic
+    if (args.dt > 0) bo.dt = args.dt;
+    bo.width = args.width ? args.width : 512;
+    bo.height = args.height ? args.height : 288;
+    bo.outDir = args.bench ? args.outDir : "";
+    bo.plot = args.plot;
+    bo.sceneFile = args.scene;
+    bo.commandLine = commandLine;
+    if (!args.screenshot.empty()) bo.captures.push_back({CaptureBuffer::Color, args.frame, args.screenshot});
+    for (const std::string& d : args.dumps) {
+        auto r = dumpRequest(d, args);
+        if (!r) return fail(r.error());
+        bo.captures.push_back(*r);
+    }
+    if (!args.dumps.empty()) {
+        std::error_code ec;
+        std::filesystem::create_directories(args.outDir, ec);
+    }
+
+    // The first frame: everything the driver does lazily (shader variants, first-touch of
+    // targets) lands here, so it is reported on its own and kept out of benchmark statistics.
+    CameraState first = initialCamera(**scene, args.pathName);
+    if (auto r = (*renderer)->render(first, bo.width, bo.height); !r) return fail(r.error());
+    glFinish();
+    load.firstFrameMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() -
+                                                                  processStart).count();
+    if (!args.quiet) std::printf("time to first frame: %.1f ms (process start to finished frame)\n", load.firstFrameMs);
+
+    if (args.bench || !window) {
+        if (!args.bench && args.frames == 0)
+            bo.frames = args.frame + 1; // headless screenshot/dump/smoke run: just enough frames
+        std::function<bool()> present;
+        if (window)
+            present = [&] {
+                int w = 0, h = 0;
+                context->framebufferSize(w, h);
+                (*renderer)->presentToWindow(w, h);
+                context->swapBuffers();
+                context->pollEvents();
+                return !context->shouldClose();
+            };
+        auto result = runBenchmark(**scene, **renderer, bo, load, gl, present);
+        if (!result) return fail(result.error());
+        if (!args.quiet) {
+            std::printf("%u frames at %ux%u\n", result->frames, bo.width, bo.height);
+            for (const PassSummary& p : result->gpu)
+                std::printf("  gpu %-9s median %7.3f ms  p95 %7.3f ms  max %7.3f ms\n", p.pass.c_str(),
+                            p.median, p.p95, p.max);
+            std::printf("  cpu           median %7.3f ms  p95 %7.3f ms\n", result->cpu.median, result->cpu.p95);
+            for (const std::string& f : result->written) std::printf("wrote %s\n", f.c_str());
+        }
+        return 0;
+    }
+
+    // Interactive window.
+    std::unique_ptr<Overlay> overlay;
+    if (args.ui) overlay = std::make_unique<Overlay>(context->glfwWindow());
+    FlyCamera fly(first, (*scene)->bounds);
+    FrameGpuTimes lastTimes;
+    auto last = std::chrono::steady_clock::now();
+    for (uint32_t k = 0; !context->shouldClose() && (args.frames == 0 || k < args.frames); ++k) {
+        context->pollEvents();
+        auto now = std::chrono::steady_clock::now();
+        double dt = std::chrono::duration<double>(now - last).count();
+        last = now;
+        fly.update(context->glfwWindow(), dt, overlay && overlay->wantsInput());
+        int w = 0, h = 0;
+        context->framebufferSize(w, h);
+        if (w <= 0 || h <= 0) continue; // minimised
+        uint32_t rw = args.width ? args.width : uint32_t(w), rh = args.height ? args.height : uint32_t(h);
+        if (auto r = (*renderer)->render(fly.camera(), rw, rh); !r) return fail(r.error());
+        for (const CaptureRequest& c : bo.captures) {
+            if (c.frame != k) continue;
+            auto img = (*renderer)->capture(c.buffer);
+            if (!img) return fail(img.error());
+            if (auto sv = saveCapture(c.path, *img); !sv) return fail(sv.error());
+            if (!args.quiet) std::printf("wrote %s\n", c.path.c_str());
+        }
+        auto& done = (*renderer)->timer().completed();
+        if (!done.empty()) lastTimes = done.back();
+        done.clear();
+        (*renderer)->presentToWindow(w, h);
+        if (overlay && overlay->draw(**renderer, lastTimes.passes.empty() ? nullptr : &lastTimes, settings))
+            (*renderer)->setSettings(settings);
+        context->swapBuffers();
+    }
+    return 0;
+}
