@@ -58,6 +58,13 @@ PlayResult<Done> writeText(const std::string& path, const std::string& text) {
     return Done{};
 }
 
+// Debian's python3-matplotlib belongs to /usr/bin/python3, which a user's PATH may shadow
+// (pyenv, venvs); PNB_PYTHON overrides.
+std::string python() {
+    if (const char* env = std::getenv("PNB_PYTHON")) return env;
+    return std::filesystem::exists("/usr/bin/python3") ? "/usr/bin/python3" : "python3";
+}
+
 std::string plotScript() {
     if (const char* env = std::getenv("PNB_PLOT_SCRIPT")) return env;
     return PNB_PLOT_SCRIPT; // the source tree's player/tools/plot_frames.py
@@ -260,7 +267,7 @@ PlayResult<BenchResult> runBenchmark(const GpuScene& scene, Renderer& renderer,
         std::string title = scene.name + " " + std::to_string(options.width) + "x" +
                             std::to_string(options.height);
         std::replace(title.begin(), title.end(), '\'', ' ');
-        std::string cmd = "python3 '" + plotScript() + "' '" + csvPath + "' '" + png +
+        std::string cmd = python() + " '" + plotScript() + "' '" + csvPath + "' '" + png +
                           "' --title '" + title + "' 2>&1";
         if (std::system(cmd.c_str()) == 0) result.written.push_back(png);
         else std::fprintf(stderr, "pnb-play: warning: plot not written (needs python3-matplotlib)\n");

@@ -74,6 +74,7 @@ void runDebugView(FrameContext& ctx) {
     glBindTextureUnit(3, ctx.targets.depth.id());
     glBindTextureUnit(4, ctx.targets.debugColor ? ctx.targets.debugColor.id() : 0);
     drawFullscreenTriangle();
+    glEnable(GL_FRAMEBUFFER_SRGB);
     glEnable(GL_DEPTH_TEST);
 }
 

@@ -1,5 +1,5 @@
 // HDR -> sRGB output: the container's tonemap program (exposure + ACES fit), written through
-// GL_FRAMEBUFFER_SRGB so the hardware encodes; then optional FXAA from a twin target.
+// GL_FRAMEBUFFER_SRGB (enabled for the whole frame) so the hardware encodes; then optional FXAA from a twin target.
 #include "frame_context.h"
 
 namespace pnb::player {
@@ -8,7 +8,6 @@ void runTonemap(FrameContext& ctx) {
     ctx.timer.mark("tonemap");
     glDisable(GL_DEPTH_TEST);
     glDisable(GL_BLEND);
-    glEnable(GL_FRAMEBUFFER_SRGB);
     bool fxaa = ctx.settings.fxaa && ctx.builtins.fxaa;
     glBindFramebuffer(GL_FRAMEBUFFER,
                       fxaa ? ctx.targets.fxaaInputFb.id() : ctx.targets.outputFb.id());
@@ -33,7 +32,6 @@ void runTonemap(FrameContext& ctx) {
         glBindTextureUnit(0, ctx.targets.fxaaInput.id());
         drawFullscreenTriangle();
     }
-    glDisable(GL_FRAMEBUFFER_SRGB);
     glEnable(GL_DEPTH_TEST);
 }
 

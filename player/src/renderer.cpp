@@ -145,6 +145,9 @@ PlayResult<Done> Renderer::render(const CameraState& camera, uint32_t width, uin
     glDepthMask(GL_TRUE);
     glClearNamedFramebufferfi(impl.targets.hdrFb.id(), GL_DEPTH_STENCIL, 0, 0.0f, 0); // reversed-Z far
     glBindVertexArray(impl.emptyVao.id());
+    // Writes to the sRGB attachments (G-buffer base colour, output) are encoded by the hardware;
+    // linear targets are unaffected.
+    glEnable(GL_FRAMEBUFFER_SRGB);
 
     runDeferredLayers(ctx);
     runForward(ctx);

@@ -1,0 +1,209 @@
+#include "render_fixture.h"
+
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+
+#include "pnb_converter/convert.h"
+#include "pnb_player/gl_context.h"
+#include "pnb_player/benchmark.h"
+#include "pnb_player/gpu_scene.h"
+
+namespace pnb::player::test {
+
+namespace {
+
+std::unique_ptr<GlContext> gContext;
+
+std::string tempDir() {
+    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+    std::string name = info ? std::string(info->test_suite_name()) + "." + info->name() : "global";
+    auto dir = std::filesystem::temp_directory_path() /
+               ("pnb-render-test-" + std::to_string(::getpid())) / name;
+    std::filesystem::create_directories(dir);
+    return dir.string();
+}
+
+} // namespace
+
+void HeadlessEnvironment::SetUp() {
+    auto c = createHeadlessContext(false);
+    ASSERT_TRUE(c.ok()) << c.error().message;
+    gContext = std::move(*c);
+}
+
+void HeadlessEnvironment::TearDown() {
+    gContext.reset();
+    std::filesystem::remove_all(std::filesystem::temp_directory_path() /
+                                ("pnb-render-test-" + std::to_string(::getpid())));
+}
+
+gltf::Primitive quad(float w, float h, uint32_t material) {
+    gltf::Primitive p;
+    float x = w * 0.5f, y = h * 0.5f;
+    p.positions = {{-x, -y, 0}, {x, -y, 0}, {x, y, 0}, {-x, y, 0}};
+    p.normals = {{0, 0, 1}, {0, 0, 1}, {0, 0, 1}, {0, 0, 1}};
+    p.indices = {0, 1, 2, 0, 2, 3};
+    p.material = material;
+    return p;
+}
+
+gltf::Primitive box(float sx, float sy, float sz, uint32_t material) {
+    gltf::Primitive p;
+    p.material = material;
+    const float h[3] = {sx * 0.5f, sy * 0.5f, sz * 0.5f};
+    for (int axis = 0; axis < 3; ++axis) {
+        for (int sign = -1; sign <= 1; sign += 2) {
+            gltf::Float3 n{0, 0, 0};
+            n[size_t(axis)] = float(sign);
+            int u = (axis + 1) % 3, v = (axis + 2) % 3;
+            auto base = uint32_t(p.positions.size());
+            for (int c = 0; c < 4; ++c) {
+                float su = (c == 1 || c == 2) ? 1.0f : -1.0f, sv = (c >= 2) ? 1.0f : -1.0f;
+                gltf::Float3 q{0, 0, 0};
+                q[size_t(axis)] = float(sign) * h[axis];
+                q[size_t(u)] = su * h[u];
+                q[size_t(v)] = sv * h[v];
+                p.positions.push_back(q);
+                p.normals.push_back(n);
+            }
+            // Counter-clockwise seen from outside: (u, v, n) is right-handed for sign +1.
+            if (sign > 0) p.indices.insert(p.indices.end(), {base, base + 1, base + 2, base, base + 2, base + 3});
+            else p.indices.insert(p.indices.end(), {base, base + 2, base + 1, base, base + 3, base + 2});
+        }
+    }
+    return p;
+}
+
+uint32_t addObject(gltf::Document& doc, const std::string& name, gltf::Primitive primitive,
+                   gltf::Float3 translation, gltf::Float4 rotation) {
+    gltf::Mesh mesh;
+    mesh.name = name;
+    mesh.primitives.push_back(std::move(primitive));
+    doc.meshes.push_back(std::move(mesh));
+    gltf::Node node;
+    node.name = name;
+    node.mesh = int32_t(doc.meshes.size() - 1);
+    node.translation = translation;
+    node.rotation = rotation;
+    doc.nodes.push_back(node);
+    return uint32_t(doc.nodes.size() - 1);
+}
+
+void addLights(gltf::Document& doc, gltf::Float3 offset) {
+    gltf::Light sun;
+    sun.name = "sun";
+    sun.intensity = 2.0f;
+    doc.lights.push_back(sun);
+    gltf::Node sunNode;
+    sunNode.name = "sun";
+    sunNode.light = 0;
+    sunNode.rotation = gltf::lookRotation({0.4f, -1.0f, -0.6f});
+    doc.nodes.push_back(sunNode);
+    gltf::Light point;
+    point.name = "lamp";
+    point.type = gltf::LightType::Point;
+    point.color = {1.0f, 0.8f, 0.6f};
+    point.intensity = 6.0f;
+    doc.lights.push_back(point);
+    gltf::Node lampNode;
+    lampNode.name = "lamp";
+    lampNode.light = 1;
+    lampNode.translation = {offset[0] + 1.5f, offset[1] + 1.5f, offset[2] + 2.0f};
+    doc.nodes.push_back(lampNode);
+}
+
+std::string convert(const gltf::Document& doc, const std::string& name, const std::string& sidecarJson) {
+    std::string dir = tempDir();
+    std::string glb = dir + "/" + name + ".glb";
+    auto bytes = gltf::encodeGlb(doc);
+    EXPECT_TRUE(isOk(gltf::writeFileAtomic(glb, bytes)));
+    converter::ConvertSettings s;
+    s.input = glb;
+    s.output = dir + "/" + name + ".pnb";
+    s.jobs = 1;
+    s.validateShaders = false; // the driver compiles them in these tests
+    if (!sidecarJson.empty()) {
+        s.sidecar = dir + "/" + name + ".sidecar.json";
+        std::ofstream(s.sidecar) << sidecarJson;
+    } else {
+        s.noSidecar = true;
+    }
+    auto r = converter::convertScene(s);
+    EXPECT_TRUE(r.ok()) << (r.ok() ? "" : r.error().message);
+    return s.output;
+}
+
+Rendered render(const std::string& path, const CameraState& camera, uint32_t w, uint32_t h,
+                const RenderSettings& settings) {
+    Rendered out;
+    auto scene = loadScene(path);
+    EXPECT_TRUE(scene.ok()) << (scene.ok() ? "" : scene.error().message);
+    if (!scene.ok()) return out;
+    auto renderer = Renderer::create(**scene, settings);
+    EXPECT_TRUE(renderer.ok());
+    if (!renderer.ok()) return out;
+    auto r = (*renderer)->render(camera, w, h);
+    EXPECT_TRUE(r.ok()) << (r.ok() ? "" : r.error().message);
+    out.stats = (*renderer)->lastFrame();
+    out.memory = (*renderer)->targetMemory();
+    out.deferredLayers = (*scene)->deferredLayers.size();
+    out.lightingProgramCompiled = (*scene)->deferredLightingProgram.has_value() &&
+                                  bool((*scene)->programs[*(*scene)->deferredLightingProgram]);
+    out.color = std::move(*(*renderer)->capture(CaptureBuffer::Color));
+    out.hdr = std::move(*(*renderer)->capture(CaptureBuffer::Hdr));
+    out.depth = std::move(*(*renderer)->capture(CaptureBuffer::Depth));
+    // PNB_TEST_IMAGES=DIR keeps every rendered image, for looking at a failure.
+    if (const char* dir = std::getenv("PNB_TEST_IMAGES")) {
+        static int counter = 0;
+        std::string file = std::string(dir) + "/" + std::filesystem::path(path).stem().string() + "_" +
+                           std::to_string(counter++) + ".png";
+        EXPECT_TRUE(saveCapture(file, out.color).ok());
+    }
+    return out;
+}
+
+CameraState lookAt(glm::dvec3 position, glm::dvec3 target, float znear, float zfar) {
+    CameraState c;
+    c.position = position;
+    c.rotation = glm::quatLookAt(glm::normalize(target - position), glm::dvec3(0, 1, 0));
+    c.yfovRadians = 0.8f;
+    c.znear = znear;
+    c.zfar = zfar;
+    return c;
+}
+
+double ImageDiff::fractionOver(int threshold) const {
+    if (perPixelMax.empty()) return 0;
+    size_t n = 0;
+    for (int d : perPixelMax) n += d > threshold;
+    return double(n) / double(perPixelMax.size());
+}
+
+ImageDiff compareRgba8(const CapturedImage& a, const CapturedImage& b) {
+    ImageDiff d;
+    EXPECT_EQ(a.u8.size(), b.u8.size());
+    if (a.u8.size() != b.u8.size() || a.u8.empty()) return d;
+    double sum = 0;
+    for (size_t i = 0; i < a.u8.size(); i += 4) {
+        int m = 0;
+        for (size_t c = 0; c < 3; ++c) {
+            int diff = std::abs(int(a.u8[i + c]) - int(b.u8[i + c]));
+            sum += diff;
+            m = std::max(m, diff);
+        }
+        d.perPixelMax.push_back(m);
+        d.maxAbs = std::max(d.maxAbs, m);
+    }
+    d.meanAbs = sum / double(a.u8.size() / 4 * 3);
+    return d;
+}
+
+bool allFinite(const CapturedImage& image) {
+    for (float f : image.f32)
+        if (!std::isfinite(f)) return false;
+    return true;
+}
+
+} // namespace pnb::player::test

@@ -1,0 +1,64 @@
+// render_fixture.h — headless rendering for the player tests: one EGL context per test binary,
+// small glTF scenes built in code and converted with the real converter (with a sidecar to place
+// materials), rendered at test resolution and read back.
+#pragma once
+
+#include <string>
+
+#include <gtest/gtest.h>
+
+#include "pnb_assets/gltf_writer.h"
+#include "pnb_player/renderer.h"
+
+namespace pnb::player::test {
+
+namespace gltf = pnb::assets::gltf;
+
+// Creates the headless context before any test and keeps it for the whole binary.
+class HeadlessEnvironment : public ::testing::Environment {
+public:
+    void SetUp() override;
+    void TearDown() override;
+};
+
+// Geometry: an axis-aligned quad in the XY plane facing +Z, and a box centred at the origin.
+gltf::Primitive quad(float width, float height, uint32_t material);
+gltf::Primitive box(float sx, float sy, float sz, uint32_t material);
+
+// Adds a node with a mesh of one primitive; returns the node index.
+uint32_t addObject(gltf::Document& doc, const std::string& name, gltf::Primitive primitive,
+                   gltf::Float3 translation, gltf::Float4 rotation = {0, 0, 0, 1});
+// A sun from the upper left and a warm point light.
+void addLights(gltf::Document& doc, gltf::Float3 offset = {0, 0, 0});
+
+// Writes doc as .glb (+ sidecar JSON if non-empty) in a per-test temporary directory, converts
+// it, and returns the .pnb path. Fails the test on a conversion error.
+std::string convert(const gltf::Document& doc, const std::string& name,
+                    const std::string& sidecarJson = "");
+
+struct Rendered {
+    CapturedImage color, hdr, depth;
+    FrameStats stats;
+    TargetMemory memory;
+    size_t deferredLayers = 0;
+    bool lightingProgramCompiled = false;
+};
+
+Rendered render(const std::string& pnbPath, const CameraState& camera, uint32_t width = 160,
+                uint32_t height = 120, const RenderSettings& settings = {});
+
+// A camera at `position` looking at `target`.
+CameraState lookAt(glm::dvec3 position, glm::dvec3 target, float znear = 0.1f, float zfar = 0.0f);
+
+struct ImageDiff {
+    double meanAbs = 0;  // over all channels, in 0..255 units
+    int maxAbs = 0;      // largest channel difference
+    double fractionOver(int threshold) const;
+    std::vector<int> perPixelMax;
+};
+ImageDiff compareRgba8(const CapturedImage& a, const CapturedImage& b);
+
+// Every float finite.
+bool allFinite(const CapturedImage& image);
+
+} // namespace pnb::player::test
