@@ -72,15 +72,21 @@ std::string plotScript() {
 
 } // namespace
 
+CameraState sceneCamera(const GpuScene& scene, size_t index) {
+    const SceneCamera& c = scene.cameras[index];
+    CameraState cam;
+    cam.position = c.position;
+    cam.rotation = c.rotation;
+    cam.yfovRadians = c.desc.yfovRadians;
+    cam.znear = c.desc.znear;
+    cam.zfar = c.desc.zfar;
+    return cam;
+}
+
 CameraState initialCamera(const GpuScene& scene, const std::string& pathName) {
     CameraState cam;
     if (!scene.cameras.empty()) {
-        const SceneCamera& c = scene.cameras.front();
-        cam.position = c.position;
-        cam.rotation = c.rotation;
-        cam.yfovRadians = c.desc.yfovRadians;
-        cam.znear = c.desc.znear;
-        cam.zfar = c.desc.zfar;
+        cam = sceneCamera(scene, 0);
     } else {
         cam = framingCamera(scene.bounds, 0.8f);
     }
@@ -113,8 +119,8 @@ PlayResult<Done> saveCapture(const std::string& path, const CapturedImage& image
 PlayResult<BenchResult> runBenchmark(const GpuScene& scene, Renderer& renderer,
                                      const BenchOptions& options, const LoadStats& load,
                                      const GlInfo& gl, const std::function<bool()>& present) {
-    const ScenePath* path = scene.findPath(options.pathName);
-    if (!options.pathName.empty() && !path)
+    const ScenePath* path = options.staticCamera ? nullptr : scene.findPath(options.pathName);
+    if (!options.staticCamera && !options.pathName.empty() && !path)
         return PlayError{PlayErrorKind::Usage, "no camera path named '" + options.pathName + "'"};
     double start = path && !path->path.keys.empty() ? path->path.keys.front().timeSeconds : 0.0;
     double duration = path ? pathDuration(path->path) : 0.0;
@@ -123,14 +129,14 @@ PlayResult<BenchResult> runBenchmark(const GpuScene& scene, Renderer& renderer,
     if (options.fixedDt && options.frames > 0 && span > 0) dt = span / options.frames;
     uint32_t frames = options.frames;
     if (frames == 0) frames = options.fixedDt ? uint32_t(std::max(1.0, std::ceil(span / dt))) : ~0u;
-    if (!options.fixedDt && span <= 0 && options.frames == 0) frames = 1;
+    if (span <= 0 && options.frames == 0) frames = 1; // a static camera and no frame count
     if (!options.outDir.empty()) {
         std::error_code ec;
         std::filesystem::create_directories(options.outDir, ec);
         if (ec) return PlayError{PlayErrorKind::Io, "cannot create " + options.outDir + ": " + ec.message()};
     }
 
-    CameraState camera = initialCamera(scene, options.pathName);
+    CameraState camera = options.staticCamera ? *options.staticCamera : initialCamera(scene, options.pathName);
     std::vector<FrameRecord> records;
     BenchResult result;
     auto wallStart = std::chrono::steady_clock::now();

@@ -32,6 +32,7 @@ Modes (default: an interactive window):
 
 Run:
   --path NAME             camera path (default: the container's first)
+  --camera N              stand still at the container's camera N (no path)
   --frames N              number of frames (window mode: quit after N)
   --seconds S             stop after S seconds of path time
   --fixed-dt [DT]         frame k at path time k*DT (default: path duration / frames, or 1/60 s)
@@ -61,6 +62,7 @@ struct Args {
     bool headless = false, bench = false, ui = false, fixedDt = false, plot = true,
          checksums = true, glDebug = false, quiet = false;
     double dt = 0, seconds = 0;
+    int camera = -1;
     uint32_t frames = 0, frame = 0, width = 0, height = 0;
 };
 
@@ -103,6 +105,7 @@ Args parseArgs(int argc, char** argv) {
         else if (s == "--bench") a.bench = true;
         else if (s == "--ui") a.ui = true;
         else if (s == "--path") a.pathName = next(i);
+        else if (s == "--camera") a.camera = int(parseCount("--camera", next(i)));
         else if (s == "--frames") a.frames = parseCount("--frames", next(i));
         else if (s == "--seconds") a.seconds = parsePositive("--seconds", next(i));
         else if (s == "--fixed-dt") {
@@ -251,7 +254,11 @@ int main(int argc, char** argv) {
 
     // The first frame: everything the driver does lazily (shader variants, first-touch of
     // targets) lands here, so it is reported on its own and kept out of benchmark statistics.
-    CameraState first = initialCamera(**scene, args.pathName);
+    if (args.camera >= 0 && size_t(args.camera) >= (*scene)->cameras.size())
+        return fail({PlayErrorKind::Usage, "--camera " + std::to_string(args.camera) + ": the container has " +
+                                               std::to_string((*scene)->cameras.size()) + " camera(s)"});
+    if (args.camera >= 0) bo.staticCamera = sceneCamera(**scene, size_t(args.camera));
+    CameraState first = bo.staticCamera ? *bo.staticCamera : initialCamera(**scene, args.pathName);
     if (auto r = (*renderer)->render(first, bo.width, bo.height); !r) return fail(r.error());
     glFinish();
     load.firstFrameMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() -

@@ -15,6 +15,7 @@
 #pragma once
 
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -32,6 +33,7 @@ struct CaptureRequest {
 
 struct BenchOptions {
     std::string pathName;        // "" = the container's first camera path
+    std::optional<CameraState> staticCamera; // set: no path, this camera for every frame
     uint32_t frames = 0;         // 0 = as many as the path (or `seconds`) takes
     double seconds = 0;          // stop after this much path time; 0 = the whole path
     bool fixedDt = false;        // frame k at path time k * dt
@@ -64,6 +66,9 @@ PlayResult<BenchResult> runBenchmark(const GpuScene& scene, Renderer& renderer,
 
 // Writes a captured buffer: PNG for 8-bit, EXR for float; rows flipped to top-down.
 PlayResult<Done> saveCapture(const std::string& path, const CapturedImage& image);
+
+// The container's camera `index` (precondition: index < scene.cameras.size()).
+CameraState sceneCamera(const GpuScene& scene, size_t index);
 
 // The camera a run starts from: the path's first key, else the container's first camera, else
 // one framing the scene bounds.

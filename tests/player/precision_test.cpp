@@ -1,0 +1,84 @@
+// Numerical stability at the extremes: camera-relative transforms in double and reversed-Z with
+// a float depth buffer make a scene 10^6 units from the origin, or a near/far ratio of 10^-5,
+// render as the reference does. No output may hold NaN or Inf.
+#include "render_fixture.h"
+
+namespace pnb::player::test {
+
+namespace {
+
+// A floor, a box, and a thin decal 2 mm above the floor: z-fighting shows up at once if depth
+// precision is lost.
+gltf::Document precisionScene(gltf::Float3 offset) {
+    gltf::Document doc;
+    gltf::Material floor, decal, boxMat;
+    floor.name = "floor";
+    floor.baseColorFactor = {0.6f, 0.6f, 0.6f, 1};
+    decal.name = "decal";
+    decal.baseColorFactor = {0.9f, 0.1f, 0.1f, 1};
+    boxMat.name = "box";
+    boxMat.baseColorFactor = {0.1f, 0.4f, 0.9f, 1};
+    doc.materials = {floor, decal, boxMat};
+    const gltf::Float4 flat{-0.70710678f, 0, 0, 0.70710678f};
+    auto at = [&](float x, float y, float z) { return gltf::Float3{offset[0] + x, offset[1] + y, offset[2] + z}; };
+    addObject(doc, "floor", quad(10, 10, 0), at(0, 0, 0), flat);
+    addObject(doc, "decal", quad(1.5f, 1.5f, 1), at(-1, 0.002f, 0), flat);
+    addObject(doc, "box", box(1, 1, 1, 2), at(1.25f, 0.5f, -0.5f), gltf::rotationY(0.4f));
+    addLights(doc, offset);
+    return doc;
+}
+
+} // namespace
+
+TEST(Precision, SceneFarFromTheOriginRendersAsAtTheOrigin) {
+    // 10^6 and the offsets below are exact in float, so both files hold the same geometry.
+    const gltf::Float3 far{1.0e6f, 0, -1.0e6f};
+    std::string nearFile = convert(precisionScene({0, 0, 0}), "origin");
+    std::string farFile = convert(precisionScene(far), "far");
+    glm::dvec3 eye(0.5, 2.0, 5.0), target(0, 0.2, 0);
+    glm::dvec3 shift(far[0], far[1], far[2]);
+    Rendered a = render(nearFile, lookAt(eye, target));
+    Rendered b = render(farFile, lookAt(eye + shift, target + shift));
+    ImageDiff d = compareRgba8(a.color, b.color);
+    EXPECT_LE(d.maxAbs, 2) << "mean " << d.meanAbs;
+    EXPECT_TRUE(allFinite(a.hdr));
+    EXPECT_TRUE(allFinite(b.hdr));
+    // The decal is visible in both (not lost to z-fighting).
+    size_t red = 0;
+    for (size_t i = 0; i < b.color.u8.size(); i += 4) red += b.color.u8[i] > 150 && b.color.u8[i + 1] < 80;
+    EXPECT_GT(red, b.color.u8.size() / 4 / 50);
+}
+
+TEST(Precision, NearFarRatioOfOneInTenToTheFive) {
+    std::string file = convert(precisionScene({0, 0, 0}), "scene");
+    glm::dvec3 eye(0.5, 2.0, 5.0), target(0, 0.2, 0);
+    Rendered reference = render(file, lookAt(eye, target, 0.1f, 0.0f));
+    // near 1e-3, far 100 (the scene's far edge is 10 away): ratio 1e-5; and near 1e-5 with an
+    // infinite far plane.
+    Rendered finite = render(file, lookAt(eye, target, 1e-3f, 100.0f));
+    Rendered tiny = render(file, lookAt(eye, target, 1e-5f, 0.0f));
+    for (const Rendered* r : {&finite, &tiny}) {
+        ImageDiff d = compareRgba8(reference.color, r->color);
+        // A different projection matrix may move a silhouette edge by one pixel; nothing else.
+        EXPECT_LE(d.fractionOver(2), 0.001) << "mean " << d.meanAbs;
+        EXPECT_LT(d.meanAbs, 0.05);
+        EXPECT_TRUE(allFinite(r->hdr));
+        EXPECT_TRUE(allFinite(r->depth));
+    }
+}
+
+TEST(Precision, NoNanOrInfFromDegenerateInput) {
+    // Zero-area light cone, zero roughness, a camera inside the box: nothing may produce NaN.
+    gltf::Document doc = precisionScene({0, 0, 0});
+    doc.materials[2].roughnessFactor = 0.0f;
+    doc.materials[2].metallicFactor = 1.0f;
+    std::string file = convert(doc, "degenerate");
+    for (const CameraState& cam : {lookAt({1.25, 0.5, -0.5}, {0, 0, 0}), lookAt({0, 30, 0.001}, {0, 0, 0}),
+                                   lookAt({0, 0.0005, 3}, {0, 0.0005, 0}, 1e-5f)}) {
+        Rendered r = render(file, cam, 96, 64);
+        EXPECT_TRUE(allFinite(r.hdr));
+        EXPECT_TRUE(allFinite(r.depth));
+    }
+}
+
+} // namespace pnb::player::test
