@@ -1,0 +1,45 @@
+#include <gtest/gtest.h>
+
+#include "pnb_player/settings.h"
+
+namespace pnb::player {
+
+TEST(Settings, ParsesEveryKindAndRoundTrips) {
+    RenderSettings s;
+    ASSERT_TRUE(applySetting(s, "lighting.exposure=2.5").ok());
+    ASSERT_TRUE(applySetting(s, "post.fxaa", "on").ok());
+    ASSERT_TRUE(applySetting(s, "cull.frustum", "0").ok());
+    ASSERT_TRUE(applySetting(s, "debug.view", "overdraw").ok());
+    EXPECT_EQ(s.exposure, 2.5f);
+    EXPECT_TRUE(s.fxaa);
+    EXPECT_FALSE(s.frustumCulling);
+    EXPECT_EQ(s.debugView, DebugView::Overdraw);
+    // Every value printed parses back to the same settings.
+    RenderSettings copy;
+    for (const auto& [k, v] : settingValues(s)) ASSERT_TRUE(applySetting(copy, k, v).ok()) << k << "=" << v;
+    EXPECT_EQ(settingValues(copy), settingValues(s));
+    EXPECT_EQ(settingValues(s).size(), settingInfos().size());
+}
+
+TEST(Settings, RejectsWhatDoesNotParseAndNamesTheKey) {
+    RenderSettings s;
+    const std::pair<const char*, const char*> bad[] = {
+        {"lighting.exposure", "0"},     {"lighting.exposure", "abc"}, {"lighting.exposure", "1e40"},
+        {"lighting.exposure", "nan"},   {"lighting.ambient", "-1"},   {"post.fxaa", "yes please"},
+        {"debug.view", "normals"},      {"camera.far", "-2"},         {"lighting.exposure", "2x"},
+    };
+    for (auto [key, value] : bad) {
+        auto r = applySetting(s, key, value);
+        ASSERT_FALSE(r.ok()) << key << "=" << value;
+        EXPECT_EQ(r.error().kind, PlayErrorKind::Usage);
+        EXPECT_NE(r.error().message.find(key), std::string::npos);
+    }
+    auto unknown = applySetting(s, "shadows.cascade", "4");
+    ASSERT_FALSE(unknown.ok());
+    EXPECT_NE(unknown.error().message.find("known:"), std::string::npos);
+    EXPECT_FALSE(applySetting(s, "no-equals-sign").ok());
+    EXPECT_FALSE(applySetting(s, "=1").ok());
+    EXPECT_EQ(settingValues(s), settingValues(RenderSettings{})); // nothing half-applied
+}
+
+} // namespace pnb::player
