@@ -138,4 +138,17 @@ std::vector<std::pair<std::string, std::string>> settingValues(const RenderSetti
     return out;
 }
 
+PlayResult<RenderSettings> resolveSettings(
+    const std::vector<std::pair<std::string, std::string>>& containerSettings,
+    const std::vector<std::string>& commandLine, std::vector<std::string>* warnings) {
+    RenderSettings s;
+    for (const auto& [key, value] : containerSettings) {
+        auto r = applySetting(s, key, value);
+        if (!r && warnings) warnings->push_back("container setting ignored: " + r.error().message);
+    }
+    for (const std::string& assignment : commandLine)
+        if (auto r = applySetting(s, assignment); !r) return r.error();
+    return s;
+}
+
 } // namespace pnb::player

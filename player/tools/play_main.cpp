@@ -206,14 +206,12 @@ int main(int argc, char** argv) {
     auto scene = loadScene(args.scene, lo, &load);
     if (!scene) return fail(scene.error());
 
-    RenderSettings settings;
-    for (const auto& [k, v] : (*scene)->settings) {
-        auto r = applySetting(settings, k, v);
-        if (!r && !args.quiet)
-            std::fprintf(stderr, "pnb-play: warning: container setting ignored: %s\n", r.error().message.c_str());
-    }
-    for (const std::string& s : args.sets)
-        if (auto r = applySetting(settings, s); !r) return fail(r.error());
+    std::vector<std::string> warnings;
+    auto resolved = resolveSettings((*scene)->settings, args.sets, &warnings);
+    if (!resolved) return fail(resolved.error());
+    RenderSettings settings = *resolved;
+    if (!args.quiet)
+        for (const std::string& w : warnings) std::fprintf(stderr, "pnb-play: warning: %s\n", w.c_str());
     auto renderer = Renderer::create(**scene, settings);
     if (!renderer) return fail(renderer.error());
 

@@ -33,7 +33,7 @@ std::string writeTemp(const std::string& name, std::span<const std::byte> bytes)
     return path.string();
 }
 
-struct Loaded {
+struct Loaded { // a scene and a renderer for it
     std::unique_ptr<GpuScene> scene;
     std::unique_ptr<Renderer> renderer;
 };
@@ -258,6 +258,27 @@ TEST(Benchmark, FixedStepRunsAreDeterministicAndWriteTheirFiles) {
     EXPECT_GT(summary["gpu_memory_bytes"]["meshes"].get<uint64_t>(), 0u);
     EXPECT_EQ(summary["run"]["timer_stalls"], 0);
     std::filesystem::remove_all(dir);
+}
+
+} // namespace pnb::player::test
+
+namespace pnb::player::test {
+
+TEST(SceneLoad, FxaaSoftensEdgesOnly) {
+    Loaded plain = load(scenePath("box-room"));
+    RenderSettings s;
+    s.fxaa = true;
+    Loaded fxaa = load(scenePath("box-room"), s);
+    ASSERT_TRUE(plain.renderer && fxaa.renderer);
+    CameraState cam = sceneCamera(*plain.scene, 0);
+    ASSERT_TRUE(plain.renderer->render(cam, 160, 120).ok());
+    ASSERT_TRUE(fxaa.renderer->render(cam, 160, 120).ok());
+    ImageDiff d = compareRgba8(*plain.renderer->capture(CaptureBuffer::Color),
+                               *fxaa.renderer->capture(CaptureBuffer::Color));
+    EXPECT_GT(d.fractionOver(4), 0.002); // edges changed
+    EXPECT_LT(d.fractionOver(4), 0.15);  // flat regions did not
+    EXPECT_EQ(fxaa.renderer->targetMemory().outputBytes, 2u * 4 * 160 * 120);
+    EXPECT_EQ(plain.renderer->targetMemory().outputBytes, 1u * 4 * 160 * 120);
 }
 
 } // namespace pnb::player::test

@@ -42,4 +42,18 @@ TEST(Settings, RejectsWhatDoesNotParseAndNamesTheKey) {
     EXPECT_EQ(settingValues(s), settingValues(RenderSettings{})); // nothing half-applied
 }
 
+TEST(Settings, CommandLineWinsOverContainerWhichWinsOverDefaults) {
+    std::vector<std::pair<std::string, std::string>> container = {
+        {"lighting.exposure", "2"}, {"post.fxaa", "true"}, {"shadows.cascades", "4"}, {"lighting.ambient", "-3"}};
+    std::vector<std::string> warnings;
+    auto s = resolveSettings(container, {"lighting.exposure=0.5"}, &warnings);
+    ASSERT_TRUE(s.ok());
+    EXPECT_EQ(s->exposure, 0.5f);       // command line
+    EXPECT_TRUE(s->fxaa);               // container
+    EXPECT_EQ(s->ambient, RenderSettings{}.ambient); // invalid container value: default kept
+    ASSERT_EQ(warnings.size(), 2u);     // unknown key and bad value, both reported
+    EXPECT_NE(warnings[0].find("shadows.cascades"), std::string::npos);
+    EXPECT_FALSE(resolveSettings(container, {"lighting.exposure=-1"}).ok());
+}
+
 } // namespace pnb::player

@@ -62,4 +62,11 @@ std::vector<std::pair<std::string, std::string>> settingValues(const RenderSetti
 
 std::string_view toString(DebugView view);
 
+// Defaults, then the container's RSET entries, then command-line assignments ("key=value"):
+// later wins. A container entry that does not apply is skipped with a line in `warnings`; a
+// command-line one is an error.
+PlayResult<RenderSettings> resolveSettings(
+    const std::vector<std::pair<std::string, std::string>>& containerSettings,
+    const std::vector<std::string>& commandLine, std::vector<std::string>* warnings = nullptr);
+
 } // namespace pnb::player
