@@ -66,27 +66,52 @@ void transformBounds(const glm::dmat4& m, const Aabb& box, glm::dvec3& outMin, g
     }
 }
 
-// Materials' programs, the lighting pass if anything is deferred, and the tone mapper: only what
-// the frame will use is compiled.
-std::set<uint32_t> programsToCompile(const Scene& scene, GpuScene& gpu) {
+// Deferred layer priorities and whether anything is forward, over the drawn items (materials
+// nothing draws cost nothing).
+void updatePipelineLayout(GpuScene& gpu) {
+    std::set<uint16_t> layers;
+    gpu.hasForward = false;
+    for (const DrawItem& item : gpu.items) {
+        const Material& m = gpu.materials[item.material].desc;
+        if (m.shadingPath == ShadingPath::Deferred) layers.insert(m.layerPriority);
+        else gpu.hasForward = true;
+    }
+    gpu.deferredLayers.assign(layers.begin(), layers.end());
+}
+
+// Compiles what the frame uses and is not compiled yet: the materials' programs, the lighting
+// pass if anything is deferred, the tone mapper.
+PlayResult<Done> compileNeededPrograms(const Scene& scene, GpuScene& gpu) {
+    gpu.programs.resize(scene.programs.size());
+    gpu.programLabels.resize(scene.programs.size());
     std::set<uint32_t> wanted;
-    for (const Material& m : scene.materials)
+    for (const GpuMaterial& m : gpu.materials)
         if (m.program != kNone) wanted.insert(m.program);
+    gpu.deferredLightingProgram.reset();
+    gpu.tonemapProgram.reset();
     for (uint32_t i = 0; i < scene.programs.size(); ++i) {
+        gpu.programLabels[i] = programLabel(scene, i);
         std::string_view name = scene.str(scene.programs[i].name);
-        if (name == "deferred_lighting" && !gpu.deferredLayers.empty()) {
+        if (name == "deferred_lighting" && !gpu.deferredLayers.empty() && !gpu.deferredLightingProgram) {
             gpu.deferredLightingProgram = i;
             wanted.insert(i);
         }
-        if (name == "tonemap") {
+        if (name == "tonemap" && !gpu.tonemapProgram) {
             gpu.tonemapProgram = i;
             wanted.insert(i);
         }
     }
-    return wanted;
+    for (uint32_t i : wanted) {
+        if (gpu.programs[i]) continue;
+        auto p = compileSceneProgram(scene, i);
+        if (!p) return p.error();
+        gpu.programs[i] = std::move(*p);
+    }
+    return Done{};
 }
 
-PlayResult<Done> buildSceneGraph(const Scene& scene, GpuScene& gpu) {
+// World transforms (double) for every node; draw items, lights and cameras from them.
+void buildSceneGraph(const Scene& scene, GpuScene& gpu) {
     std::vector<glm::dmat4> world(scene.nodes.nodes.size());
     for (size_t i = 0; i < scene.nodes.nodes.size(); ++i) {
         const Node& n = scene.nodes.nodes[i];
@@ -129,7 +154,6 @@ PlayResult<Done> buildSceneGraph(const Scene& scene, GpuScene& gpu) {
             gpu.cameras.push_back(c);
         }
     }
-    return Done{};
 }
 
 } // namespace
@@ -178,8 +202,18 @@ PlayResult<std::unique_ptr<GpuScene>> loadScene(const std::string& path,
     stats.unknownChunks = scene.unknownChunks;
     stats.decodeMs = msSince(phase);
 
+    auto gpu = uploadScene(scene, &stats);
+    if (!gpu) return gpu.error();
+    stats.totalMs = msSince(start);
+    if (statsOut) *statsOut = stats;
+    return std::move(*gpu);
+}
+
+PlayResult<std::unique_ptr<GpuScene>> uploadScene(const Scene& scene, LoadStats* statsOut) {
+    LoadStats local;
+    LoadStats& stats = statsOut ? *statsOut : local;
     // Upload, in file order: textures (storage), meshes, then texels (smallest mips first).
-    phase = Clock::now();
+    auto phase = Clock::now();
     auto gpu = std::make_unique<GpuScene>();
     gpu->name = std::string(scene.str(scene.info.name));
     gpu->bounds = scene.info.bounds;
@@ -201,13 +235,13 @@ PlayResult<std::unique_ptr<GpuScene>> loadScene(const std::string& path,
         gpu->meshes.push_back(std::move(*m));
     }
 
-    // Materials: one std140 block each, at the UBO offset alignment.
+    // Materials: one std140 block each, at the UBO offset alignment. Dynamic storage: the
+    // material editor rewrites blocks in place (updateMaterial).
     GLint alignment = 256;
     glGetIntegerv(GL_UNIFORM_BUFFER_OFFSET_ALIGNMENT, &alignment);
     gpu->materialStride =
         uint32_t((sizeof(MaterialBlock) + size_t(alignment) - 1) / size_t(alignment) * size_t(alignment));
     std::vector<std::byte> blocks(std::max<size_t>(scene.materials.size(), 1) * gpu->materialStride);
-    std::set<uint16_t> layers;
     for (uint32_t i = 0; i < scene.materials.size(); ++i) {
         GpuMaterial m;
         m.desc = scene.materials[i];
@@ -219,7 +253,8 @@ PlayResult<std::unique_ptr<GpuScene>> loadScene(const std::string& path,
         gpu->materials.push_back(m);
     }
     gpu->materialBuffer = createBuffer();
-    glNamedBufferStorage(gpu->materialBuffer.id(), GLsizeiptr(blocks.size()), blocks.data(), 0);
+    glNamedBufferStorage(gpu->materialBuffer.id(), GLsizeiptr(blocks.size()), blocks.data(),
+                         GL_DYNAMIC_STORAGE_BIT);
     gpu->memory.uniformBytes += blocks.size();
 
     for (const CameraPath& p : scene.cameraPaths) {
@@ -227,30 +262,27 @@ PlayResult<std::unique_ptr<GpuScene>> loadScene(const std::string& path,
         sp.path.name = kNone;
         gpu->paths.push_back(std::move(sp));
     }
-    if (auto r = buildSceneGraph(scene, *gpu); !r) return r.error();
-    // Layers and paths present among the drawn items (materials nothing draws cost nothing).
-    for (const DrawItem& item : gpu->items) {
-        const Material& m = gpu->materials[item.material].desc;
-        if (m.shadingPath == ShadingPath::Deferred) layers.insert(m.layerPriority);
-        else gpu->hasForward = true;
-    }
-    gpu->deferredLayers.assign(layers.begin(), layers.end());
+    buildSceneGraph(scene, *gpu);
+    updatePipelineLayout(*gpu);
     glFinish();
     stats.uploadMs = msSince(phase);
 
     // Programs last: on a real driver they compile in parallel with the uploads above.
     phase = Clock::now();
-    gpu->programs.resize(scene.programs.size());
-    for (uint32_t i = 0; i < scene.programs.size(); ++i) gpu->programLabels.push_back(programLabel(scene, i));
-    for (uint32_t i : programsToCompile(scene, *gpu)) {
-        auto p = compileSceneProgram(scene, i);
-        if (!p) return p.error();
-        gpu->programs[i] = std::move(*p);
-    }
+    if (auto r = compileNeededPrograms(scene, *gpu); !r) return r.error();
     stats.compileMs = msSince(phase);
-    stats.totalMs = msSince(start);
-    if (statsOut) *statsOut = stats;
     return gpu;
+}
+
+PlayResult<Done> updateMaterial(GpuScene& gpu, const Scene& scene, uint32_t index) {
+    const Material& desc = scene.materials[index];
+    GpuMaterial& m = gpu.materials[index];
+    m.desc = desc;
+    m.program = desc.program;
+    MaterialBlock b = materialBlock(desc);
+    glNamedBufferSubData(gpu.materialBuffer.id(), GLintptr(m.uniformOffset), sizeof b, &b);
+    updatePipelineLayout(gpu);
+    return compileNeededPrograms(scene, gpu);
 }
 
 } // namespace pnb::player

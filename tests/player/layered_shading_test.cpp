@@ -138,3 +138,49 @@ TEST(LayeredShading, EmptyLayersCostNothing) {
 }
 
 } // namespace pnb::player::test
+
+#include "pnb/scene.h"
+
+namespace pnb::player::test {
+
+// The editor's path: a decoded scene uploaded once, then materials changed in place. Moving the
+// nearest pane down to layer 0 composes it first, so the farther panes blend over it: the picture
+// departs from forward blending as layer ordering predicts; moving it back restores the match.
+TEST(LayeredShading, ReorderingLayersLive) {
+    gltf::Document doc = stackedQuads();
+    std::string path = convert(doc, "layers", R"({"materials": {
+        "glass0": {"shading_path": "deferred", "layer_priority": 1},
+        "glass1": {"shading_path": "deferred", "layer_priority": 2},
+        "glass2": {"shading_path": "deferred", "layer_priority": 3}}})");
+    Rendered reference = render(convert(doc, "forward", R"({"materials": {"*": {"shading_path": "forward"}}})"), kView);
+    auto container = Container::open(path);
+    ASSERT_TRUE(container.ok());
+    auto scene = readScene(*container);
+    ASSERT_TRUE(scene.ok());
+    auto gpu = uploadScene(*scene);
+    ASSERT_TRUE(gpu.ok()) << gpu.error().message;
+    auto renderer = Renderer::create(**gpu, {});
+    ASSERT_TRUE(renderer.ok());
+    auto frame = [&] {
+        EXPECT_TRUE((*renderer)->render(kView, 160, 120).ok());
+        return compareRgba8(reference.color, *(*renderer)->capture(CaptureBuffer::Color));
+    };
+    EXPECT_LE(frame().maxAbs, 3);
+
+    uint32_t nearest = 0;
+    for (uint32_t i = 0; i < scene->materials.size(); ++i)
+        if (scene->str(scene->materials[i].name) == "glass2") nearest = i;
+    // Into the opaque layer 0: one G-buffer holds one surface per pixel, so the pane hides the
+    // floor and wall behind it, and the two farther panes then blend over it.
+    scene->materials[nearest].layerPriority = 0;
+    ASSERT_TRUE(updateMaterial(**gpu, *scene, nearest).ok());
+    EXPECT_EQ((*gpu)->deferredLayers.size(), 3u);
+    ImageDiff wrongOrder = frame();
+    EXPECT_GT(wrongOrder.fractionOver(10), 0.05);
+
+    scene->materials[nearest].layerPriority = 3;
+    ASSERT_TRUE(updateMaterial(**gpu, *scene, nearest).ok());
+    EXPECT_LE(frame().maxAbs, 3);
+}
+
+} // namespace pnb::player::test

@@ -25,6 +25,7 @@
 
 #include "pnb/chunks.h"
 #include "pnb/reader.h"
+#include "pnb/scene.h"
 #include "pnb_player/gl_handles.h"
 #include "pnb_player/play_error.h"
 
@@ -139,5 +140,14 @@ struct GpuScene {
 PlayResult<std::unique_ptr<GpuScene>> loadScene(const std::string& path,
                                                 const LoadOptions& options = {},
                                                 LoadStats* stats = nullptr);
+
+// The upload and compile phases alone, from a scene already decoded and validated (the
+// material editor's document). Fills stats->uploadMs and compileMs.
+PlayResult<std::unique_ptr<GpuScene>> uploadScene(const Scene& scene, LoadStats* stats = nullptr);
+
+// Material `index` of `scene` changed (values, path, layer, program): rewrites its uniform
+// block, recomputes the layer layout and compiles programs it now needs from `scene` (which may
+// hold more PROG chunks than when uploaded). Texture references must name uploaded textures.
+PlayResult<Done> updateMaterial(GpuScene& gpu, const Scene& scene, uint32_t index);
 
 } // namespace pnb::player
