@@ -123,6 +123,7 @@ json materialJson(const Material& m) {
     // Textures map one-to-one onto images, so the texture index is the image index.
     if (m.baseColorImage != kNone) pbr["baseColorTexture"] = {{"index", m.baseColorImage}};
     json j = {{"pbrMetallicRoughness", std::move(pbr)}};
+    if (m.normalImage != kNone) j["normalTexture"] = {{"index", m.normalImage}};
     if (!m.name.empty()) j["name"] = m.name;
     if (m.alphaMode == AlphaMode::Mask) {
         j["alphaMode"] = "MASK";
@@ -224,6 +225,9 @@ std::string validateDocument(const Document& doc) {
         if (mat.baseColorImage != kNone &&
             (mat.baseColorImage < 0 || size_t(mat.baseColorImage) >= doc.images.size()))
             return bad("material", i, "baseColorImage out of range");
+        if (mat.normalImage != kNone &&
+            (mat.normalImage < 0 || size_t(mat.normalImage) >= doc.images.size()))
+            return bad("material", i, "normalImage out of range");
         if (!finite(mat.baseColorFactor) || !finite(mat.emissiveFactor))
             return bad("material", i, "non-finite factor");
     }

@@ -8,6 +8,8 @@
 //   [SECTION] box-room
 //   [SECTION] terrain
 //   [SECTION] grazing-plane
+//   [SECTION] load-test
+//   [SECTION] light-field
 //   [SECTION] Registry
 //
 // Based on: M. E. O'Neill, "PCG: A Family of Simple Fast Space-Efficient Statistically Good
@@ -20,8 +22,10 @@
 #include <algorithm>
 #include <cassert>
 #include <cmath>
+#include <iterator>
 #include <numbers>
 #include <string>
+#include <vector>
 
 #include "pnb_assets/png_writer.h"
 
@@ -87,7 +91,8 @@ private:
 
 // Stream ids, one per scene part (arbitrary distinct constants).
 constexpr uint64_t kStreamCanyonRows = 11, kStreamCityLayout = 21, kStreamCityArchetypes = 22,
-                   kStreamTerrainProps = 31, kStreamGrazingProps = 41;
+                   kStreamTerrainProps = 31, kStreamGrazingProps = 41, kStreamLoadTestRocks = 51,
+                   kStreamLightFieldBoxes = 61, kStreamLightFieldLights = 62;
 
 uint32_t fmix32(uint32_t h) {
     h ^= h >> 16;
@@ -116,6 +121,42 @@ float valueNoise(float x, float y, uint32_t seed) {
     float a = at(0, 0) + (at(1, 0) - at(0, 0)) * ux;
     float b = at(0, 1) + (at(1, 1) - at(0, 1)) * ux;
     return a + (b - a) * uy;
+}
+
+// Value noise that repeats every `period` lattice cells in x and y (the lattice wraps), so
+// textures built from it tile seamlessly.
+float tileableValueNoise(float x, float y, int32_t period, uint32_t seed) {
+    float fx = std::floor(x), fy = std::floor(y);
+    auto ix = int32_t(fx), iy = int32_t(fy);
+    float tx = x - fx, ty = y - fy;
+    auto fade = [](float t) { return t * t * t * (t * (t * 6 - 15) + 10); };
+    auto wrap = [&](int32_t v) { return ((v % period) + period) % period; };
+    auto at = [&](int32_t i, int32_t j) {
+        return float(latticeHash(wrap(ix + i), wrap(iy + j), seed) >> 8) * 0x1p-24f;
+    };
+    float ux = fade(tx), uy = fade(ty);
+    float a = at(0, 0) + (at(1, 0) - at(0, 0)) * ux;
+    float b = at(0, 1) + (at(1, 1) - at(0, 1)) * ux;
+    return a + (b - a) * uy;
+}
+
+// 3D value noise in [0, 1), trilinear with the quintic fade.
+float valueNoise3(float x, float y, float z, uint32_t seed) {
+    float fx = std::floor(x), fy = std::floor(y), fz = std::floor(z);
+    auto ix = int32_t(fx), iy = int32_t(fy), iz = int32_t(fz);
+    auto fade = [](float t) { return t * t * t * (t * (t * 6 - 15) + 10); };
+    float ux = fade(x - fx), uy = fade(y - fy), uz = fade(z - fz);
+    auto at = [&](int32_t i, int32_t j, int32_t k) {
+        uint32_t h = fmix32(uint32_t(iz + k) * 0x9E3779B1u ^ seed);
+        return float(latticeHash(ix + i, iy + j, h) >> 8) * 0x1p-24f;
+    };
+    auto plane = [&](int32_t k) {
+        float a = at(0, 0, k) + (at(1, 0, k) - at(0, 0, k)) * ux;
+        float b = at(0, 1, k) + (at(1, 1, k) - at(0, 1, k)) * ux;
+        return a + (b - a) * uy;
+    };
+    float p0 = plane(0);
+    return p0 + (plane(1) - p0) * uz;
 }
 
 uint32_t foldSeed(uint64_t seed) {
@@ -982,6 +1023,282 @@ gltf::Document buildGrazingPlane(const GrazingPlaneOptions& o) {
     return doc;
 }
 
+// [SECTION] load-test ---------------------------------------------------------------------------
+
+namespace {
+
+// fBm of tileable value noise over a size x size image: `cells` lattice cells across at the
+// first octave (doubling each octave, so every octave tiles), normalised to [0, 1].
+std::vector<float> tileableFbm(uint32_t size, int32_t cells, uint32_t octaves, uint32_t seed) {
+    std::vector<float> out(size_t(size) * size);
+    for (uint32_t y = 0; y < size; ++y)
+        for (uint32_t x = 0; x < size; ++x) {
+            float sum = 0, norm = 0, amplitude = 1;
+            int32_t period = cells;
+            for (uint32_t o = 0; o < octaves; ++o) {
+                const float scale = float(period) / float(size);
+                sum += amplitude * tileableValueNoise(float(x) * scale, float(y) * scale, period,
+                                                      seed + o * 0x9E3779B9u);
+                norm += amplitude;
+                amplitude *= 0.5f;
+                period *= 2;
+            }
+            out[size_t(y) * size + x] = sum / norm;
+        }
+    return out;
+}
+
+uint8_t unorm8(float v) {
+    return uint8_t(std::lround(std::clamp(v, 0.0f, 1.0f) * 255.0f));
+}
+
+// Base colour: two palette colours mixed by fBm, with darker veins where a second fBm crosses
+// its middle value.
+std::vector<uint8_t> rockColorPng(uint32_t size, Float3 a, Float3 b, uint32_t seed) {
+    const std::vector<float> mix = tileableFbm(size, 8, 5, seed);
+    const std::vector<float> veins = tileableFbm(size, 4, 4, seed ^ 0xA511E9B3u);
+    std::vector<uint8_t> pixels(size_t(size) * size * 3);
+    for (size_t i = 0; i < mix.size(); ++i) {
+        const float t = std::clamp((mix[i] - 0.3f) / 0.4f, 0.0f, 1.0f);
+        const float vein = std::clamp(std::fabs(veins[i] - 0.5f) * 25.0f, 0.0f, 1.0f);
+        const float shade = 0.55f + 0.45f * vein;
+        for (int k = 0; k < 3; ++k)
+            pixels[i * 3 + size_t(k)] =
+                unorm8((a[size_t(k)] + (b[size_t(k)] - a[size_t(k)]) * t) * shade);
+    }
+    return encodePng(size, size, 3, pixels);
+}
+
+// Tangent-space normal map (glTF: +X right, +Y up in texture space, i.e. towards smaller v) of
+// a tileable fBm heightfield, by central differences with wrap-around.
+std::vector<uint8_t> rockNormalPng(uint32_t size, uint32_t seed) {
+    const std::vector<float> h = tileableFbm(size, 16, 5, seed);
+    const float strength = float(size) / 16.0f; // slope scale: heights are in [0, 1]
+    std::vector<uint8_t> pixels(size_t(size) * size * 3);
+    auto at = [&](uint32_t x, uint32_t y) { return h[size_t(y % size) * size + x % size]; };
+    for (uint32_t y = 0; y < size; ++y)
+        for (uint32_t x = 0; x < size; ++x) {
+            const float dx = (at(x + 1, y) - at(x + size - 1, y)) * 0.5f * strength;
+            const float dy = (at(x, y + size - 1) - at(x, y + 1)) * 0.5f * strength; // +Y = up
+            const Float3 n = normalize({-dx, -dy, 1.0f});
+            uint8_t* p = &pixels[(size_t(y) * size + x) * 3];
+            for (int k = 0; k < 3; ++k)
+                p[k] = unorm8(n[size_t(k)] * 0.5f + 0.5f);
+        }
+    return encodePng(size, size, 3, pixels);
+}
+
+// The rock surface: radius `radius` times 1 +- 0.25 of 3D fBm over the direction.
+struct RockShape {
+    float radius;
+    Float3 offset; // where this rock samples the noise field
+    uint32_t seed;
+
+    float radiusAt(Float3 dir) const {
+        float sum = 0, norm = 0, amplitude = 1, frequency = 1.5f;
+        for (uint32_t o = 0; o < 4; ++o) {
+            const Float3 q = dir * frequency + offset;
+            sum += amplitude * valueNoise3(q[0], q[1], q[2], seed + o * 0x9E3779B9u);
+            norm += amplitude;
+            amplitude *= 0.5f;
+            frequency *= 2.0f;
+        }
+        return radius * (1.0f + 0.5f * (sum / norm - 0.5f));
+    }
+    // Signed distance-like field |p| - r(p / |p|); the surface is its zero set.
+    float field(Float3 p) const {
+        const float len = std::sqrt(p[0] * p[0] + p[1] * p[1] + p[2] * p[2]);
+        return len - radiusAt(p * (1.0f / len));
+    }
+};
+
+// A displaced UV sphere: `rings` latitude bands (poles are single triangles), 2 * rings
+// segments, so 4 * rings * (rings - 1) triangles. Normals are the field's gradient (central
+// differences in 3D), so they agree across the u seam and at the poles.
+Primitive rockPrimitive(const RockShape& shape, uint32_t rings, uint32_t material) {
+    const uint32_t segments = 2 * rings;
+    Primitive p;
+    p.material = material;
+    const float eps = shape.radius * 1e-3f;
+    for (uint32_t j = 0; j <= rings; ++j) {
+        const float theta = kPi * float(j) / float(rings);
+        for (uint32_t i = 0; i <= segments; ++i) {
+            const float phi = 2 * kPi * float(i == segments ? 0 : i) / float(segments);
+            // Exact poles and an exact seam (i == segments repeats i == 0's position).
+            const float st = j == 0 || j == rings ? 0.0f : std::sin(theta);
+            const float ct = j == 0 ? 1.0f : j == rings ? -1.0f : std::cos(theta);
+            const Float3 dir{st * std::cos(phi), ct, st * std::sin(phi)};
+            const Float3 pos = dir * shape.radiusAt(dir);
+            Float3 g{};
+            for (size_t k = 0; k < 3; ++k) {
+                Float3 d{0, 0, 0};
+                d[k] = eps;
+                g[k] = shape.field(pos + d) - shape.field(pos - d);
+            }
+            p.positions.push_back(pos);
+            p.normals.push_back(normalize(g));
+            p.uv0.push_back({4.0f * float(i) / float(segments), 2.0f * float(j) / float(rings)});
+        }
+    }
+    const uint32_t row = segments + 1;
+    for (uint32_t j = 0; j < rings; ++j)
+        for (uint32_t i = 0; i < segments; ++i) {
+            const uint32_t a = j * row + i, b = a + 1, c = a + row, d = c + 1;
+            // (a, b, c) and (b, d, c) are counter-clockwise seen from outside; at the north pole
+            // (j = 0) a == b in position, at the south pole c == d, so one of each is dropped.
+            if (j != 0) p.indices.insert(p.indices.end(), {a, b, c});
+            if (j != rings - 1) p.indices.insert(p.indices.end(), {b, d, c});
+        }
+    return p;
+}
+
+} // namespace
+
+gltf::Document buildLoadTest(const LoadTestOptions& o) {
+    Document doc;
+    doc.sceneName = "load-test";
+    const uint32_t objects = std::max(1u, o.objects);
+    const uint32_t materials = std::max(1u, o.materials);
+    const uint32_t texture = std::max(4u, o.textureSize);
+    const uint32_t seed = foldSeed(o.seed);
+
+    // Per-material palettes (pairs of sRGB colours): granite, sandstone, slate, basalt, moss.
+    static constexpr Float3 kPalettes[][2] = {
+        {{0.55f, 0.52f, 0.50f}, {0.80f, 0.78f, 0.74f}},
+        {{0.60f, 0.42f, 0.26f}, {0.85f, 0.70f, 0.50f}},
+        {{0.22f, 0.26f, 0.30f}, {0.45f, 0.50f, 0.55f}},
+        {{0.12f, 0.11f, 0.11f}, {0.35f, 0.32f, 0.30f}},
+        {{0.25f, 0.35f, 0.18f}, {0.55f, 0.60f, 0.40f}},
+    };
+    constexpr size_t kPaletteCount = std::size(kPalettes);
+    for (uint32_t k = 0; k < materials; ++k) {
+        const Float3* pal = kPalettes[k % kPaletteCount];
+        doc.images.push_back({"rock-color-" + std::to_string(k),
+                              rockColorPng(texture, pal[0], pal[1], seed + 1000 * (k + 1))});
+    }
+    for (uint32_t k = 0; k < materials; ++k)
+        doc.images.push_back({"rock-normal-" + std::to_string(k),
+                              rockNormalPng(texture, seed + 1000 * (k + 1) + 500)});
+    for (uint32_t k = 0; k < materials; ++k) {
+        Material m = makeMaterial("rock-material-" + std::to_string(k), {1, 1, 1}, 0.85f);
+        m.baseColorImage = int32_t(k);
+        m.normalImage = int32_t(materials + k);
+        addMaterial(doc, std::move(m));
+    }
+
+    // Rocks on a grid, 10 per row (fewer if there are fewer rocks), 12 m apart.
+    const uint64_t perRock = std::max<uint64_t>(8, o.targetTriangles / objects);
+    const auto rings = uint32_t(
+        std::clamp(std::round(0.5 + std::sqrt(0.25 + double(perRock) / 4.0)), 2.0, 4096.0));
+    const uint32_t columns = std::min(objects, 10u);
+    const uint32_t rows = (objects + columns - 1) / columns;
+    constexpr float kSpacing = 12.0f;
+    Pcg32 rng(o.seed, kStreamLoadTestRocks);
+    for (uint32_t n = 0; n < objects; ++n) {
+        const RockShape shape{rng.uniform(3.0f, 5.0f),
+                              {rng.uniform(0, 100), rng.uniform(0, 100), rng.uniform(0, 100)},
+                              seed ^ 0x0C0FFEEu};
+        const float yaw = rng.uniform(0, 2 * kPi);
+        Mesh m;
+        m.name = "rock-" + std::to_string(n);
+        m.primitives.push_back(rockPrimitive(shape, rings, n % materials));
+        const float x = (float(n % columns) - float(columns - 1) / 2) * kSpacing;
+        const float z = (float(n / columns) - float(rows - 1) / 2) * kSpacing;
+        std::string name = m.name;
+        addNode(doc, meshNode(name, addMesh(doc, std::move(m)), {x, 0.8f * shape.radius, z},
+                              gltf::rotationY(yaw)));
+    }
+
+    const float halfX = float(columns) * kSpacing / 2, halfZ = float(rows) * kSpacing / 2;
+    addCamera(doc, "overview-camera", {0, 0.9f * halfX, halfZ + 1.1f * halfX},
+              {0, -0.9f * halfX, -1.1f * halfX}, radians(50), 16.0f / 9.0f, 0.5f,
+              8.0f * (halfX + halfZ));
+    addSun(doc, sunDirection(radians(45), radians(30)), {0, 0, 0}, 2.0f * (halfX + halfZ),
+           {1.0f, 0.96f, 0.9f}, 3.0f);
+    return doc;
+}
+
+// [SECTION] light-field -------------------------------------------------------------------------
+
+gltf::Document buildLightField(const LightFieldOptions& o) {
+    Document doc;
+    doc.sceneName = "light-field";
+    const float size = o.sizeMeters, half = size / 2;
+    const uint32_t boxes = std::max(1u, o.boxesPerSide);
+    const float cell = size / float(boxes);
+
+    const uint32_t floorMaterial =
+        addMaterial(doc, makeMaterial("floor", {0.6f, 0.6f, 0.6f}, 0.6f));
+    constexpr Float3 kBoxColors[] = {
+        {0.7f, 0.25f, 0.2f}, {0.25f, 0.55f, 0.3f}, {0.25f, 0.35f, 0.7f}, {0.75f, 0.7f, 0.6f}};
+    std::vector<int32_t> boxMeshes;
+    for (size_t k = 0; k < std::size(kBoxColors); ++k) {
+        const uint32_t mat = addMaterial(
+            doc, makeMaterial("box-" + std::to_string(k), kBoxColors[k], 0.4f + 0.1f * float(k)));
+        boxMeshes.push_back(
+            addMesh(doc, boxesMesh("unit-box-" + std::to_string(k),
+                                   {{{-0.5f, 0, -0.5f}, {0.5f, 1, 0.5f}}}, 1.0f, mat, mat)));
+    }
+
+    Mesh floorMesh;
+    floorMesh.name = "floor";
+    floorMesh.primitives.resize(1);
+    floorMesh.primitives[0].material = floorMaterial;
+    const uint32_t n = std::max(1u, o.floorSubdivisions);
+    addGrid(floorMesh.primitives[0], {-half, 0, -half}, {0, 0, size}, {size, 0, 0}, n, n, false);
+    addNode(doc, meshNode("floor", addMesh(doc, std::move(floorMesh))));
+
+    Pcg32 boxRng(o.seed, kStreamLightFieldBoxes);
+    for (uint32_t j = 0; j < boxes; ++j)
+        for (uint32_t i = 0; i < boxes; ++i) {
+            const float w = boxRng.uniform(0.3f, 0.6f) * cell,
+                        d = boxRng.uniform(0.3f, 0.6f) * cell;
+            const float h = boxRng.uniform(1.0f, 4.0f);
+            const uint32_t colour = boxRng.below(uint32_t(boxMeshes.size()));
+            Node node =
+                meshNode("box-" + std::to_string(i) + "-" + std::to_string(j), boxMeshes[colour],
+                         {-half + (float(i) + 0.5f) * cell, 0, -half + (float(j) + 0.5f) * cell});
+            node.scale = {w, h, d};
+            addNode(doc, std::move(node));
+        }
+
+    // Point lights on a jittered grid over the floor, above every box.
+    constexpr Float3 kLightColors[] = {{1.0f, 0.85f, 0.6f}, {0.6f, 0.75f, 1.0f},
+                                       {1.0f, 0.6f, 0.5f},  {0.7f, 1.0f, 0.7f},
+                                       {1.0f, 1.0f, 1.0f},  {0.9f, 0.7f, 1.0f}};
+    const uint32_t lights = std::min(o.lights, 4096u);
+    if (lights > 0) {
+        const auto side = uint32_t(std::ceil(std::sqrt(double(lights))));
+        const float lightCell = size / float(side);
+        const float range = std::max(6.0f, 2.5f * lightCell);
+        const float intensity = 120.0f / std::sqrt(float(lights));
+        Pcg32 lightRng(o.seed, kStreamLightFieldLights);
+        for (uint32_t k = 0; k < lights; ++k) {
+            const float x =
+                -half + (float(k % side) + 0.5f + lightRng.uniform(-0.35f, 0.35f)) * lightCell;
+            const float z =
+                -half + (float(k / side) + 0.5f + lightRng.uniform(-0.35f, 0.35f)) * lightCell;
+            const float y = lightRng.uniform(4.5f, 6.0f);
+            const std::string name = "point-light-" + std::to_string(k);
+            doc.lights.push_back({.name = name,
+                                  .type = gltf::LightType::Point,
+                                  .color = kLightColors[k % std::size(kLightColors)],
+                                  .intensity = intensity,
+                                  .range = range});
+            Node l;
+            l.name = name;
+            l.translation = {x, y, z};
+            l.light = int32_t(doc.lights.size() - 1);
+            addNode(doc, std::move(l));
+        }
+    }
+
+    addCamera(doc, "low-camera", {0, 3.0f, 0.45f * size}, {0, -2.5f, -0.6f * size}, radians(55),
+              16.0f / 9.0f, 0.1f, 4.0f * size);
+    addSun(doc, sunDirection(radians(40), radians(20)), {0, 0, 0}, size, {0.7f, 0.75f, 1.0f}, 0.3f);
+    return doc;
+}
+
 // [SECTION] Registry ----------------------------------------------------------------------------
 
 namespace {
@@ -995,6 +1312,9 @@ constexpr ProceduralScene kScenes[] = {
     {"terrain", "512x512 fractal heightfield with floating slabs and arches, far plane 8 km"},
     {"grazing-plane", "large plane with poles and boxes under a 3-degree sun (acne, "
                       "peter-panning)"},
+    {"load-test", "~1M triangles in 50 rock meshes, ten 1024^2 textures (load benchmark; big)"},
+    {"light-field", "floor and 64 boxes lit by N point lights (--lights N, default 8; "
+                    "deferred vs forward benchmark)"},
 };
 
 uint32_t sqrtRound(double v) {
@@ -1043,6 +1363,22 @@ std::optional<gltf::Document> buildProceduralScene(std::string_view name,
             o.planeSubdivisions = sqrtRound(double(target > props ? target - props : 0) / 2.0);
         }
         return buildGrazingPlane(o);
+    }
+    if (name == "load-test") {
+        LoadTestOptions o;
+        o.seed = request.seed;
+        if (target) o.targetTriangles = target;
+        return buildLoadTest(o);
+    }
+    if (name == "light-field") {
+        // Boxes are 12 triangles each; the floor is 2 per quad.
+        LightFieldOptions o;
+        o.seed = request.seed;
+        if (request.lights) o.lights = *request.lights;
+        const uint64_t boxes = 12ull * o.boxesPerSide * o.boxesPerSide;
+        if (target)
+            o.floorSubdivisions = sqrtRound(double(target > boxes ? target - boxes : 0) / 2.0);
+        return buildLightField(o);
     }
     return std::nullopt;
 }

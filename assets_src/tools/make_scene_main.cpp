@@ -1,6 +1,6 @@
 // pnb-make-scene: writes a procedural source scene (procedural_scenes.h) as a glTF binary.
 //
-//   pnb-make-scene NAME OUT.glb [--triangles N] [--seed N]
+//   pnb-make-scene NAME OUT.glb [--triangles N] [--seed N] [--lights N]
 //   pnb-make-scene --list
 //
 // Exit codes: 0 ok, 2 usage error, 4 output error. Output is deterministic: the same arguments
@@ -21,11 +21,12 @@ namespace {
 
 void printUsage(std::FILE* out) {
     std::fprintf(out,
-                 "usage: pnb-make-scene NAME OUT.glb [--triangles N] [--seed N]\n"
+                 "usage: pnb-make-scene NAME OUT.glb [--triangles N] [--seed N] [--lights N]\n"
                  "       pnb-make-scene --list\n"
                  "\n"
                  "  --triangles N  approximate rendered triangle count (default: the scene's)\n"
                  "  --seed N       layout seed, 0..2^64-1 (default 1; box-room ignores it)\n"
+                 "  --lights N     point lights, 0..4096 (light-field only; default 8)\n"
                  "  --list         print the scene names with a one-line description\n");
 }
 
@@ -65,6 +66,14 @@ int main(int argc, char** argv) {
             }
             ++i;
             (a == "--triangles" ? request.targetTriangles : request.seed) = v;
+        } else if (a == "--lights") {
+            uint64_t v = 0;
+            if (i + 1 >= argc || !parseU64(argv[i + 1], v) || v > 4096) {
+                std::fprintf(stderr, "Error: --lights takes a number from 0 to 4096\n");
+                return 2;
+            }
+            ++i;
+            request.lights = uint32_t(v);
         } else if (!a.empty() && a[0] != '-' && name.empty()) {
             name = a;
         } else if (!a.empty() && a[0] != '-' && out.empty()) {
@@ -77,6 +86,11 @@ int main(int argc, char** argv) {
     if (name.empty() || out.empty()) {
         std::fprintf(stderr, "Error: need a scene name and an output file\n");
         printUsage(stderr);
+        return 2;
+    }
+
+    if (request.lights && name != "light-field") {
+        std::fprintf(stderr, "Error: --lights applies to light-field only\n");
         return 2;
     }
 

@@ -23,7 +23,8 @@ public:
     explicit GlfwContext(GLFWwindow* window) : mWindow(window) {}
     ~GlfwContext() override {
         glfwDestroyWindow(mWindow);
-        glfwTerminate();
+        // No glfwTerminate: it unloads the GL driver, whose one-time allocations LeakSanitizer
+        // then reports from an unknown module (as with eglTerminate in gl_context_egl.cpp).
     }
     bool isWindow() const override { return true; }
     bool shouldClose() const override { return glfwWindowShouldClose(mWindow); }

@@ -83,6 +83,8 @@ void Renderer::setSettings(const RenderSettings& settings) {
 
 TargetMemory Renderer::targetMemory() const { return mImpl->targets.memory; }
 
+GLuint Renderer::outputTexture() const { return mImpl->targets.output.id(); }
+
 PlayResult<Done> Renderer::render(const CameraState& camera, uint32_t width, uint32_t height) {
     auto cpuStart = std::chrono::steady_clock::now();
     Impl& impl = *mImpl;

@@ -217,6 +217,9 @@ std::string validateRest(const ParsedGlb& g) {
                 m["pbrMetallicRoughness"].contains("baseColorTexture") &&
                 !validRef(m["pbrMetallicRoughness"]["baseColorTexture"], "index", j, "textures"))
                 return "baseColorTexture out of range";
+            if (m.contains("normalTexture") &&
+                !validRef(m["normalTexture"], "index", j, "textures"))
+                return "normalTexture out of range";
         }
     if (j.contains("textures"))
         for (const json& t : j["textures"])

@@ -115,6 +115,9 @@ TEST(GltfWriter, ValidateDocumentNamesTheProblem) {
     d.meshes[0].primitives[0].material = 3;
     EXPECT_NE(validateDocument(d).find("material"), std::string::npos);
     d = fanDocument(4);
+    d.materials[0].normalImage = 0; // no images
+    EXPECT_NE(validateDocument(d).find("normalImage out of range"), std::string::npos);
+    d = fanDocument(4);
     d.nodes.push_back({.name = "a", .children = {0}});
     d.nodes.push_back({.name = "b", .children = {0}});
     EXPECT_NE(validateDocument(d).find("more than one parent"), std::string::npos);

@@ -28,7 +28,9 @@ contains() {
 }
 
 expect 0 --list
-for scene in street-canyon flat-city box-room terrain grazing-plane; do contains out "$scene"; done
+for scene in street-canyon flat-city box-room terrain grazing-plane load-test light-field; do
+    contains out "$scene"
+done
 expect 0 --help
 contains out "usage: pnb-make-scene"
 
@@ -43,11 +45,17 @@ expect 2 box-room "$dir/x.glb" --triangles -5
 expect 2 box-room "$dir/x.glb" --seed 12abc
 expect 2 box-room "$dir/x.glb" --bogus
 expect 2 box-room "$dir/x.glb" extra-argument
+expect 2 box-room "$dir/x.glb" --lights 3
+contains err "light-field only"
+expect 2 light-field "$dir/x.glb" --lights 4097
+expect 2 light-field "$dir/x.glb" --lights
 [ -e "$dir/x.glb" ] && { echo "FAIL: a usage error wrote a file" >&2; status=1; }
 
 expect 4 box-room "$dir/no/such/dir/x.glb"
 contains err "Error:"
 
+expect 0 light-field "$dir/lights.glb" --lights 3
+contains out "light-field"
 expect 0 street-canyon "$dir/canyon.glb" --triangles 20000 --seed 7
 contains out "triangles rendered"
 size=$(wc -c <"$dir/canyon.glb" | tr -d ' ')

@@ -8,6 +8,8 @@
 #include <map>
 #include <numbers>
 #include <set>
+#include <utility>
+#include <vector>
 
 #include "glb_check.h"
 #include "pnb/scene_builder.h"
@@ -112,10 +114,18 @@ std::vector<Vec3> worldVertices(const Encoded& e, const std::string& prefix) {
     return out;
 }
 
-std::vector<std::string> sceneNames() {
+std::vector<std::string> allSceneNames() {
     std::vector<std::string> names;
     for (const assets::ProceduralScene& s : assets::proceduralScenes())
         names.emplace_back(s.name);
+    return names;
+}
+
+// The scenes the every-scene tests build with default options: all but load-test, whose default
+// (~1 M triangles, ten 1024² textures) is benchmark-sized; it is tested with small options below.
+std::vector<std::string> sceneNames() {
+    std::vector<std::string> names = allSceneNames();
+    std::erase(names, "load-test");
     return names;
 }
 
@@ -153,17 +163,17 @@ INSTANTIATE_TEST_SUITE_P(All, ProceduralScenes, testing::ValuesIn(sceneNames()),
                              return n;
                          });
 
-TEST(ProceduralScenesRegistry, ListsFiveScenesAndRejectsUnknownNames) {
-    std::vector<std::string> names = sceneNames();
+TEST(ProceduralScenesRegistry, ListsEverySceneAndRejectsUnknownNames) {
+    std::vector<std::string> names = allSceneNames();
     EXPECT_EQ(names, (std::vector<std::string>{"street-canyon", "flat-city", "box-room", "terrain",
-                                               "grazing-plane"}));
+                                               "grazing-plane", "load-test", "light-field"}));
     for (const assets::ProceduralScene& s : assets::proceduralScenes())
         EXPECT_FALSE(s.summary.empty());
     EXPECT_FALSE(assets::buildProceduralScene("no-such-scene", {}).has_value());
 }
 
 TEST(ProceduralScenesRegistry, SeedChangesTheLayout) {
-    for (const char* name : {"street-canyon", "flat-city", "terrain", "grazing-plane"}) {
+    for (const char* name : {"street-canyon", "flat-city", "terrain", "grazing-plane", "light-field"}) {
         assets::SceneRequest other;
         other.seed = 2;
         std::optional<Document> doc = assets::buildProceduralScene(name, other);
@@ -183,7 +193,7 @@ TEST(ProceduralScenesRegistry, TriangleTargetsAreMet) {
     const Case cases[] = {{"street-canyon", 10000, 0.05}, {"street-canyon", 40000, 0.05},
                           {"flat-city", 100000, 0.05},    {"flat-city", 2000000, 0.05},
                           {"terrain", 200000, 0.05},      {"box-room", 5000, 0.10},
-                          {"grazing-plane", 20000, 0.10}};
+                          {"grazing-plane", 20000, 0.10}, {"light-field", 20000, 0.05}};
     for (const Case& c : cases) {
         assets::SceneRequest r;
         r.targetTriangles = c.target;
@@ -488,6 +498,110 @@ TEST(ProceduralGrazingPlane, SunGrazesAndTheFloatingBoxHovers) {
     // The thin poles' shadows are more than 50 m long.
     auto poles = boundsOf(e, {"poles"});
     EXPECT_GT(poles[0].second.max[1] / std::tan(elevation / kRadToDeg), 50.0);
+}
+
+// --- load-test (small options: the default is benchmark-sized) ---------------------------------
+
+assets::LoadTestOptions smallLoadTest() {
+    assets::LoadTestOptions o;
+    o.targetTriangles = 24000;
+    o.objects = 6;
+    o.materials = 2;
+    o.textureSize = 32;
+    return o;
+}
+
+// Width and height from a PNG's IHDR chunk.
+std::pair<uint32_t, uint32_t> pngSize(const ParsedGlb& g, const nlohmann::json& image) {
+    const nlohmann::json& v = g.json["bufferViews"][image["bufferView"].get<size_t>()];
+    const uint8_t* p = g.bin.data() + v.value("byteOffset", size_t(0)) + 16;
+    auto be32 = [](const uint8_t* b) {
+        return uint32_t(b[0]) << 24 | uint32_t(b[1]) << 16 | uint32_t(b[2]) << 8 | b[3];
+    };
+    return {be32(p), be32(p + 4)};
+}
+
+TEST(ProceduralLoadTest, SeparateMeshesTexturedMaterialsAndTheTriangleTarget) {
+    const assets::LoadTestOptions o = smallLoadTest();
+    const Encoded e = encodeAndCheck(assets::buildLoadTest(o));
+    ASSERT_FALSE(e.world.empty());
+    EXPECT_EQ(e.stats.renderedTriangles, e.stats.uniqueTriangles) << "no instancing";
+    EXPECT_NEAR(double(e.stats.renderedTriangles), double(o.targetTriangles),
+                0.05 * double(o.targetTriangles));
+    const nlohmann::json& j = e.glb.json;
+    std::set<size_t> meshes;
+    for (const auto& n : j["nodes"])
+        if (n.value("name", "").rfind("rock-", 0) == 0) meshes.insert(n["mesh"].get<size_t>());
+    EXPECT_EQ(meshes.size(), o.objects) << "one mesh per rock";
+    ASSERT_EQ(j["images"].size(), 2 * o.materials);
+    for (const auto& im : j["images"])
+        EXPECT_EQ(pngSize(e.glb, im), (std::pair{o.textureSize, o.textureSize}));
+    ASSERT_EQ(j["materials"].size(), o.materials);
+    std::set<int> used;
+    for (const auto& m : j["materials"]) {
+        used.insert(m["pbrMetallicRoughness"]["baseColorTexture"]["index"].get<int>());
+        used.insert(m["normalTexture"]["index"].get<int>());
+    }
+    EXPECT_EQ(used.size(), 2 * o.materials) << "every texture is used, once";
+    for (const auto& mesh : j["meshes"])
+        for (const auto& prim : mesh["primitives"])
+            EXPECT_TRUE(prim["attributes"].contains("TEXCOORD_0")) << "normal maps need UVs";
+    EXPECT_NEAR(sunElevationDegrees(e), 45.0, 1e-3);
+}
+
+TEST(ProceduralLoadTest, DeterministicAndSeeded) {
+    const std::vector<uint8_t> a = assets::gltf::encodeGlb(assets::buildLoadTest(smallLoadTest()));
+    EXPECT_TRUE(a == assets::gltf::encodeGlb(assets::buildLoadTest(smallLoadTest())));
+    assets::LoadTestOptions other = smallLoadTest();
+    other.seed = 2;
+    EXPECT_FALSE(a == assets::gltf::encodeGlb(assets::buildLoadTest(other)));
+}
+
+// --- light-field --------------------------------------------------------------------------------
+
+TEST(ProceduralLightField, PointLightsWithRangesAboveTheBoxesAndTheSameGeometryForAnyCount) {
+    assets::SceneRequest r;
+    r.lights = 64;
+    std::optional<Document> many = assets::buildProceduralScene("light-field", r);
+    ASSERT_TRUE(many);
+    const Encoded e = encodeAndCheck(*many);
+    const Encoded& few = defaultScene("light-field");
+    const nlohmann::json& lights = e.glb.json["extensions"]["KHR_lights_punctual"]["lights"];
+    size_t points = 0;
+    for (const auto& l : lights)
+        if (l["type"] == "point") {
+            ++points;
+            EXPECT_GT(l["range"].get<double>(), 0.0);
+        }
+    EXPECT_EQ(points, 64u);
+    EXPECT_EQ(lights.size(), 65u) << "and the sun";
+    size_t defaultLights = few.glb.json["extensions"]["KHR_lights_punctual"]["lights"].size();
+    EXPECT_EQ(defaultLights, 9u) << "8 point lights by default, and the sun";
+
+    auto boxes = boundsOf(e, {"box-"});
+    ASSERT_EQ(boxes.size(), 64u);
+    double tallest = 0;
+    for (const auto& [name, box] : boxes)
+        tallest = std::max(tallest, box.max[1]);
+    auto floor = boundsOf(e, {"floor"});
+    ASSERT_EQ(floor.size(), 1u);
+    const nlohmann::json& nodes = e.glb.json["nodes"];
+    for (size_t i = 0; i < nodes.size(); ++i) {
+        if (nodes[i].value("name", "").rfind("point-light-", 0) != 0) continue;
+        Vec3 p = test::transformPoint(e.world[i], {0, 0, 0});
+        EXPECT_GT(p[1], tallest) << "above every box";
+        EXPECT_TRUE(p[0] >= floor[0].second.min[0] && p[0] <= floor[0].second.max[0] &&
+                    p[2] >= floor[0].second.min[2] && p[2] <= floor[0].second.max[2]);
+    }
+    // The light count does not move or change the geometry.
+    auto fewBoxes = boundsOf(few, {"box-", "floor"});
+    auto manyBoxes = boundsOf(e, {"box-", "floor"});
+    ASSERT_EQ(fewBoxes.size(), manyBoxes.size());
+    for (size_t i = 0; i < fewBoxes.size(); ++i) {
+        EXPECT_EQ(fewBoxes[i].first, manyBoxes[i].first);
+        EXPECT_EQ(fewBoxes[i].second.min, manyBoxes[i].second.min);
+        EXPECT_EQ(fewBoxes[i].second.max, manyBoxes[i].second.max);
+    }
 }
 
 } // namespace

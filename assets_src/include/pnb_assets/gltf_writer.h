@@ -64,6 +64,9 @@ struct Material {
     Float3 emissiveFactor{0, 0, 0}; // linear RGB, each in [0, 1]
     int32_t baseColorImage = kNone; // index into Document::images, or kNone. The texture
                                     // uses a repeat-wrap, trilinear sampler.
+    int32_t normalImage = kNone;    // tangent-space normal map (glTF normalTexture, scale 1),
+                                    // or kNone. No TANGENT is written: the converter derives
+                                    // tangents from uv0, so primitives using it need uv0.
 };
 
 // One triangle list with one material. Vertex arrays are parallel: normals.size() ==

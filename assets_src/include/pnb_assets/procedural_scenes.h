@@ -12,17 +12,25 @@
 //   terrain        fractal heightfield with floating slabs and arches, far plane kilometres away
 //   grazing-plane  a large plane with poles and boxes under a 3° sun (shadow acne and
 //                  peter-panning)
+//   load-test      ~1 M triangles in 50 separate rock meshes with ten 1024² textures (base
+//                  colour + normal maps): the player's load-time benchmark (scripts/bench-load)
+//   light-field    a floor with a grid of boxes lit by N point lights with ranges: deferred vs
+//                  forward shading cost against the light count (scripts/bench-lights)
+//
+// load-test and light-field exist for benchmarks: they are not generated at build time (not in
+// assets_src/CMakeLists.txt's PNB_PROCEDURAL_SCENES), the benchmark scripts make them.
 //
 // Conventions: glTF's (metres, +Y up, right-handed, cameras and lights look along local -Z).
 // Every scene's first camera is the intended view. Every scene has one directional light on a
 // node named "sun" with intensity 3: the artist-scale value box_room.cpp uses, not physical
-// daylight (~100 000 lux), so all bundled scenes share one exposure. Scenes with a "seed" use a seeded PCG32
-// generator with our own integer-to-float mapping (never std::random_device or std::*
+// daylight (~100 000 lux), so all bundled scenes share one exposure. Scenes with a "seed" use a
+// seeded PCG32 generator with our own integer-to-float mapping (never std::random_device or std::*
 // distributions, whose outputs differ between standard libraries), so the same options give the
 // same Document and the same .glb bytes with a given build. (Across libm versions, sin/cos/pow
 // may differ in the last bit; the layouts do not depend on that.)
 //
-// Does NOT do: write files (see gltf_writer.h), animation, textures beyond small checkers.
+// Does NOT do: write files (see gltf_writer.h), animation, textures beyond small checkers
+// (except load-test's procedural noise textures).
 #pragma once
 
 #include <cstdint>
@@ -121,6 +129,42 @@ struct GrazingPlaneOptions {
 };
 gltf::Document buildGrazingPlane(const GrazingPlaneOptions& options = {});
 
+// load-test: a big, texture-heavy scene for load-time measurements. `objects` rocks (UV spheres
+// displaced by 3D value noise, so seamless; analytic-gradient normals; spherical UVs repeating
+// 4 x 2 times), each its own mesh and node (no instancing: every triangle is stored), on a grid
+// ("rock-<n>"), with ~targetTriangles in total. `materials` materials ("rock-material-<k>"),
+// each with its own base-colour texture (RGB noise in a per-material palette) and tangent-space
+// normal map (from a noise heightfield); both tile seamlessly. Rock n uses material n % materials.
+// Images: base colours first, then normal maps, `textureSize`² RGB, stored-deflate PNGs
+// (png_writer.h: ~3 MiB each at 1024², so the .glb is large and its PNGs decode faster than a
+// real encoder's would). A camera overlooking the grid and a sun at 45°.
+struct LoadTestOptions {
+    uint64_t seed = 1;
+    uint64_t targetTriangles = 1000000; // stored = rendered. Default 1 000 000.
+    uint32_t objects = 50;              // Default 50.
+    uint32_t materials = 5;             // each with 2 textures. Default 5 (10 textures).
+    uint32_t textureSize = 1024;        // texels a side. Default 1024.
+};
+gltf::Document buildLoadTest(const LoadTestOptions& options = {});
+
+// light-field: a square floor with a `boxesPerSide`² grid of boxes (footprint 30-60 % of a
+// cell, heights 1-4 m; one unit-box mesh per colour, scaled by each node: "box-<i>-<j>"), lit
+// by `lights` point lights ("point-light-<n>") on a jittered ceil(sqrt(lights))² grid, 4.5-6 m
+// above the floor (above every box), each with a finite range (2.5 light-grid cells, at least
+// 6 m) and a colour from a fixed palette; intensity falls with sqrt(lights) so the image stays
+// in range. A dim sun (intensity 0.3; every scene has a "sun") and a camera looking across the
+// field at a low angle, so boxes hide each other (overdraw for forward shading). Every material
+// is OPAQUE (the converter places them deferred; a sidecar can move them forward). Geometry and
+// its layout do not depend on `lights` (the lights draw from their own random stream).
+struct LightFieldOptions {
+    uint64_t seed = 1;
+    uint32_t lights = 8;             // point lights, 0..4096. Default 8.
+    uint32_t boxesPerSide = 8;       // Default 8 (64 boxes, 12 triangles each).
+    float sizeMeters = 64.0f;        // floor edge. Default 64.
+    uint32_t floorSubdivisions = 16; // floor quads per edge. Default 16.
+};
+gltf::Document buildLightField(const LightFieldOptions& options = {});
+
 // --- Registry (what pnb-make-scene lists) -----------------------------------------------------
 
 struct ProceduralScene {
@@ -131,8 +175,9 @@ struct ProceduralScene {
 std::span<const ProceduralScene> proceduralScenes();
 
 struct SceneRequest {
-    uint64_t targetTriangles = 0; // 0 = the scene's default detail
-    uint64_t seed = 1;            // ignored by box-room
+    uint64_t targetTriangles = 0;   // 0 = the scene's default detail
+    uint64_t seed = 1;              // ignored by box-room
+    std::optional<uint32_t> lights; // point lights; light-field only (others ignore it)
 };
 // Builds the named scene. targetTriangles maps onto each scene's detail knob (facade cells,
 // grid resolution or subdivisions); the result is as close as that knob allows. Returns nullopt

@@ -82,6 +82,9 @@ public:
 
     PlayResult<CapturedImage> capture(CaptureBuffer buffer);
 
+    // The sRGB output texture of the last frame (for a UI that shows it as an image), or 0.
+    GLuint outputTexture() const;
+
     const FrameStats& lastFrame() const { return mStats; }
     GpuTimer& timer() { return mTimer; }
     TargetMemory targetMemory() const;
