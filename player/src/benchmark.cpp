@@ -149,7 +149,7 @@ PlayResult<BenchResult> runBenchmark(const GpuScene& scene, Renderer& renderer,
         }
         renderer.timer().completed().clear();
     };
-    for (uint32_t k = 0; k < frames; ++k) {
+    for (uint32_t k = 0; k < frames && k <= options.lastFrame; ++k) {
         double t = options.fixedDt
                        ? double(k) * dt
                        : std::chrono::duration<double>(std::chrono::steady_clock::now() - wallStart).count();

@@ -264,8 +264,12 @@ int main(int argc, char** argv) {
     if (!args.quiet) std::printf("time to first frame: %.1f ms (process start to finished frame)\n", load.firstFrameMs);
 
     if (args.bench || !window) {
-        if (!args.bench && args.frames == 0)
-            bo.frames = args.frame + 1; // headless screenshot/dump/smoke run: just enough frames
+        // Headless screenshot/dump/smoke run: frame times as a run of --frames would have them,
+        // but stop once the requested frame is done.
+        if (!args.bench) {
+            if (args.frames == 0) bo.frames = args.frame + 1;
+            bo.lastFrame = args.frame;
+        }
         std::function<bool()> present;
         if (window)
             present = [&] {

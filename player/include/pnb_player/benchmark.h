@@ -36,6 +36,7 @@ struct BenchOptions {
     std::optional<CameraState> staticCamera; // set: no path, this camera for every frame
     uint32_t frames = 0;         // 0 = as many as the path (or `seconds`) takes
     double seconds = 0;          // stop after this much path time; 0 = the whole path
+    uint32_t lastFrame = ~0u;    // stop after this frame (captures without a full run)
     bool fixedDt = false;        // frame k at path time k * dt
     double dt = 1.0 / 60.0;      // with fixedDt (when `frames` is given: duration / frames)
     uint32_t width = 512, height = 288;
