@@ -2,6 +2,9 @@
 
 #include "pnb/writer.h"
 
+#include "pnb/reader.h"
+
+#include <algorithm>
 #include <atomic>
 #include <cerrno>
 #include <cstring>
@@ -139,6 +142,41 @@ Status Writer::addChunk(Tag tag, uint16_t version, std::span<const std::byte> ra
     uint64_t offset = w.size;
     if (Status s = w.write(encodeChunkHeader(h)); !isOk(s)) return s;
     if (Status s = w.write(stored); !isOk(s)) return s;
+    if (Status s = w.pad(); !isOk(s)) return s;
+    w.toc.push_back(TocEntry{h.tag, h.version, h.flags, offset, h.storedSize, h.rawSize,
+                             h.payloadChecksum});
+    return {};
+}
+
+Status Writer::copyChunk(const Container& source, const ChunkInfo& chunk) {
+    Impl& w = *mImpl;
+    if (w.failed || w.committed)
+        return makeError(FormatError::IoError, w.size, "writer is closed after an earlier error");
+    if (chunk.header.tag == tags::kToc)
+        return makeError(FormatError::BadToc, chunk.headerOffset,
+                         "the table of contents is not copied: commit() writes its own");
+    // Re-checks the header against the source's index and, if the source says so, the checksum.
+    auto stored = source.stored(chunk);
+    if (!stored) return stored.error();
+    ChunkHeader h = chunk.header;
+    h.sequence = uint32_t(w.toc.size());
+    uint64_t offset = w.size;
+    if (Status s = w.write(encodeChunkHeader(h)); !isOk(s)) return s;
+    // Through a 1 MiB bounce buffer rather than write(2) straight from the source's mapping:
+    // measured on 128 MiB chunks (Linux 6.x, ext4), the direct write usually ran at copy_file
+    // speed but now and then 5-10x slower inside the kernel's copy from the mapped pages; the
+    // extra memcpy costs a few percent and was steady.
+    constexpr size_t kBounce = size_t(1) << 20;
+    if (w.memory || stored->size() <= kBounce) {
+        if (Status s = w.write(*stored); !isOk(s)) return s;
+    } else {
+        w.scratch.resize(kBounce);
+        for (size_t done = 0; done < stored->size(); done += kBounce) {
+            size_t n = std::min(kBounce, stored->size() - done);
+            std::memcpy(w.scratch.data(), stored->data() + done, n);
+            if (Status s = w.write({w.scratch.data(), n}); !isOk(s)) return s;
+        }
+    }
     if (Status s = w.pad(); !isOk(s)) return s;
     w.toc.push_back(TocEntry{h.tag, h.version, h.flags, offset, h.storedSize, h.rawSize,
                              h.payloadChecksum});

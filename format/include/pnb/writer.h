@@ -1,7 +1,8 @@
 // pnb/writer.h — writing a container: deterministic bytes, atomic replacement of the target.
 //
 // Does NOT do: typed payload encoding (chunks.h); ordering policy (the caller adds chunks in the
-// streamable order of FORMAT.md §4.1; scene.h readScene checks it).
+// streamable order of FORMAT.md §4.1; scene.h readScene checks it). Copied chunks (copyChunk)
+// are taken as they are: the writer does not check that their references still hold.
 //
 // Chunks are written as they are added, so memory stays bounded by one chunk. The file is built
 // under a temporary name in the target's directory, then fsync'ed and renamed over the target by
@@ -19,6 +20,8 @@
 #include "pnb/error.h"
 
 namespace pnb {
+
+class Container; // reader.h
 
 struct WriteOptions {
     // Store an XXH3 checksum of every payload. Default: true. The TOC always has one.
@@ -45,6 +48,17 @@ public:
     // destruction is valid.
     Status addChunk(Tag tag, uint16_t version, std::span<const std::byte> raw,
                     Compression compression = Compression::None);
+    // Appends `chunk` of `source` as it is stored there: the same tag, version, flags
+    // (compression and checksum bit), stored and raw sizes, payload checksum and payload bytes.
+    // Only the sequence number and the header checksum are this writer's. The payload is neither
+    // decompressed nor re-compressed nor re-hashed by the writer: `source.stored()` supplies it,
+    // and verifies its checksum if `source.options().verifyChecksums` (so a copy of a damaged
+    // chunk fails with ChecksumMismatch instead of spreading the damage). WriteOptions do not
+    // apply: a chunk without a checksum stays without one. Rewriting a file chunk by chunk with
+    // copyChunk gives a byte-identical file.
+    // Preconditions: `chunk` is one of `source.chunks()` (so never the TOCX). Errors: the
+    // source's (BadToc, ChecksumMismatch), IoError (disk, after which only destruction is valid).
+    Status copyChunk(const Container& source, const ChunkInfo& chunk);
     // Writes the TOC and footer, flushes, fsyncs and renames into place. Call once.
     Status commit();
 

@@ -1,0 +1,509 @@
+// pnb-edit: the material editor. With batch options it edits a container's materials without a
+// window, through the same pnb::editor::Document the GUI uses; without them it starts the GUI
+// (gui.h). Only argument parsing and printing live here; the option table below is the single
+// description of the options and prints --help.
+//
+// Batch mode is all or nothing: every import and every --set must succeed (one undo step in the
+// document, one atomic save) or the file is not touched.
+
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <functional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "gui.h"
+#include "pnb/material_fields.h"
+#include "pnb_editor/document.h"
+#include "pnb_editor/set_expression.h"
+
+namespace {
+
+using pnb::editor::Document;
+
+constexpr int kExitOk = 0, kExitUsage = 1, kExitInput = 2, kExitUnsupported = 3,
+              kExitOutput = 4;
+
+struct Import {
+    std::string name, image;
+    bool srgb = true;
+};
+
+struct Settings {
+    std::string input;
+    std::string output; // "" = in place
+    bool list = false, json = false, quiet = false;
+    std::vector<std::string> sets;
+    std::vector<Import> imports;
+
+    bool batch() const { return list || !sets.empty() || !imports.empty() || !output.empty(); }
+};
+
+// Declarative option table: it parses the command line and prints --help (STYLE.md §16).
+struct Option {
+    const char* section;
+    const char* name; // "--list", or "-o, --output"
+    const char* arg;  // nullptr for flags
+    const char* help;
+    std::function<bool(Settings&, const char*)> apply; // false: malformed argument
+};
+
+bool parseImport(const char* text, Import& out) {
+    std::string_view a = text;
+    size_t eq = a.find('=');
+    if (eq == std::string_view::npos || eq == 0 || eq + 1 == a.size()) return false;
+    out.name = std::string(a.substr(0, eq));
+    std::string_view image = a.substr(eq + 1);
+    out.srgb = true;
+    if (image.size() > 5 && image.substr(image.size() - 5) == ":srgb") {
+        image.remove_suffix(5);
+    } else if (image.size() > 7 && image.substr(image.size() - 7) == ":linear") {
+        image.remove_suffix(7);
+        out.srgb = false;
+    }
+    out.image = std::string(image);
+    return true;
+}
+
+const std::vector<Option>& options() {
+    static const std::vector<Option> table = {
+        {"Batch edits", "--set", "MATERIAL.FIELD=VALUE",
+         "set a field of every material whose name matches MATERIAL ('*' and '?' wildcards), "
+         "e.g. 'glass*.shading_path=forward'; repeatable. All --set options are one edit: all "
+         "apply or none does. Texture fields take a texture name, an index or none",
+         [](Settings& s, const char* a) { s.sets.push_back(a); return true; }},
+        {"Batch edits", "--import-texture", "NAME=IMAGE[:srgb|:linear]",
+         "import an image file (PNG, JPEG, TGA, EXR, ...) as texture NAME, processed as "
+         "pnb-convert does (mips, no compression); :srgb (default) for colour, :linear for "
+         "normal, metallic-roughness and occlusion maps. Repeatable; applied before --set",
+         [](Settings& s, const char* a) {
+             Import i;
+             if (!parseImport(a, i)) return false;
+             s.imports.push_back(i);
+             return true;
+         }},
+        {"Batch edits", "-o, --output", "FILE",
+         "write the result here (default: replace SCENE.pnb in place, atomically)",
+         [](Settings& s, const char* a) { s.output = a; return !s.output.empty(); }},
+        {"Listing", "--list", nullptr,
+         "print every material with every field, the deferred layer order and the textures "
+         "(after the edits, if any)",
+         [](Settings& s, const char*) { s.list = true; return true; }},
+        {"Listing", "--json", nullptr, "with --list: one JSON object instead of text",
+         [](Settings& s, const char*) { s.json = true; return true; }},
+        {"General", "-q, --quiet", nullptr, "print errors only",
+         [](Settings& s, const char*) { s.quiet = true; return true; }},
+    };
+    return table;
+}
+
+bool optionMatches(const Option& o, std::string_view arg) {
+    std::string_view names = o.name;
+    while (!names.empty()) {
+        size_t comma = names.find(", ");
+        if (names.substr(0, comma) == arg) return true;
+        if (comma == std::string_view::npos) break;
+        names.remove_prefix(comma + 2);
+    }
+    return false;
+}
+
+// "  NAME ARG         help text", the help wrapped at 100 columns under itself.
+void printWrapped(std::FILE* f, const std::string& name, std::string_view help) {
+    constexpr size_t kIndent = 34, kWidth = 100;
+    std::string line = "  " + name;
+    if (line.size() + 1 > kIndent) {
+        std::fprintf(f, "%s\n", line.c_str());
+        line.clear();
+    }
+    line.resize(kIndent, ' ');
+    size_t column = kIndent;
+    bool first = true;
+    while (!help.empty()) {
+        size_t space = help.find(' ');
+        std::string_view word = help.substr(0, space);
+        help = space == std::string_view::npos ? std::string_view{} : help.substr(space + 1);
+        if (!first && column + 1 + word.size() > kWidth) {
+            line += "\n" + std::string(kIndent, ' ');
+            column = kIndent;
+        } else if (!first) {
+            line += ' ';
+            ++column;
+        }
+        line += word;
+        column += word.size();
+        first = false;
+    }
+    std::fprintf(f, "%s\n", line.c_str());
+}
+
+void printHelp(std::FILE* f) {
+    std::fprintf(f,
+                 "usage: pnb-edit SCENE.pnb [--list [--json]] [--set MATERIAL.FIELD=VALUE ...]\n"
+                 "                [--import-texture NAME=IMAGE ...] [-o OUT.pnb] [-q]\n"
+                 "       pnb-edit SCENE.pnb          (no batch option: the editor window)\n"
+                 "       pnb-edit SCENE.pnb --ui-set MATERIAL.FIELD=VALUE ... [--ui-save-as OUT.pnb]\n"
+                 "                [--ui-frames N] [--ui-screenshot FILE.png]\n"
+                 "                (a scripted window session through the widgets' own actions)\n\n"
+                 "Edits the materials of a Penumbra container. A save rewrites only the string\n"
+                 "table, the edited materials and what they newly need (programs, textures);\n"
+                 "every other chunk is copied byte for byte.\n");
+    const char* section = "";
+    for (const Option& o : options()) {
+        if (std::strcmp(section, o.section) != 0) {
+            section = o.section;
+            std::fprintf(f, "\n%s:\n", section);
+        }
+        printWrapped(f, std::string(o.name) + (o.arg ? std::string(" ") + o.arg : ""), o.help);
+    }
+    printWrapped(f, "-h, --help", "print this help and exit");
+    std::fprintf(f, "\nMaterial fields (FIELD):\n");
+    for (const pnb::MaterialField& mf : pnb::materialFields()) {
+        std::string kind;
+        char range[64];
+        std::snprintf(range, sizeof(range), " in [%g, %g]", mf.min, mf.max);
+        switch (mf.type) {
+        case pnb::FieldType::Float: kind = std::string("number") + range; break;
+        case pnb::FieldType::Color3: kind = std::string("r,g,b") + range; break;
+        case pnb::FieldType::Color4: kind = std::string("r,g,b,a") + range; break;
+        case pnb::FieldType::Bool: kind = "true|false"; break;
+        case pnb::FieldType::Choice: kind = mf.choices; break;
+        case pnb::FieldType::Integer: kind = std::string("whole number") + range; break;
+        case pnb::FieldType::TextureRef: kind = "texture name, index or none"; break;
+        }
+        printWrapped(f, mf.name,
+                     mf.type == pnb::FieldType::TextureRef ? kind : kind + ": " + mf.help);
+    }
+    std::fprintf(f,
+                 "\nExit codes:\n"
+                 "  %d  ok\n"
+                 "  %d  usage error (unknown option, malformed argument, missing SCENE.pnb)\n"
+                 "  %d  input error (unreadable scene or image, unknown material or field, "
+                 "invalid value);\n"
+                 "     the file is not touched\n"
+                 "  %d  unsupported (a newer format or chunk version than this build reads)\n"
+                 "  %d  output error (the result could not be written; the file is not "
+                 "touched)\n",
+                 kExitOk, kExitUsage, kExitInput, kExitUnsupported, kExitOutput);
+}
+
+int usageError(const std::string& message) {
+    std::fprintf(stderr, "Error: %s (see --help)\n", message.c_str());
+    return kExitUsage;
+}
+
+int inputError(const pnb::Error& e) {
+    std::fprintf(stderr, "Error: %s\n", e.message.c_str());
+    return e.code == pnb::FormatError::UnsupportedVersion ||
+                   e.code == pnb::FormatError::UnsupportedChunkVersion
+               ? kExitUnsupported
+               : kExitInput;
+}
+
+// [SECTION] printing
+
+// Names from the file, made safe for a terminal: control bytes become '?'.
+std::string printable(std::string_view s) {
+    std::string out(s);
+    for (char& c : out)
+        if ((unsigned char)c < 0x20 || c == 0x7F) c = '?';
+    return out;
+}
+
+// A JSON string literal; invalid UTF-8 becomes U+FFFD, so a hostile file cannot break the JSON.
+std::string jsonString(std::string_view s) {
+    std::string out = "\"";
+    for (size_t i = 0; i < s.size();) {
+        unsigned char c = (unsigned char)s[i];
+        if (c < 0x80) {
+            if (c == '"' || c == '\\') out += '\\', out += char(c);
+            else if (c < 0x20) {
+                char buf[8];
+                std::snprintf(buf, sizeof(buf), "\\u%04x", c);
+                out += buf;
+            } else out += char(c);
+            ++i;
+            continue;
+        }
+        size_t n = c >= 0xF0 && c < 0xF5 ? 4 : c >= 0xE0 ? 3 : c >= 0xC2 && c < 0xE0 ? 2 : 0;
+        bool ok = n > 0 && i + n <= s.size();
+        for (size_t k = 1; ok && k < n; ++k) ok = ((unsigned char)s[i + k] & 0xC0) == 0x80;
+        if (ok && n == 3) { // no overlongs or surrogates
+            unsigned char c1 = (unsigned char)s[i + 1];
+            ok = !(c == 0xE0 && c1 < 0xA0) && !(c == 0xED && c1 >= 0xA0);
+        }
+        if (ok && n == 4) {
+            unsigned char c1 = (unsigned char)s[i + 1];
+            ok = !(c == 0xF0 && c1 < 0x90) && !(c == 0xF4 && c1 >= 0x90);
+        }
+        if (ok) {
+            out.append(s.substr(i, n));
+            i += n;
+        } else {
+            out += "\xEF\xBF\xBD";
+            ++i;
+        }
+    }
+    return out + "\"";
+}
+
+// A number list from getMaterialField as JSON: non-finite values become null.
+std::string jsonNumbers(std::string_view text, bool array) {
+    std::string out = array ? "[" : "";
+    size_t start = 0;
+    while (true) {
+        size_t comma = text.find(',', start);
+        std::string part(text.substr(start, comma == std::string_view::npos ? comma : comma - start));
+        double v = std::strtod(part.c_str(), nullptr);
+        out += std::isfinite(v) ? part : "null";
+        if (comma == std::string_view::npos) break;
+        out += ", ";
+        start = comma + 1;
+    }
+    return array ? out + "]" : out;
+}
+
+const char* formatName(pnb::TextureFormat f) {
+    static constexpr const char* kNames[] = {"r8",    "rg8",   "rgb8",  "rgba8", "r16f",
+                                             "rg16f", "rgba16f", "r32f", "rg32f", "rgba32f",
+                                             "bc1",   "bc3",   "bc4",   "bc5",   "bc7"};
+    return size_t(f) < std::size(kNames) ? kNames[size_t(f)] : "?";
+}
+
+std::string programText(const pnb::Scene& scene, uint32_t program) {
+    if (program == pnb::kNone) return "none";
+    const pnb::Program& p = scene.programs[program];
+    std::string s = std::to_string(program) + " " + printable(scene.str(p.name)) + "[";
+    for (size_t i = 0; i < p.defines.size(); ++i)
+        s += (i ? " " : "") + printable(scene.str(p.defines[i]));
+    return s + "]";
+}
+
+void listText(const Document& doc, std::FILE* out) {
+    const pnb::Scene& scene = doc.scene();
+    std::fprintf(out, "%s: %zu materials, %zu textures, %zu programs\n",
+                 printable(doc.path()).c_str(), doc.materialCount(), scene.textures.size(),
+                 scene.programs.size());
+    for (uint32_t i = 0; i < doc.materialCount(); ++i) {
+        const pnb::Material& m = scene.materials[i];
+        std::fprintf(out, "\nmaterial %u '%s'  (program %s)\n", i,
+                     printable(doc.materialName(i)).c_str(), programText(scene, m.program).c_str());
+        for (const pnb::MaterialField& f : pnb::materialFields()) {
+            std::string value = pnb::getMaterialField(m, f.name);
+            if (f.type == pnb::FieldType::TextureRef && value != "none")
+                value += " (" + printable(scene.str(scene.textures[std::stoul(value)].name)) + ")";
+            std::fprintf(out, "  %-28s = %s\n", f.name, value.c_str());
+        }
+    }
+    auto names = [&](const std::vector<uint32_t>& list) {
+        std::string s;
+        for (uint32_t i : list) s += (s.empty() ? "" : ", ") + printable(doc.materialName(i));
+        return s;
+    };
+    Document::LayerOrder order = doc.layerOrder();
+    std::fprintf(out, "\nlayer order (drawn first to last):\n");
+    for (const auto& [priority, materials] : order.deferred)
+        std::fprintf(out, "  deferred layer %u: %s\n", unsigned(priority), names(materials).c_str());
+    std::fprintf(out, "  forward: %s\n",
+                 order.forward.empty() ? "(none)" : names(order.forward).c_str());
+    std::fprintf(out, "\ntextures (%zu):\n", scene.textures.size());
+    for (size_t t = 0; t < scene.textures.size(); ++t) {
+        const pnb::TextureDesc& d = scene.textures[t];
+        std::fprintf(out, "  %zu '%s' %ux%u %s %s, %u mips\n", t,
+                     printable(scene.str(d.name)).c_str(), d.width, d.height, formatName(d.format),
+                     d.colorSpace == pnb::ColorSpace::Srgb ? "srgb" : "linear", d.mipCount);
+    }
+}
+
+void listJson(const Document& doc, std::FILE* out) {
+    const pnb::Scene& scene = doc.scene();
+    std::string j = "{\n  \"file\": " + jsonString(doc.path()) + ",\n  \"materials\": [";
+    for (uint32_t i = 0; i < doc.materialCount(); ++i) {
+        const pnb::Material& m = scene.materials[i];
+        j += std::string(i ? "," : "") + "\n    {\"index\": " + std::to_string(i) +
+             ", \"name\": " + jsonString(doc.materialName(i)) + ", \"program\": ";
+        if (m.program == pnb::kNone) {
+            j += "null";
+        } else {
+            const pnb::Program& p = scene.programs[m.program];
+            j += "{\"index\": " + std::to_string(m.program) +
+                 ", \"name\": " + jsonString(scene.str(p.name)) + ", \"defines\": [";
+            for (size_t k = 0; k < p.defines.size(); ++k)
+                j += (k ? ", " : "") + jsonString(scene.str(p.defines[k]));
+            j += "]}";
+        }
+        j += ",\n     \"fields\": {";
+        bool first = true;
+        for (const pnb::MaterialField& f : pnb::materialFields()) {
+            std::string v = pnb::getMaterialField(m, f.name), value;
+            switch (f.type) {
+            case pnb::FieldType::Float:
+            case pnb::FieldType::Integer: value = jsonNumbers(v, false); break;
+            case pnb::FieldType::Color3:
+            case pnb::FieldType::Color4: value = jsonNumbers(v, true); break;
+            case pnb::FieldType::Bool: value = v; break;
+            case pnb::FieldType::Choice: value = jsonString(v); break;
+            case pnb::FieldType::TextureRef: value = v == "none" ? "null" : v; break;
+            }
+            j += std::string(first ? "" : ", ") + "\"" + f.name + "\": " + value;
+            first = false;
+        }
+        j += "}}";
+    }
+    j += "\n  ],\n  \"layers\": {\"deferred\": [";
+    Document::LayerOrder order = doc.layerOrder();
+    auto indices = [](const std::vector<uint32_t>& list) {
+        std::string s = "[";
+        for (size_t k = 0; k < list.size(); ++k) s += (k ? ", " : "") + std::to_string(list[k]);
+        return s + "]";
+    };
+    for (size_t k = 0; k < order.deferred.size(); ++k)
+        j += std::string(k ? ", " : "") + "{\"priority\": " +
+             std::to_string(order.deferred[k].first) +
+             ", \"materials\": " + indices(order.deferred[k].second) + "}";
+    j += "], \"forward\": " + indices(order.forward) + "},\n  \"textures\": [";
+    for (size_t t = 0; t < scene.textures.size(); ++t) {
+        const pnb::TextureDesc& d = scene.textures[t];
+        j += std::string(t ? "," : "") + "\n    {\"index\": " + std::to_string(t) +
+             ", \"name\": " + jsonString(scene.str(d.name)) +
+             ", \"width\": " + std::to_string(d.width) + ", \"height\": " +
+             std::to_string(d.height) + ", \"format\": \"" + formatName(d.format) +
+             "\", \"color_space\": \"" +
+             (d.colorSpace == pnb::ColorSpace::Srgb ? "srgb" : "linear") +
+             "\", \"mips\": " + std::to_string(d.mipCount) + "}";
+    }
+    j += scene.textures.empty() ? "]\n}\n" : "\n  ]\n}\n";
+    std::fputs(j.c_str(), out);
+}
+
+// [SECTION] batch mode
+
+// The edits one --set expression stands for; errors list the valid fields or material names.
+pnb::Result<std::vector<Document::FieldEdit>> expand(const Document& doc,
+                                                     const pnb::editor::SetExpression& e) {
+    bool known = false;
+    std::string fields;
+    for (const pnb::MaterialField& f : pnb::materialFields()) {
+        known |= e.field == f.name;
+        fields += std::string(fields.empty() ? "" : ", ") + f.name;
+    }
+    if (!known)
+        return pnb::makeError(pnb::FormatError::BadReference, 0,
+                              "unknown material field '%s'; fields: %s", e.field.c_str(),
+                              fields.c_str());
+    std::vector<Document::FieldEdit> edits;
+    std::string names;
+    for (uint32_t i = 0; i < doc.materialCount(); ++i) {
+        names += (names.empty() ? "" : ", ") + printable(doc.materialName(i));
+        if (pnb::globMatch(e.pattern, doc.materialName(i))) edits.push_back({i, e.field, e.value});
+    }
+    if (edits.empty())
+        return pnb::makeError(pnb::FormatError::BadReference, 0,
+                              "no material matches '%s'; materials: %s",
+                              printable(e.pattern).c_str(), names.empty() ? "(none)" : names.c_str());
+    return edits;
+}
+
+int runBatch(const Settings& s) {
+    std::FILE* info = s.json ? stderr : stdout; // keep stdout pure JSON
+    auto opened = Document::open(s.input);
+    if (!opened) return inputError(opened.error());
+    Document& doc = **opened;
+
+    for (const Import& i : s.imports) {
+        auto index = doc.importTexture(i.image, i.srgb, i.name);
+        if (!index) return inputError(index.error());
+        if (!s.quiet)
+            std::fprintf(info, "imported '%s' as texture %u '%s' (%s)\n",
+                         printable(i.image).c_str(), *index, printable(i.name).c_str(),
+                         i.srgb ? "srgb" : "linear");
+    }
+    std::vector<Document::FieldEdit> edits;
+    std::vector<std::string> summaries;
+    for (const std::string& text : s.sets) {
+        auto e = pnb::editor::parseSetExpression(text);
+        if (!e) return usageError("--set: " + e.error().message);
+        auto expanded = expand(doc, *e);
+        if (!expanded) return inputError(expanded.error());
+        summaries.push_back(e->field + " = " + e->value + " on " +
+                            std::to_string(expanded->size()) + " material" +
+                            (expanded->size() == 1 ? "" : "s") + " matching '" + e->pattern + "'");
+        edits.insert(edits.end(), expanded->begin(), expanded->end());
+    }
+    if (!edits.empty())
+        if (pnb::Status st = doc.apply(edits); !pnb::isOk(st)) return inputError(st);
+    if (!s.quiet)
+        for (const std::string& line : summaries)
+            std::fprintf(info, "set %s\n", printable(line).c_str());
+
+    const bool edited = !s.imports.empty() || !s.sets.empty();
+    if (!s.output.empty() || (edited && doc.dirty())) {
+        auto saved = doc.save(s.output);
+        if (!saved) {
+            std::fprintf(stderr, "Error: %s\n", saved.error().message.c_str());
+            return kExitOutput;
+        }
+        if (!s.quiet)
+            std::fprintf(info,
+                         "saved %s: %llu bytes in %.3f s (%u chunks copied, %u rewritten, %u "
+                         "added)\n",
+                         printable(doc.path()).c_str(), (unsigned long long)saved->bytesWritten,
+                         saved->seconds, saved->chunksCopied, saved->chunksRewritten,
+                         saved->chunksAdded);
+    } else if (edited && !s.quiet) {
+        std::fprintf(info, "no change: %s not rewritten\n", printable(doc.path()).c_str());
+    }
+    if (s.list) (s.json ? listJson : listText)(doc, stdout);
+    return kExitOk;
+}
+
+} // namespace
+
+int main(int argc, char** argv) {
+    // A scripted window session (--ui-*: the GUI smoke test) goes to the window code.
+    for (int i = 1; i < argc; ++i)
+        if (std::string_view(argv[i]).rfind("--ui-", 0) == 0) return pnb::editor::runGui(argc, argv);
+    Settings s;
+    bool endOfOptions = false;
+    for (int i = 1; i < argc; ++i) {
+        std::string_view a = argv[i];
+        if (!endOfOptions && (a == "-h" || a == "--help")) {
+            printHelp(stdout);
+            return kExitOk;
+        }
+        if (!endOfOptions && a == "--") {
+            endOfOptions = true;
+            continue;
+        }
+        if (!endOfOptions && a.size() > 1 && a[0] == '-') {
+            const Option* match = nullptr;
+            for (const Option& o : options())
+                if (optionMatches(o, a)) match = &o;
+            if (!match) return usageError("unknown option '" + std::string(a) + "'");
+            const char* arg = nullptr;
+            if (match->arg) {
+                if (i + 1 >= argc)
+                    return usageError(std::string(a) + " needs an argument " + match->arg);
+                arg = argv[++i];
+            }
+            if (!match->apply(s, arg))
+                return usageError(std::string(a) + ": malformed argument '" +
+                                  (arg ? arg : "") + "', expected " + match->arg);
+            continue;
+        }
+        if (!s.input.empty())
+            return usageError("more than one scene ('" + s.input + "' and '" + std::string(a) +
+                              "')");
+        if (a.empty()) return usageError("empty file name");
+        s.input = a;
+    }
+    if (!s.batch()) {
+        if (s.json) return usageError("--json needs --list");
+        return pnb::editor::runGui(argc, argv);
+    }
+    if (s.json && !s.list) return usageError("--json needs --list");
+    if (s.input.empty()) return usageError("no scene: pnb-edit SCENE.pnb ...");
+    return runBatch(s);
+}

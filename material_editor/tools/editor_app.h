@@ -1,0 +1,74 @@
+// editor_app.h — the pnb-edit window: material list with filters, properties of the selection,
+// batch operations, the layer order, and a live viewport drawn by the player's renderer (same
+// passes, same shaders as pnb-play). Every widget goes through the public actions below, which
+// the GUI smoke test also drives, so the test exercises the UI's code path.
+#pragma once
+
+#include <memory>
+#include <set>
+#include <string>
+#include <vector>
+
+#include "material_preview.h"
+#include "pnb_editor/document.h"
+#include "pnb_player/camera.h"
+#include "pnb_player/gl_context.h"
+#include "pnb_player/gpu_scene.h"
+#include "pnb_player/renderer.h"
+
+namespace pnb::editor {
+
+class EditorApp {
+public:
+    EditorApp(std::unique_ptr<Document> document, player::GlContext& context);
+    ~EditorApp();
+
+    // Uploads the scene and creates the renderer. Errors name what failed.
+    player::PlayResult<player::Done> init();
+
+    // One frame: UI, viewport, present. Returns false when the user has confirmed quitting.
+    bool frame();
+
+    // --- actions (widgets and the smoke test) ------------------------------------------------
+    Status setField(uint32_t material, const std::string& field, const std::string& value,
+                    bool mergeWithPrevious = false);
+    Status applyToSelection(const std::string& field, const std::string& value);
+    void select(uint32_t material, bool additive = false);
+    void undo();
+    void redo();
+    Result<SaveStats> save(const std::string& path = "");
+    // Asks to quit: true if nothing is unsaved (or the user already chose), else the
+    // unsaved-changes prompt opens and false is returned.
+    bool requestQuit();
+
+    const Document& document() const { return *mDocument; }
+    std::string windowTitle() const;
+
+private:
+    void syncGpu();          // after any material change
+    void drawMaterialList();
+    void drawProperties();
+    void drawLayerOrder();
+    void drawViewport();
+    void drawMenuAndPrompts();
+    void updateCamera();
+    void status(std::string message);
+
+    std::unique_ptr<Document> mDocument;
+    player::GlContext& mContext;
+    std::unique_ptr<player::GpuScene> mGpu;
+    std::unique_ptr<player::Renderer> mRenderer;
+    MaterialPreview mPreview;
+    bool mPreviewStale = true;
+    std::set<uint32_t> mSelection;
+    std::string mFilter, mStatus, mSaveAsPath, mImportPath;
+    int mPathFilter = 0, mBlendFilter = 0, mTextureFilter = 0;
+    bool mQuitConfirmed = false, mShowQuitPrompt = false, mShowSaveAs = false;
+    bool mLastEditMergeable = false;
+    double mYaw = 0.6, mPitch = 0.35, mDistance = 10;
+    glm::dvec3 mCenter{0.0};
+    player::CameraState mCamera;
+    int mViewportWidth = 640, mViewportHeight = 400;
+};
+
+} // namespace pnb::editor

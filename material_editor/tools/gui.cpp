@@ -1,0 +1,162 @@
+// The interactive editor: a GLFW window, Dear ImGui, and EditorApp. With --ui-* options it runs
+// a scripted session through the same actions the widgets use (the Xvfb smoke test).
+#include "gui.h"
+
+#include <epoxy/gl.h>
+#define GLFW_INCLUDE_NONE
+#include <GLFW/glfw3.h>
+#include <backends/imgui_impl_glfw.h>
+#include <backends/imgui_impl_opengl3.h>
+#include <imgui.h>
+
+#include <cstdio>
+#include <cstdlib>
+#include <string>
+#include <vector>
+
+#include "editor_app.h"
+#include "pnb/material_fields.h"
+#include "pnb_editor/set_expression.h"
+#include "pnb_player/benchmark.h"
+
+namespace pnb::editor {
+
+namespace {
+
+struct GuiArgs {
+    std::string scene;
+    std::vector<std::string> sets; // --ui-set PATTERN.FIELD=VALUE, applied at frame 2
+    std::string saveAs, screenshot;
+    int frames = 0;                // 0 = until the window closes
+};
+
+// The window's default framebuffer, bottom-up RGBA8.
+player::CapturedImage readWindow(int w, int h) {
+    player::CapturedImage img;
+    img.width = uint32_t(w);
+    img.height = uint32_t(h);
+    img.channels = 4;
+    img.u8.resize(size_t(w) * size_t(h) * 4);
+    glPixelStorei(GL_PACK_ALIGNMENT, 1);
+    glBindFramebuffer(GL_READ_FRAMEBUFFER, 0);
+    glReadBuffer(GL_BACK);
+    glReadPixels(0, 0, w, h, GL_RGBA, GL_UNSIGNED_BYTE, img.u8.data());
+    return img;
+}
+
+} // namespace
+
+int runGui(int argc, char** argv) {
+    GuiArgs a;
+    for (int i = 1; i < argc; ++i) {
+        std::string s = argv[i];
+        auto value = [&]() -> std::string {
+            if (i + 1 >= argc) {
+                std::fprintf(stderr, "pnb-edit: %s needs a value\n", s.c_str());
+                std::exit(1);
+            }
+            return argv[++i];
+        };
+        if (s == "--ui-set") a.sets.push_back(value());
+        else if (s == "--ui-save-as") a.saveAs = value();
+        else if (s == "--ui-screenshot") a.screenshot = value();
+        else if (s == "--ui-frames") a.frames = std::atoi(value().c_str());
+        else if (!s.empty() && s[0] == '-') {
+            std::fprintf(stderr, "pnb-edit: unknown option %s\n", s.c_str());
+            return 1;
+        } else a.scene = s;
+    }
+    if (a.scene.empty()) {
+        std::fprintf(stderr, "pnb-edit: no scene given (pnb-edit SCENE.pnb)\n");
+        return 1;
+    }
+    auto doc = Document::open(a.scene);
+    if (!doc) {
+        std::fprintf(stderr, "pnb-edit: %s\n", doc.error().describe().c_str());
+        return 2;
+    }
+    player::WindowOptions wo;
+    wo.width = 1400;
+    wo.height = 800;
+    wo.title = "pnb-edit";
+    auto context = player::createWindowContext(wo);
+    if (!context) {
+        std::fprintf(stderr, "pnb-edit: %s (batch options such as --list work without a display)\n",
+                     context.error().message.c_str());
+        return 3;
+    }
+    EditorApp app(std::move(*doc), **context);
+    if (auto r = app.init(); !r) {
+        std::fprintf(stderr, "pnb-edit: %s\n", r.error().message.c_str());
+        return 3;
+    }
+    IMGUI_CHECKVERSION();
+    ImGui::CreateContext();
+    ImGui::GetIO().IniFilename = nullptr;
+    ImGui::StyleColorsDark();
+    ImGui_ImplGlfw_InitForOpenGL((*context)->glfwWindow(), true);
+    ImGui_ImplOpenGL3_Init("#version 450 core");
+
+    int exitCode = 0;
+    for (int frame = 0; a.frames == 0 || frame < a.frames; ++frame) {
+        (*context)->pollEvents();
+        // Scripted session: the edits go through the app's actions, as a click would.
+        if (frame == 2 && !a.sets.empty()) {
+            for (const std::string& text : a.sets) {
+                auto expr = parseSetExpression(text);
+                Status st = expr.ok() ? Status{} : expr.error();
+                if (isOk(st)) {
+                    bool any = false;
+                    for (uint32_t m = 0; m < app.document().materialCount(); ++m)
+                        if (globMatch(expr->pattern, app.document().materialName(m))) {
+                            app.select(m, any);
+                            any = true;
+                        }
+                    st = any ? app.applyToSelection(expr->field, expr->value)
+                             : makeError(FormatError::BadReference, 0, "no material matches '%s'", expr->pattern.c_str());
+                }
+                if (!isOk(st)) {
+                    std::fprintf(stderr, "pnb-edit: %s\n", st.message.c_str());
+                    exitCode = 1;
+                }
+            }
+        }
+        if (frame == 3 && !a.saveAs.empty()) {
+            auto saved = app.save(a.saveAs);
+            if (!saved) {
+                std::fprintf(stderr, "pnb-edit: %s\n", saved.error().describe().c_str());
+                exitCode = 2;
+            } else {
+                std::printf("saved %s in %.2f ms\n", a.saveAs.c_str(), saved->seconds * 1000.0);
+            }
+        }
+        ImGui_ImplOpenGL3_NewFrame();
+        ImGui_ImplGlfw_NewFrame();
+        ImGui::NewFrame();
+        bool keepGoing = app.frame();
+        ImGui::Render();
+        int w = 0, h = 0;
+        (*context)->framebufferSize(w, h);
+        glBindFramebuffer(GL_FRAMEBUFFER, 0);
+        glViewport(0, 0, w, h);
+        glDisable(GL_FRAMEBUFFER_SRGB);
+        glClearColor(0.1f, 0.1f, 0.12f, 1);
+        glClear(GL_COLOR_BUFFER_BIT);
+        ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
+        bool last = a.frames != 0 && frame + 1 == a.frames;
+        if (last && !a.screenshot.empty()) {
+            if (auto s = player::saveCapture(a.screenshot, readWindow(w, h)); !s) {
+                std::fprintf(stderr, "pnb-edit: %s\n", s.error().message.c_str());
+                exitCode = 3;
+            }
+        }
+        (*context)->swapBuffers();
+        if (!keepGoing) break;
+    }
+    ImGui_ImplOpenGL3_Shutdown();
+    ImGui_ImplGlfw_Shutdown();
+    ImGui::DestroyContext();
+    return exitCode;
+}
+
+} // namespace pnb::editor

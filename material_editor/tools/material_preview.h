@@ -1,0 +1,35 @@
+// material_preview.h — the selected material on a sphere over a small floor, drawn by the
+// player's renderer from a tiny scene built in memory: the document's programs (same shaders),
+// the material's own textures, one sun. Rebuilt when the selection or the material changes.
+#pragma once
+
+#include <memory>
+#include <vector>
+
+#include "pnb/scene.h"
+#include "pnb_player/gpu_scene.h"
+#include "pnb_player/renderer.h"
+
+namespace pnb::editor {
+
+class MaterialPreview {
+public:
+    // Builds (or rebuilds) the preview of `material` of `document`. Errors name the cause.
+    player::PlayResult<player::Done> show(const Scene& document, uint32_t material);
+    // After an edit: updates values in place, or rebuilds if the material, its textures or its
+    // program changed.
+    player::PlayResult<player::Done> refresh(const Scene& document, uint32_t material);
+    // Renders at size x size; returns the sRGB output texture (0 if nothing is shown).
+    GLuint render(uint32_t size);
+
+private:
+    uint32_t mMaterial = kNone;
+    Material mShown;                    // the document's material as last shown
+    Scene mScene;                       // views into the document and into mStorage
+    std::vector<std::vector<std::byte>> mStorage;
+    std::vector<std::string> mStrings;
+    std::unique_ptr<player::GpuScene> mGpu;
+    std::unique_ptr<player::Renderer> mRenderer;
+};
+
+} // namespace pnb::editor

@@ -1,0 +1,270 @@
+// Helpers for the material editor tests: per-test temporary directories, the build-time
+// converted procedural scenes (${PNB_SCENE_DIR}), small glTF scenes built in code and converted
+// with the real converter, chunk-by-chunk comparison of containers, and running the CLIs.
+#pragma once
+
+#include <gtest/gtest.h>
+
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstdlib>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <string>
+#include <vector>
+
+#include "pnb/reader.h"
+#include "pnb/scene.h"
+#include "pnb_assets/gltf_writer.h"
+#include "pnb_assets/png_writer.h"
+#include "pnb_converter/convert.h"
+#include "pnb_editor/document.h"
+
+namespace pnb::editor::test {
+
+namespace gltf = pnb::assets::gltf;
+namespace fs = std::filesystem;
+
+// A fresh directory under the test temp dir, removed with everything in it on destruction.
+class TempDir {
+public:
+    TempDir() {
+        std::string tmpl = ::testing::TempDir() + "pnb-editor-XXXXXX";
+        if (::mkdtemp(tmpl.data()) == nullptr) ADD_FAILURE() << "mkdtemp: " << std::strerror(errno);
+        mPath = tmpl;
+    }
+    ~TempDir() {
+        std::error_code ec;
+        fs::remove_all(mPath, ec);
+    }
+    TempDir(const TempDir&) = delete;
+    TempDir& operator=(const TempDir&) = delete;
+
+    const std::string& path() const { return mPath; }
+    std::string file(const std::string& name) const { return mPath + "/" + name; }
+    std::vector<std::string> list() const {
+        std::vector<std::string> names;
+        for (const auto& e : fs::directory_iterator(mPath)) names.push_back(e.path().filename());
+        std::sort(names.begin(), names.end());
+        return names;
+    }
+
+private:
+    std::string mPath;
+};
+
+inline std::vector<std::byte> readBytes(const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    std::vector<char> chars((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    std::vector<std::byte> bytes(chars.size());
+    if (!chars.empty()) std::memcpy(bytes.data(), chars.data(), chars.size());
+    return bytes;
+}
+
+inline void writeBytes(const std::string& path, const std::vector<uint8_t>& bytes) {
+    std::ofstream out(path, std::ios::binary | std::ios::trunc);
+    out.write(reinterpret_cast<const char*>(bytes.data()), std::streamsize(bytes.size()));
+}
+
+// A converted procedural scene copied into `dir` (tests never modify the shared build output).
+inline std::string copyScene(const TempDir& dir, const std::string& name) {
+    std::string target = dir.file(name + ".pnb");
+    fs::copy_file(std::string(PNB_SCENE_DIR) + "/" + name + ".pnb", target,
+                  fs::copy_options::overwrite_existing);
+    return target;
+}
+
+// An RGB checker PNG: `a` and `b` colours in 8-texel squares.
+inline std::vector<uint8_t> checkerPng(uint32_t size, std::array<uint8_t, 3> a,
+                                       std::array<uint8_t, 3> b) {
+    std::vector<uint8_t> pixels;
+    for (uint32_t y = 0; y < size; ++y)
+        for (uint32_t x = 0; x < size; ++x) {
+            const auto& c = ((x / 8 + y / 8) & 1) ? a : b;
+            pixels.insert(pixels.end(), c.begin(), c.end());
+        }
+    return assets::encodePng(size, size, 3, pixels);
+}
+
+// A quad in the XY plane facing +Z, with UVs.
+inline gltf::Primitive quad(float size, uint32_t material) {
+    gltf::Primitive p;
+    float h = size / 2;
+    p.positions = {{-h, -h, 0}, {h, -h, 0}, {h, h, 0}, {-h, h, 0}};
+    p.normals.assign(4, {0, 0, 1});
+    p.uv0 = {{0, 1}, {1, 1}, {1, 0}, {0, 0}};
+    p.indices = {0, 1, 2, 0, 2, 3};
+    p.material = material;
+    return p;
+}
+
+// A box without UVs.
+inline gltf::Primitive box(float size, uint32_t material) {
+    gltf::Primitive p;
+    float h = size / 2;
+    const gltf::Float3 normals[6] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
+    for (const auto& n : normals) {
+        // Two axes spanning the face, chosen so the winding is counter-clockwise from outside.
+        gltf::Float3 u = n[0] != 0 ? gltf::Float3{0, 1, 0} : gltf::Float3{1, 0, 0};
+        gltf::Float3 v{n[1] * u[2] - n[2] * u[1], n[2] * u[0] - n[0] * u[2], n[0] * u[1] - n[1] * u[0]};
+        uint32_t base = uint32_t(p.positions.size());
+        for (int k = 0; k < 4; ++k) {
+            float su = (k == 1 || k == 2) ? 1.f : -1.f, sv = k >= 2 ? 1.f : -1.f;
+            p.positions.push_back({h * (n[0] + su * u[0] + sv * v[0]), h * (n[1] + su * u[1] + sv * v[1]),
+                                   h * (n[2] + su * u[2] + sv * v[2])});
+            p.normals.push_back(n);
+        }
+        p.indices.insert(p.indices.end(), {base, base + 1, base + 2, base, base + 2, base + 3});
+    }
+    p.material = material;
+    return p;
+}
+
+inline void addObject(gltf::Document& doc, const std::string& name, gltf::Primitive primitive,
+                      gltf::Float3 translation) {
+    doc.meshes.push_back({name, {std::move(primitive)}});
+    gltf::Node node;
+    node.name = name;
+    node.mesh = int32_t(doc.meshes.size() - 1);
+    node.translation = translation;
+    doc.nodes.push_back(node);
+}
+
+// Materials: "textured" (base colour + normal map on a quad with UVs, so the mesh keeps UVs and
+// tangents), "plain" (a box without UVs), "glass" (BLEND, so forward), "leaf" (MASK). Images:
+// "bricks" (colour) and "bumps" (normal map). A sun and a camera.
+inline gltf::Document editorScene() {
+    gltf::Document doc;
+    doc.sceneName = "editor-test";
+    doc.images.push_back({"bricks", checkerPng(32, {200, 80, 60}, {90, 90, 90})});
+    doc.images.push_back({"bumps", checkerPng(32, {128, 128, 255}, {150, 110, 240})});
+    gltf::Material textured;
+    textured.name = "textured";
+    textured.baseColorImage = 0;
+    textured.normalImage = 1;
+    gltf::Material plain;
+    plain.name = "plain";
+    plain.baseColorFactor = {0.6f, 0.6f, 0.6f, 1};
+    gltf::Material glass;
+    glass.name = "glass";
+    glass.baseColorFactor = {0.5f, 0.7f, 1.0f, 0.3f};
+    glass.alphaMode = gltf::AlphaMode::Blend;
+    glass.doubleSided = true;
+    gltf::Material leaf;
+    leaf.name = "leaf";
+    leaf.alphaMode = gltf::AlphaMode::Mask;
+    leaf.baseColorImage = 0;
+    doc.materials = {textured, plain, glass, leaf};
+    addObject(doc, "wall", quad(4, 0), {0, 0, -2});
+    addObject(doc, "block", box(1, 1), {1, 0.5f, 0});
+    addObject(doc, "pane", quad(2, 2), {-1, 1, 0.5f});
+    addObject(doc, "foliage", quad(1, 3), {0, 2, 0});
+    doc.lights.push_back({"sun", gltf::LightType::Directional, {1, 1, 1}, 3.0f, 0});
+    gltf::Node sun;
+    sun.name = "sun";
+    sun.light = 0;
+    sun.rotation = gltf::lookRotation({0.3f, -1.0f, -0.5f});
+    doc.nodes.push_back(sun);
+    doc.cameras.push_back({"camera", 0.9f, 0, 0.1f, 0});
+    gltf::Node cam;
+    cam.name = "camera";
+    cam.camera = 0;
+    cam.translation = {0, 1, 6};
+    doc.nodes.push_back(cam);
+    return doc;
+}
+
+// Converts `doc` (with a sidecar if given) into dir/name.pnb with the real converter.
+inline std::string convert(const TempDir& dir, const gltf::Document& doc, const std::string& name,
+                           const std::string& sidecarJson = "") {
+    std::string glb = dir.file(name + ".glb");
+    auto bytes = gltf::encodeGlb(doc);
+    EXPECT_TRUE(isOk(gltf::writeFileAtomic(glb, bytes)));
+    converter::ConvertSettings s;
+    s.input = glb;
+    s.output = dir.file(name + ".pnb");
+    s.jobs = 1;
+    if (!sidecarJson.empty()) {
+        s.sidecar = dir.file(name + ".sidecar.json");
+        std::ofstream(s.sidecar) << sidecarJson;
+    } else {
+        s.noSidecar = true;
+    }
+    auto r = converter::convertScene(s);
+    EXPECT_TRUE(r.ok()) << (r.ok() ? "" : r.error().message);
+    return s.output;
+}
+
+// A container opened and decoded, kept together (the scene points into the container).
+struct Opened {
+    std::unique_ptr<Container> container;
+    Scene scene;
+};
+inline Opened openScene(const std::string& path) {
+    Opened o;
+    auto c = Container::open(path);
+    EXPECT_TRUE(c.ok()) << (c.ok() ? "" : c.error().describe());
+    if (!c.ok()) return o;
+    o.container = std::make_unique<Container>(std::move(*c));
+    EXPECT_TRUE(isOk(o.container->verifyAll()));
+    auto s = readScene(*o.container);
+    EXPECT_TRUE(s.ok()) << (s.ok() ? "" : s.error().describe());
+    if (s.ok()) o.scene = std::move(*s);
+    return o;
+}
+
+inline uint32_t materialIndex(const Scene& scene, std::string_view name) {
+    for (uint32_t i = 0; i < scene.materials.size(); ++i)
+        if (scene.str(scene.materials[i].name) == name) return i;
+    ADD_FAILURE() << "no material '" << name << "'";
+    return 0;
+}
+
+// "gbuffer[HAS_UV0 ...] surface.vert+gbuffer.frag": a program by name, sorted defines and stages.
+inline std::string describeProgram(const Scene& s, uint32_t program) {
+    if (program == kNone) return "none";
+    const Program& p = s.programs[program];
+    std::vector<std::string> defines;
+    for (StringRef d : p.defines) defines.emplace_back(s.str(d));
+    std::sort(defines.begin(), defines.end());
+    std::string out = std::string(s.str(p.name)) + "[";
+    for (size_t i = 0; i < defines.size(); ++i) out += (i ? " " : "") + defines[i];
+    out += "]";
+    for (size_t i = 0; i < p.shaders.size(); ++i)
+        out += (i ? "+" : " ") + std::string(s.str(s.shaders[p.shaders[i]].name));
+    return out;
+}
+
+// The whole bytes of chunk `c` (header, payload and padding).
+inline std::span<const std::byte> chunkBytes(const Container& c, const ChunkInfo& info) {
+    return c.bytes().subspan(info.headerOffset,
+                             alignUp(info.payloadOffset + info.header.storedSize) - info.headerOffset);
+}
+
+// Runs a command line through the shell; returns its exit code, stdout (and stderr, with
+// `mergeStderr`) in `output`.
+inline int run(const std::string& command, std::string* output = nullptr, bool mergeStderr = true) {
+    std::string full = command + (mergeStderr ? " 2>&1" : "");
+    FILE* p = ::popen(full.c_str(), "r");
+    if (!p) return -1;
+    std::string text;
+    char buf[4096];
+    size_t n;
+    while ((n = std::fread(buf, 1, sizeof(buf), p)) > 0) text.append(buf, n);
+    int status = ::pclose(p);
+    if (output) *output = text;
+    return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+// Single-quoted for the shell.
+inline std::string quote(const std::string& s) {
+    std::string out = "'";
+    for (char c : s) out += c == '\'' ? std::string("'\\''") : std::string(1, c);
+    return out + "'";
+}
+
+} // namespace pnb::editor::test
