@@ -160,7 +160,15 @@ void EditorApp::drawMaterialList() {
     ImGui::Combo("##path", &mPathFilter, paths, 3);
     ImGui::Combo("##blend", &mBlendFilter, blends, 4);
     ImGui::Combo("##tex", &mTextureFilter, textures, 3);
+    ImGui::InputInt("layer (-1 any)", &mLayerFilter);
+    mLayerFilter = std::clamp(mLayerFilter, -1, 65535);
+    if (ImGui::Button("select all listed")) {
+        mSelection.clear();
+        mSelection.insert(mVisible.begin(), mVisible.end());
+        mPreviewStale = true;
+    }
     ImGui::Separator();
+    mVisible.clear();
     std::string pattern = mFilter.empty() ? "*" : (mFilter.find_first_of("*?") == std::string::npos ? "*" + mFilter + "*" : mFilter);
     for (uint32_t i = 0; i < scene.materials.size(); ++i) {
         const Material& m = scene.materials[i];
@@ -169,6 +177,8 @@ void EditorApp::drawMaterialList() {
         if (mPathFilter && int(m.shadingPath) != mPathFilter - 1) continue;
         if (mBlendFilter && int(m.alphaMode) != mBlendFilter - 1) continue;
         if (mTextureFilter && usesTextures(m) != (mTextureFilter == 1)) continue;
+        if (mLayerFilter >= 0 && (m.shadingPath != ShadingPath::Deferred || m.layerPriority != mLayerFilter)) continue;
+        mVisible.push_back(i);
         std::snprintf(buf, sizeof buf, "%s  [%s %u%s]##%u", name.c_str(),
                       m.shadingPath == ShadingPath::Deferred ? "D" : "F", unsigned(m.layerPriority),
                       m.alphaMode == AlphaMode::Blend ? " blend" : "", i);
@@ -290,9 +300,13 @@ void EditorApp::drawProperties() {
     char buf[512];
     std::snprintf(buf, sizeof buf, "%s", mImportPath.c_str());
     if (ImGui::InputTextWithHint("##import", "image file to import", buf, sizeof buf)) mImportPath = buf;
-    ImGui::SameLine();
-    if (ImGui::Button("import as base colour")) {
-        auto t = mDocument->importTexture(mImportPath, true);
+    const char* slots[] = {"base_color_texture", "metallic_roughness_texture", "normal_texture",
+                           "occlusion_texture", "emissive_texture"};
+    ImGui::Combo("slot", &mImportSlot, slots, 5);
+    if (ImGui::Button("import into slot")) {
+        // Colour data (base colour, emissive) is sRGB; the others are linear.
+        bool srgb = mImportSlot == 0 || mImportSlot == 4;
+        auto t = mDocument->importTexture(mImportPath, srgb);
         if (!t) {
             status(t.error().message);
         } else {
@@ -302,7 +316,7 @@ void EditorApp::drawProperties() {
                 mRenderer.reset();
                 mGpu = std::move(*gpu);
                 if (auto r = player::Renderer::create(*mGpu, {})) mRenderer = std::move(*r);
-                applyToSelection("base_color_texture", std::to_string(*t));
+                static_cast<void>(applyToSelection(slots[mImportSlot], std::to_string(*t)));
             } else {
                 status(gpu.error().message);
             }

@@ -62,7 +62,8 @@ private:
     bool mPreviewStale = true;
     std::set<uint32_t> mSelection;
     std::string mFilter, mStatus, mSaveAsPath, mImportPath;
-    int mPathFilter = 0, mBlendFilter = 0, mTextureFilter = 0;
+    int mPathFilter = 0, mBlendFilter = 0, mTextureFilter = 0, mLayerFilter = -1, mImportSlot = 0;
+    std::vector<uint32_t> mVisible; // materials passing the filters, in list order
     bool mQuitConfirmed = false, mShowQuitPrompt = false, mShowSaveAs = false;
     bool mLastEditMergeable = false;
     double mYaw = 0.6, mPitch = 0.35, mDistance = 10;
