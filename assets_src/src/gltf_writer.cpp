@@ -391,44 +391,6 @@ std::vector<uint8_t> encodeGlb(const Document& doc, GlbStats* stats) {
     return out;
 }
 
-Status writeFileAtomic(const std::string& path, std::span<const uint8_t> bytes) {
-    static std::atomic<unsigned> counter{0};
-    size_t slash = path.find_last_of('/');
-    std::string dir = slash == std::string::npos ? "." : path.substr(0, slash == 0 ? 1 : slash);
-    std::string base = slash == std::string::npos ? path : path.substr(slash + 1);
-    // Same directory as the target, so rename() stays on one file system and is atomic.
-    std::string temp =
-        dir + "/." + base + ".tmp." + std::to_string(::getpid()) + "." + std::to_string(counter++);
-    int fd = ::open(temp.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0644);
-    if (fd < 0)
-        return makeError(FormatError::IoError, 0, "cannot create a temporary file next to '%s': %s",
-                         path.c_str(), std::strerror(errno));
-    auto fail = [&](const char* what) {
-        int e = errno;
-        if (fd >= 0) ::close(fd);
-        ::unlink(temp.c_str());
-        return makeError(FormatError::IoError, 0, "cannot %s '%s': %s", what, path.c_str(),
-                         std::strerror(e));
-    };
-    size_t done = 0;
-    while (done < bytes.size()) {
-        ssize_t n = ::write(fd, bytes.data() + done, bytes.size() - done);
-        if (n < 0 && errno == EINTR) continue;
-        if (n <= 0) return fail("write");
-        done += size_t(n);
-    }
-    // Data must be durable before the rename makes it visible.
-    if (::fsync(fd) != 0) return fail("sync");
-    int closed = ::close(fd);
-    fd = -1;
-    if (closed != 0) return fail("close");
-    if (::rename(temp.c_str(), path.c_str()) != 0) return fail("rename a temporary file to");
-    if (int dfd = ::open(dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC); dfd >= 0) {
-        ::fsync(dfd); // best effort: makes the rename itself durable
-        ::close(dfd);
-    }
-    return Status{};
-}
 
 Float4 lookRotation(Float3 forward, Float3 up) {
     // Columns of the rotation matrix: local X, Y, Z in world space; local -Z is `forward`.

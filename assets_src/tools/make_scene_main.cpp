@@ -103,7 +103,7 @@ int main(int argc, char** argv) {
     }
     pnb::assets::gltf::GlbStats stats;
     std::vector<uint8_t> bytes = pnb::assets::gltf::encodeGlb(*doc, &stats);
-    pnb::Status status = pnb::assets::gltf::writeFileAtomic(out, bytes);
+    pnb::Status status = pnb::writeFileAtomic(out, bytes);
     if (!pnb::isOk(status)) {
         std::fprintf(stderr, "Error: %s\n", status.message.c_str());
         return 4;

@@ -13,17 +13,6 @@ namespace pnb {
 
 namespace {
 
-// Rank of each known tag in the streamable order (FORMAT.md §4.1); equal ranks may repeat.
-int orderRank(Tag t) {
-    static constexpr Tag order[] = {tags::kStrings, tags::kSceneInfo, tags::kRenderSettings,
-                                    tags::kShader,  tags::kProgram,   tags::kTexture,
-                                    tags::kMaterial, tags::kMesh,     tags::kLights,
-                                    tags::kCameras, tags::kNodes,     tags::kCameraPath,
-                                    tags::kTextureMip};
-    for (int i = 0; i < int(std::size(order)); ++i)
-        if (order[i] == t) return i;
-    return -1;
-}
 
 bool isSingleton(Tag t) {
     return t == tags::kStrings || t == tags::kSceneInfo || t == tags::kRenderSettings ||
@@ -63,7 +52,7 @@ Result<Scene> readScene(const Container& container) {
     bool seen[16] = {};
     for (const ChunkInfo& info : container.chunks()) {
         const Tag tag = info.header.tag;
-        int rank = orderRank(tag);
+        int rank = streamOrderRank(tag);
         if (rank < 0) {
             ++s.unknownChunks;
             continue;

@@ -17,17 +17,6 @@ namespace {
 
 Document::SaveProbe gSaveProbe = nullptr;
 
-// Rank of a tag in the order of FORMAT.md §4.1; -1 for tags this version does not know.
-int orderRank(Tag t) {
-    static constexpr Tag order[] = {tags::kStrings,  tags::kSceneInfo, tags::kRenderSettings,
-                                    tags::kShader,   tags::kProgram,   tags::kTexture,
-                                    tags::kMaterial, tags::kMesh,      tags::kLights,
-                                    tags::kCameras,  tags::kNodes,     tags::kCameraPath,
-                                    tags::kTextureMip};
-    for (int i = 0; i < int(std::size(order)); ++i)
-        if (order[i] == t) return i;
-    return -1;
-}
 
 double secondsSince(std::chrono::steady_clock::time_point t) {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
@@ -98,20 +87,20 @@ Result<SaveStats> Document::Impl::save(const std::string& target) {
         int rank;
         bool flushed = false;
     };
-    Group groups[] = {{orderRank(tags::kShader)}, {orderRank(tags::kProgram)},
-                      {orderRank(tags::kTexture)}};
+    Group groups[] = {{streamOrderRank(tags::kShader)}, {streamOrderRank(tags::kProgram)},
+                      {streamOrderRank(tags::kTexture)}};
     auto flushBelow = [&](int rank) -> Status {
         for (Group& g : groups) {
             if (g.flushed || g.rank >= rank) continue;
             g.flushed = true;
             Status s;
-            if (g.rank == orderRank(tags::kShader))
+            if (g.rank == streamOrderRank(tags::kShader))
                 for (const ShaderSource& sh : newShaders)
                     if (s = done(writeChunk(w, sh), stats.chunksAdded); !isOk(s)) return s;
-            if (g.rank == orderRank(tags::kProgram))
+            if (g.rank == streamOrderRank(tags::kProgram))
                 for (const Program& p : newPrograms)
                     if (s = done(writeChunk(w, p), stats.chunksAdded); !isOk(s)) return s;
-            if (g.rank == orderRank(tags::kTexture))
+            if (g.rank == streamOrderRank(tags::kTexture))
                 for (const TextureDesc& t : newTextures)
                     if (s = done(writeChunk(w, t), stats.chunksAdded); !isOk(s)) return s;
         }
@@ -129,7 +118,7 @@ Result<SaveStats> Document::Impl::save(const std::string& target) {
     uint32_t materialIndex = 0, mipIndex = 0;
     for (const ChunkInfo& c : source.chunks()) {
         const Tag tag = c.header.tag;
-        const int rank = orderRank(tag);
+        const int rank = streamOrderRank(tag);
         if (rank >= 0)
             if (Status s = flushBelow(rank); !isOk(s)) return s;
         Status s;

@@ -150,14 +150,14 @@ TEST(GltfWriter, WriteFileAtomicReplacesTheFileAndLeavesNoTemporary) {
     fs::create_directories(dir);
     const std::string path = (dir / "scene.glb").string();
     std::vector<uint8_t> first = encodeGlb(fanDocument(3)), second = encodeGlb(fanDocument(7));
-    ASSERT_TRUE(pnb::isOk(writeFileAtomic(path, first)));
-    ASSERT_TRUE(pnb::isOk(writeFileAtomic(path, second)));
+    ASSERT_TRUE(pnb::isOk(pnb::writeFileAtomic(path, first)));
+    ASSERT_TRUE(pnb::isOk(pnb::writeFileAtomic(path, second)));
     std::ifstream in(path, std::ios::binary);
     std::vector<uint8_t> read((std::istreambuf_iterator<char>(in)), {});
     EXPECT_TRUE(read == second);
     EXPECT_EQ(std::distance(fs::directory_iterator(dir), fs::directory_iterator()), 1);
 
-    pnb::Status s = writeFileAtomic((dir / "missing" / "x.glb").string(), first);
+    pnb::Status s = pnb::writeFileAtomic((dir / "missing" / "x.glb").string(), first);
     EXPECT_EQ(s.code, pnb::FormatError::IoError);
     EXPECT_NE(s.message.find("missing"), std::string::npos);
     fs::remove_all(dir);

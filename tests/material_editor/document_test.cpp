@@ -12,11 +12,6 @@ using namespace pnb;
 using namespace pnb::editor;
 using namespace pnb::editor::test;
 
-std::unique_ptr<Document> openDoc(const std::string& path) {
-    auto d = Document::open(path);
-    EXPECT_TRUE(d.ok()) << (d.ok() ? "" : d.error().describe());
-    return d.ok() ? std::move(*d) : nullptr;
-}
 
 std::string field(const Document& d, uint32_t material, const char* name) {
     return getMaterialField(d.scene().materials[material], name);

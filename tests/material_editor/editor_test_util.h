@@ -183,7 +183,7 @@ inline std::string convert(const TempDir& dir, const gltf::Document& doc, const 
                            const std::string& sidecarJson = "") {
     std::string glb = dir.file(name + ".glb");
     auto bytes = gltf::encodeGlb(doc);
-    EXPECT_TRUE(isOk(gltf::writeFileAtomic(glb, bytes)));
+    EXPECT_TRUE(isOk(pnb::writeFileAtomic(glb, bytes)));
     converter::ConvertSettings s;
     s.input = glb;
     s.output = dir.file(name + ".pnb");
@@ -265,6 +265,12 @@ inline std::string quote(const std::string& s) {
     std::string out = "'";
     for (char c : s) out += c == '\'' ? std::string("'\\''") : std::string(1, c);
     return out + "'";
+}
+
+inline std::unique_ptr<Document> openDoc(const std::string& path) {
+    auto d = Document::open(path);
+    EXPECT_TRUE(d.ok()) << (d.ok() ? "" : d.error().describe());
+    return d.ok() ? std::move(*d) : nullptr;
 }
 
 } // namespace pnb::editor::test

@@ -24,11 +24,6 @@ using namespace pnb;
 using namespace pnb::editor;
 using namespace pnb::editor::test;
 
-std::unique_ptr<Document> openDoc(const std::string& path) {
-    auto d = Document::open(path);
-    EXPECT_TRUE(d.ok()) << (d.ok() ? "" : d.error().describe());
-    return d.ok() ? std::move(*d) : nullptr;
-}
 
 // Chunks of one kind, in file order.
 std::vector<const ChunkInfo*> ofKind(const Container& c, Tag tag) { return c.find(tag); }

@@ -419,11 +419,11 @@ TEST_F(ImageWrite, ReplacesAnExistingFileAtomically) {
 
 TEST_F(ImageWrite, WriteFileAtomicWritesBytes) {
     const std::vector<uint8_t> bytes = {1, 2, 3, 0, 255};
-    ASSERT_TRUE(pnb::isOk(pnb::player::writeFileAtomic(path("raw.bin"), bytes)));
+    ASSERT_TRUE(pnb::isOk(pnb::writeFileAtomic(path("raw.bin"), bytes)));
     std::ifstream f(path("raw.bin"), std::ios::binary);
     std::vector<uint8_t> back((std::istreambuf_iterator<char>(f)), {});
     EXPECT_EQ(back, bytes);
-    ASSERT_TRUE(pnb::isOk(pnb::player::writeFileAtomic(path("empty.bin"), {})));
+    ASSERT_TRUE(pnb::isOk(pnb::writeFileAtomic(path("empty.bin"), {})));
     EXPECT_EQ(fs::file_size(path("empty.bin")), 0u);
 }
 

@@ -118,7 +118,7 @@ std::string convert(const gltf::Document& doc, const std::string& name, const st
     std::string dir = tempDir();
     std::string glb = dir + "/" + name + ".glb";
     auto bytes = gltf::encodeGlb(doc);
-    EXPECT_TRUE(isOk(gltf::writeFileAtomic(glb, bytes)));
+    EXPECT_TRUE(isOk(pnb::writeFileAtomic(glb, bytes)));
     converter::ConvertSettings s;
     s.input = glb;
     s.output = dir + "/" + name + ".pnb";

@@ -32,6 +32,7 @@
 #include <string>
 #include <vector>
 
+#include "pnb/atomic_file.h"
 #include "pnb/error.h"
 
 namespace pnb::assets::gltf {
@@ -153,10 +154,7 @@ uint64_t countRenderedTriangles(const Document& doc);
 // `stats`, if not null, receives the counts. Deterministic. Thread-safe for distinct documents.
 std::vector<uint8_t> encodeGlb(const Document& doc, GlbStats* stats = nullptr);
 
-// Writes `bytes` to `path` atomically: a temporary file in the same directory, fsync, then
-// rename over `path`, so readers never see a partial file. Returns an IoError Status naming the
-// path on failure (and removes the temporary file).
-Status writeFileAtomic(const std::string& path, std::span<const uint8_t> bytes);
+// Files are written with pnb::writeFileAtomic (pnb/atomic_file.h).
 
 // --- Small helpers for building Documents ------------------------------------------------------
 

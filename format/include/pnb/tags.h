@@ -44,4 +44,17 @@ inline constexpr Tag kTextureMip = detail::makeTag("TMIP");     // one mip level
 inline constexpr Tag kToc = detail::makeTag("TOCX");            // table of contents (last chunk)
 } // namespace tags
 
+// Rank of a known tag in the streamable order of FORMAT.md §4.1 (STRS 0 ... TMIP 12); -1 for
+// TOCX and tags this version does not know. Chunks of equal rank may repeat.
+constexpr int streamOrderRank(Tag t) {
+    constexpr Tag order[] = {tags::kStrings,  tags::kSceneInfo, tags::kRenderSettings,
+                             tags::kShader,   tags::kProgram,   tags::kTexture,
+                             tags::kMaterial, tags::kMesh,      tags::kLights,
+                             tags::kCameras,  tags::kNodes,     tags::kCameraPath,
+                             tags::kTextureMip};
+    for (int i = 0; i < int(sizeof(order) / sizeof(order[0])); ++i)
+        if (order[i] == t) return i;
+    return -1;
+}
+
 } // namespace pnb

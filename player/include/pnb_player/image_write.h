@@ -31,6 +31,7 @@
 #include <string>
 #include <vector>
 
+#include "pnb/atomic_file.h"
 #include "pnb/error.h"
 
 namespace pnb::player {
@@ -60,8 +61,6 @@ std::vector<uint8_t> encodeExr(const ImageView& image);
 Status writePng(const std::string& path, const ImageView& image);
 Status writeExr(const std::string& path, const ImageView& image);
 
-// Atomically replaces `path` with `bytes` (temporary in the same directory, fsync, rename,
-// directory fsync). Used by the functions above; exposed for other player outputs.
-Status writeFileAtomic(const std::string& path, std::span<const uint8_t> bytes);
+
 
 } // namespace pnb::player
