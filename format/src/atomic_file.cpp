@@ -10,29 +10,25 @@
 
 namespace pnb {
 
-namespace {
-
 std::string directoryOf(const std::string& path) {
     size_t slash = path.find_last_of('/');
     if (slash == std::string::npos) return ".";
     return slash == 0 ? "/" : path.substr(0, slash);
 }
 
-std::string baseNameOf(const std::string& path) {
+std::string temporaryPathFor(const std::string& path) {
+    static std::atomic<unsigned> counter{0};
     size_t slash = path.find_last_of('/');
-    return slash == std::string::npos ? path : path.substr(slash + 1);
+    std::string name = slash == std::string::npos ? path : path.substr(slash + 1);
+    return directoryOf(path) + "/." + name + ".tmp." + std::to_string(::getpid()) + "." +
+           std::to_string(counter++);
 }
-
-} // namespace
 
 Status writeFileAtomic(const std::string& path, std::span<const uint8_t> bytes) {
     if (path.empty() || path.back() == '/')
         return makeError(FormatError::IoError, 0, "cannot write '%s': not a file name",
                          path.c_str());
-    static std::atomic<unsigned> counter{0};
-    // Same directory as the target, so rename() is atomic (same file system).
-    const std::string tempPath = directoryOf(path) + "/." + baseNameOf(path) + ".tmp." +
-                                 std::to_string(::getpid()) + "." + std::to_string(counter++);
+    const std::string tempPath = temporaryPathFor(path);
     int fd = ::open(tempPath.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0644);
     if (fd < 0)
         return makeError(FormatError::IoError, 0, "cannot create a temporary file next to '%s': %s",

@@ -2,10 +2,10 @@
 
 #include "pnb/writer.h"
 
+#include "pnb/atomic_file.h"
 #include "pnb/reader.h"
 
 #include <algorithm>
-#include <atomic>
 #include <cerrno>
 #include <cstring>
 #include <fcntl.h>
@@ -60,34 +60,17 @@ struct Writer::Impl {
     }
 };
 
-namespace {
-
-std::string directoryOf(const std::string& path) {
-    size_t slash = path.find_last_of('/');
-    if (slash == std::string::npos) return ".";
-    return slash == 0 ? "/" : path.substr(0, slash);
-}
-
-std::string baseNameOf(const std::string& path) {
-    size_t slash = path.find_last_of('/');
-    return slash == std::string::npos ? path : path.substr(slash + 1);
-}
-
-} // namespace
-
 Writer::Writer(std::unique_ptr<Impl> impl) : mImpl(std::move(impl)) {}
 Writer::Writer(Writer&&) noexcept = default;
 Writer& Writer::operator=(Writer&&) noexcept = default;
 Writer::~Writer() = default;
 
 Result<Writer> Writer::create(const std::string& path, const WriteOptions& options) {
-    static std::atomic<unsigned> counter{0};
     auto impl = std::make_unique<Impl>();
     impl->options = options;
     impl->path = path;
     // Same directory as the target, so rename() is atomic (same file system).
-    impl->tempPath = directoryOf(path) + "/." + baseNameOf(path) + ".tmp." +
-                     std::to_string(::getpid()) + "." + std::to_string(counter++);
+    impl->tempPath = temporaryPathFor(path);
     impl->fd = ::open(impl->tempPath.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0644);
     if (impl->fd < 0) {
         int e = errno;

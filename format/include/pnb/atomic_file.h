@@ -17,4 +17,9 @@ namespace pnb {
 // file and the failing step; the temporary is removed.
 Status writeFileAtomic(const std::string& path, std::span<const uint8_t> bytes);
 
+// The pieces pnb::Writer shares: a fresh "<dir>/.<name>.tmp.<pid>.<n>" beside `path` (same file
+// system, so the rename is atomic), and the directory to fsync after the rename ("." if none).
+std::string temporaryPathFor(const std::string& path);
+std::string directoryOf(const std::string& path);
+
 } // namespace pnb
