@@ -26,10 +26,13 @@ bool layerHasTranslucency(const GpuScene& scene, std::span<const DrawRef> refs) 
 
 } // namespace
 
-DrawLists buildDrawLists(const GpuScene& scene, const ViewMatrices& view, bool cull,
-                         StreamRing& ring) {
-    DrawLists lists;
+void buildDrawLists(const GpuScene& scene, const ViewMatrices& view, bool cull, StreamRing& ring,
+                    DrawLists& lists) {
     lists.layers.resize(scene.deferredLayers.size());
+    for (auto& layer : lists.layers) layer.clear();
+    lists.forwardOpaque.clear();
+    lists.forwardBlended.clear();
+    lists.visible = lists.culled = 0;
     glm::dvec3 forward = glm::dvec3(glm::transpose(glm::dmat3(view.view)) * glm::dvec3(0, 0, -1));
     glm::dmat4 toCamera = glm::translate(glm::dmat4(1.0), -view.position);
     for (uint32_t i = 0; i < scene.items.size(); ++i) {
@@ -72,7 +75,6 @@ DrawLists buildDrawLists(const GpuScene& scene, const ViewMatrices& view, bool c
                   layerHasTranslucency(scene, layer) ? +backToFront : +frontToBack);
     std::sort(lists.forwardOpaque.begin(), lists.forwardOpaque.end(), frontToBack);
     std::sort(lists.forwardBlended.begin(), lists.forwardBlended.end(), backToFront);
-    return lists;
 }
 
 void drawItems(FrameContext& ctx, std::span<const DrawRef> refs, GLuint program) {

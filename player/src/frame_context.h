@@ -26,9 +26,10 @@ struct DrawLists {
     uint32_t visible = 0, culled = 0;
 };
 
-// Culls, writes one ObjectBlock per visible item into the ring, and sorts.
-DrawLists buildDrawLists(const GpuScene& scene, const ViewMatrices& view, bool cull,
-                         StreamRing& ring);
+// Culls, writes one ObjectBlock per visible item into the ring, and sorts into `lists` (reused
+// frame to frame, so its vectors keep their capacity).
+void buildDrawLists(const GpuScene& scene, const ViewMatrices& view, bool cull, StreamRing& ring,
+                    DrawLists& lists);
 
 struct BuiltinPrograms {
     GlHandle fxaa, debugView, flat;
@@ -54,6 +55,7 @@ struct Renderer::Impl {
     StreamRing ring;
     BuiltinPrograms builtins;
     GlHandle emptyVao; // fullscreen passes draw without attributes
+    DrawLists lists;   // this frame's visible draws
     size_t alignment = 256;
     uint64_t frame = 0;
 };

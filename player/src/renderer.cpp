@@ -117,9 +117,12 @@ PlayResult<Done> Renderer::render(const CameraState& camera, uint32_t width, uin
     fb.ambient = glm::vec4(glm::vec3(mSettings.ambient), 0);
     size_t frameOffset = impl.ring.push(&fb, sizeof fb);
 
-    std::vector<std::byte> lightData(16 + sizeof(GpuLight) * scene.lights.size());
-    auto count = uint32_t(scene.lights.size());
-    std::memcpy(lightData.data(), &count, 4);
+    // The light list is written straight into the mapped ring (no per-frame allocation).
+    const size_t lightBytes = 16 + sizeof(GpuLight) * scene.lights.size();
+    std::byte* lightData = nullptr;
+    size_t lightOffset = impl.ring.allocate(lightBytes, lightData);
+    const uint32_t header[4] = {uint32_t(scene.lights.size()), 0, 0, 0};
+    std::memcpy(lightData, header, sizeof header);
     for (size_t i = 0; i < scene.lights.size(); ++i) {
         const SceneLight& l = scene.lights[i];
         GpuLight g;
@@ -128,14 +131,14 @@ PlayResult<Done> Renderer::render(const CameraState& camera, uint32_t width, uin
         g.colorIntensity = glm::vec4(l.desc.color.x, l.desc.color.y, l.desc.color.z, l.desc.intensity);
         float cosOuter = std::cos(l.desc.outerConeRadians), cosInner = std::cos(l.desc.innerConeRadians);
         g.cone = {cosOuter, 1.0f / std::max(cosInner - cosOuter, 1e-4f), 0, 0};
-        std::memcpy(lightData.data() + 16 + i * sizeof g, &g, sizeof g);
+        std::memcpy(lightData + 16 + i * sizeof g, &g, sizeof g);
     }
-    size_t lightOffset = impl.ring.push(lightData.data(), lightData.size());
     glBindBufferRange(GL_UNIFORM_BUFFER, 0, impl.ring.buffer(), GLintptr(frameOffset), sizeof fb);
     glBindBufferRange(GL_SHADER_STORAGE_BUFFER, 3, impl.ring.buffer(), GLintptr(lightOffset),
-                      GLsizeiptr(lightData.size()));
+                      GLsizeiptr(lightBytes));
 
-    DrawLists lists = buildDrawLists(scene, mView, mSettings.frustumCulling, impl.ring);
+    DrawLists& lists = impl.lists;
+    buildDrawLists(scene, mView, mSettings.frustumCulling, impl.ring, lists);
     mStats.visibleItems = lists.visible;
     mStats.culledItems = lists.culled;
 

@@ -41,10 +41,10 @@ void StreamRing::beginFrame() {
     mUsed = 0;
 }
 
-size_t StreamRing::push(const void* data, size_t bytes) {
+size_t StreamRing::allocate(size_t bytes, std::byte*& mapped) {
     assert(mUsed + bytes <= mSectionBytes && "StreamRing::reserve was too small");
     size_t offset = size_t(mSection) * mSectionBytes + mUsed;
-    std::memcpy(mMapped + offset, data, bytes);
+    mapped = mMapped + offset;
     mUsed += (bytes + mAlignment - 1) / mAlignment * mAlignment;
     return offset;
 }

@@ -24,8 +24,16 @@ public:
     void reserve(size_t sectionBytes, size_t alignment);
     // Starts a frame: waits for (normally long-finished) GPU use of the next section.
     void beginFrame();
+    // Reserves `bytes` in the current section for the caller to fill; returns the buffer offset
+    // and (in `mapped`) where to write.
+    size_t allocate(size_t bytes, std::byte*& mapped);
     // Copies `bytes` into the current section; returns the buffer offset.
-    size_t push(const void* data, size_t bytes);
+    size_t push(const void* data, size_t bytes) {
+        std::byte* dst = nullptr;
+        size_t offset = allocate(bytes, dst);
+        std::memcpy(dst, data, bytes);
+        return offset;
+    }
     // Fences the section.
     void endFrame();
 
