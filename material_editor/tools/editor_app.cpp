@@ -73,10 +73,8 @@ void EditorApp::status(std::string message) { mStatus = std::move(message); }
 
 void EditorApp::syncGpu() {
     mPreviewStale = true;
-    for (uint32_t i = 0; i < mDocument->materialCount(); ++i) {
-        auto r = player::updateMaterial(*mGpu, mDocument->scene(), i);
-        if (!r) status("viewport: " + r.error().message);
-    }
+    if (auto r = player::updateMaterials(*mGpu, mDocument->scene()); !r)
+        status("viewport: " + r.error().message);
 }
 
 Status EditorApp::setField(uint32_t material, const std::string& field, const std::string& value,

@@ -29,7 +29,7 @@ player::PlayResult<player::Done> MaterialPreview::refresh(const Scene& doc, uint
     for (size_t i = 0; i < m.textures.size(); ++i) m.textures[i].texture = mScene.materials[0].textures[i].texture;
     mScene.materials[0] = m;
     mShown = now;
-    return player::updateMaterial(*mGpu, mScene, 0);
+    return player::updateMaterials(*mGpu, mScene);
 }
 
 player::PlayResult<player::Done> MaterialPreview::show(const Scene& doc, uint32_t material) {

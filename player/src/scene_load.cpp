@@ -83,6 +83,7 @@ void updatePipelineLayout(GpuScene& gpu) {
 // pass if anything is deferred, the tone mapper.
 PlayResult<Done> compileNeededPrograms(const Scene& scene, GpuScene& gpu) {
     gpu.programs.resize(scene.programs.size());
+    size_t labelled = gpu.programLabels.size();
     gpu.programLabels.resize(scene.programs.size());
     std::set<uint32_t> wanted;
     for (const GpuMaterial& m : gpu.materials)
@@ -90,7 +91,7 @@ PlayResult<Done> compileNeededPrograms(const Scene& scene, GpuScene& gpu) {
     gpu.deferredLightingProgram.reset();
     gpu.tonemapProgram.reset();
     for (uint32_t i = 0; i < scene.programs.size(); ++i) {
-        gpu.programLabels[i] = programLabel(scene, i);
+        if (i >= labelled) gpu.programLabels[i] = programLabel(scene, i);
         std::string_view name = scene.str(scene.programs[i].name);
         if (name == "deferred_lighting" && !gpu.deferredLayers.empty() && !gpu.deferredLightingProgram) {
             gpu.deferredLightingProgram = i;
@@ -236,7 +237,7 @@ PlayResult<std::unique_ptr<GpuScene>> uploadScene(const Scene& scene, LoadStats*
     }
 
     // Materials: one std140 block each, at the UBO offset alignment. Dynamic storage: the
-    // material editor rewrites blocks in place (updateMaterial).
+    // material editor rewrites blocks in place (updateMaterials).
     GLint alignment = 256;
     glGetIntegerv(GL_UNIFORM_BUFFER_OFFSET_ALIGNMENT, &alignment);
     gpu->materialStride =
@@ -274,13 +275,17 @@ PlayResult<std::unique_ptr<GpuScene>> uploadScene(const Scene& scene, LoadStats*
     return gpu;
 }
 
-PlayResult<Done> updateMaterial(GpuScene& gpu, const Scene& scene, uint32_t index) {
-    const Material& desc = scene.materials[index];
-    GpuMaterial& m = gpu.materials[index];
-    m.desc = desc;
-    m.program = desc.program;
-    MaterialBlock b = materialBlock(desc);
-    glNamedBufferSubData(gpu.materialBuffer.id(), GLintptr(m.uniformOffset), sizeof b, &b);
+PlayResult<Done> updateMaterials(GpuScene& gpu, const Scene& scene) {
+    // Only the blocks that changed are rewritten; layout and programs are settled once.
+    for (uint32_t i = 0; i < gpu.materials.size(); ++i) {
+        GpuMaterial& m = gpu.materials[i];
+        const Material& desc = scene.materials[i];
+        if (encodeChunk(desc) == encodeChunk(m.desc)) continue;
+        m.desc = desc;
+        m.program = desc.program;
+        MaterialBlock b = materialBlock(desc);
+        glNamedBufferSubData(gpu.materialBuffer.id(), GLintptr(m.uniformOffset), sizeof b, &b);
+    }
     updatePipelineLayout(gpu);
     return compileNeededPrograms(scene, gpu);
 }

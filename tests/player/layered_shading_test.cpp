@@ -173,13 +173,13 @@ TEST(LayeredShading, ReorderingLayersLive) {
     // Into the opaque layer 0: one G-buffer holds one surface per pixel, so the pane hides the
     // floor and wall behind it, and the two farther panes then blend over it.
     scene->materials[nearest].layerPriority = 0;
-    ASSERT_TRUE(updateMaterial(**gpu, *scene, nearest).ok());
+    ASSERT_TRUE(updateMaterials(**gpu, *scene).ok());
     EXPECT_EQ((*gpu)->deferredLayers.size(), 3u);
     ImageDiff wrongOrder = frame();
     EXPECT_GT(wrongOrder.fractionOver(10), 0.05);
 
     scene->materials[nearest].layerPriority = 3;
-    ASSERT_TRUE(updateMaterial(**gpu, *scene, nearest).ok());
+    ASSERT_TRUE(updateMaterials(**gpu, *scene).ok());
     EXPECT_LE(frame().maxAbs, 3);
 }
 

@@ -145,9 +145,10 @@ PlayResult<std::unique_ptr<GpuScene>> loadScene(const std::string& path,
 // material editor's document). Fills stats->uploadMs and compileMs.
 PlayResult<std::unique_ptr<GpuScene>> uploadScene(const Scene& scene, LoadStats* stats = nullptr);
 
-// Material `index` of `scene` changed (values, path, layer, program): rewrites its uniform
-// block, recomputes the layer layout and compiles programs it now needs from `scene` (which may
-// hold more PROG chunks than when uploaded). Texture references must name uploaded textures.
-PlayResult<Done> updateMaterial(GpuScene& gpu, const Scene& scene, uint32_t index);
+// Materials of `scene` changed (values, path, layer, program): rewrites the uniform blocks that
+// differ, recomputes the layer layout once and compiles programs now needed from `scene` (which
+// may hold more PROG chunks than when uploaded; existing indices must not change). Texture
+// references must name uploaded textures.
+PlayResult<Done> updateMaterials(GpuScene& gpu, const Scene& scene);
 
 } // namespace pnb::player
