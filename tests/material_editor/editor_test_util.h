@@ -22,6 +22,7 @@
 #include "pnb_assets/gltf_writer.h"
 #include "pnb_assets/png_writer.h"
 #include "pnb_converter/convert.h"
+#include "gltf_fixture.h"
 #include "pnb_editor/document.h"
 
 namespace pnb::editor::test {
@@ -90,49 +91,9 @@ inline std::vector<uint8_t> checkerPng(uint32_t size, std::array<uint8_t, 3> a,
     return assets::encodePng(size, size, 3, pixels);
 }
 
-// A quad in the XY plane facing +Z, with UVs.
-inline gltf::Primitive quad(float size, uint32_t material) {
-    gltf::Primitive p;
-    float h = size / 2;
-    p.positions = {{-h, -h, 0}, {h, -h, 0}, {h, h, 0}, {-h, h, 0}};
-    p.normals.assign(4, {0, 0, 1});
-    p.uv0 = {{0, 1}, {1, 1}, {1, 0}, {0, 0}};
-    p.indices = {0, 1, 2, 0, 2, 3};
-    p.material = material;
-    return p;
-}
-
-// A box without UVs.
-inline gltf::Primitive box(float size, uint32_t material) {
-    gltf::Primitive p;
-    float h = size / 2;
-    const gltf::Float3 normals[6] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
-    for (const auto& n : normals) {
-        // Two axes spanning the face, chosen so the winding is counter-clockwise from outside.
-        gltf::Float3 u = n[0] != 0 ? gltf::Float3{0, 1, 0} : gltf::Float3{1, 0, 0};
-        gltf::Float3 v{n[1] * u[2] - n[2] * u[1], n[2] * u[0] - n[0] * u[2], n[0] * u[1] - n[1] * u[0]};
-        uint32_t base = uint32_t(p.positions.size());
-        for (int k = 0; k < 4; ++k) {
-            float su = (k == 1 || k == 2) ? 1.f : -1.f, sv = k >= 2 ? 1.f : -1.f;
-            p.positions.push_back({h * (n[0] + su * u[0] + sv * v[0]), h * (n[1] + su * u[1] + sv * v[1]),
-                                   h * (n[2] + su * u[2] + sv * v[2])});
-            p.normals.push_back(n);
-        }
-        p.indices.insert(p.indices.end(), {base, base + 1, base + 2, base, base + 2, base + 3});
-    }
-    p.material = material;
-    return p;
-}
-
-inline void addObject(gltf::Document& doc, const std::string& name, gltf::Primitive primitive,
-                      gltf::Float3 translation) {
-    doc.meshes.push_back({name, {std::move(primitive)}});
-    gltf::Node node;
-    node.name = name;
-    node.mesh = int32_t(doc.meshes.size() - 1);
-    node.translation = translation;
-    doc.nodes.push_back(node);
-}
+using pnb::test::addObject;
+using pnb::test::box;
+using pnb::test::quad;
 
 // Materials: "textured" (base colour + normal map on a quad with UVs, so the mesh keeps UVs and
 // tangents), "plain" (a box without UVs), "glass" (BLEND, so forward), "leaf" (MASK). Images:
@@ -159,10 +120,10 @@ inline gltf::Document editorScene() {
     leaf.alphaMode = gltf::AlphaMode::Mask;
     leaf.baseColorImage = 0;
     doc.materials = {textured, plain, glass, leaf};
-    addObject(doc, "wall", quad(4, 0), {0, 0, -2});
-    addObject(doc, "block", box(1, 1), {1, 0.5f, 0});
-    addObject(doc, "pane", quad(2, 2), {-1, 1, 0.5f});
-    addObject(doc, "foliage", quad(1, 3), {0, 2, 0});
+    addObject(doc, "wall", quad(4, 4, 0, true), {0, 0, -2});
+    addObject(doc, "block", box(1, 1, 1, 1), {1, 0.5f, 0});
+    addObject(doc, "pane", quad(2, 2, 2, true), {-1, 1, 0.5f});
+    addObject(doc, "foliage", quad(1, 1, 3, true), {0, 2, 0});
     doc.lights.push_back({"sun", gltf::LightType::Directional, {1, 1, 1}, 3.0f, 0});
     gltf::Node sun;
     sun.name = "sun";
@@ -181,22 +142,7 @@ inline gltf::Document editorScene() {
 // Converts `doc` (with a sidecar if given) into dir/name.pnb with the real converter.
 inline std::string convert(const TempDir& dir, const gltf::Document& doc, const std::string& name,
                            const std::string& sidecarJson = "") {
-    std::string glb = dir.file(name + ".glb");
-    auto bytes = gltf::encodeGlb(doc);
-    EXPECT_TRUE(isOk(pnb::writeFileAtomic(glb, bytes)));
-    converter::ConvertSettings s;
-    s.input = glb;
-    s.output = dir.file(name + ".pnb");
-    s.jobs = 1;
-    if (!sidecarJson.empty()) {
-        s.sidecar = dir.file(name + ".sidecar.json");
-        std::ofstream(s.sidecar) << sidecarJson;
-    } else {
-        s.noSidecar = true;
-    }
-    auto r = converter::convertScene(s);
-    EXPECT_TRUE(r.ok()) << (r.ok() ? "" : r.error().message);
-    return s.output;
+    return pnb::test::convertDocument(dir.path(), doc, name, sidecarJson);
 }
 
 // A container opened and decoded, kept together (the scene points into the container).

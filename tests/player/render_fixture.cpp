@@ -5,7 +5,6 @@
 #include <filesystem>
 #include <fstream>
 
-#include "pnb_converter/convert.h"
 #include "pnb_player/gl_context.h"
 #include "pnb_player/benchmark.h"
 #include "pnb_player/gpu_scene.h"
@@ -39,58 +38,6 @@ void HeadlessEnvironment::TearDown() {
                                 ("pnb-render-test-" + std::to_string(::getpid())));
 }
 
-gltf::Primitive quad(float w, float h, uint32_t material) {
-    gltf::Primitive p;
-    float x = w * 0.5f, y = h * 0.5f;
-    p.positions = {{-x, -y, 0}, {x, -y, 0}, {x, y, 0}, {-x, y, 0}};
-    p.normals = {{0, 0, 1}, {0, 0, 1}, {0, 0, 1}, {0, 0, 1}};
-    p.indices = {0, 1, 2, 0, 2, 3};
-    p.material = material;
-    return p;
-}
-
-gltf::Primitive box(float sx, float sy, float sz, uint32_t material) {
-    gltf::Primitive p;
-    p.material = material;
-    const float h[3] = {sx * 0.5f, sy * 0.5f, sz * 0.5f};
-    for (int axis = 0; axis < 3; ++axis) {
-        for (int sign = -1; sign <= 1; sign += 2) {
-            gltf::Float3 n{0, 0, 0};
-            n[size_t(axis)] = float(sign);
-            int u = (axis + 1) % 3, v = (axis + 2) % 3;
-            auto base = uint32_t(p.positions.size());
-            for (int c = 0; c < 4; ++c) {
-                float su = (c == 1 || c == 2) ? 1.0f : -1.0f, sv = (c >= 2) ? 1.0f : -1.0f;
-                gltf::Float3 q{0, 0, 0};
-                q[size_t(axis)] = float(sign) * h[axis];
-                q[size_t(u)] = su * h[u];
-                q[size_t(v)] = sv * h[v];
-                p.positions.push_back(q);
-                p.normals.push_back(n);
-            }
-            // Counter-clockwise seen from outside: (u, v, n) is right-handed for sign +1.
-            if (sign > 0) p.indices.insert(p.indices.end(), {base, base + 1, base + 2, base, base + 2, base + 3});
-            else p.indices.insert(p.indices.end(), {base, base + 2, base + 1, base, base + 3, base + 2});
-        }
-    }
-    return p;
-}
-
-uint32_t addObject(gltf::Document& doc, const std::string& name, gltf::Primitive primitive,
-                   gltf::Float3 translation, gltf::Float4 rotation) {
-    gltf::Mesh mesh;
-    mesh.name = name;
-    mesh.primitives.push_back(std::move(primitive));
-    doc.meshes.push_back(std::move(mesh));
-    gltf::Node node;
-    node.name = name;
-    node.mesh = int32_t(doc.meshes.size() - 1);
-    node.translation = translation;
-    node.rotation = rotation;
-    doc.nodes.push_back(node);
-    return uint32_t(doc.nodes.size() - 1);
-}
-
 void addLights(gltf::Document& doc, gltf::Float3 offset) {
     gltf::Light sun;
     sun.name = "sun";
@@ -115,24 +62,8 @@ void addLights(gltf::Document& doc, gltf::Float3 offset) {
 }
 
 std::string convert(const gltf::Document& doc, const std::string& name, const std::string& sidecarJson) {
-    std::string dir = tempDir();
-    std::string glb = dir + "/" + name + ".glb";
-    auto bytes = gltf::encodeGlb(doc);
-    EXPECT_TRUE(isOk(pnb::writeFileAtomic(glb, bytes)));
-    converter::ConvertSettings s;
-    s.input = glb;
-    s.output = dir + "/" + name + ".pnb";
-    s.jobs = 1;
-    s.validateShaders = false; // the driver compiles them in these tests
-    if (!sidecarJson.empty()) {
-        s.sidecar = dir + "/" + name + ".sidecar.json";
-        std::ofstream(s.sidecar) << sidecarJson;
-    } else {
-        s.noSidecar = true;
-    }
-    auto r = converter::convertScene(s);
-    EXPECT_TRUE(r.ok()) << (r.ok() ? "" : r.error().message);
-    return s.output;
+    // The driver compiles every program in these tests, so glslang validation is skipped.
+    return pnb::test::convertDocument(tempDir(), doc, name, sidecarJson, false);
 }
 
 Rendered render(const std::string& path, const CameraState& camera, uint32_t w, uint32_t h,

@@ -7,7 +7,7 @@
 
 #include <gtest/gtest.h>
 
-#include "pnb_assets/gltf_writer.h"
+#include "gltf_fixture.h"
 #include "pnb_player/renderer.h"
 
 namespace pnb::player::test {
@@ -21,13 +21,10 @@ public:
     void TearDown() override;
 };
 
-// Geometry: an axis-aligned quad in the XY plane facing +Z, and a box centred at the origin.
-gltf::Primitive quad(float width, float height, uint32_t material);
-gltf::Primitive box(float sx, float sy, float sz, uint32_t material);
+using pnb::test::addObject;
+using pnb::test::box;
+using pnb::test::quad;
 
-// Adds a node with a mesh of one primitive; returns the node index.
-uint32_t addObject(gltf::Document& doc, const std::string& name, gltf::Primitive primitive,
-                   gltf::Float3 translation, gltf::Float4 rotation = {0, 0, 0, 1});
 // A sun from the upper left and a warm point light.
 void addLights(gltf::Document& doc, gltf::Float3 offset = {0, 0, 0});
 
