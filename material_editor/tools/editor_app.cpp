@@ -428,7 +428,10 @@ bool EditorApp::frame() {
     if (mQuitConfirmed) return false;
     int w = 0, h = 0;
     mContext.framebufferSize(w, h);
-    glfwSetWindowTitle(window, windowTitle().c_str());
+    if (std::string title = windowTitle(); title != mTitle) {
+        glfwSetWindowTitle(window, title.c_str());
+        mTitle = std::move(title);
+    }
     drawMenuAndPrompts();
     float top = ImGui::GetFrameHeight(), left = 300, right = 380;
     auto place = [&](float x, float y, float width, float height) {

@@ -70,6 +70,7 @@ private:
     glm::dvec3 mCenter{0.0};
     player::CameraState mCamera;
     int mViewportWidth = 640, mViewportHeight = 400;
+    std::string mTitle; // last title given to the window
 };
 
 } // namespace pnb::editor

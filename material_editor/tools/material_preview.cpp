@@ -29,12 +29,14 @@ player::PlayResult<player::Done> MaterialPreview::refresh(const Scene& doc, uint
     for (size_t i = 0; i < m.textures.size(); ++i) m.textures[i].texture = mScene.materials[0].textures[i].texture;
     mScene.materials[0] = m;
     mShown = now;
+    mRenderedSize = 0;
     return player::updateMaterials(*mGpu, mScene);
 }
 
 player::PlayResult<player::Done> MaterialPreview::show(const Scene& doc, uint32_t material) {
     mMaterial = material;
     mShown = doc.materials[material];
+    mRenderedSize = 0;
     mRenderer.reset();
     mGpu.reset();
     mStorage.clear();
@@ -150,12 +152,14 @@ player::PlayResult<player::Done> MaterialPreview::show(const Scene& doc, uint32_
 
 GLuint MaterialPreview::render(uint32_t size) {
     if (!mRenderer) return 0;
+    if (mRenderedSize == size) return mRenderer->outputTexture(); // nothing changed
     player::CameraState cam;
     cam.position = {0, 0.6, 3.2};
     cam.rotation = glm::quatLookAt(glm::normalize(-cam.position), glm::dvec3(0, 1, 0));
     cam.yfovRadians = 0.7f;
     cam.znear = 0.05f;
     if (!mRenderer->render(cam, size, size)) return 0;
+    mRenderedSize = size;
     mRenderer->timer().completed().clear();
     return mRenderer->outputTexture();
 }

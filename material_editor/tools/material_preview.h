@@ -19,11 +19,13 @@ public:
     // After an edit: updates values in place, or rebuilds if the material, its textures or its
     // program changed.
     player::PlayResult<player::Done> refresh(const Scene& document, uint32_t material);
-    // Renders at size x size; returns the sRGB output texture (0 if nothing is shown).
+    // Renders at size x size when something changed since the last call; returns the sRGB
+    // output texture (0 if nothing is shown).
     GLuint render(uint32_t size);
 
 private:
     uint32_t mMaterial = kNone;
+    uint32_t mRenderedSize = 0;         // 0 = the shown image is out of date
     Material mShown;                    // the document's material as last shown
     Scene mScene;                       // views into the document and into mStorage
     std::vector<std::vector<std::byte>> mStorage;
