@@ -1,7 +1,10 @@
 // The render-setting table: one row per key; parsing and printing are derived from the row.
 #include "pnb_player/settings.h"
 
+#include <algorithm>
 #include <charconv>
+#include <span>
+#include <type_traits>
 #include <cmath>
 #include <cstdio>
 #include <variant>
@@ -14,11 +17,28 @@ struct FloatField {
     float RenderSettings::*member;
     float min, max;
 };
+struct UIntField {
+    uint32_t RenderSettings::*member;
+    uint32_t min, max;
+};
 struct BoolField {
     bool RenderSettings::*member;
 };
-struct DebugViewField {};
-using Field = std::variant<FloatField, BoolField, DebugViewField>;
+// One of a list of names, stored as an enum.
+struct EnumField {
+    std::span<const std::string_view> names;
+    int (*get)(const RenderSettings&);
+    void (*set)(RenderSettings&, int);
+};
+using Field = std::variant<FloatField, UIntField, BoolField, EnumField>;
+
+template <auto Member>
+EnumField enumField(std::span<const std::string_view> names) {
+    return {names, [](const RenderSettings& s) { return int(s.*Member); },
+            [](RenderSettings& s, int v) {
+                s.*Member = std::remove_reference_t<decltype(s.*Member)>(v);
+            }};
+}
 
 struct Row {
     SettingInfo info;
@@ -27,29 +47,86 @@ struct Row {
 
 constexpr std::string_view kDebugViewNames[] = {"none", "basecolor", "alpha", "normal",
                                                 "roughness", "metallic", "occlusion", "emissive",
-                                                "depth", "layer", "overdraw"};
+                                                "depth", "layer", "overdraw", "cascades",
+                                                "shadowmap", "histogram"};
 static_assert(std::size(kDebugViewNames) == size_t(DebugView::Count));
+constexpr std::string_view kTechniqueNames[] = {"off", "single", "lispsm", "pssm", "sdsm"};
+constexpr std::string_view kFitNames[] = {"sphere", "tight"};
+constexpr std::string_view kRenderNames[] = {"layered", "multipass"};
+constexpr std::string_view kFilterNames[] = {"hardware", "poisson", "pcss"};
+constexpr std::string_view kSelectNames[] = {"depth", "bounds"};
+constexpr std::string_view kPartitionNames[] = {"log", "quantile"};
 
 const std::vector<Row>& rows() {
+    using S = RenderSettings;
     static const std::vector<Row> table = {
         {{"lighting.exposure", "float > 0", "HDR scale applied before tone mapping"},
-         FloatField{&RenderSettings::exposure, 1e-6f, 1e6f}},
+         FloatField{&S::exposure, 1e-6f, 1e6f}},
         {{"lighting.ambient", "float >= 0",
           "uniform ambient radiance, multiplied by base colour and occlusion"},
-         FloatField{&RenderSettings::ambient, 0.0f, 1e6f}},
+         FloatField{&S::ambient, 0.0f, 1e6f}},
         {{"post.fxaa", "bool", "FXAA edge anti-aliasing after tone mapping"},
-         BoolField{&RenderSettings::fxaa}},
+         BoolField{&S::fxaa}},
         {{"cull.frustum", "bool", "skip draws whose world bounds are outside the view frustum"},
-         BoolField{&RenderSettings::frustumCulling}},
+         BoolField{&S::frustumCulling}},
         {{"camera.near", "float >= 0", "near plane in scene units; 0 = the container camera's"},
-         FloatField{&RenderSettings::nearPlane, 0.0f, 1e9f}},
+         FloatField{&S::nearPlane, 0.0f, 1e9f}},
         {{"camera.far", "float >= -1",
           "far plane in scene units; 0 = infinite (reversed-Z), -1 = the container camera's"},
-         FloatField{&RenderSettings::farPlane, -1.0f, 1e30f}},
+         FloatField{&S::farPlane, -1.0f, 1e30f}},
+        {{"shadows.technique", "off|single|lispsm|pssm|sdsm",
+          "sun shadows: none, one map over the scene, LiSPSM, practical-split cascades, or "
+          "cascades fitted on the GPU to this frame's depth (SDSM)"},
+         enumField<&S::shadowTechnique>(kTechniqueNames)},
+        {{"shadows.cascades", "int 1..8", "cascade count (pssm, sdsm)"},
+         UIntField{&S::shadowCascades, 1, 8}},
+        {{"shadows.resolution", "int 64..8192", "width and height of each shadow map in texels"},
+         UIntField{&S::shadowResolution, 64, 8192}},
+        {{"shadows.lambda", "float 0..1",
+          "pssm split scheme: 0 uniform, 1 logarithmic (C_i = l*n*(f/n)^(i/m) + (1-l)*(n+(f-n)*i/m))"},
+         FloatField{&S::shadowLambda, 0.0f, 1.0f}},
+        {{"shadows.distance", "float >= 0",
+          "farthest view depth that gets shadows; 0 = the far side of the scene bounds"},
+         FloatField{&S::shadowDistance, 0.0f, 1e30f}},
+        {{"shadows.fit", "sphere|tight",
+          "cascade extents: bounding sphere with texel snapping (stable) or tight rectangle (sharper, swims)"},
+         enumField<&S::shadowFit>(kFitNames)},
+        {{"shadows.render", "layered|multipass",
+          "all cascades in one pass (gl_Layer from instancing) or one pass per cascade"},
+         enumField<&S::shadowRender>(kRenderNames)},
+        {{"shadows.filter", "hardware|poisson|pcss",
+          "2x2 hardware PCF, rotated Poisson-disk PCF, or PCSS (contact-hardening)"},
+         enumField<&S::shadowFilter>(kFilterNames)},
+        {{"shadows.taps", "int 1..64", "Poisson/PCSS filter taps"},
+         UIntField{&S::shadowTaps, 1, 64}},
+        {{"shadows.radius", "float 0..64", "Poisson filter radius in texels"},
+         FloatField{&S::shadowRadius, 0.0f, 64.0f}},
+        {{"shadows.light_size", "float 0..20",
+          "PCSS: angular diameter of the light in degrees (the sun: 0.53)"},
+         FloatField{&S::shadowLightSize, 0.0f, 20.0f}},
+        {{"shadows.select", "depth|bounds",
+          "cascade selection: by view depth, or the first cascade whose map contains the point"},
+         enumField<&S::shadowSelect>(kSelectNames)},
+        {{"shadows.blend", "float 0..0.5",
+          "band at the end of each cascade, as a fraction of its range, blended with the next"},
+         FloatField{&S::shadowBlend, 0.0f, 0.5f}},
+        {{"shadows.normal_offset", "float 0..16",
+          "receiver offset along the normal, in texels of the cascade read"},
+         FloatField{&S::shadowNormalOffset, 0.0f, 16.0f}},
+        {{"shadows.slope_bias", "float 0..16",
+          "receiver offset toward the light, in texels times tan(angle to the light), capped at 10"},
+         FloatField{&S::shadowSlopeBias, 0.0f, 16.0f}},
+        {{"shadows.sdsm_partition", "log|quantile",
+          "sdsm: logarithmic splits over the tight depth range, or equal sample counts per cascade "
+          "(seed 000's histogram variant, weighted by the pssm scheme)"},
+         enumField<&S::sdsmPartition>(kPartitionNames)},
         {{"debug.view",
-          "none|basecolor|alpha|normal|roughness|metallic|occlusion|emissive|depth|layer|overdraw",
+          "none|basecolor|alpha|normal|roughness|metallic|occlusion|emissive|depth|layer|overdraw|"
+          "cascades|shadowmap|histogram",
           "show one buffer instead of the lit image"},
-         DebugViewField{}},
+         enumField<&S::debugView>(kDebugViewNames)},
+        {{"debug.shadow_layer", "int 0..7", "the shadow-map layer debug.view=shadowmap shows"},
+         UIntField{&S::debugShadowLayer, 0, 7}},
     };
     return table;
 }
@@ -100,15 +177,21 @@ PlayResult<Done> applySetting(RenderSettings& settings, std::string_view key,
             v < f->min || v > f->max)
             return usage(key, value, row->info.type);
         settings.*(f->member) = v;
+    } else if (const auto* u = std::get_if<UIntField>(&row->field)) {
+        uint32_t v = 0;
+        auto [end, ec] = std::from_chars(value.data(), value.data() + value.size(), v);
+        if (ec != std::errc() || end != value.data() + value.size() || v < u->min || v > u->max)
+            return usage(key, value, row->info.type);
+        settings.*(u->member) = v;
     } else if (const auto* b = std::get_if<BoolField>(&row->field)) {
         if (value == "1" || value == "true" || value == "on") settings.*(b->member) = true;
         else if (value == "0" || value == "false" || value == "off") settings.*(b->member) = false;
         else return usage(key, value, "a bool (1/0, true/false, on/off)");
     } else {
-        size_t i = 0;
-        while (i < size_t(DebugView::Count) && kDebugViewNames[i] != value) ++i;
-        if (i == size_t(DebugView::Count)) return usage(key, value, row->info.type);
-        settings.debugView = DebugView(i);
+        const auto& e = std::get<EnumField>(row->field);
+        auto it = std::find(e.names.begin(), e.names.end(), value);
+        if (it == e.names.end()) return usage(key, value, row->info.type);
+        e.set(settings, int(it - e.names.begin()));
     }
     return Done{};
 }
@@ -126,9 +209,19 @@ std::string settingValue(const RenderSettings& settings, std::string_view key) {
     if (!row) return {};
     if (const auto* f = std::get_if<FloatField>(&row->field))
         return formatFloat(settings.*(f->member));
+    if (const auto* u = std::get_if<UIntField>(&row->field))
+        return std::to_string(settings.*(u->member));
     if (const auto* b = std::get_if<BoolField>(&row->field))
         return settings.*(b->member) ? "true" : "false";
-    return std::string(toString(settings.debugView));
+    const auto& e = std::get<EnumField>(row->field);
+    return std::string(e.names[size_t(e.get(settings))]);
+}
+
+std::vector<std::string_view> settingChoices(std::string_view key) {
+    const Row* row = findRow(key);
+    const auto* e = row ? std::get_if<EnumField>(&row->field) : nullptr;
+    if (!e) return {};
+    return {e->names.begin(), e->names.end()};
 }
 
 std::vector<std::pair<std::string, std::string>> settingValues(const RenderSettings& settings) {

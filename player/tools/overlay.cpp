@@ -7,7 +7,9 @@
 #include <backends/imgui_impl_opengl3.h>
 #include <imgui.h>
 
+#include <algorithm>
 #include <string>
+#include <vector>
 
 namespace pnb::player {
 
@@ -59,16 +61,20 @@ bool Overlay::draw(const Renderer& renderer, const FrameGpuTimes* times, RenderS
             float f = std::stof(value);
             if (ImGui::DragFloat(key.c_str(), &f, 0.01f * std::max(std::abs(f), 0.1f)))
                 changed |= bool(applySetting(settings, key, std::to_string(f)));
-        } else if (key == "debug.view") {
-            int current = int(settings.debugView);
-            const char* names[size_t(DebugView::Count)];
-            std::string storage[size_t(DebugView::Count)];
-            for (size_t i = 0; i < size_t(DebugView::Count); ++i) {
-                storage[i] = std::string(toString(DebugView(i)));
-                names[i] = storage[i].c_str();
+        } else if (info.type.rfind("int", 0) == 0) {
+            int i = std::stoi(value);
+            if (ImGui::InputInt(key.c_str(), &i))
+                changed |= bool(applySetting(settings, key, std::to_string(std::max(i, 0))));
+        } else if (auto choices = settingChoices(key); !choices.empty()) {
+            std::vector<std::string> storage(choices.begin(), choices.end());
+            std::vector<const char*> names;
+            int current = 0;
+            for (size_t i = 0; i < storage.size(); ++i) {
+                names.push_back(storage[i].c_str());
+                if (storage[i] == value) current = int(i);
             }
-            if (ImGui::Combo(key.c_str(), &current, names, int(DebugView::Count)))
-                changed |= bool(applySetting(settings, key, names[current]));
+            if (ImGui::Combo(key.c_str(), &current, names.data(), int(names.size())))
+                changed |= bool(applySetting(settings, key, names[size_t(current)]));
         }
         if (ImGui::IsItemHovered()) ImGui::SetTooltip("%s", std::string(info.description).c_str());
     }

@@ -10,6 +10,11 @@ TEST(Settings, ParsesEveryKindAndRoundTrips) {
     ASSERT_TRUE(applySetting(s, "post.fxaa", "on").ok());
     ASSERT_TRUE(applySetting(s, "cull.frustum", "0").ok());
     ASSERT_TRUE(applySetting(s, "debug.view", "overdraw").ok());
+    ASSERT_TRUE(applySetting(s, "shadows.technique=sdsm").ok());
+    ASSERT_TRUE(applySetting(s, "shadows.cascades=8").ok());
+    EXPECT_EQ(s.shadowTechnique, ShadowTechnique::Sdsm);
+    EXPECT_EQ(s.shadowCascades, 8u);
+    EXPECT_EQ(settingChoices("shadows.filter").size(), 3u);
     EXPECT_EQ(s.exposure, 2.5f);
     EXPECT_TRUE(s.fxaa);
     EXPECT_FALSE(s.frustumCulling);
@@ -27,6 +32,8 @@ TEST(Settings, RejectsWhatDoesNotParseAndNamesTheKey) {
         {"lighting.exposure", "0"},     {"lighting.exposure", "abc"}, {"lighting.exposure", "1e40"},
         {"lighting.exposure", "nan"},   {"lighting.ambient", "-1"},   {"post.fxaa", "yes please"},
         {"debug.view", "normals"},      {"camera.far", "-2"},         {"lighting.exposure", "2x"},
+        {"shadows.cascades", "0"},      {"shadows.cascades", "9"},    {"shadows.cascades", "2.5"},
+        {"shadows.technique", "csm"},   {"shadows.lambda", "1.5"},    {"shadows.resolution", "-1"},
     };
     for (auto [key, value] : bad) {
         auto r = applySetting(s, key, value);
@@ -44,15 +51,16 @@ TEST(Settings, RejectsWhatDoesNotParseAndNamesTheKey) {
 
 TEST(Settings, CommandLineWinsOverContainerWhichWinsOverDefaults) {
     std::vector<std::pair<std::string, std::string>> container = {
-        {"lighting.exposure", "2"}, {"post.fxaa", "true"}, {"shadows.cascades", "4"}, {"lighting.ambient", "-3"}};
+        {"lighting.exposure", "2"}, {"post.fxaa", "true"}, {"gi.lpv_cells", "32"}, {"shadows.cascades", "3"}, {"lighting.ambient", "-3"}};
     std::vector<std::string> warnings;
     auto s = resolveSettings(container, {"lighting.exposure=0.5"}, &warnings);
     ASSERT_TRUE(s.ok());
     EXPECT_EQ(s->exposure, 0.5f);       // command line
     EXPECT_TRUE(s->fxaa);               // container
     EXPECT_EQ(s->ambient, RenderSettings{}.ambient); // invalid container value: default kept
+    EXPECT_EQ(s->shadowCascades, 3u);   // container
     ASSERT_EQ(warnings.size(), 2u);     // unknown key and bad value, both reported
-    EXPECT_NE(warnings[0].find("shadows.cascades"), std::string::npos);
+    EXPECT_NE(warnings[0].find("gi.lpv_cells"), std::string::npos);
     EXPECT_FALSE(resolveSettings(container, {"lighting.exposure=-1"}).ok());
 }
 

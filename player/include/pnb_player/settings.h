@@ -7,6 +7,7 @@
 // write settings for features this player does not have).
 #pragma once
 
+#include <cstdint>
 #include <string>
 #include <string_view>
 #include <utility>
@@ -28,8 +29,25 @@ enum class DebugView {
     Depth,     // linearised view depth, log-scaled
     Layer,     // which deferred layer (or forward) last wrote each pixel
     Overdraw,  // fragments shaded per pixel across all geometry passes
+    Cascades,  // lit image tinted by the shadow cascade each pixel reads (seed 000's colours)
+    ShadowMap, // one layer of the shadow-map array (debug.shadow_layer), depth as grey
+    Histogram, // SDSM's depth histogram with the split positions marked (sdsm only)
     Count
 };
+
+// shadows.technique: how the sun's (first directional light's) shadow map is fitted.
+enum class ShadowTechnique {
+    Off,
+    Single, // one orthographic map over the whole scene (the baseline)
+    Lispsm, // one light-space perspective map over the view (Wimmer et al. 2004)
+    Pssm,   // cascades at the practical split scheme's distances (Zhang et al. 2006)
+    Sdsm,   // cascades fitted on the GPU to this frame's depth samples (Lauritzen et al. 2011)
+};
+enum class ShadowFit { Sphere, Tight };        // shadows.fit
+enum class ShadowRender { Layered, MultiPass }; // shadows.render
+enum class ShadowFilter { Hardware, Poisson, Pcss }; // shadows.filter
+enum class CascadeSelect { Depth, Bounds };    // shadows.select
+enum class SdsmPartition { Log, Quantile };    // shadows.sdsm_partition
 
 struct RenderSettings {
     float exposure = 1.0f;       // lighting.exposure: HDR scale before tone mapping
@@ -39,6 +57,25 @@ struct RenderSettings {
     float nearPlane = 0.0f;      // camera.near: metres; 0 = the container camera's znear
     float farPlane = -1.0f;      // camera.far: metres; 0 = infinite; -1 = the container camera's
     DebugView debugView = DebugView::None; // debug.view
+    uint32_t debugShadowLayer = 0;         // debug.shadow_layer
+
+    // shadows.*: see settings.cpp for each key's meaning.
+    ShadowTechnique shadowTechnique = ShadowTechnique::Pssm;
+    uint32_t shadowCascades = 4;
+    uint32_t shadowResolution = 2048;
+    float shadowLambda = 0.75f;
+    float shadowDistance = 0.0f; // 0 = to the far side of the scene bounds
+    ShadowFit shadowFit = ShadowFit::Sphere;
+    ShadowRender shadowRender = ShadowRender::Layered;
+    ShadowFilter shadowFilter = ShadowFilter::Poisson;
+    uint32_t shadowTaps = 16;
+    float shadowRadius = 1.5f;     // filter radius in texels
+    float shadowLightSize = 0.53f; // PCSS: the light's angular diameter in degrees (the sun: 0.53)
+    CascadeSelect shadowSelect = CascadeSelect::Depth;
+    float shadowBlend = 0.1f;      // blend band: fraction of each cascade's depth range
+    float shadowNormalOffset = 1.0f; // texels
+    float shadowSlopeBias = 1.0f;    // texels per unit of tan(angle to the light)
+    SdsmPartition sdsmPartition = SdsmPartition::Log;
 };
 
 struct SettingInfo {
@@ -47,6 +84,9 @@ struct SettingInfo {
 
 // Every key, in a stable order (for --list-settings, the JSON summary and the overlay).
 const std::vector<SettingInfo>& settingInfos();
+
+// The accepted values of a key that takes one of a list of names (empty for other keys).
+std::vector<std::string_view> settingChoices(std::string_view key);
 
 // Parses `value` into the setting `key`. Errors (Usage) name the key and what is accepted.
 PlayResult<Done> applySetting(RenderSettings& settings, std::string_view key,
