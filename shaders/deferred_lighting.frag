@@ -32,4 +32,7 @@ void main() {
     vec3 color = (shadeLights(base.rgb, metallic, nm.z, n, position, v) + uAmbient.rgb * base.rgb) *
                  occlusion;
     outColor = vec4(color + texture(uGEmissive, vUv).rgb, base.a);
+#ifdef SHADOWS
+    outColor = shadowOutput(outColor);
+#endif
 }

@@ -12,4 +12,7 @@ void main() {
     vec3 color = shadeLights(s.baseColor, s.metallic, s.roughness, s.normal, vPosition, v);
     color = (color + uAmbient.rgb * s.baseColor) * s.occlusion + s.emissive;
     outColor = vec4(color, s.alpha);
+#ifdef SHADOWS
+    outColor = shadowOutput(outColor);
+#endif
 }

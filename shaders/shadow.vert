@@ -1,6 +1,11 @@
 #version 450 core
-// shadow.vert — depth-only draw into a shadow map (cascades select their matrix per draw).
+// shadow.vert — depth-only draw into the shadow-map array. Layered (one draw for all cascades):
+// instance k goes to the k-th cascade set in the caster's mask, written to gl_Layer from the
+// vertex shader (ARB_shader_viewport_layer_array), so no geometry shader runs. Multi-pass: the
+// player attaches one layer and names its cascade in uPassCascade.
+#extension GL_ARB_shader_viewport_layer_array : require
 #include "include/interface.glsl"
+#include "include/shadow_block.glsl"
 
 layout(location = PNB_ATTR_POSITION) in vec3 inPosition;
 #ifdef ALPHA_MASK
@@ -8,10 +13,24 @@ layout(location = PNB_ATTR_UV0) in vec2 inUv0;
 layout(location = 3) out vec2 vUv0;
 #endif
 
+layout(location = 0) uniform int uPassCascade; // >= 0: multi-pass, this cascade; < 0: layered
+
+// Per caster (uObjectParams.y), the cascades whose light volume it touches (bit c = cascade c).
+layout(std430, binding = 5) readonly buffer CasterMasks {
+    uint uCasterMask[];
+};
+
 void main() {
+    int cascade = uPassCascade;
+    if (cascade < 0) {
+        uint mask = uCasterMask[uint(uObjectParams.y)];
+        for (int k = 0; k < gl_InstanceID; ++k) mask &= mask - 1u; // drop the lowest k set bits
+        cascade = findLSB(mask);
+        gl_Layer = cascade;
+    }
     vec3 objectPosition = inPosition * uDequantScale.xyz + uDequantOffset.xyz;
 #ifdef ALPHA_MASK
     vUv0 = inUv0;
 #endif
-    gl_Position = uViewProjection * (uModel * vec4(objectPosition, 1.0));
+    gl_Position = uShadowMatrix[cascade] * (uModel * vec4(objectPosition, 1.0));
 }

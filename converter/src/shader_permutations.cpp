@@ -58,14 +58,17 @@ ShaderPlan planShaders(std::span<const Material> materials,
     for (size_t i = 0; i < materials.size(); ++i) {
         bool deferred = materials[i].shadingPath == ShadingPath::Deferred;
         anyDeferred |= deferred;
+        std::vector<std::string> defines = surfaceDefines(features[i]);
+        // Forward shading samples the shadow maps itself; deferred receivers get them in the
+        // lighting pass.
+        if (!deferred && needs.shadows && materials[i].receivesShadows) defines.push_back("SHADOWS");
         plan.materialProgram.push_back(
-            add(deferred ? variant("gbuffer", {"surface.vert", "gbuffer.frag"},
-                                   surfaceDefines(features[i]))
-                         : variant("forward", {"surface.vert", "forward.frag"},
-                                   surfaceDefines(features[i]))));
+            add(deferred ? variant("gbuffer", {"surface.vert", "gbuffer.frag"}, std::move(defines))
+                         : variant("forward", {"surface.vert", "forward.frag"}, std::move(defines))));
     }
     if (anyDeferred)
-        add(variant("deferred_lighting", {"fullscreen.vert", "deferred_lighting.frag"}, {}));
+        add(variant("deferred_lighting", {"fullscreen.vert", "deferred_lighting.frag"},
+                    needs.shadows ? std::vector<std::string>{"SHADOWS"} : std::vector<std::string>{}));
     if (needs.shadows) {
         add(variant("shadow", {"shadow.vert", "shadow.frag"}, {}));
         if (needs.maskedCasters)

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <vector>
 
 namespace pnb::player {
 
@@ -33,7 +34,70 @@ glm::dvec2 sceneDepthInterval(const glm::dmat3& light, const FitBox& scene) {
     return z;
 }
 
+// Is `p` inside the view slice [a, b] (with a relative tolerance)?
+bool insideSlice(const FitCamera& cam, double a, double b, const glm::dvec3& p) {
+    double d = glm::dot(p, cam.forward);
+    double eps = 1e-9 * std::max(1.0, b);
+    if (d < a - eps || d > b + eps) return false;
+    double h = d * cam.tanHalfFovY + eps, w = h * cam.aspect + eps;
+    return std::abs(glm::dot(p, cam.up)) <= h && std::abs(glm::dot(p, cam.right)) <= w;
+}
+
+bool insideBox(const FitBox& box, const glm::dvec3& p) {
+    glm::dvec3 eps = 1e-9 * glm::max(glm::dvec3(1.0), glm::abs(box.max - box.min));
+    return glm::all(glm::greaterThanEqual(p, box.min - eps)) && glm::all(glm::lessThanEqual(p, box.max + eps));
+}
+
+// Edges of a box-like solid given by 8 corners indexed by bits (x = 1, y = 2, z = 4).
+constexpr int kEdges[12][2] = {{0, 1}, {2, 3}, {4, 5}, {6, 7}, {0, 2}, {1, 3},
+                               {4, 6}, {5, 7}, {0, 4}, {1, 5}, {2, 6}, {3, 7}};
+
 } // namespace
+
+std::vector<glm::dvec3> clipSliceToBox(const FitCamera& camera, double sliceNear, double sliceFar,
+                                       const FitBox& box) {
+    // The vertices of the intersection of two convex solids: each one's corners inside the other,
+    // and each one's edges crossing the other's faces.
+    glm::dvec3 slice[8], corners[8];
+    sliceCorners(camera, sliceNear, sliceFar, slice);
+    sceneCorners(box, corners);
+    std::vector<glm::dvec3> out;
+    for (const glm::dvec3& p : slice)
+        if (insideBox(box, p)) out.push_back(p);
+    for (const glm::dvec3& p : corners)
+        if (insideSlice(camera, sliceNear, sliceFar, p)) out.push_back(p);
+    // Slice edges against the box's six planes.
+    for (const auto& e : kEdges) {
+        glm::dvec3 p0 = slice[e[0]], p1 = slice[e[1]];
+        for (int axis = 0; axis < 3; ++axis) {
+            for (double plane : {box.min[axis], box.max[axis]}) {
+                double d0 = p0[axis] - plane, d1 = p1[axis] - plane;
+                if ((d0 < 0) == (d1 < 0) || d0 == d1) continue;
+                glm::dvec3 q = p0 + (p1 - p0) * (d0 / (d0 - d1));
+                if (insideBox(box, q)) out.push_back(q);
+            }
+        }
+    }
+    // Box edges against the slice's six planes (near, far, and four through the eye).
+    struct Plane {
+        glm::dvec3 n;
+        double d;
+    } planes[6] = {{camera.forward, -sliceNear}, {-camera.forward, sliceFar},
+                   {camera.forward * camera.tanHalfFovY - camera.up, 0},
+                   {camera.forward * camera.tanHalfFovY + camera.up, 0},
+                   {camera.forward * camera.tanHalfFovY * camera.aspect - camera.right, 0},
+                   {camera.forward * camera.tanHalfFovY * camera.aspect + camera.right, 0}};
+    for (const auto& e : kEdges) {
+        glm::dvec3 p0 = corners[e[0]], p1 = corners[e[1]];
+        for (const Plane& pl : planes) {
+            double d0 = glm::dot(pl.n, p0) + pl.d, d1 = glm::dot(pl.n, p1) + pl.d;
+            if ((d0 < 0) == (d1 < 0) || d0 == d1) continue;
+            glm::dvec3 q = p0 + (p1 - p0) * (d0 / (d0 - d1));
+            if (insideSlice(camera, sliceNear, sliceFar, q)) out.push_back(q);
+        }
+    }
+    return out;
+}
 
 glm::dmat3 lightRotation(const glm::dvec3& lightTravel) {
     glm::dvec3 z = -glm::normalize(lightTravel);
@@ -86,8 +150,12 @@ ShadowFit fitLightRectangle(const glm::dmat3& light, glm::dvec2 lo, glm::dvec2 h
 ShadowFit fitCascade(const FitCamera& camera, double sliceNear, double sliceFar,
                      const glm::dmat3& light, const FitBox& scene, uint32_t resolution, FitMode mode) {
     if (mode == FitMode::Tight) {
-        glm::dvec3 corners[8];
-        sliceCorners(camera, sliceNear, sliceFar, corners);
+        // The slice clipped to the scene: the part of it that can hold receivers.
+        std::vector<glm::dvec3> corners = clipSliceToBox(camera, sliceNear, sliceFar, scene);
+        if (corners.empty()) {
+            corners.resize(8);
+            sliceCorners(camera, sliceNear, sliceFar, corners.data());
+        }
         glm::dvec3 lo(kInf), hi(-kInf);
         for (const glm::dvec3& c : corners) {
             glm::dvec3 l = light * c;
@@ -145,20 +213,28 @@ ShadowFit fitLispsm(const FitCamera& camera, double viewNear, double viewFar,
     glm::dvec3 xAxis = glm::cross(yAxis, zAxis);
     glm::dmat3 light = rows(xAxis, yAxis, zAxis);
 
-    // Body B: the view slice and its extrusion toward the light up to the scene's top.
+    // Body B: the view slice clipped to the scene (receivers can only be there), extruded toward
+    // the light up to the scene's top (casters).
     glm::dvec2 sceneZ = sceneDepthInterval(light, scene);
-    glm::dvec3 corners[8];
-    sliceCorners(camera, viewNear, viewFar, corners);
-    glm::dvec3 body[16];
+    std::vector<glm::dvec3> receivers = clipSliceToBox(camera, viewNear, viewFar, scene);
+    if (receivers.empty()) {
+        glm::dvec3 corners[8];
+        sliceCorners(camera, viewNear, viewFar, corners);
+        receivers.assign(corners, corners + 8);
+    }
+    std::vector<glm::dvec3> body;
     glm::dvec3 lo(kInf), hi(-kInf);
-    for (int i = 0; i < 8; ++i) {
-        body[i] = light * corners[i];
-        body[8 + i] = {body[i].x, body[i].y, std::max(body[i].z, sceneZ.y)};
-        lo = glm::min(lo, body[i]);
-        hi = glm::max(hi, body[i]);
+    double nearest = kInf; // the body's nearest view depth: LiSPSM's z_n
+    for (const glm::dvec3& r : receivers) {
+        glm::dvec3 q = light * r;
+        body.push_back(q);
+        body.push_back({q.x, q.y, std::max(q.z, sceneZ.y)});
+        lo = glm::min(lo, q);
+        hi = glm::max(hi, q);
+        nearest = std::min(nearest, glm::dot(r, v));
     }
     double d = hi.y - lo.y;
-    double zn = viewNear / std::max(sinGamma, 1e-12);
+    double zn = std::max(nearest, viewNear) / std::max(sinGamma, 1e-12);
     double zf = zn + d * sinGamma;
     double n = (zn + std::sqrt(zf * zn)) / std::max(sinGamma, 1e-12);
     // The warp's strength is d / n; below 1e-4 it changes no texel, so use the uniform map and

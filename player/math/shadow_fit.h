@@ -16,6 +16,7 @@
 #pragma once
 
 #include <cstdint>
+#include <vector>
 
 #include <glm/glm.hpp>
 
@@ -49,11 +50,17 @@ glm::dmat3 lightRotation(const glm::dvec3& lightTravel);
 // The 8 corners of the view slice between view depths `sliceNear` and `sliceFar`.
 void sliceCorners(const FitCamera& camera, double sliceNear, double sliceFar, glm::dvec3 out[8]);
 
+// The vertices of the view slice [sliceNear, sliceFar] intersected with `box` (empty if they do
+// not meet): where receivers of that slice can be.
+std::vector<glm::dvec3> clipSliceToBox(const FitCamera& camera, double sliceNear, double sliceFar,
+                                       const FitBox& box);
+
 // One cascade covering the view slice [sliceNear, sliceFar].
 //   Sphere: the slice's bounding sphere sets the extent (invariant under camera rotation) and the
 //           light-space origin is snapped to whole texels of `resolution` (invariant under
 //           translation up to whole-texel steps): no shimmering, at the cost of resolution.
-//   Tight:  the light-space bounding rectangle of the slice corners: more resolution, swims.
+//   Tight:  the light-space bounding rectangle of the slice clipped to the scene: more
+//           resolution, but it swims as the camera moves.
 ShadowFit fitCascade(const FitCamera& camera, double sliceNear, double sliceFar,
                      const glm::dmat3& light, const FitBox& scene, uint32_t resolution, FitMode mode);
 

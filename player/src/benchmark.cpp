@@ -52,6 +52,13 @@ std::string cpuModel() {
     return "unknown";
 }
 
+// Unit vector toward the shadowing light (the first directional light that casts shadows).
+glm::vec3 shadowLightToward(const GpuScene& scene) {
+    for (const SceneLight& l : scene.lights)
+        if (l.desc.type == LightType::Directional && l.desc.castsShadows) return -l.direction;
+    return {0, 1, 0};
+}
+
 PlayResult<Done> writeText(const std::string& path, const std::string& text) {
     Status s = writeFileAtomic(path, std::span(reinterpret_cast<const uint8_t*>(text.data()), text.size()));
     if (!isOk(s)) return PlayError{PlayErrorKind::Io, s.describe()};
@@ -170,6 +177,18 @@ PlayResult<BenchResult> runBenchmark(const GpuScene& scene, Renderer& renderer,
             if (!img) return img.error();
             if (auto s = saveCapture(c.path, *img); !s) return s.error();
             result.written.push_back(c.path);
+            if (c.buffer == CaptureBuffer::Position || c.buffer == CaptureBuffer::Shadow) {
+                // What a ground-truth tracer needs besides the buffers (docs/REFERENCE.md).
+                std::string jsonPath = c.path.substr(0, c.path.rfind('_')) + "_frame.json";
+                glm::dvec3 eye = renderer.lastView().position;
+                glm::vec3 toward = shadowLightToward(scene);
+                nlohmann::json fj = {{"camera_position", {eye.x, eye.y, eye.z}},
+                                     {"toward_light", {toward.x, toward.y, toward.z}},
+                                     {"width", options.width}, {"height", options.height}};
+                if (auto w = writeText(jsonPath, fj.dump(2) + "\n"); !w) return w.error();
+                if (std::find(result.written.begin(), result.written.end(), jsonPath) == result.written.end())
+                    result.written.push_back(jsonPath);
+            }
         }
         if (present && !present()) break;
     }

@@ -12,6 +12,8 @@ ViewMatrices makeViewMatrices(const CameraState& camera, float aspect) {
     v.position = camera.position;
     v.znear = camera.znear;
     v.zfar = camera.zfar;
+    v.yfov = camera.yfovRadians;
+    v.aspect = aspect;
     v.view = glm::mat4(glm::mat3_cast(glm::conjugate(glm::quat(camera.rotation))));
     float f = 1.0f / std::tan(camera.yfovRadians * 0.5f);
     glm::mat4 p(0.0f);

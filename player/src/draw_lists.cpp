@@ -26,6 +26,18 @@ bool layerHasTranslucency(const GpuScene& scene, std::span<const DrawRef> refs) 
 
 } // namespace
 
+size_t pushObjectBlock(const GpuScene& scene, const DrawItem& item, const glm::dmat4& toCamera,
+                       StreamRing& ring, float casterIndex) {
+    const GpuMesh& mesh = scene.meshes[item.mesh];
+    ObjectBlock block;
+    block.model = glm::mat4(toCamera * item.world); // relative in double, then float
+    block.normalMatrix = glm::mat4(item.normalMatrix);
+    block.dequantScale = glm::vec4(mesh.dequantScale, 0);
+    block.dequantOffset = glm::vec4(mesh.dequantOffset, 0);
+    block.params = {mesh.octahedralNormals ? 1.0f : 0.0f, casterIndex, 0, 0};
+    return ring.push(&block, sizeof block);
+}
+
 void buildDrawLists(const GpuScene& scene, const ViewMatrices& view, bool cull, StreamRing& ring,
                     DrawLists& lists) {
     lists.layers.resize(scene.deferredLayers.size());
@@ -42,17 +54,10 @@ void buildDrawLists(const GpuScene& scene, const ViewMatrices& view, bool cull, 
             continue;
         }
         ++lists.visible;
-        const GpuMesh& mesh = scene.meshes[item.mesh];
-        ObjectBlock block;
-        block.model = glm::mat4(toCamera * item.world); // relative in double, then float
-        block.normalMatrix = glm::mat4(item.normalMatrix);
-        block.dequantScale = glm::vec4(mesh.dequantScale, 0);
-        block.dequantOffset = glm::vec4(mesh.dequantOffset, 0);
-        block.params = {mesh.octahedralNormals ? 1.0f : 0.0f, 0, 0, 0};
         DrawRef ref;
         ref.item = i;
         ref.viewDepth = float(glm::dot((item.boundsMin + item.boundsMax) * 0.5 - view.position, forward));
-        ref.objectOffset = ring.push(&block, sizeof block);
+        ref.objectOffset = pushObjectBlock(scene, item, toCamera, ring, 0.0f);
         const Material& m = scene.materials[item.material].desc;
         if (m.shadingPath == ShadingPath::Deferred) {
             auto layer = std::lower_bound(scene.deferredLayers.begin(), scene.deferredLayers.end(),

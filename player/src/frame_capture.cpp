@@ -57,6 +57,42 @@ PlayResult<CapturedImage> Renderer::capture(CaptureBuffer buffer) {
                            : float(f > 0 ? n * f / (d * (f - n) + n) : n / d);
         }
         break;
+    case CaptureBuffer::Position: {
+        img.channels = 3;
+        std::vector<float> depth = readFloats(t.depth.id(), GL_DEPTH_COMPONENT, 1, t.width, t.height);
+        img.f32.resize(depth.size() * 3);
+        glm::dmat4 inverse(mView.inverseViewProjection);
+        for (uint32_t y = 0; y < t.height; ++y) {
+            for (uint32_t x = 0; x < t.width; ++x) {
+                size_t i = size_t(y) * t.width + x;
+                glm::dvec3 p(std::numeric_limits<double>::quiet_NaN());
+                if (depth[i] > 0) {
+                    glm::dvec4 ndc{(x + 0.5) / t.width * 2 - 1, (y + 0.5) / t.height * 2 - 1, depth[i], 1};
+                    glm::dvec4 h = inverse * ndc;
+                    p = glm::dvec3(h) / h.w;
+                }
+                for (int k = 0; k < 3; ++k) img.f32[i * 3 + size_t(k)] = float(p[k]);
+            }
+        }
+        break;
+    }
+    case CaptureBuffer::Shadow: {
+        // Lighting writes visibility, cascade and texel ratio instead of radiance for one frame
+        // of the same view; then the frame is rendered again so the output is the image again.
+        img.channels = 4;
+        Impl& impl = *mImpl;
+        FrameStats stats = mStats;
+        impl.capturing = impl.shadows.capture = true;
+        auto r = render(impl.lastCamera, t.width, t.height);
+        if (r) img.f32 = readFloats(t.hdr.id(), GL_RGBA, 4, t.width, t.height);
+        impl.shadows.capture = false;
+        if (r) r = render(impl.lastCamera, t.width, t.height);
+        impl.capturing = false;
+        impl.frame -= 2;
+        mStats = stats;
+        if (!r) return r.error();
+        break;
+    }
     case CaptureBuffer::Normal: {
         img.channels = 3;
         img.f32.assign(size_t(t.width) * t.height * 3, 0.0f);
@@ -73,6 +109,7 @@ PlayResult<CapturedImage> Renderer::capture(CaptureBuffer buffer) {
         break;
     }
     }
+    ++mStats.gpuReadbacks;
     return img;
 }
 

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "frame_targets.h"
+#include "shadow_maps.h"
 #include "pnb_player/renderer.h"
 #include "stream_ring.h"
 
@@ -31,8 +32,13 @@ struct DrawLists {
 void buildDrawLists(const GpuScene& scene, const ViewMatrices& view, bool cull, StreamRing& ring,
                     DrawLists& lists);
 
+// One ObjectBlock (interface.glsl) for `item` into the ring; `casterIndex` is the shadow pass's
+// index into the caster masks (uObjectParams.y). Returns its ring offset.
+size_t pushObjectBlock(const GpuScene& scene, const DrawItem& item, const glm::dmat4& toCamera,
+                       StreamRing& ring, float casterIndex);
+
 struct BuiltinPrograms {
-    GlHandle fxaa, debugView, flat;
+    GlHandle fxaa, debugView, flat, shadowDebug;
 };
 
 struct FrameContext {
@@ -46,6 +52,7 @@ struct FrameContext {
     GpuTimer& timer;
     BuiltinPrograms& builtins;
     size_t objectBlockBytes = 0;
+    ShadowContext& shadows;
 };
 
 // The renderer's private state (renderer.cpp, frame_capture.cpp).
@@ -56,6 +63,11 @@ struct Renderer::Impl {
     BuiltinPrograms builtins;
     GlHandle emptyVao; // fullscreen passes draw without attributes
     DrawLists lists;   // this frame's visible draws
+    ShadowContext shadows;
+    uint64_t shadowsForMaterials = ~0ull; // GpuScene::materialsVersion the casters were built for
+    CameraState lastCamera;               // re-rendered for CaptureBuffer::Shadow
+    GpuTimer captureTimer;                // times of capture renders (discarded)
+    bool capturing = false;
     size_t alignment = 256;
     uint64_t frame = 0;
 };

@@ -2,6 +2,8 @@
 // and overdraw views — the visible draws re-rendered with the flat program into a debug target
 // (nearest surface's layer colour; additive fragment counts), then mapped to the output.
 // G-buffer views show the last deferred layer drawn (the G-buffer is reused per layer).
+#include <algorithm>
+
 #include <glm/glm.hpp>
 
 #include "frame_context.h"
@@ -54,12 +56,41 @@ void renderOverdraw(FrameContext& ctx) {
     glEnable(GL_DEPTH_TEST);
 }
 
+// The shadow-map array viewer and the SDSM depth histogram (shadow_debug.frag).
+void renderShadowDebug(FrameContext& ctx, DebugView mode) {
+    const ShadowFrame& f = ctx.shadows.frame;
+    const ShadowResources& r = ctx.shadows.resources;
+    glBindFramebuffer(GL_FRAMEBUFFER, ctx.targets.outputFb.id());
+    glDisable(GL_DEPTH_TEST);
+    glDisable(GL_FRAMEBUFFER_SRGB);
+    GLuint p = ctx.builtins.shadowDebug.id();
+    glUseProgram(p);
+    glProgramUniform1i(p, 0, mode == DebugView::ShadowMap ? 0 : 1);
+    glProgramUniform1i(p, 1, int(std::min(ctx.settings.debugShadowLayer, std::max(f.cascades, 1u) - 1)));
+    glProgramUniform2f(p, 2, f.splits[0], f.gpuFit ? f.splits[1] : f.splits[f.cascades]);
+    glProgramUniform1i(p, 3, int(f.cascades));
+    glProgramUniform1fv(p, 4, GLsizei(f.splits.size()), f.splits.data());
+    glProgramUniform1i(p, 13, f.gpuFit ? 1 : 0);
+    glBindTextureUnit(0, r.depthView.id());
+    if (f.gpuFit) glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, r.sdsmState.id());
+    const float black[4] = {0, 0, 0, 1};
+    glClearNamedFramebufferfv(ctx.targets.outputFb.id(), GL_COLOR, 0, black);
+    if (f.active) drawFullscreenTriangle();
+    glEnable(GL_FRAMEBUFFER_SRGB);
+    glEnable(GL_DEPTH_TEST);
+}
+
 } // namespace
 
 void runDebugView(FrameContext& ctx) {
     DebugView mode = ctx.settings.debugView;
-    if (mode == DebugView::None) return;
+    // The cascade tint is drawn by lighting itself (shadow_sampling.glsl).
+    if (mode == DebugView::None || mode == DebugView::Cascades) return;
     ctx.timer.mark("debug");
+    if (mode == DebugView::ShadowMap || mode == DebugView::Histogram) {
+        renderShadowDebug(ctx, mode);
+        return;
+    }
     if (mode == DebugView::Layer) renderLayerColors(ctx);
     if (mode == DebugView::Overdraw) renderOverdraw(ctx);
     glBindFramebuffer(GL_FRAMEBUFFER, ctx.targets.outputFb.id());

@@ -28,6 +28,11 @@ void runDeferredLayers(FrameContext& ctx) {
         glDepthFunc(GL_GREATER);
         glDepthMask(GL_TRUE);
         drawItems(ctx, refs);
+        if (ctx.shadows.frame.pending) { // SDSM: fit to the depth just written, then draw the maps
+            ctx.shadows.frame.pending = false;
+            runSdsmFit(ctx);
+            runShadowPass(ctx);
+        }
 
         ctx.timer.mark("lighting");
         glBindFramebuffer(GL_FRAMEBUFFER, ctx.targets.composeFb.id());

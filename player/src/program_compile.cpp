@@ -150,16 +150,32 @@ PlayResult<GlHandle> compileSceneProgram(const Scene& scene, uint32_t index) {
                           stages, defines);
 }
 
+namespace {
+
+std::string_view embeddedSource(std::string_view name) {
+    for (const EmbeddedFile& f : kPlayerShaders)
+        if (f.name == name) return f.text;
+    return {};
+}
+
+} // namespace
+
+PlayResult<GlHandle> compileEmbeddedCompute(std::string_view file,
+                                            std::span<const std::string_view> defines) {
+    StageSource stage{GL_COMPUTE_SHADER, embeddedSource(file)};
+    std::string label = std::string(file);
+    for (std::string_view d : defines) label += " " + std::string(d);
+    label += " (built in)";
+    if (stage.source.empty())
+        return PlayError{PlayErrorKind::Gl, "program " + label + ": source not embedded"};
+    return compileProgram(label, std::span(&stage, 1), defines);
+}
+
 PlayResult<GlHandle> compileEmbeddedProgram(std::string_view vertexFile,
                                             std::string_view fragmentFile,
                                             std::span<const std::string_view> defines) {
-    auto find = [](std::string_view name) -> std::string_view {
-        for (const EmbeddedFile& f : kPlayerShaders)
-            if (f.name == name) return f.text;
-        return {};
-    };
-    StageSource stages[] = {{GL_VERTEX_SHADER, find(vertexFile)},
-                            {GL_FRAGMENT_SHADER, find(fragmentFile)}};
+    StageSource stages[] = {{GL_VERTEX_SHADER, embeddedSource(vertexFile)},
+                            {GL_FRAGMENT_SHADER, embeddedSource(fragmentFile)}};
     std::string label = std::string(fragmentFile) + " (built in)";
     if (stages[0].source.empty() || stages[1].source.empty())
         return PlayError{PlayErrorKind::Gl, "program " + label + ": source not embedded"};

@@ -34,4 +34,8 @@ PlayResult<GlHandle> compileEmbeddedProgram(std::string_view vertexFile,
                                             std::string_view fragmentFile,
                                             std::span<const std::string_view> defines = {});
 
+// An embedded compute shader; `defines` select its stage where one file holds several.
+PlayResult<GlHandle> compileEmbeddedCompute(std::string_view file,
+                                            std::span<const std::string_view> defines = {});
+
 } // namespace pnb::player

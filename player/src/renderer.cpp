@@ -49,10 +49,12 @@ PlayResult<std::unique_ptr<Renderer>> Renderer::create(const GpuScene& scene,
     glCullFace(GL_BACK);
     glFrontFace(GL_CCW);
     // Per frame: frame block, light list, one object block per item.
+    // Per frame: frame block, light list, one object block per visible item and per shadow
+    // caster, the shadow block, caster masks or (SDSM) caster bounds.
     size_t lightBytes = 16 + sizeof(GpuLight) * std::max<size_t>(scene.lights.size(), 1);
-    impl.ring.reserve(sizeof(FrameBlock) + lightBytes + impl.alignment * 2 +
-                          scene.items.size() * ((kObjectBlockBytes + impl.alignment - 1) /
-                                                impl.alignment * impl.alignment),
+    size_t objectStride = (kObjectBlockBytes + impl.alignment - 1) / impl.alignment * impl.alignment;
+    impl.ring.reserve(sizeof(FrameBlock) + lightBytes + sizeof(ShadowBlock) + impl.alignment * 6 +
+                          scene.items.size() * (2 * objectStride + 4 + 32),
                       impl.alignment);
     impl.targets.memory.streamingBytes = impl.ring.totalBytes();
     return r;
@@ -75,13 +77,21 @@ void Renderer::setSettings(const RenderSettings& settings) {
         else std::fprintf(stderr, "pnb-play: %s\n", p.error().message.c_str());
     };
     ensure(b.fxaa, settings.fxaa, "fullscreen.vert", "fxaa.frag");
-    bool debug = settings.debugView != DebugView::None;
+    bool shadowDebug = settings.debugView == DebugView::ShadowMap || settings.debugView == DebugView::Histogram;
+    ensure(b.shadowDebug, shadowDebug, "fullscreen.vert", "shadow_debug.frag");
+    bool debug = settings.debugView != DebugView::None && settings.debugView != DebugView::Cascades &&
+                 !shadowDebug;
     ensure(b.debugView, debug, "fullscreen.vert", "debug_view.frag");
     ensure(b.flat, settings.debugView == DebugView::Layer || settings.debugView == DebugView::Overdraw,
            "flat.vert", "flat.frag");
 }
 
-TargetMemory Renderer::targetMemory() const { return mImpl->targets.memory; }
+TargetMemory Renderer::targetMemory() const {
+    TargetMemory m = mImpl->targets.memory;
+    m.shadowMapBytes = mImpl->shadows.resources.mapBytes;
+    m.shadowBufferBytes = mImpl->shadows.resources.bufferBytes;
+    return m;
+}
 
 GLuint Renderer::outputTexture() const { return mImpl->targets.output.id(); }
 
@@ -93,6 +103,8 @@ PlayResult<Done> Renderer::render(const CameraState& camera, uint32_t width, uin
         return PlayError{PlayErrorKind::Usage, "render size must be at least 1x1"};
     mStats = {};
     mStats.frame = impl.frame++;
+    impl.lastCamera = camera;
+    GpuTimer& timer = impl.capturing ? impl.captureTimer : mTimer;
 
     CameraState cam = camera;
     if (mSettings.nearPlane > 0) cam.znear = mSettings.nearPlane;
@@ -106,8 +118,8 @@ PlayResult<Done> Renderer::render(const CameraState& camera, uint32_t width, uin
     impl.targets.ensure(width, height, !scene.deferredLayers.empty(),
                         mSettings.fxaa && impl.builtins.fxaa, debugTargets);
 
-    mTimer.beginFrame(mStats.frame);
-    mTimer.mark("setup");
+    timer.beginFrame(mStats.frame);
+    timer.mark("setup");
     impl.ring.beginFrame();
     FrameBlock fb;
     fb.viewProjection = mView.viewProjection;
@@ -142,8 +154,31 @@ PlayResult<Done> Renderer::render(const CameraState& camera, uint32_t width, uin
     mStats.visibleItems = lists.visible;
     mStats.culledItems = lists.culled;
 
-    FrameContext ctx{scene, mSettings, mView, impl.targets, impl.ring, lists, mStats, mTimer,
-                     impl.builtins, kObjectBlockBytes};
+    FrameContext ctx{scene, mSettings, mView, impl.targets, impl.ring, lists, mStats, timer,
+                     impl.builtins, kObjectBlockBytes, impl.shadows};
+    if (impl.shadowsForMaterials != scene.materialsVersion) {
+        initShadowContext(scene, impl.shadows);
+        impl.shadowsForMaterials = scene.materialsVersion;
+    }
+    prepareShadows(ctx);
+    ShadowFrame& shadowFrame = impl.shadows.frame;
+    if (shadowFrame.active) {
+        auto ok = impl.shadows.resources.ensure(mSettings.shadowResolution, shadowFrame.cascades,
+                                                shadowFrame.gpuFit, impl.shadows.casters, scene);
+        if (!ok) return ok.error();
+    } else if (impl.shadows.resources.resolution) {
+        impl.shadows.resources = ShadowResources{}; // nothing drawn: nothing allocated
+    }
+    // SDSM reduces this frame's depth after the first deferred layer has written it; a frame
+    // without deferred geometry reduces the previous frame's depth (before it is cleared).
+    bool deferredDepth = std::any_of(lists.layers.begin(), lists.layers.end(),
+                                     [](const auto& l) { return !l.empty(); });
+    shadowFrame.pending = shadowFrame.active && shadowFrame.gpuFit && deferredDepth;
+    if (shadowFrame.active && !shadowFrame.pending) {
+        runSdsmFit(ctx);
+        runShadowPass(ctx);
+    }
+    bindShadowsForLighting(ctx);
     glViewport(0, 0, GLsizei(width), GLsizei(height));
     const float black[4] = {0, 0, 0, 0};
     glClearNamedFramebufferfv(impl.targets.hdrFb.id(), GL_COLOR, 0, black);
@@ -161,7 +196,8 @@ PlayResult<Done> Renderer::render(const CameraState& camera, uint32_t width, uin
     runDebugView(ctx);
     glBindVertexArray(impl.emptyVao.id());
 
-    mTimer.endFrame();
+    timer.endFrame();
+    if (impl.capturing) timer.completed().clear();
     impl.ring.endFrame();
     glBindFramebuffer(GL_FRAMEBUFFER, 0);
     mStats.cpuMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - cpuStart).count();

@@ -90,12 +90,23 @@ PlayResult<Done> compileNeededPrograms(const Scene& scene, GpuScene& gpu) {
         if (m.program != kNone) wanted.insert(m.program);
     gpu.deferredLightingProgram.reset();
     gpu.tonemapProgram.reset();
+    gpu.shadowProgram.reset();
+    gpu.shadowMaskProgram.reset();
     for (uint32_t i = 0; i < scene.programs.size(); ++i) {
         if (i >= labelled) gpu.programLabels[i] = programLabel(scene, i);
         std::string_view name = scene.str(scene.programs[i].name);
         if (name == "deferred_lighting" && !gpu.deferredLayers.empty() && !gpu.deferredLightingProgram) {
             gpu.deferredLightingProgram = i;
             wanted.insert(i);
+        }
+        if (name == "shadow") {
+            bool masked = false;
+            for (StringRef d : scene.programs[i].defines) masked |= scene.str(d) == "ALPHA_MASK";
+            std::optional<uint32_t>& slot = masked ? gpu.shadowMaskProgram : gpu.shadowProgram;
+            if (!slot) {
+                slot = i;
+                wanted.insert(i);
+            }
         }
         if (name == "tonemap" && !gpu.tonemapProgram) {
             gpu.tonemapProgram = i;
@@ -276,6 +287,7 @@ PlayResult<std::unique_ptr<GpuScene>> uploadScene(const Scene& scene, LoadStats*
 }
 
 PlayResult<Done> updateMaterials(GpuScene& gpu, const Scene& scene) {
+    ++gpu.materialsVersion;
     // Only the blocks that changed are rewritten; layout and programs are settled once.
     for (uint32_t i = 0; i < gpu.materials.size(); ++i) {
         GpuMaterial& m = gpu.materials[i];

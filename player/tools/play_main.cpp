@@ -40,7 +40,9 @@ Run:
   --out DIR               output directory for --bench and --dump
   --screenshot FILE       save the output image (PNG) of frame --frame
   --dump KIND[,KIND...]   save exact buffers of frame --frame into --out as EXR/PNG:
-                          color, hdr, depth, lineardepth, normal
+                          color, hdr, depth, lineardepth, normal, position (camera-relative),
+                          shadow (sun visibility, cascade, texel/pixel ratio; with position
+                          or shadow, frameK_frame.json holds the camera and light)
   --frame K               frame for --screenshot and --dump (default 0)
   --no-plot               do not call the plot script
 
@@ -164,13 +166,16 @@ PlayResult<CaptureRequest> dumpRequest(const std::string& kind, const Args& a) {
                                  {"hdr", CaptureBuffer::Hdr, "exr"},
                                  {"depth", CaptureBuffer::Depth, "exr"},
                                  {"lineardepth", CaptureBuffer::LinearDepth, "exr"},
-                                 {"normal", CaptureBuffer::Normal, "exr"}};
+                                 {"normal", CaptureBuffer::Normal, "exr"},
+                                 {"position", CaptureBuffer::Position, "exr"},
+                                 {"shadow", CaptureBuffer::Shadow, "exr"}};
     for (const Kind& k : kinds)
         if (kind == k.name)
             return CaptureRequest{k.buffer, a.frame,
                                   a.outDir + "/frame" + std::to_string(a.frame) + "_" + k.name + "." + k.ext};
     return PlayError{PlayErrorKind::Usage,
-                     "--dump: unknown buffer '" + kind + "' (color, hdr, depth, lineardepth, normal)"};
+                     "--dump: unknown buffer '" + kind +
+                         "' (color, hdr, depth, lineardepth, normal, position, shadow)"};
 }
 
 } // namespace

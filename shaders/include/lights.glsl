@@ -4,6 +4,9 @@
 #define PNB_LIGHTS_GLSL
 
 #include "brdf.glsl"
+#ifdef SHADOWS
+#include "shadow_sampling.glsl"
+#endif
 
 #define PNB_LIGHT_DIRECTIONAL 0
 #define PNB_LIGHT_POINT 1
@@ -54,6 +57,9 @@ vec3 shadeLights(vec3 baseColor, float metallic, float roughness, vec3 n, vec3 p
             }
         }
         vec3 radiance = light.colorIntensity.rgb * light.colorIntensity.a * attenuation;
+#ifdef SHADOWS
+        if (float(i) == uShadowLight.w) radiance *= shadowVisibility(p, n);
+#endif
         sum += shadeBrdf(baseColor, metallic, roughness, n, v, l, radiance);
     }
     return sum;

@@ -88,9 +88,17 @@ TEST(ShaderPlan, OnlyTheVariantsTheMaterialsUse) {
         });
     };
     EXPECT_TRUE(has("gbuffer", {"HAS_BASE_COLOR_MAP", "HAS_NORMAL_MAP", "HAS_TANGENT", "HAS_UV0"}));
-    EXPECT_TRUE(has("forward", {}));
+    // With a shadow-casting light, forward receivers and the deferred lighting pass sample the
+    // shadow maps themselves (SHADOWS); a forward material that receives none does not.
+    EXPECT_TRUE(has("forward", {"SHADOWS"}));
+    EXPECT_FALSE(has("forward", {}));
+    EXPECT_TRUE(has("deferred_lighting", {"SHADOWS"}));
     EXPECT_TRUE(has("shadow", {}));
     EXPECT_FALSE(has("shadow", {"ALPHA_MASK"})) << "no masked caster";
+
+    materials.back().receivesShadows = false;
+    plan = planShaders(materials, features, {.shadows = true});
+    EXPECT_TRUE(has("forward", {}));
 
     std::vector<Material> forwardOnly = {forwardBlend()};
     plan = planShaders(forwardOnly, std::vector<MaterialFeatures>{plain}, {});

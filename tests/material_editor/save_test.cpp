@@ -104,7 +104,8 @@ TEST(Save, DeferredOnlySceneGainsAForwardProgramAndSwitchingBackReusesTheGBuffer
     ASSERT_EQ(s.shaders.size(), before.scene.shaders.size() + 1);
     const uint32_t forward = s.materials[box].program;
     EXPECT_EQ(forward, before.scene.programs.size()) << "appended after the file's programs";
-    EXPECT_EQ(describeProgram(s, forward), "forward[] surface.vert+forward.frag");
+    // The scene's sun casts shadows, so the forward receiver samples them (SHADOWS).
+    EXPECT_EQ(describeProgram(s, forward), "forward[SHADOWS] surface.vert+forward.frag");
     EXPECT_LT(s.programs[forward].shaders[0], before.scene.shaders.size())
         << "surface.vert is the file's";
     EXPECT_EQ(s.str(s.shaders.back().name), "forward.frag");

@@ -35,21 +35,17 @@ bool finite(const glm::dmat4& m) {
     return true;
 }
 
-// Every corner of the view slice lands inside the map (x, y in [-1, 1]), and every one inside
-// the scene (where receivers can be) within its depth range too (z in [0, 1]).
+// Every point of the slice where a receiver can be (the slice clipped to the scene) lands inside
+// the map: x, y in [-1, 1], z in [0, 1].
 void expectSliceInside(const ShadowFit& fit, const FitCamera& cam, double a, double b,
                        const FitBox& scene) {
     ASSERT_TRUE(finite(fit.matrix));
-    glm::dvec3 corners[8];
-    sliceCorners(cam, a, b, corners);
-    for (const glm::dvec3& c : corners) {
+    for (const glm::dvec3& c : clipSliceToBox(cam, a, b, scene)) {
         glm::dvec3 s = toShadow(fit, c);
         EXPECT_LE(std::abs(s.x), 1.0 + 1e-9) << s.x;
         EXPECT_LE(std::abs(s.y), 1.0 + 1e-9) << s.y;
-        if (glm::all(glm::greaterThanEqual(c, scene.min)) && glm::all(glm::lessThanEqual(c, scene.max))) {
-            EXPECT_GE(s.z, -1e-9);
-            EXPECT_LE(s.z, 1.0 + 1e-9);
-        }
+        EXPECT_GE(s.z, -1e-9);
+        EXPECT_LE(s.z, 1.0 + 1e-9);
     }
 }
 
@@ -118,6 +114,21 @@ TEST(ShadowFit, SphereOriginMovesInWholeTexelsUnderTranslation) {
             EXPECT_NEAR(centreY / fit.texelWorld, std::round(centreY / fit.texelWorld), 1e-4);
         }
     }
+}
+
+TEST(ShadowFit, ClippingTheSliceToTheSceneKeepsOnlyItsInside) {
+    FitCamera cam = cameraLooking({1, -0.2, 0});
+    FitBox scene{{-1, -1, -1}, {30, 0.5, 1}};
+    std::vector<glm::dvec3> points = clipSliceToBox(cam, 0.5, 20, scene);
+    ASSERT_GE(points.size(), 4u);
+    for (const glm::dvec3& p : points) {
+        EXPECT_TRUE(glm::all(glm::greaterThanEqual(p, scene.min - 1e-6)) && glm::all(glm::lessThanEqual(p, scene.max + 1e-6)));
+        double d = glm::dot(p, cam.forward);
+        EXPECT_GE(d, 0.5 - 1e-6);
+        EXPECT_LE(d, 20 + 1e-6);
+    }
+    // A scene behind the camera does not meet the slice.
+    EXPECT_TRUE(clipSliceToBox(cam, 0.5, 20, FitBox{{-50, -1, -1}, {-10, 1, 1}}).empty());
 }
 
 TEST(ShadowFit, TightIsSmallerThanSphere) {

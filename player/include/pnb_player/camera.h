@@ -32,6 +32,7 @@ struct ViewMatrices {
     glm::mat4 inverseViewProjection{1.0f};
     std::array<glm::vec4, 6> frustumPlanes{}; // camera-relative, inside: dot(p, (x,y,z,1)) >= 0
     float znear = 0.1f, zfar = 0.0f;
+    float yfov = 0.8f, aspect = 1.0f; // vertical field of view (radians), width / height
 };
 
 ViewMatrices makeViewMatrices(const CameraState& camera, float aspect);

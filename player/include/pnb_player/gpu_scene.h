@@ -114,6 +114,9 @@ struct GpuScene {
     std::vector<std::string> programLabels; // "gbuffer[HAS_UV0 ...]" per PROG chunk
     std::vector<GlHandle> programs;         // per PROG chunk; empty handle if not compiled
     std::optional<uint32_t> deferredLightingProgram, tonemapProgram;
+    // The shadow pass's programs (present when the converter found a shadow-casting light and
+    // caster; lighting programs are then built with SHADOWS).
+    std::optional<uint32_t> shadowProgram, shadowMaskProgram;
 
     std::vector<GpuTexture> textures;
     std::vector<GpuMaterial> materials;
@@ -131,6 +134,7 @@ struct GpuScene {
     // has forward materials: what the frame needs to allocate and run.
     std::vector<uint16_t> deferredLayers;
     bool hasForward = false;
+    uint64_t materialsVersion = 0; // incremented by updateMaterials (renderers rebuild caster lists)
 
     const ScenePath* findPath(std::string_view pathName) const; // "" = the first
 };

@@ -35,6 +35,11 @@ struct FrameStats {
     uint64_t triangles = 0;    // submitted
     uint32_t visibleItems = 0, culledItems = 0;
     uint32_t deferredLayersDrawn = 0; // layers with visible items (each: one clear, one compose)
+    // Shadows: draw calls and triangles of the shadow pass (triangles counted once per cascade
+    // they are rasterised into; SDSM's GPU-culled draws count as issued), casters drawn.
+    uint32_t shadowDraws = 0, shadowCasters = 0;
+    uint64_t shadowTriangles = 0;
+    uint32_t gpuReadbacks = 0; // GPU->CPU reads that wait for the GPU (captures only)
 };
 
 struct TargetMemory {
@@ -44,8 +49,11 @@ struct TargetMemory {
     uint64_t outputBytes = 0;    // sRGB output (+ FXAA intermediate)
     uint64_t debugBytes = 0;
     uint64_t streamingBytes = 0; // per-frame uniform/storage ring
+    uint64_t shadowMapBytes = 0; // the cascade array: resolution^2 x cascades x 4 B (D32F)
+    uint64_t shadowBufferBytes = 0; // SDSM state, GPU-written block, masks, indirect draws
     uint64_t total() const {
-        return gbufferBytes + depthBytes + hdrBytes + outputBytes + debugBytes + streamingBytes;
+        return gbufferBytes + depthBytes + hdrBytes + outputBytes + debugBytes + streamingBytes +
+               shadowMapBytes + shadowBufferBytes;
     }
 };
 
@@ -56,6 +64,10 @@ enum class CaptureBuffer {
     Depth,  // reversed-Z depth buffer, 1 float
     LinearDepth, // view-space distance along -Z, 1 float (infinity where nothing was drawn)
     Normal, // world normal of the last deferred layer, 3 floats (0 where none)
+    Position, // camera-relative world position from depth, 3 floats (NaN where nothing was drawn)
+    Shadow, // re-renders the last frame's view with lighting writing, per pixel: sun visibility
+            // (1 lit .. 0 shadowed; -1 unclassified: no geometry or facing away), cascade index
+            // (-1 none) and shadow-texel / screen-pixel world size; 4 floats (alpha 1)
 };
 
 struct CapturedImage {

@@ -43,7 +43,7 @@ enum class ShadowTechnique {
     Pssm,   // cascades at the practical split scheme's distances (Zhang et al. 2006)
     Sdsm,   // cascades fitted on the GPU to this frame's depth samples (Lauritzen et al. 2011)
 };
-enum class ShadowFit { Sphere, Tight };        // shadows.fit
+enum class CascadeFit { Sphere, Tight };       // shadows.fit
 enum class ShadowRender { Layered, MultiPass }; // shadows.render
 enum class ShadowFilter { Hardware, Poisson, Pcss }; // shadows.filter
 enum class CascadeSelect { Depth, Bounds };    // shadows.select
@@ -65,7 +65,7 @@ struct RenderSettings {
     uint32_t shadowResolution = 2048;
     float shadowLambda = 0.75f;
     float shadowDistance = 0.0f; // 0 = to the far side of the scene bounds
-    ShadowFit shadowFit = ShadowFit::Sphere;
+    CascadeFit shadowFit = CascadeFit::Sphere;
     ShadowRender shadowRender = ShadowRender::Layered;
     ShadowFilter shadowFilter = ShadowFilter::Poisson;
     uint32_t shadowTaps = 16;

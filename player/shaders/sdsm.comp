@@ -1,0 +1,274 @@
+#version 450 core
+// sdsm.comp — Sample Distribution Shadow Maps (Lauritzen, Salvi, Lefohn 2011) fitted entirely on
+// the GPU: five stages of one file, selected by a define, dispatched in this order with storage
+// barriers between them (player/src/shadow_sdsm.cpp). Nothing is read back by the CPU.
+//   SDSM_REDUCE     per pixel of the depth buffer: tight min/max view depth and a 256-bin
+//                   logarithmic depth histogram (shared-memory reduction, one atomic per group)
+//   SDSM_PARTITION  one thread: split depths — logarithmic over [zmin, zmax], or quantiles of the
+//                   histogram at the practical scheme's fractions (seed 000's variant)
+//   SDSM_BOUNDS     per pixel: light-space bounds of the samples of each cascade (and of the next
+//                   cascade inside the blend band)
+//   SDSM_FINALIZE   per cascade: a square orthographic map around those bounds, depth from the
+//                   scene's top toward the light; writes the ShadowBlock lighting reads
+//   SDSM_CULL       per caster: which cascades it touches; masks and indirect draws
+#define MAX_CASCADES 8
+#define BINS 256
+
+layout(std430, binding = 0) buffer SdsmState {
+    uint depthMinBits, depthMaxBits, sampleCount, pad0;
+    uint histogram[BINS];
+    vec4 cascadeRange[MAX_CASCADES];          // start, end, 0, 0
+    uint lightBounds[MAX_CASCADES * 8];       // per cascade: min x, y, z, max x, y, z (sortable), 2 pad
+};
+
+// The ShadowBlock (shaders/include/shadow_block.glsl) as std430 storage: same layout.
+struct ShadowBlockData {
+    mat4 matrix[MAX_CASCADES];
+    vec4 cascade[MAX_CASCADES];
+    vec4 light, params, bias, mapInfo, view;
+};
+
+layout(location = 0) uniform mat4 uInverseViewProjection; // camera-relative
+layout(location = 1) uniform vec3 uForward;
+layout(location = 2) uniform vec2 uDepthRange;             // shadowed view depths [near, far]
+layout(location = 3) uniform int uCascades;
+layout(location = 4) uniform int uPartition;               // 0 log, 1 quantile
+layout(location = 5) uniform float uLambda;
+layout(location = 6) uniform mat3 uLightRotation;          // world -> light (rows x, y, z)
+layout(location = 7) uniform vec2 uSceneLightDepth;        // scene's light-space z interval
+layout(location = 8) uniform float uBlend;
+layout(location = 9) uniform int uCasterCount;
+layout(location = 10) uniform uint uCommandStride;         // casters per command array
+
+// Order-preserving float <-> uint, for atomicMin/Max on signed floats.
+uint sortable(float f) {
+    uint u = floatBitsToUint(f);
+    return (u & 0x80000000u) != 0u ? ~u : u | 0x80000000u;
+}
+float unsortable(uint u) {
+    return uintBitsToFloat((u & 0x80000000u) != 0u ? u & 0x7fffffffu : ~u);
+}
+
+#if defined(SDSM_REDUCE) || defined(SDSM_BOUNDS)
+layout(local_size_x = 16, local_size_y = 16) in;
+layout(binding = 0) uniform sampler2D uDepth;
+
+// Camera-relative position and view depth of a pixel; false for sky or beyond the range.
+bool samplePixel(ivec2 pixel, out vec3 p, out float depth) {
+    ivec2 size = textureSize(uDepth, 0);
+    if (any(greaterThanEqual(pixel, size))) return false;
+    float d = texelFetch(uDepth, pixel, 0).r;
+    if (d <= 0.0) return false; // reversed-Z: nothing drawn
+    vec2 ndc = (vec2(pixel) + 0.5) / vec2(size) * 2.0 - 1.0;
+    vec4 h = uInverseViewProjection * vec4(ndc, d, 1.0);
+    p = h.xyz / h.w;
+    depth = dot(p, uForward);
+    return depth >= uDepthRange.x && depth <= uDepthRange.y;
+}
+#endif
+
+#ifdef SDSM_REDUCE
+shared uint sMin, sMax, sCount;
+shared uint sHistogram[BINS];
+
+void main() {
+    uint local = gl_LocalInvocationIndex;
+    if (local == 0u) {
+        sMin = 0x7f7fffffu;
+        sMax = 0u;
+        sCount = 0u;
+    }
+    sHistogram[local] = 0u; // 256 invocations, 256 bins
+    barrier();
+    vec3 p;
+    float depth;
+    if (samplePixel(ivec2(gl_GlobalInvocationID.xy), p, depth)) {
+        atomicMin(sMin, floatBitsToUint(depth)); // positive floats order as their bits
+        atomicMax(sMax, floatBitsToUint(depth));
+        atomicAdd(sCount, 1u);
+        float t = log(depth / uDepthRange.x) / log(uDepthRange.y / uDepthRange.x);
+        atomicAdd(sHistogram[clamp(int(t * float(BINS)), 0, BINS - 1)], 1u);
+    }
+    barrier();
+    if (sHistogram[local] != 0u) atomicAdd(histogram[local], sHistogram[local]);
+    if (local == 0u && sCount != 0u) {
+        atomicMin(depthMinBits, sMin);
+        atomicMax(depthMaxBits, sMax);
+        atomicAdd(sampleCount, sCount);
+    }
+}
+#endif
+
+#ifdef SDSM_PARTITION
+layout(local_size_x = 1) in;
+
+float binEnd(int bin) {
+    return uDepthRange.x * pow(uDepthRange.y / uDepthRange.x, float(bin + 1) / float(BINS));
+}
+
+void main() {
+    float n = uDepthRange.x, f = uDepthRange.y;
+    float zmin = n, zmax = f;
+    if (sampleCount > 0u) {
+        zmin = clamp(uintBitsToFloat(depthMinBits), n, f);
+        zmax = clamp(uintBitsToFloat(depthMaxBits), zmin, f);
+    }
+    // A single depth (one pixel, a flat wall) still needs a non-empty range.
+    zmax = max(zmax, zmin * 1.001 + 1e-6);
+    float start = zmin;
+    uint cumulative = 0u;
+    int bin = 0;
+    for (int i = 0; i < uCascades; ++i) {
+        float s = float(i + 1) / float(uCascades);
+        float end;
+        if (uPartition == 0 || sampleCount == 0u) {
+            end = zmin * pow(zmax / zmin, s);
+        } else {
+            // The practical scheme's fraction of the range, as a fraction of the samples.
+            float practical = uLambda * n * pow(f / n, s) + (1.0 - uLambda) * (n + (f - n) * s);
+            float fraction = (practical - n) / (f - n);
+            uint target = uint(ceil(fraction * float(sampleCount)));
+            while (bin < BINS && cumulative < target) cumulative += histogram[bin++];
+            end = clamp(binEnd(max(bin - 1, 0)), start, zmax);
+        }
+        if (i == uCascades - 1) end = zmax;
+        cascadeRange[i] = vec4(start, end, 0.0, 0.0);
+        start = end;
+    }
+    for (int i = 0; i < MAX_CASCADES; ++i) {
+        for (int k = 0; k < 3; ++k) {
+            lightBounds[i * 8 + k] = 0xffffffffu;
+            lightBounds[i * 8 + 3 + k] = 0u;
+        }
+    }
+}
+#endif
+
+#ifdef SDSM_BOUNDS
+shared uint sBounds[MAX_CASCADES * 6];
+
+void main() {
+    uint local = gl_LocalInvocationIndex;
+    if (local < uint(MAX_CASCADES * 6)) sBounds[local] = (local % 6u) < 3u ? 0xffffffffu : 0u;
+    barrier();
+    vec3 p;
+    float depth;
+    if (samplePixel(ivec2(gl_GlobalInvocationID.xy), p, depth)) {
+        vec3 l = uLightRotation * p;
+        for (int c = 0; c < uCascades; ++c) {
+            vec4 range = cascadeRange[c];
+            bool inside = depth >= range.x && depth <= range.y;
+            // The band at the end of cascade c - 1 also reads cascade c.
+            if (c > 0) {
+                vec4 prev = cascadeRange[c - 1];
+                inside = inside || (depth <= prev.y && depth >= prev.y - uBlend * (prev.y - prev.x));
+            }
+            if (!inside) continue;
+            for (int k = 0; k < 3; ++k) {
+                atomicMin(sBounds[c * 6 + k], sortable(l[k]));
+                atomicMax(sBounds[c * 6 + 3 + k], sortable(l[k]));
+            }
+        }
+    }
+    barrier();
+    if (local < uint(MAX_CASCADES * 6)) {
+        uint c = local / 6u, k = local % 6u;
+        if (k < 3u) {
+            if (sBounds[local] != 0xffffffffu) atomicMin(lightBounds[c * 8u + k], sBounds[local]);
+        } else if (sBounds[local] != 0u) {
+            atomicMax(lightBounds[c * 8u + k], sBounds[local]);
+        }
+    }
+}
+#endif
+
+#if defined(SDSM_FINALIZE) || defined(SDSM_CULL)
+layout(std430, binding = 1) buffer ShadowOut { ShadowBlockData outBlock; };
+#endif
+
+#ifdef SDSM_FINALIZE
+layout(local_size_x = MAX_CASCADES) in;
+layout(std430, binding = 2) readonly buffer ShadowIn { ShadowBlockData cpuBlock; }; // parameters
+
+void main() {
+    int c = int(gl_LocalInvocationIndex);
+    if (c == 0) {
+        outBlock.light = cpuBlock.light;
+        outBlock.params = cpuBlock.params;
+        outBlock.bias = cpuBlock.bias;
+        outBlock.mapInfo = cpuBlock.mapInfo;
+        outBlock.view = cpuBlock.view;
+    }
+    if (c >= MAX_CASCADES) return;
+    vec4 range = cascadeRange[c];
+    bool empty = c >= uCascades || lightBounds[c * 8] == 0xffffffffu;
+    if (empty) {
+        // Never selected by depth (end < 0) and outside by bounds (x = 3).
+        outBlock.matrix[c] = mat4(vec4(0), vec4(0), vec4(0), vec4(3, 3, 0.5, 1));
+        outBlock.cascade[c] = vec4(-2.0, -1.0, 1.0, 0.0);
+        return;
+    }
+    vec3 lo = vec3(unsortable(lightBounds[c * 8 + 0]), unsortable(lightBounds[c * 8 + 1]),
+                   unsortable(lightBounds[c * 8 + 2]));
+    vec3 hi = vec3(unsortable(lightBounds[c * 8 + 3]), unsortable(lightBounds[c * 8 + 4]),
+                   unsortable(lightBounds[c * 8 + 5]));
+    float resolution = cpuBlock.mapInfo.x;
+    // Square texels (the filters work in texels), padded by the filter footprint.
+    float extent = max(max(hi.x - lo.x, hi.y - lo.y), 1e-4);
+    float pad = (cpuBlock.params.w * 8.0 + 2.0) / resolution; // PCSS search reaches 8x the radius
+    extent *= 1.0 + 2.0 * pad;
+    vec2 centre = 0.5 * (lo.xy + hi.xy);
+    float zHigh = uSceneLightDepth.y, zLow = max(lo.z, uSceneLightDepth.x);
+    if (!(zHigh > zLow)) zLow = zHigh - 1.0;
+    float margin = (zHigh - zLow) * 1e-3 + 1e-6;
+    zHigh += margin;
+    zLow -= margin;
+    float scale = 2.0 / extent, depthScale = 1.0 / (zHigh - zLow);
+    mat3 axes = transpose(uLightRotation); // columns: light x, y, z in world
+    mat4 m = mat4(0.0);
+    for (int col = 0; col < 3; ++col) {
+        m[col][0] = scale * axes[0][col];
+        m[col][1] = scale * axes[1][col];
+        m[col][2] = -depthScale * axes[2][col];
+    }
+    m[3] = vec4(-scale * centre.x, -scale * centre.y, zHigh * depthScale, 1.0);
+    outBlock.matrix[c] = m;
+    outBlock.cascade[c] = vec4(range.x, range.y, extent / resolution, 0.0);
+}
+#endif
+
+#ifdef SDSM_CULL
+layout(local_size_x = 64) in;
+layout(std430, binding = 6) readonly buffer CasterBounds { vec4 casterBounds[]; }; // min, max
+layout(std430, binding = 7) readonly buffer CasterInfo { uvec2 casterInfo[]; };    // count, first
+layout(std430, binding = 5) writeonly buffer CasterMasks { uint casterMask[]; };
+struct DrawCommand {
+    uint count, instanceCount, firstIndex;
+    int baseVertex;
+    uint baseInstance;
+};
+layout(std430, binding = 4) writeonly buffer Commands { DrawCommand commands[]; };
+
+void main() {
+    uint i = gl_GlobalInvocationID.x;
+    if (i >= uint(uCasterCount)) return;
+    vec3 lo = casterBounds[2u * i].xyz, hi = casterBounds[2u * i + 1u].xyz;
+    uint mask = 0u;
+    for (int c = 0; c < uCascades; ++c) {
+        vec3 nlo = vec3(1e30), nhi = vec3(-1e30);
+        for (int k = 0; k < 8; ++k) {
+            vec3 p = vec3((k & 1) != 0 ? hi.x : lo.x, (k & 2) != 0 ? hi.y : lo.y, (k & 4) != 0 ? hi.z : lo.z);
+            vec3 s = (outBlock.matrix[c] * vec4(p, 1.0)).xyz; // orthographic: w = 1
+            nlo = min(nlo, s);
+            nhi = max(nhi, s);
+        }
+        if (nhi.x >= -1.0 && nlo.x <= 1.0 && nhi.y >= -1.0 && nlo.y <= 1.0 && nlo.z <= 1.0)
+            mask |= 1u << uint(c);
+    }
+    casterMask[i] = mask;
+    uvec2 info = casterInfo[i];
+    commands[i] = DrawCommand(info.x, uint(bitCount(mask)), info.y, 0, 0u);
+    for (int c = 0; c < MAX_CASCADES; ++c)
+        commands[uint(c + 1) * uCommandStride + i] = DrawCommand(info.x, (mask >> uint(c)) & 1u, info.y, 0, 0u);
+}
+#endif

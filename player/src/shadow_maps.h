@@ -1,0 +1,120 @@
+// shadow_maps.h — the sun's shadow maps: GPU resources, the per-frame fit, and the passes.
+//
+// One depth texture array holds every cascade (D32F, one layer per cascade). Per frame:
+//   - CPU techniques (single, LiSPSM, PSSM) fit the matrices on the CPU (player/math/shadow_fit),
+//     cull each caster against every cascade's light volume and write the ShadowBlock, the
+//     casters' ObjectBlocks and their cascade masks into the stream ring;
+//   - SDSM fits on the GPU (shadow_sdsm.cpp): reduce this frame's depth buffer, partition,
+//     bound the samples per cascade in light space, build the matrices, cull the casters and
+//     write indirect draws — all in GPU buffers, nothing read back;
+//   - the shadow pass (pass_shadow.cpp) draws every caster once for all its cascades (layered:
+//     instancing + gl_Layer from the vertex shader) or once per cascade (multi-pass).
+// Lighting then reads the array through two views: a comparison sampler (PCF) and raw depth
+// (PCSS blocker search).
+#pragma once
+
+#include <array>
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "pnb_player/gl_handles.h"
+#include "pnb_player/renderer.h"
+#include "shadow_fit.h"
+
+namespace pnb::player {
+
+struct FrameContext;
+class StreamRing;
+
+constexpr uint32_t kMaxCascades = 8;
+
+// std140 ShadowBlock (shaders/include/shadow_block.glsl; mirrored by player/shaders/sdsm_*.comp).
+struct ShadowBlock {
+    glm::mat4 matrix[kMaxCascades];
+    glm::vec4 cascade[kMaxCascades]; // view depth start, end; texel world size; 1 if perspective
+    glm::vec4 light;    // toward the light, light index
+    glm::vec4 params;   // cascade count, filter, taps, radius
+    glm::vec4 bias;     // normal offset, slope bias, blend band, selection
+    glm::vec4 mapInfo;  // resolution, 1/resolution, PCSS tan(angular radius), output mode
+    glm::vec4 view;     // tan(fov/2), viewport height
+};
+static_assert(sizeof(ShadowBlock) == 8 * 64 + 8 * 16 + 5 * 16);
+
+// A shadow caster: a draw item drawn into the maps with the scene's `shadow` program.
+struct ShadowCaster {
+    uint32_t item = 0;
+    uint32_t program = 0;     // GpuScene::programs index (shadow[] or shadow[ALPHA_MASK])
+    uint32_t firstIndex = 0;  // in indices from the start of the mesh buffer (indirect draws)
+    uint32_t indexCount = 0;
+};
+
+struct ShadowResources {
+    uint32_t resolution = 0, layers = 0;
+    GlHandle depthArray;   // D32F array, comparison mode on (sampler2DArrayShadow)
+    GlHandle depthView;    // the same texels without comparison (sampler2DArray)
+    GlHandle layeredFb;    // the whole array (gl_Layer selects)
+    std::vector<GlHandle> layerFbs; // one layer each (multi-pass)
+    // SDSM (GPU fit), present only while technique = sdsm.
+    GlHandle sdsmState, sdsmBlock, sdsmMasks, sdsmCommands, casterInfo;
+    GlHandle sdsmReduce, sdsmPartition, sdsmBounds, sdsmFinalize, sdsmCull;
+    uint32_t sdsmCasterCapacity = 0;
+    uint64_t mapBytes = 0, bufferBytes = 0;
+
+    // (Re)creates the array for `resolution` x `layers`; drops the SDSM objects unless `sdsm`.
+    PlayResult<Done> ensure(uint32_t resolution, uint32_t layers, bool sdsm,
+                            const std::vector<ShadowCaster>& casters, const GpuScene& scene);
+};
+
+// This frame's shadow state, filled by prepareShadows().
+struct ShadowFrame {
+    bool sceneHasShadows = false; // lighting programs were built with SHADOWS (bind a block)
+    bool active = false;          // maps are drawn and read this frame
+    bool gpuFit = false;          // SDSM: block, masks and draws live in GPU buffers
+    bool pending = false;         // SDSM waits for the first deferred layer's depth
+    uint32_t cascades = 0;
+    size_t blockOffset = 0;       // CPU-written ShadowBlock in the ring (SDSM: its parameters)
+    size_t maskOffset = 0, maskBytes = 0;
+    size_t boundsOffset = 0;      // SDSM: casters' camera-relative AABBs in the ring
+    // Casters to draw: CPU fits list those touching some cascade (objectOffsets parallel);
+    // SDSM lists every caster in the scene (the GPU zeroes the culled ones' instance counts).
+    std::vector<uint32_t> casters;       // indices into Renderer::Impl::casters
+    std::vector<size_t> objectOffsets;
+    std::vector<uint32_t> masks;         // CPU fits: cascades each listed caster touches
+    std::vector<glm::vec4> casterBounds; // SDSM: min, max per caster (camera-relative)
+    std::array<ShadowFit, kMaxCascades> fits{};
+    std::array<float, kMaxCascades + 1> splits{}; // view depths (CPU fits)
+    glm::dmat3 lightRotation{1.0};
+    glm::dvec2 sceneLightDepth{0.0};     // scene's light-space z interval (camera-relative)
+};
+
+// Everything shadows keep between frames (owned by the renderer).
+struct ShadowContext {
+    ShadowResources resources;
+    std::vector<ShadowCaster> casters;
+    int light = -1;                  // index of the shadowing light in GpuScene::lights, or -1
+    glm::dvec3 sceneMin{0.0}, sceneMax{0.0}; // world bounds of every draw item
+    ShadowFrame frame;
+    bool capture = false;            // lighting writes visibility/cascade/ratio (CaptureBuffer::Shadow)
+};
+
+// Casters, the shadowing light (the first directional light that casts shadows) and the scene
+// bounds, from `scene`. Call again after materials change.
+void initShadowContext(const GpuScene& scene, ShadowContext& shadows);
+
+// Fits and culls (CPU techniques) or prepares the GPU fit (SDSM); writes what the shadow pass
+// and lighting read into the ring.
+void prepareShadows(FrameContext& ctx);
+
+// SDSM: the GPU fit from the depth buffer as it is now (shadow_sdsm.cpp).
+void runSdsmFit(FrameContext& ctx);
+
+// Draws the casters into the array (pass_shadow.cpp).
+void runShadowPass(FrameContext& ctx);
+
+// Binds the ShadowBlock (binding 4) and the maps (units 8 and 9) for lighting.
+void bindShadowsForLighting(FrameContext& ctx);
+
+} // namespace pnb::player

@@ -1,0 +1,167 @@
+// shadow_sampling.glsl — the sun's visibility at a camera-relative point: cascade selection (by
+// view depth or by map bounds) with a blend band, receiver offsets scaled by the texel size of the
+// cascade read (normal offset plus slope-scaled offset toward the light), and three filters:
+// hardware 2x2 PCF, N-tap Poisson-like PCF rotated per pixel, and PCSS.
+// Compiled in when the container has a shadow-casting light (the SHADOWS define).
+#ifndef PNB_SHADOW_SAMPLING_GLSL
+#define PNB_SHADOW_SAMPLING_GLSL
+
+#include "interface.glsl"
+#include "shadow_block.glsl"
+
+layout(binding = 8) uniform sampler2DArrayShadow uShadowMapCompare;
+layout(binding = 9) uniform sampler2DArray uShadowMapDepth; // raw depths: PCSS blocker search
+
+// What the last shadowVisibility() call read, for the cascade tint and the capture output.
+float gShadowVisibility = 1.0;
+int gShadowCascade = -1;
+float gShadowTexelRatio = 0.0;
+
+vec3 shadowCoord(int c, vec3 p) {
+    vec4 s = uShadowMatrix[c] * vec4(p, 1.0);
+    return vec3(s.xy / s.w * 0.5 + 0.5, s.z / s.w);
+}
+
+// World size of one texel of cascade `c` at `p`: stored for orthographic maps, measured through
+// the matrix for LiSPSM's perspective map.
+float shadowTexelWorld(int c, vec3 p) {
+    float nominal = uShadowCascade[c].z;
+    if (uShadowCascade[c].w < 0.5) return nominal;
+    vec3 l = uShadowLight.xyz;
+    vec3 t1 = normalize(cross(l, abs(l.y) < 0.99 ? vec3(0, 1, 0) : vec3(1, 0, 0)));
+    vec3 t2 = cross(l, t1);
+    vec2 s0 = shadowCoord(c, p).xy;
+    float d1 = length(shadowCoord(c, p + t1 * nominal).xy - s0);
+    float d2 = length(shadowCoord(c, p + t2 * nominal).xy - s0);
+    return nominal / max(max(d1, d2) * uShadowMapInfo.x, 1e-6);
+}
+
+// Vogel disk: any tap count, evenly spread, rotated by `angle`.
+vec2 diskTap(int i, int n, float angle) {
+    float r = sqrt((float(i) + 0.5) / float(n));
+    float theta = float(i) * 2.39996323 + angle;
+    return r * vec2(cos(theta), sin(theta));
+}
+
+float interleavedGradientNoise(vec2 pixel) {
+    return fract(52.9829189 * fract(dot(pixel, vec2(0.06711056, 0.00583715))));
+}
+
+float pcf(int c, vec3 s, float radiusTexels, int taps) {
+    if (radiusTexels <= 0.0 || taps <= 1) return texture(uShadowMapCompare, vec4(s.xy, float(c), s.z));
+    float angle = 6.28318531 * interleavedGradientNoise(gl_FragCoord.xy);
+    float sum = 0.0;
+    for (int i = 0; i < taps; ++i) {
+        vec2 uv = s.xy + diskTap(i, taps, angle) * radiusTexels * uShadowMapInfo.y;
+        sum += texture(uShadowMapCompare, vec4(uv, float(c), s.z));
+    }
+    return sum / float(taps);
+}
+
+// PCSS for a directional light: penumbra width = blocker-receiver distance x the light's angular
+// size; the blocker distance is averaged over a search disk.
+float pcss(int c, vec3 s, vec3 p, float texelWorld, int taps) {
+    float search = max(uShadowParams.w, 1.0) * 8.0;
+    float angle = 6.28318531 * interleavedGradientNoise(gl_FragCoord.xy);
+    float blockers = 0.0, blockerDepth = 0.0;
+    for (int i = 0; i < taps; ++i) {
+        vec2 uv = s.xy + diskTap(i, taps, angle) * search * uShadowMapInfo.y;
+        float d = texture(uShadowMapDepth, vec3(uv, float(c))).r;
+        if (d < s.z) {
+            blockers += 1.0;
+            blockerDepth += d;
+        }
+    }
+    if (blockers == 0.0) return 1.0;
+    blockerDepth /= blockers;
+    // World distance per unit of map depth, measured along the light (any projection).
+    float depthPerWorld = abs(shadowCoord(c, p + uShadowLight.xyz * texelWorld).z - s.z) / texelWorld;
+    float distanceWorld = (s.z - blockerDepth) / max(depthPerWorld, 1e-12);
+    float penumbraTexels = 2.0 * distanceWorld * uShadowMapInfo.z / texelWorld;
+    return pcf(c, s, clamp(penumbraTexels, 0.5, 32.0), taps);
+}
+
+float cascadeVisibility(int c, vec3 p, vec3 n, float ndotl) {
+    float texelWorld = shadowTexelWorld(c, p);
+    float tanTheta = min(sqrt(max(1.0 - ndotl * ndotl, 0.0)) / max(ndotl, 1e-3), 10.0);
+    vec3 offset = n * (uShadowBias.x * texelWorld) + uShadowLight.xyz * (uShadowBias.y * texelWorld * tanTheta);
+    vec3 s = shadowCoord(c, p + offset);
+    int filterMode = int(uShadowParams.y);
+    int taps = int(uShadowParams.z);
+    if (filterMode == 0) return texture(uShadowMapCompare, vec4(s.xy, float(c), s.z));
+    if (filterMode == 1) return pcf(c, s, uShadowParams.w, taps);
+    return pcss(c, s, p + offset, texelWorld, taps);
+}
+
+bool insideMap(vec3 s, float margin) {
+    return all(greaterThanEqual(s.xy, vec2(margin))) && all(lessThanEqual(s.xy, vec2(1.0 - margin))) &&
+           s.z >= 0.0 && s.z <= 1.0;
+}
+
+// 1 lit .. 0 shadowed. `p` camera-relative, `n` the unit surface normal.
+float shadowVisibility(vec3 p, vec3 n) {
+    gShadowVisibility = 1.0;
+    gShadowCascade = -1;
+    gShadowTexelRatio = 0.0;
+    int count = int(uShadowParams.x);
+    if (count == 0) return 1.0;
+    float ndotl = dot(n, uShadowLight.xyz);
+    if (ndotl <= 0.0) {
+        gShadowVisibility = 0.0; // facing away: the BRDF is zero anyway
+        gShadowCascade = -2;     // (the capture leaves such pixels out)
+        return 0.0;
+    }
+    float depth = -(uView * vec4(p, 1.0)).z;
+    int c = -1;
+    float blend = 0.0; // weight of cascade c + 1
+    if (uShadowBias.w < 0.5) {
+        for (int i = 0; i < count; ++i) {
+            if (depth <= uShadowCascade[i].y) {
+                c = i;
+                break;
+            }
+        }
+        if (c >= 0 && c + 1 < count) {
+            float band = uShadowBias.z * (uShadowCascade[c].y - uShadowCascade[c].x);
+            if (band > 0.0) blend = clamp((depth - (uShadowCascade[c].y - band)) / band, 0.0, 1.0);
+        }
+    } else {
+        float margin = (uShadowParams.w + 1.0) * uShadowMapInfo.y;
+        for (int i = 0; i < count; ++i) {
+            vec3 s = shadowCoord(i, p);
+            if (insideMap(s, margin)) {
+                c = i;
+                if (i + 1 < count && uShadowBias.z > 0.0) {
+                    float edge = min(min(s.x, 1.0 - s.x), min(s.y, 1.0 - s.y)) - margin;
+                    blend = clamp(1.0 - edge / (0.5 * uShadowBias.z), 0.0, 1.0);
+                }
+                break;
+            }
+        }
+    }
+    if (c < 0) return 1.0; // beyond the shadowed range
+    float v = cascadeVisibility(c, p, n, ndotl);
+    if (blend > 0.0) v = mix(v, cascadeVisibility(c + 1, p, n, ndotl), blend);
+    gShadowVisibility = v;
+    gShadowCascade = c;
+    float pixelWorld = 2.0 * depth * uShadowView.x / uShadowView.y;
+    gShadowTexelRatio = shadowTexelWorld(c, p) / max(pixelWorld, 1e-30);
+    return v;
+}
+
+// The lit colour, or what debug.view / the shadow capture asks for instead.
+vec4 shadowOutput(vec4 color) {
+    int mode = int(uShadowMapInfo.w);
+    if (mode == 1) {
+        const vec3 tint[8] = vec3[8](vec3(1, 0, 0), vec3(0, 1, 0), vec3(0, 0, 1), vec3(0, 1, 1),
+                                     vec3(1, 0, 1), vec3(1, 0.5, 0), vec3(0.5, 0, 1), vec3(0.5, 0.5, 0.5));
+        vec3 t = gShadowCascade == -1 ? vec3(1, 1, 0) : tint[max(gShadowCascade, 0)];
+        return vec4(color.rgb * 0.35 + t * (0.15 + 0.5 * gShadowVisibility), color.a);
+    }
+    if (mode == 2) // capture: visibility (-1: not classified), cascade, texel/pixel ratio
+        return gShadowCascade == -2 ? vec4(-1, -1, 0, 1)
+                                    : vec4(gShadowVisibility, float(gShadowCascade), gShadowTexelRatio, 1.0);
+    return color;
+}
+
+#endif
