@@ -53,7 +53,7 @@ player::PlayResult<player::Done> EditorApp::init() {
     auto gpu = player::uploadScene(mDocument->scene());
     if (!gpu) return gpu.error();
     mGpu = std::move(*gpu);
-    auto renderer = player::Renderer::create(*mGpu, {});
+    auto renderer = player::Renderer::create(*mGpu, player::settingsForCurrentDriver());
     if (!renderer) return renderer.error();
     mRenderer = std::move(*renderer);
     const Aabb& b = mGpu->bounds;
@@ -313,7 +313,7 @@ void EditorApp::drawProperties() {
             if (gpu) {
                 mRenderer.reset();
                 mGpu = std::move(*gpu);
-                if (auto r = player::Renderer::create(*mGpu, {})) mRenderer = std::move(*r);
+                if (auto r = player::Renderer::create(*mGpu, player::settingsForCurrentDriver())) mRenderer = std::move(*r);
                 static_cast<void>(applyToSelection(slots[mImportSlot], std::to_string(*t)));
             } else {
                 status(gpu.error().message);

@@ -142,7 +142,7 @@ player::PlayResult<player::Done> MaterialPreview::show(const Scene& doc, uint32_
     auto gpu = player::uploadScene(mScene);
     if (!gpu) return gpu.error();
     mGpu = std::move(*gpu);
-    player::RenderSettings settings;
+    player::RenderSettings settings = player::settingsForCurrentDriver();
     settings.ambient = 0.1f;
     auto renderer = player::Renderer::create(*mGpu, settings);
     if (!renderer) return renderer.error();

@@ -200,12 +200,58 @@ PlayResult<BenchResult> runBenchmark(const GpuScene& scene, Renderer& renderer,
     collect();
     result.frames = uint32_t(records.size());
 
+    // The quality pass: the same frames again, measured by the caller's hook.
+    nlohmann::json quality = nlohmann::json::object();
+    std::ostringstream qualityCsv;
+    if (options.quality.every > 0 && options.quality.measure) {
+        std::vector<std::string> columns;
+        std::vector<std::pair<uint32_t, std::map<std::string, double>>> rows;
+        for (uint32_t k = 0; k < records.size(); k += options.quality.every) {
+            std::map<std::string, double> row;
+            for (bool followUp : {false, true}) {
+                if (path) evaluatePath(path->path, start + records[k].pathTime + (followUp ? 1.0 / 60.0 : 0.0), camera);
+                if (auto r = renderer.render(camera, options.width, options.height); !r) return r.error();
+                auto m = options.quality.measure(k, renderer, followUp);
+                if (!m) return m.error();
+                for (const auto& [name, value] : *m) {
+                    if (std::find(columns.begin(), columns.end(), name) == columns.end()) columns.push_back(name);
+                    if (!followUp || !row.count(name)) row[name] = value;
+                }
+            }
+            rows.emplace_back(k, std::move(row));
+        }
+        renderer.timer().drain();
+        renderer.timer().completed().clear();
+        qualityCsv << "frame";
+        for (const std::string& c : columns) qualityCsv << ',' << c;
+        qualityCsv << '\n';
+        for (const auto& [k, row] : rows) {
+            qualityCsv << k;
+            for (const std::string& c : columns) {
+                qualityCsv << ',';
+                if (row.count(c)) qualityCsv << row.at(c);
+            }
+            qualityCsv << '\n';
+        }
+        for (const std::string& c : columns) {
+            std::vector<double> v;
+            for (const auto& [k, row] : rows)
+                if (row.count(c)) v.push_back(row.at(c));
+            PassSummary ps = summarize(c, v);
+            double mean = 0;
+            for (double x : v) mean += x / double(v.size());
+            quality[c] = {{"mean", mean}, {"median", ps.median}, {"p95", ps.p95}, {"max", ps.max},
+                          {"frames", v.size()}};
+        }
+    }
+
     // Per-pass statistics over frames that have timings.
     std::vector<std::string> passNames;
     for (const FrameRecord& r : records)
         for (const auto& [name, ms] : r.gpu)
             if (std::find(passNames.begin(), passNames.end(), name) == passNames.end()) passNames.push_back(name);
-    const std::vector<std::string> order = {"setup", "gbuffer", "lighting", "forward", "tonemap", "fxaa", "debug"};
+    const std::vector<std::string> order = {"setup", "shadow", "gbuffer", "reduce", "lighting", "forward",
+                                           "tonemap", "fxaa", "debug"};
     std::stable_sort(passNames.begin(), passNames.end(), [&](const std::string& a, const std::string& b) {
         auto ia = std::find(order.begin(), order.end(), a) - order.begin();
         auto ib = std::find(order.begin(), order.end(), b) - order.begin();
@@ -230,7 +276,8 @@ PlayResult<BenchResult> runBenchmark(const GpuScene& scene, Renderer& renderer,
     std::ostringstream csv;
     csv << "frame,time_s,cpu_ms,gpu_total_ms";
     for (const std::string& n : passNames) csv << ",gpu_" << n << "_ms";
-    csv << ",draw_calls,triangles,visible_items,culled_items,deferred_layers\n";
+    csv << ",draw_calls,triangles,visible_items,culled_items,deferred_layers,shadow_draws,"
+           "shadow_triangles,shadow_casters\n";
     for (size_t k = 0; k < records.size(); ++k) {
         const FrameRecord& r = records[k];
         csv << k << ',' << r.pathTime << ',' << r.stats.cpuMs << ',';
@@ -240,11 +287,17 @@ PlayResult<BenchResult> runBenchmark(const GpuScene& scene, Renderer& renderer,
             if (r.gpuTotal >= 0) csv << (r.gpu.count(n) ? r.gpu.at(n) : 0.0);
         }
         csv << ',' << r.stats.drawCalls << ',' << r.stats.triangles << ',' << r.stats.visibleItems
-            << ',' << r.stats.culledItems << ',' << r.stats.deferredLayersDrawn << '\n';
+            << ',' << r.stats.culledItems << ',' << r.stats.deferredLayersDrawn << ','
+            << r.stats.shadowDraws << ',' << r.stats.shadowTriangles << ',' << r.stats.shadowCasters << '\n';
     }
     std::string csvPath = options.outDir + "/frames.csv";
     if (auto w = writeText(csvPath, csv.str()); !w) return w.error();
     result.written.push_back(csvPath);
+    if (!quality.empty()) {
+        std::string qualityPath = options.outDir + "/quality.csv";
+        if (auto w = writeText(qualityPath, qualityCsv.str()); !w) return w.error();
+        result.written.push_back(qualityPath);
+    }
 
     // summary.json
     nlohmann::json j;
@@ -274,7 +327,8 @@ PlayResult<BenchResult> runBenchmark(const GpuScene& scene, Renderer& renderer,
                              {"material_uniforms", scene.memory.uniformBytes},
                              {"gbuffer", tm.gbufferBytes}, {"depth", tm.depthBytes}, {"hdr", tm.hdrBytes},
                              {"output", tm.outputBytes}, {"debug", tm.debugBytes},
-                             {"per_frame_stream", tm.streamingBytes}};
+                             {"per_frame_stream", tm.streamingBytes}, {"shadow_maps", tm.shadowMapBytes},
+                             {"shadow_buffers", tm.shadowBufferBytes}};
     nlohmann::json gpu = nlohmann::json::object();
     for (const PassSummary& s : result.gpu) gpu[s.pass] = toJson(s);
     j["gpu_ms"] = gpu;
@@ -282,7 +336,13 @@ PlayResult<BenchResult> runBenchmark(const GpuScene& scene, Renderer& renderer,
     const FrameRecord& last = records.back();
     j["last_frame"] = {{"draw_calls", last.stats.drawCalls}, {"triangles", last.stats.triangles},
                        {"visible_items", last.stats.visibleItems}, {"culled_items", last.stats.culledItems},
-                       {"deferred_layers_drawn", last.stats.deferredLayersDrawn}};
+                       {"deferred_layers_drawn", last.stats.deferredLayersDrawn},
+                       {"shadow_draws", last.stats.shadowDraws}, {"shadow_triangles", last.stats.shadowTriangles},
+                       {"shadow_casters", last.stats.shadowCasters}};
+    std::vector<double> shadowDraws;
+    for (const FrameRecord& r : records) shadowDraws.push_back(r.stats.shadowDraws);
+    j["shadow_draws"] = toJson(summarize("shadow_draws", shadowDraws));
+    if (!quality.empty()) j["quality"] = quality;
     std::string jsonPath = options.outDir + "/summary.json";
     if (auto w = writeText(jsonPath, j.dump(2) + "\n"); !w) return w.error();
     result.written.push_back(jsonPath);

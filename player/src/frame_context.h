@@ -68,6 +68,7 @@ struct Renderer::Impl {
     CameraState lastCamera;               // re-rendered for CaptureBuffer::Shadow
     GpuTimer captureTimer;                // times of capture renders (discarded)
     bool capturing = false;
+    float appliedAnisotropy = 1.0f;       // textures' GL_TEXTURE_MAX_ANISOTROPY (1 at upload)
     size_t alignment = 256;
     uint64_t frame = 0;
 };

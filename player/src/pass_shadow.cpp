@@ -6,10 +6,14 @@
 //   multipass  one pass per cascade over that layer, each caster drawn where its mask has the bit.
 // Per-cascade culling decides the masks (CPU fits) or the GPU writes them with indirect draws
 // (SDSM), so the layered path never rasterises a caster into a cascade the multi-pass would skip.
+// Where the vertex shader cannot write gl_Layer (or shadows.layer_from = geometry), the layered
+// pass links a geometry shader that replicates each triangle into its cascades instead.
 // Faces are not culled: open, single-sided geometry casts too; receiver offsets handle acne.
 #include <bit>
+#include <cstdio>
 
 #include "frame_context.h"
+#include "program_compile.h"
 
 namespace pnb::player {
 
@@ -17,23 +21,55 @@ namespace {
 
 constexpr size_t kIndirectCommandBytes = 20;
 
-void drawCasters(FrameContext& ctx, int passCascade) {
+// The program drawing `caster`: the container's, or its geometry-shader variant (linked on first
+// use) when the layered pass takes gl_Layer from a geometry shader.
+GLuint casterProgram(FrameContext& ctx, const ShadowCaster& caster, bool geometryLayers) {
+    const GpuScene& scene = ctx.scene;
+    if (!geometryLayers) return scene.programs[caster.program].id();
+    auto& cache = ctx.shadows.geometryLayerPrograms;
+    for (const auto& [index, program] : cache)
+        if (index == caster.program) return program.id();
+    for (const auto& [index, kept] : scene.shadowSources) {
+        if (index != caster.program) continue;
+        std::vector<StageSource> stages;
+        for (const auto& [stage, text] : kept.stages) {
+            stages.push_back({stage, text});
+            if (stage == GL_VERTEX_SHADER) stages.push_back({GL_GEOMETRY_SHADER, embeddedSource("shadow_layers.geom")});
+        }
+        std::vector<std::string_view> defines(kept.defines.begin(), kept.defines.end());
+        defines.push_back("LAYER_FROM_GEOMETRY");
+        auto p = compileProgram(kept.label + " + shadow_layers.geom", stages, defines);
+        if (!p) {
+            std::fprintf(stderr, "pnb-play: %s\n", p.error().message.c_str());
+            cache.emplace_back(index, GlHandle{});
+            return 0;
+        }
+        cache.emplace_back(index, std::move(*p));
+        return cache.back().second.id();
+    }
+    return 0;
+}
+
+void drawCasters(FrameContext& ctx, int passCascade, bool geometryLayers) {
     const ShadowFrame& f = ctx.shadows.frame;
     const GpuScene& scene = ctx.scene;
     const std::vector<ShadowCaster>& casters = ctx.shadows.casters;
     GLuint boundProgram = ~0u, boundVao = ~0u;
     uint32_t boundMaterial = kNone;
     for (size_t i = 0; i < f.casters.size(); ++i) {
-        uint32_t instances = 1;
+        uint32_t copies = 1; // cascades this draw rasterises the caster into
         if (!f.gpuFit) {
             uint32_t mask = f.masks[i];
             if (passCascade >= 0 && !(mask & (1u << passCascade))) continue;
-            instances = passCascade >= 0 ? 1u : uint32_t(std::popcount(mask));
+            copies = passCascade >= 0 ? 1u : uint32_t(std::popcount(mask));
         }
+        // Instancing replicates in the vertex-layer path, the geometry shader in the other.
+        uint32_t instances = geometryLayers ? 1u : copies;
         const ShadowCaster& caster = casters[f.casters[i]];
         const DrawItem& item = scene.items[caster.item];
         const GpuMesh& mesh = scene.meshes[item.mesh];
-        GLuint program = scene.programs[caster.program].id();
+        GLuint program = casterProgram(ctx, caster, geometryLayers);
+        if (!program) continue;
         if (program != boundProgram) {
             glUseProgram(boundProgram = program);
             glProgramUniform1i(program, 0, passCascade);
@@ -60,7 +96,7 @@ void drawCasters(FrameContext& ctx, int passCascade) {
                                     GLsizei(instances));
         }
         ++ctx.stats.shadowDraws;
-        ctx.stats.shadowTriangles += uint64_t(item.triangles) * instances;
+        ctx.stats.shadowTriangles += uint64_t(item.triangles) * copies;
     }
 }
 
@@ -93,12 +129,16 @@ void runShadowPass(FrameContext& ctx) {
     if (ctx.settings.shadowRender == ShadowRender::Layered) {
         glBindFramebuffer(GL_FRAMEBUFFER, r.layeredFb.id());
         glClearNamedFramebufferfv(r.layeredFb.id(), GL_DEPTH, 0, &far);
-        drawCasters(ctx, -1);
+        // gl_Layer from the vertex shader needs ARB_shader_viewport_layer_array.
+        static const bool vertexLayers = epoxy_has_gl_extension("GL_ARB_shader_viewport_layer_array");
+        LayerSource source = ctx.settings.shadowLayerSource;
+        bool geometry = source == LayerSource::Geometry || !vertexLayers;
+        drawCasters(ctx, -1, geometry);
     } else {
         for (uint32_t c = 0; c < f.cascades; ++c) {
             glBindFramebuffer(GL_FRAMEBUFFER, r.layerFbs[c].id());
             glClearNamedFramebufferfv(r.layerFbs[c].id(), GL_DEPTH, 0, &far);
-            drawCasters(ctx, int(c));
+            drawCasters(ctx, int(c), false);
         }
     }
     glDisable(GL_DEPTH_CLAMP);

@@ -150,15 +150,11 @@ PlayResult<GlHandle> compileSceneProgram(const Scene& scene, uint32_t index) {
                           stages, defines);
 }
 
-namespace {
-
 std::string_view embeddedSource(std::string_view name) {
     for (const EmbeddedFile& f : kPlayerShaders)
         if (f.name == name) return f.text;
     return {};
 }
-
-} // namespace
 
 PlayResult<GlHandle> compileEmbeddedCompute(std::string_view file,
                                             std::span<const std::string_view> defines) {

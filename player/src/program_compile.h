@@ -34,6 +34,9 @@ PlayResult<GlHandle> compileEmbeddedProgram(std::string_view vertexFile,
                                             std::string_view fragmentFile,
                                             std::span<const std::string_view> defines = {});
 
+// The text of one of the player's embedded shader files ("" if there is none).
+std::string_view embeddedSource(std::string_view name);
+
 // An embedded compute shader; `defines` select its stage where one file holds several.
 PlayResult<GlHandle> compileEmbeddedCompute(std::string_view file,
                                             std::span<const std::string_view> defines = {});

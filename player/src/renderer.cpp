@@ -62,6 +62,12 @@ PlayResult<std::unique_ptr<Renderer>> Renderer::create(const GpuScene& scene,
 
 Renderer::~Renderer() = default;
 
+RenderSettings settingsForCurrentDriver() {
+    const char* name = reinterpret_cast<const char*>(glGetString(GL_RENDERER));
+    auto s = resolveSettings(driverDefaults(name ? name : ""), {});
+    return s ? *s : RenderSettings{};
+}
+
 void Renderer::setSettings(const RenderSettings& settings) {
     mSettings = settings;
     BuiltinPrograms& b = mImpl->builtins;
@@ -76,6 +82,12 @@ void Renderer::setSettings(const RenderSettings& settings) {
         if (p) program = std::move(*p);
         else std::fprintf(stderr, "pnb-play: %s\n", p.error().message.c_str());
     };
+    if (settings.anisotropy != mImpl->appliedAnisotropy &&
+        epoxy_has_gl_extension("GL_EXT_texture_filter_anisotropic")) {
+        mImpl->appliedAnisotropy = settings.anisotropy;
+        for (const GpuTexture& t : mImpl->scene->textures)
+            if (t.trilinear) glTextureParameterf(t.texture.id(), GL_TEXTURE_MAX_ANISOTROPY_EXT, settings.anisotropy);
+    }
     ensure(b.fxaa, settings.fxaa, "fullscreen.vert", "fxaa.frag");
     bool shadowDebug = settings.debugView == DebugView::ShadowMap || settings.debugView == DebugView::Histogram;
     ensure(b.shadowDebug, shadowDebug, "fullscreen.vert", "shadow_debug.frag");

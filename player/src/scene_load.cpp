@@ -91,6 +91,7 @@ PlayResult<Done> compileNeededPrograms(const Scene& scene, GpuScene& gpu) {
     gpu.deferredLightingProgram.reset();
     gpu.tonemapProgram.reset();
     gpu.shadowProgram.reset();
+    gpu.shadowSources.clear();
     gpu.shadowMaskProgram.reset();
     for (uint32_t i = 0; i < scene.programs.size(); ++i) {
         if (i >= labelled) gpu.programLabels[i] = programLabel(scene, i);
@@ -106,6 +107,16 @@ PlayResult<Done> compileNeededPrograms(const Scene& scene, GpuScene& gpu) {
             if (!slot) {
                 slot = i;
                 wanted.insert(i);
+                GpuScene::KeptProgram kept;
+                kept.label = gpu.programLabels[i];
+                for (uint32_t sh : scene.programs[i].shaders) {
+                    const ShaderSource& src = scene.shaders[sh];
+                    kept.stages.emplace_back(src.stage == ShaderStage::Vertex ? GL_VERTEX_SHADER : GL_FRAGMENT_SHADER,
+                                             std::string(reinterpret_cast<const char*>(src.source.data()),
+                                                         src.source.size()));
+                }
+                for (StringRef d : scene.programs[i].defines) kept.defines.emplace_back(scene.str(d));
+                gpu.shadowSources.emplace_back(i, std::move(kept));
             }
         }
         if (name == "tonemap" && !gpu.tonemapProgram) {

@@ -53,6 +53,7 @@ static_assert(std::size(kDebugViewNames) == size_t(DebugView::Count));
 constexpr std::string_view kTechniqueNames[] = {"off", "single", "lispsm", "pssm", "sdsm"};
 constexpr std::string_view kFitNames[] = {"sphere", "tight"};
 constexpr std::string_view kRenderNames[] = {"layered", "multipass"};
+constexpr std::string_view kLayerSourceNames[] = {"auto", "vertex", "geometry"};
 constexpr std::string_view kFilterNames[] = {"hardware", "poisson", "pcss"};
 constexpr std::string_view kSelectNames[] = {"depth", "bounds"};
 constexpr std::string_view kPartitionNames[] = {"log", "quantile"};
@@ -94,6 +95,10 @@ const std::vector<Row>& rows() {
         {{"shadows.render", "layered|multipass",
           "all cascades in one pass (gl_Layer from instancing) or one pass per cascade"},
          enumField<&S::shadowRender>(kRenderNames)},
+        {{"shadows.layer_from", "auto|vertex|geometry",
+          "layered pass: gl_Layer from the vertex shader (ARB_shader_viewport_layer_array) or "
+          "from a geometry shader; auto = vertex where the extension exists"},
+         enumField<&S::shadowLayerSource>(kLayerSourceNames)},
         {{"shadows.filter", "hardware|poisson|pcss",
           "2x2 hardware PCF, rotated Poisson-disk PCF, or PCSS (contact-hardening)"},
          enumField<&S::shadowFilter>(kFilterNames)},
@@ -127,6 +132,9 @@ const std::vector<Row>& rows() {
          enumField<&S::debugView>(kDebugViewNames)},
         {{"debug.shadow_layer", "int 0..7", "the shadow-map layer debug.view=shadowmap shows"},
          UIntField{&S::debugShadowLayer, 0, 7}},
+        {{"textures.anisotropy", "float 1..16",
+          "largest anisotropic filtering ratio of mipmapped textures (1 = trilinear only)"},
+         FloatField{&S::anisotropy, 1.0f, 16.0f}},
     };
     return table;
 }
@@ -229,6 +237,13 @@ std::vector<std::pair<std::string, std::string>> settingValues(const RenderSetti
     for (const Row& r : rows())
         out.emplace_back(std::string(r.info.key), settingValue(settings, r.info.key));
     return out;
+}
+
+std::vector<std::pair<std::string, std::string>> driverDefaults(std::string_view glRenderer) {
+    if (glRenderer.find("llvmpipe") != std::string_view::npos ||
+        glRenderer.find("softpipe") != std::string_view::npos)
+        return {{"textures.anisotropy", "1"}};
+    return {};
 }
 
 PlayResult<RenderSettings> resolveSettings(

@@ -97,7 +97,9 @@ struct ShadowContext {
     int light = -1;                  // index of the shadowing light in GpuScene::lights, or -1
     glm::dvec3 sceneMin{0.0}, sceneMax{0.0}; // world bounds of every draw item
     ShadowFrame frame;
-    bool capture = false;            // lighting writes visibility/cascade/ratio (CaptureBuffer::Shadow)
+    bool capture = false;
+    // Layered pass through a geometry shader (shadows.layer_from), per container program.
+    std::vector<std::pair<uint32_t, GlHandle>> geometryLayerPrograms;            // lighting writes visibility/cascade/ratio (CaptureBuffer::Shadow)
 };
 
 // Casters, the shadowing light (the first directional light that casts shadows) and the scene

@@ -77,9 +77,8 @@ PlayResult<GpuTexture> createTexture(const TextureDesc& desc, uint32_t index) {
     glTextureParameteri(t.texture.id(), GL_TEXTURE_WRAP_S, glWrap(desc.wrapU));
     glTextureParameteri(t.texture.id(), GL_TEXTURE_WRAP_T, glWrap(desc.wrapV));
     glTextureParameteri(t.texture.id(), GL_TEXTURE_MAX_LEVEL, GLint(desc.mipCount) - 1);
-    if (epoxy_has_gl_extension("GL_EXT_texture_filter_anisotropic") &&
-        desc.minFilter == MinFilter::LinearMipLinear)
-        glTextureParameterf(t.texture.id(), GL_TEXTURE_MAX_ANISOTROPY_EXT, 8.0f);
+    // Anisotropic filtering is a render setting (textures.anisotropy), applied by the renderer.
+    t.trilinear = desc.minFilter == MinFilter::LinearMipLinear;
     for (uint32_t level = 0; level < desc.mipCount; ++level)
         t.bytes += textureLevelSizeBytes(desc.format, std::max(desc.width >> level, 1u),
                                          std::max(desc.height >> level, 1u), desc.layers);

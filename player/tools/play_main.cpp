@@ -15,6 +15,7 @@
 
 #include "fly_camera.h"
 #include "overlay.h"
+#include "shadow_quality.h"
 #include "pnb_player/benchmark.h"
 #include "pnb_player/gl_context.h"
 #include "pnb_player/renderer.h"
@@ -45,6 +46,10 @@ Run:
                           or shadow, frameK_frame.json holds the camera and light)
   --frame K               frame for --screenshot and --dump (default 0)
   --no-plot               do not call the plot script
+  --shadow-metrics N      with --bench: replay every N-th frame (and the view 1/60 s later) and compare
+                          the sun's shadows with Embree ray-traced visibility: quality.csv and
+                          "quality" in summary.json (misclassified %, mean abs error, texel/pixel
+                          ratio per cascade, flicker)
 
 Settings (container RSET < command line):
   --set KEY=VALUE         e.g. --set lighting.exposure=1.5 (repeatable)
@@ -65,7 +70,7 @@ struct Args {
          checksums = true, glDebug = false, quiet = false;
     double dt = 0, seconds = 0;
     int camera = -1;
-    uint32_t frames = 0, frame = 0, width = 0, height = 0;
+    uint32_t frames = 0, frame = 0, width = 0, height = 0, shadowMetrics = 0;
 };
 
 [[noreturn]] void usageError(const std::string& message) {
@@ -109,6 +114,7 @@ Args parseArgs(int argc, char** argv) {
         else if (s == "--path") a.pathName = next(i);
         else if (s == "--camera") a.camera = int(parseCount("--camera", next(i)));
         else if (s == "--frames") a.frames = parseCount("--frames", next(i));
+        else if (s == "--shadow-metrics") a.shadowMetrics = parseCount("--shadow-metrics", next(i));
         else if (s == "--seconds") a.seconds = parsePositive("--seconds", next(i));
         else if (s == "--fixed-dt") {
             a.fixedDt = true;
@@ -212,7 +218,9 @@ int main(int argc, char** argv) {
     if (!scene) return fail(scene.error());
 
     std::vector<std::string> warnings;
-    auto resolved = resolveSettings((*scene)->settings, args.sets, &warnings);
+    auto defaults = driverDefaults(gl.renderer);
+    defaults.insert(defaults.end(), (*scene)->settings.begin(), (*scene)->settings.end());
+    auto resolved = resolveSettings(defaults, args.sets, &warnings);
     if (!resolved) return fail(resolved.error());
     RenderSettings settings = *resolved;
     if (!args.quiet)
@@ -267,6 +275,24 @@ int main(int argc, char** argv) {
     load.firstFrameMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() -
                                                                   processStart).count();
     if (!args.quiet) std::printf("time to first frame: %.1f ms (process start to finished frame)\n", load.firstFrameMs);
+
+    std::unique_ptr<ShadowQuality> shadowQuality;
+    if (args.shadowMetrics > 0) {
+        if (!args.bench) return fail({PlayErrorKind::Usage, "--shadow-metrics needs --bench"});
+        auto q = ShadowQuality::create(args.scene, first.position);
+        if (!q) return fail(q.error());
+        shadowQuality = std::move(*q);
+        glm::vec3 toward{0, 1, 0};
+        for (const SceneLight& l : (*scene)->lights)
+            if (l.desc.type == pnb::LightType::Directional && l.desc.castsShadows) {
+                toward = -l.direction;
+                break;
+            }
+        bo.quality.every = args.shadowMetrics;
+        bo.quality.measure = [&, toward](uint32_t, Renderer& r, bool followUp) {
+            return shadowQuality->measure(r, toward, followUp);
+        };
+    }
 
     if (args.bench || !window) {
         // Headless screenshot/dump/smoke run: frame times as a run of --frames would have them,

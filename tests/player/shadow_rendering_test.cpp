@@ -269,6 +269,22 @@ TEST(ShadowRendering, SdsmBoundsContainEverySample) {
     }
 }
 
+TEST(ShadowRendering, GeometryShaderLayersDrawTheSameMaps) {
+    // The fallback for drivers without ARB_shader_viewport_layer_array, forced here.
+    std::string file = shadowScene(kSun, "box-geometry-layers");
+    for (ShadowTechnique t : {ShadowTechnique::Pssm, ShadowTechnique::Sdsm}) {
+        RenderSettings vertex = shadowSettings(t), geometry = vertex;
+        geometry.shadowLayerSource = LayerSource::Geometry;
+        Rendered a = render(file, overview(), 160, 120, vertex);
+        Rendered b = render(file, overview(), 160, 120, geometry);
+        EXPECT_EQ(compareRgba8(a.color, b.color).maxAbs, 0);
+        EXPECT_EQ(a.stats.shadowDraws, b.stats.shadowDraws);
+        ShadowCheck c = checkShadows(file, overview(), geometry, kSun);
+        EXPECT_GT(c.trulyShadowed, 150u);
+        EXPECT_LT(c.wrongFraction(), 0.01);
+    }
+}
+
 TEST(ShadowRendering, LayeredDrawsTheSameMapsWithFewerDraws) {
     std::string file = shadowScene(kSun, "box-layered");
     for (ShadowTechnique t : {ShadowTechnique::Pssm, ShadowTechnique::Sdsm}) {

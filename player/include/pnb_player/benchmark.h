@@ -12,6 +12,9 @@
 //   frame_times.png  per-pass stacked GPU time and CPU time along the path (player/tools/
 //                  plot_frames.py, needs python3-matplotlib; skipped with a warning otherwise)
 //   screenshots and dumps asked for (PNG for colour, EXR for float buffers)
+//   quality.csv    with a QualityHook: the hook's metrics for the frames it measured, taken on a
+//                  replay of the same frames after the timed run (so measuring costs no timing);
+//                  summary.json then has mean/median/p95/max of each under "quality"
 #pragma once
 
 #include <functional>
@@ -31,6 +34,17 @@ struct CaptureRequest {
     std::string path; // .png for Color, .exr otherwise
 };
 
+// Image-quality metrics a caller computes on a replay of the run (pnb-play: shadows against the
+// ray-traced reference). Every `every`-th frame k is rendered again and measured, then the view
+// 1/60 s later along the path is measured with followUp = true (for temporal metrics such as
+// flicker between consecutive displayed frames).
+struct QualityHook {
+    uint32_t every = 0; // 0: no quality pass
+    std::function<PlayResult<std::vector<std::pair<std::string, double>>>(uint32_t frame, Renderer&,
+                                                                          bool followUp)>
+        measure;
+};
+
 struct BenchOptions {
     std::string pathName;        // "" = the container's first camera path
     std::optional<CameraState> staticCamera; // set: no path, this camera for every frame
@@ -44,6 +58,7 @@ struct BenchOptions {
     std::vector<CaptureRequest> captures;
     bool plot = true;
     std::string sceneFile, commandLine; // recorded in the summary
+    QualityHook quality;
 };
 
 struct PassSummary {

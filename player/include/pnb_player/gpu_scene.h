@@ -35,6 +35,7 @@ struct GpuTexture {
     GlHandle texture;
     uint32_t width = 0, height = 0, mipCount = 0;
     uint64_t bytes = 0;
+    bool trilinear = false; // mipmapped linear filtering: anisotropic filtering applies
 };
 
 struct GpuMesh {
@@ -117,6 +118,14 @@ struct GpuScene {
     // The shadow pass's programs (present when the converter found a shadow-casting light and
     // caster; lighting programs are then built with SHADOWS).
     std::optional<uint32_t> shadowProgram, shadowMaskProgram;
+    // Their stage sources and defines, kept so the player can link a geometry-shader variant
+    // when the vertex shader cannot write gl_Layer (shadows.layer_from).
+    struct KeptProgram {
+        std::string label;
+        std::vector<std::pair<GLenum, std::string>> stages;
+        std::vector<std::string> defines;
+    };
+    std::vector<std::pair<uint32_t, KeptProgram>> shadowSources;
 
     std::vector<GpuTexture> textures;
     std::vector<GpuMaterial> materials;

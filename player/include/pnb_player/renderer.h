@@ -76,6 +76,9 @@ struct CapturedImage {
     std::vector<float> f32;
 };
 
+// RenderSettings defaults with driverDefaults() of the current context's GL_RENDERER applied.
+RenderSettings settingsForCurrentDriver();
+
 class Renderer {
 public:
     // Compiles the player's built-in programs the scene needs; errors name the program.

@@ -45,6 +45,7 @@ enum class ShadowTechnique {
 };
 enum class CascadeFit { Sphere, Tight };       // shadows.fit
 enum class ShadowRender { Layered, MultiPass }; // shadows.render
+enum class LayerSource { Auto, Vertex, Geometry }; // shadows.layer_from
 enum class ShadowFilter { Hardware, Poisson, Pcss }; // shadows.filter
 enum class CascadeSelect { Depth, Bounds };    // shadows.select
 enum class SdsmPartition { Log, Quantile };    // shadows.sdsm_partition
@@ -58,6 +59,7 @@ struct RenderSettings {
     float farPlane = -1.0f;      // camera.far: metres; 0 = infinite; -1 = the container camera's
     DebugView debugView = DebugView::None; // debug.view
     uint32_t debugShadowLayer = 0;         // debug.shadow_layer
+    float anisotropy = 8.0f;               // textures.anisotropy: max anisotropic filter ratio
 
     // shadows.*: see settings.cpp for each key's meaning.
     ShadowTechnique shadowTechnique = ShadowTechnique::Pssm;
@@ -67,6 +69,7 @@ struct RenderSettings {
     float shadowDistance = 0.0f; // 0 = to the far side of the scene bounds
     CascadeFit shadowFit = CascadeFit::Sphere;
     ShadowRender shadowRender = ShadowRender::Layered;
+    LayerSource shadowLayerSource = LayerSource::Auto;
     ShadowFilter shadowFilter = ShadowFilter::Poisson;
     uint32_t shadowTaps = 16;
     float shadowRadius = 1.5f;     // filter radius in texels
@@ -101,6 +104,11 @@ std::string settingValue(const RenderSettings& settings, std::string_view key);
 std::vector<std::pair<std::string, std::string>> settingValues(const RenderSettings& settings);
 
 std::string_view toString(DebugView view);
+
+// Defaults that depend on the driver (GL_RENDERER), as "key=value" pairs to apply before the
+// container's: Mesa's software rasterisers get textures.anisotropy = 1, because llvmpipe
+// (Mesa 22.3) takes up to tens of seconds per frame for anisotropic lookups at grazing angles.
+std::vector<std::pair<std::string, std::string>> driverDefaults(std::string_view glRenderer);
 
 // Defaults, then the container's RSET entries, then command-line assignments ("key=value"):
 // later wins. A container entry that does not apply is skipped with a line in `warnings`; a

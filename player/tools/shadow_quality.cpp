@@ -1,0 +1,97 @@
+#include "shadow_quality.h"
+
+#include <cmath>
+
+#include "pnb/reader.h"
+#include "pnb/scene.h"
+#include "pnb_reference/shadow_metrics.h"
+#include "pnb_reference/shadow_tracer.h"
+
+namespace pnb::player {
+
+struct ShadowQuality::Impl {
+    std::unique_ptr<reference::ShadowTracer> tracer;
+    // The last measured frame, for the follow-up's flicker.
+    std::vector<float> previousPlayer, previousTruth;
+};
+
+ShadowQuality::~ShadowQuality() = default;
+
+PlayResult<std::unique_ptr<ShadowQuality>> ShadowQuality::create(const std::string& containerPath,
+                                                                 glm::dvec3 origin) {
+    auto container = Container::open(containerPath);
+    if (!container) return PlayError{PlayErrorKind::Input, container.error().describe()};
+    auto scene = readScene(*container);
+    if (!scene) return PlayError{PlayErrorKind::Input, scene.error().describe()};
+    auto tracer = reference::ShadowTracer::build(*scene, origin);
+    if (!tracer) return PlayError{PlayErrorKind::Input, "shadow reference: " + tracer.error().message};
+    std::unique_ptr<ShadowQuality> q(new ShadowQuality());
+    q->mImpl = std::make_unique<Impl>();
+    q->mImpl->tracer = std::move(*tracer);
+    return q;
+}
+
+PlayResult<std::vector<std::pair<std::string, double>>> ShadowQuality::measure(Renderer& renderer,
+                                                                                glm::vec3 towardLight,
+                                                                                bool followUp) {
+    auto position = renderer.capture(CaptureBuffer::Position);
+    if (!position) return position.error();
+    auto normal = renderer.capture(CaptureBuffer::Normal);
+    if (!normal) return normal.error();
+    auto shadow = renderer.capture(CaptureBuffer::Shadow);
+    if (!shadow) return shadow.error();
+    size_t pixels = size_t(position->width) * position->height;
+
+    // Camera-relative positions to the tracer's origin, in double.
+    glm::dvec3 shift = renderer.lastView().position - mImpl->tracer->origin();
+    std::vector<glm::vec3> points(pixels), normals(pixels);
+    std::vector<float> player(pixels), cascade(pixels), ratio(pixels), truth(pixels);
+    for (size_t i = 0; i < pixels; ++i) {
+        glm::dvec3 p(position->f32[i * 3], position->f32[i * 3 + 1], position->f32[i * 3 + 2]);
+        points[i] = glm::vec3(p + shift);
+        normals[i] = {normal->f32[i * 3], normal->f32[i * 3 + 1], normal->f32[i * 3 + 2]};
+        player[i] = shadow->f32[i * 4];         // negative: not classified (facing away, none)
+        cascade[i] = shadow->f32[i * 4 + 1];
+        ratio[i] = shadow->f32[i * 4 + 2];
+    }
+    mImpl->tracer->visibility(points, normals, towardLight, truth);
+    // Surfaces facing away are dark whatever the map says: the player leaves them out, and so
+    // does the comparison.
+    for (size_t i = 0; i < pixels; ++i)
+        if (player[i] < 0) truth[i] = std::numeric_limits<float>::quiet_NaN();
+
+    std::vector<std::pair<std::string, double>> out;
+    if (followUp) {
+        if (mImpl->previousPlayer.size() == pixels) {
+            // Changes of the player's classification the truth does not have.
+            uint64_t both = 0, changed = 0, spurious = 0;
+            for (size_t i = 0; i < pixels; ++i) {
+                float a = mImpl->previousPlayer[i], b = player[i], ta = mImpl->previousTruth[i], tb = truth[i];
+                if (!(a >= 0) || !(b >= 0) || !std::isfinite(ta) || !std::isfinite(tb)) continue;
+                ++both;
+                bool playerChanged = (a < reference::kLitThreshold) != (b < reference::kLitThreshold);
+                bool truthChanged = (ta < reference::kLitThreshold) != (tb < reference::kLitThreshold);
+                changed += playerChanged;
+                spurious += playerChanged && !truthChanged;
+            }
+            out.emplace_back("flicker_pct", both ? 100.0 * double(changed) / double(both) : 0.0);
+            out.emplace_back("spurious_flicker_pct", both ? 100.0 * double(spurious) / double(both) : 0.0);
+        }
+        return out;
+    }
+    reference::ShadowErrorMetrics m = reference::compareShadow(player, truth);
+    out.emplace_back("pixels", double(m.pixels));
+    out.emplace_back("misclassified_pct", m.misclassifiedPercent);
+    out.emplace_back("false_lit_pct", m.falseLitPercent);
+    out.emplace_back("false_shadow_pct", m.falseShadowPercent);
+    out.emplace_back("mean_abs_error", m.meanAbsError);
+    for (const reference::RatioStats& r : reference::texelRatioByCascade(cascade, ratio)) {
+        out.emplace_back("texel_ratio_median_c" + std::to_string(r.cascade), r.median);
+        out.emplace_back("texel_ratio_p95_c" + std::to_string(r.cascade), r.p95);
+    }
+    mImpl->previousPlayer = std::move(player);
+    mImpl->previousTruth = std::move(truth);
+    return out;
+}
+
+} // namespace pnb::player

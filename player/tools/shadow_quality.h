@@ -1,0 +1,38 @@
+// shadow_quality.h — pnb-play's --shadow-metrics: each measured frame's sun visibility compared
+// with the ray-traced truth (pnb_reference, Embree) for the exact pixels the player drew.
+//
+// Per measured frame: % of pixels whose lit/shadow classification differs (and which way), mean
+// absolute shadow-factor error, screen-pixel-to-shadow-texel ratio per cascade (median, p95);
+// on the frame after it, temporal flicker: pixels whose classification changed between the two
+// frames while the truth's did not (a static scene under a moving camera should have none).
+#pragma once
+
+#include <memory>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "pnb_player/renderer.h"
+
+namespace pnb::player {
+
+class ShadowQuality {
+public:
+    // Loads the container's geometry into the tracer (origin: `origin`, near the camera path).
+    static PlayResult<std::unique_ptr<ShadowQuality>> create(const std::string& containerPath,
+                                                             glm::dvec3 origin);
+    ~ShadowQuality();
+
+    // Captures position, normal and shadow buffers of the renderer's last frame and measures.
+    // With followUp, the frame is the one displayed right after the previous measurement: only
+    // flicker against it is reported.
+    PlayResult<std::vector<std::pair<std::string, double>>> measure(Renderer& renderer, glm::vec3 towardLight,
+                                                                     bool followUp);
+
+private:
+    ShadowQuality() = default;
+    struct Impl;
+    std::unique_ptr<Impl> mImpl;
+};
+
+} // namespace pnb::player

@@ -1,0 +1,62 @@
+// pnb_reference/shadow_metrics.h — how far the player's shadows are from the ray-traced truth,
+// per frame and across frames, and how shadow-map texels compare with screen pixels.
+//
+// Pure CPU arithmetic over per-pixel float arrays (any order, typically an image's rows); no
+// Embree, no images, no files.
+//
+// Conventions shared by every function:
+//   - A shadow value is 1 for lit, 0 for shadowed; a player value may lie in between (filtered).
+//     "No geometry" is NaN (or ±inf) for both inputs, or any negative value for the player.
+//   - Classification: lit when value >= kLitThreshold (0.5), shadowed otherwise.
+//   - Percentages are of the pixels counted (valid in both inputs), in [0, 100]; 0 when none.
+// Preconditions (API misuse, asserted in debug builds): paired spans have equal sizes. In release
+// builds only the common prefix is used.
+#pragma once
+
+#include <cstdint>
+#include <span>
+#include <vector>
+
+namespace pnb::reference {
+
+inline constexpr float kLitThreshold = 0.5f;
+
+struct ShadowErrorMetrics {
+    uint64_t pixels = 0;               // valid in both player and reference
+    double misclassifiedPercent = 0;   // lit/shadow classification differs
+    double falseLitPercent = 0;        // player lit, reference shadowed (light leaks)
+    double falseShadowPercent = 0;     // player shadowed, reference lit (acne, overdarkening)
+    double meanAbsError = 0;           // mean |player - reference| (unclamped player values)
+    uint64_t coverageMismatch = 0;     // pixels where exactly one of the two has geometry
+};
+
+// The player's shadow factor (1 lit .. 0 shadowed; negative or NaN = no geometry) against the
+// reference visibility (1 / 0; NaN = no geometry).
+ShadowErrorMetrics compareShadow(std::span<const float> player, std::span<const float> reference);
+
+// Temporal flicker: the percentage of pixels valid in both frames whose lit/shadow classification
+// changed between `previous` and `current` (both player values or both reference values).
+double flickerPercent(std::span<const float> previous, std::span<const float> current);
+
+// Screen-pixel-to-shadow-texel ratio statistics of one cascade.
+struct RatioStats {
+    int cascade = 0;       // cascade index
+    uint64_t pixels = 0;   // pixels of this cascade with a valid ratio
+    double median = 0;     // 50th percentile of the ratio
+    double p95 = 0;        // 95th percentile of the ratio
+};
+
+// Per pixel the player provides the cascade index (a float holding an integer; negative or NaN =
+// no cascade) and ratio = shadow texel world size / screen pixel world size (> 0 and finite, else
+// the pixel is skipped: > 1 means a texel covers more than a pixel, i.e. undersampling).
+// Returns one entry per cascade that has pixels, ascending by cascade (the index is rounded to
+// the nearest integer). Percentiles interpolate linearly between closest ranks (numpy's default,
+// "linear"): p-th percentile of sorted x[0..n-1] = x[lo] + (h - lo) * (x[lo+1] - x[lo]) with
+// h = (n - 1) * p / 100, lo = floor(h).
+std::vector<RatioStats> texelRatioByCascade(std::span<const float> cascade,
+                                            std::span<const float> ratio);
+
+// The p-th percentile (0..100) of `values` by the rule above; reorders `values`. 0 when empty.
+double percentile(std::span<double> values, double p);
+
+} // namespace pnb::reference

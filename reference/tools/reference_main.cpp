@@ -1,0 +1,459 @@
+// pnb-reference: ray-traced ground truth for one frame the player dumped
+// (`pnb-play --dump position,normal,shadow`), and how far the player's shadows are from it.
+//
+// Reads SCENE.pnb and DIR/{frame.json, position.exr, normal.exr, shadow.exr}; writes
+// OUT/{visibility.exr, visibility.png, shadow_diff.png, metrics.json}. The work is the
+// pnb_reference library (ShadowTracer, compareShadow, texelRatioByCascade); this file is the
+// image and JSON I/O around it. The input contract is docs/REFERENCE.md.
+//
+// Exit codes: 0 ok, 1 usage, 2 input error (missing or malformed file; the message names it),
+// 3 unsupported scene data, 4 output error, 5 Embree failure.
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <OpenImageIO/filesystem.h>
+#include <OpenImageIO/imageio.h>
+#include <glm/geometric.hpp>
+#include <nlohmann/json.hpp>
+
+#include "pnb/atomic_file.h"
+#include "pnb/reader.h"
+#include "pnb/scene.h"
+#include "pnb_reference/shadow_metrics.h"
+#include "pnb_reference/shadow_tracer.h"
+
+namespace {
+
+namespace fs = std::filesystem;
+using pnb::reference::ShadowTracer;
+using pnb::reference::TracerErrorKind;
+
+constexpr int kExitOk = 0, kExitUsage = 1, kExitInput = 2, kExitUnsupported = 3,
+              kExitOutput = 4, kExitEmbree = 5;
+
+// A failure on the way: the exit code and a sentence naming the file.
+struct Failure {
+    int exitCode = kExitInput;
+    std::string message;
+};
+template <class T> using Expected = pnb::Result<T, Failure>;
+
+struct Settings {
+    std::string scene, frameDir, outDir, prefix;
+    bool quiet = false;
+};
+
+// [SECTION] command line: a declarative table that parses and prints --help (STYLE.md §16)
+
+struct Option {
+    const char* name; // "--out" or "-q, --quiet"
+    const char* arg;  // nullptr for flags
+    const char* help;
+    std::function<void(Settings&, const char*)> apply;
+};
+
+const std::vector<Option>& options() {
+    static const std::vector<Option> table = {
+        {"--frame", "DIR",
+         "the frame the player dumped: frame.json, position.exr, normal.exr, shadow.exr (required)",
+         [](Settings& s, const char* a) { s.frameDir = a; }},
+        {"--prefix", "P",
+         "input names start with P (pnb-play --dump writes frameK_position.exr: --prefix frameK_)",
+         [](Settings& s, const char* a) { s.prefix = a; }},
+        {"--out", "DIR", "where to write the outputs (default: the --frame directory)",
+         [](Settings& s, const char* a) { s.outDir = a; }},
+        {"-q, --quiet", nullptr, "print errors only", [](Settings& s, const char*) { s.quiet = true; }},
+        {"-h, --help", nullptr, "print this help", nullptr},
+    };
+    return table;
+}
+
+bool optionMatches(const Option& o, const std::string& arg) {
+    std::string names = o.name;
+    for (size_t start = 0; start < names.size();) {
+        size_t comma = names.find(", ", start);
+        if (names.substr(start, comma == std::string::npos ? std::string::npos : comma - start) == arg)
+            return true;
+        if (comma == std::string::npos) break;
+        start = comma + 2;
+    }
+    return false;
+}
+
+void printHelp() {
+    std::printf(
+        "usage: pnb-reference SCENE.pnb --frame DIR [--prefix P] [--out DIR] [-q]\n\n"
+        "Ray traces (Embree) the true visibility of the shadowing directional light for every\n"
+        "pixel of a frame dumped by `pnb-play --dump position,normal,shadow`, and compares the\n"
+        "player's shadow factor with it. Writes visibility.exr, visibility.png and metrics.json,\n"
+        "and shadow_diff.png when the frame has shadow.exr. See docs/REFERENCE.md.\n\n"
+        "options:\n");
+    for (const Option& o : options()) {
+        std::string left = std::string(o.name) + (o.arg ? std::string(" ") + o.arg : "");
+        std::printf("  %-16s %s\n", left.c_str(), o.help);
+    }
+    std::printf("\nexit codes: 0 ok, 1 usage, 2 input error, 3 unsupported scene data,\n"
+                "            4 output error, 5 Embree failure\n");
+}
+
+// [SECTION] inputs
+
+struct Frame {
+    glm::dvec3 cameraPosition{0.0};
+    glm::vec3 towardLight{0.0f};
+    int width = 0, height = 0;
+};
+
+Expected<Frame> readFrameJson(const std::string& path) {
+    auto fail = [&](const std::string& why) { return Failure{kExitInput, path + ": " + why}; };
+    std::error_code ec;
+    if (!fs::is_regular_file(path, ec)) return fail("missing (the player writes it with --dump)");
+    std::ifstream in(path, std::ios::binary);
+    nlohmann::json j = nlohmann::json::parse(in, nullptr, /*allow_exceptions=*/false);
+    if (j.is_discarded() || !j.is_object()) return fail("not a valid JSON object");
+
+    auto vec3 = [&](const char* key, double out[3]) -> std::optional<Failure> {
+        auto it = j.find(key);
+        if (it == j.end() || !it->is_array() || it->size() != 3)
+            return fail(std::string("\"") + key + "\" must be an array of 3 numbers");
+        for (size_t i = 0; i < 3; ++i) {
+            if (!(*it)[i].is_number()) return fail(std::string("\"") + key + "\" must hold numbers");
+            out[i] = (*it)[i].get<double>();
+            if (!std::isfinite(out[i])) return fail(std::string("\"") + key + "\" must be finite");
+        }
+        return std::nullopt;
+    };
+    auto dimension = [&](const char* key, int& out) -> std::optional<Failure> {
+        auto it = j.find(key);
+        if (it == j.end() || !it->is_number_integer() || it->get<int64_t>() < 1 ||
+            it->get<int64_t>() > 65536)
+            return fail(std::string("\"") + key + "\" must be an integer in 1..65536");
+        out = int(it->get<int64_t>());
+        return std::nullopt;
+    };
+
+    Frame f;
+    double camera[3], light[3];
+    if (auto e = vec3("camera_position", camera)) return *e;
+    if (auto e = vec3("toward_light", light)) return *e;
+    if (auto e = dimension("width", f.width)) return *e;
+    if (auto e = dimension("height", f.height)) return *e;
+    f.cameraPosition = {camera[0], camera[1], camera[2]};
+    glm::dvec3 l(light[0], light[1], light[2]);
+    double length = glm::length(l);
+    if (!(length > 1e-12)) return fail("\"toward_light\" must not be zero");
+    f.towardLight = glm::vec3(l / length);
+    return f;
+}
+
+// A float image, channels interleaved, rows in file order.
+struct FloatImage {
+    int width = 0, height = 0, channels = 0;
+    std::vector<float> pixels;
+    float at(size_t pixel, int channel) const { return pixels[pixel * size_t(channels) + size_t(channel)]; }
+};
+
+// Reads `path` as float, keeping the channels named in `wanted` (by name, e.g. "R"; a file with
+// unnamed or differently named channels is read positionally) in that order.
+Expected<FloatImage> readExr(const std::string& path, const std::vector<std::string>& wanted,
+                             size_t required, const Frame& frame) {
+    auto fail = [&](const std::string& why) { return Failure{kExitInput, path + ": " + why}; };
+    std::error_code ec;
+    if (!fs::is_regular_file(path, ec)) return fail("missing (the player writes it with --dump)");
+    auto in = OIIO::ImageInput::open(path);
+    if (!in) {
+        std::string why = OIIO::geterror();
+        return fail("not a readable image (" + (why.empty() ? std::string("unknown error") : why) + ")");
+    }
+    const OIIO::ImageSpec& spec = in->spec();
+    if (spec.width != frame.width || spec.height != frame.height || spec.depth > 1)
+        return fail(std::to_string(spec.width) + "x" + std::to_string(spec.height) +
+                    " does not match frame.json's " + std::to_string(frame.width) + "x" +
+                    std::to_string(frame.height));
+    if (size_t(spec.nchannels) < required)
+        return fail("has " + std::to_string(spec.nchannels) + " channels, expected at least " +
+                    std::to_string(required));
+    std::vector<float> all(size_t(spec.width) * size_t(spec.height) * size_t(spec.nchannels));
+    if (!in->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, all.data())) {
+        std::string why = in->geterror();
+        return fail("could not be decoded (" + (why.empty() ? std::string("unknown error") : why) + ")");
+    }
+    in->close();
+
+    FloatImage img;
+    img.width = spec.width;
+    img.height = spec.height;
+    img.channels = int(std::min(wanted.size(), size_t(spec.nchannels)));
+    std::vector<int> source(size_t(img.channels));
+    for (int c = 0; c < img.channels; ++c) {
+        int named = spec.channelindex(wanted[size_t(c)]);
+        source[size_t(c)] = named >= 0 ? named : c;
+    }
+    const size_t pixels = size_t(img.width) * size_t(img.height);
+    img.pixels.resize(pixels * size_t(img.channels));
+    for (size_t p = 0; p < pixels; ++p)
+        for (int c = 0; c < img.channels; ++c)
+            img.pixels[p * size_t(img.channels) + size_t(c)] =
+                all[p * size_t(spec.nchannels) + size_t(source[size_t(c)])];
+    return img;
+}
+
+// [SECTION] outputs: encoded in memory, then placed with pnb::writeFileAtomic (readers never see
+// a partial file; a failed write leaves the previous one).
+
+Expected<bool> writeImage(const std::string& path, int width, int height, int channels,
+                          OIIO::TypeDesc type, const void* pixels) {
+    std::vector<unsigned char> bytes;
+    OIIO::Filesystem::IOVecOutput memory(bytes);
+    auto out = OIIO::ImageOutput::create(path, &memory);
+    if (!out || !out->supports("ioproxy"))
+        return Failure{kExitOutput, path + ": OpenImageIO cannot write this format to memory"};
+    OIIO::ImageSpec spec(width, height, channels, type);
+    if (channels == 1) spec.channelnames = {"Y"};
+    if (type == OIIO::TypeDesc::FLOAT) spec.attribute("compression", "zip");
+    if (!out->open(path, spec) || !out->write_image(type, pixels) || !out->close())
+        return Failure{kExitOutput, path + ": encoding failed (" + out->geterror() + ")"};
+    pnb::Status s = pnb::writeFileAtomic(path, bytes);
+    if (!pnb::isOk(s)) return Failure{kExitOutput, s.describe()};
+    return true;
+}
+
+Expected<bool> writeText(const std::string& path, const std::string& text) {
+    pnb::Status s = pnb::writeFileAtomic(
+        path, std::span<const uint8_t>(reinterpret_cast<const uint8_t*>(text.data()), text.size()));
+    if (!pnb::isOk(s)) return Failure{kExitOutput, s.describe()};
+    return true;
+}
+
+// Colours of the PNG views (8-bit sRGB-encoded).
+struct Rgb8 {
+    uint8_t r, g, b;
+};
+constexpr Rgb8 kLit{255, 255, 255}, kShadow{0, 0, 0}, kNoGeometry{0, 0, 96};
+constexpr Rgb8 kAgreeLit{200, 200, 200}, kAgreeShadow{96, 96, 96};
+constexpr Rgb8 kFalseShadow{230, 30, 30}; // red: player shadowed, truly lit
+constexpr Rgb8 kFalseLit{30, 200, 30};    // green: player lit, truly shadowed
+constexpr Rgb8 kCoverage{230, 0, 230};    // magenta: only one of the two has geometry
+
+void put(std::vector<uint8_t>& rgb, size_t pixel, Rgb8 c) {
+    rgb[pixel * 3 + 0] = c.r;
+    rgb[pixel * 3 + 1] = c.g;
+    rgb[pixel * 3 + 2] = c.b;
+}
+
+int fail(const Failure& f) {
+    std::fprintf(stderr, "Error: %s\n", f.message.c_str());
+    return f.exitCode;
+}
+
+int run(const Settings& settings) {
+    using Clock = std::chrono::steady_clock;
+    const std::string dir = settings.frameDir;
+    const std::string in = dir + "/" + settings.prefix; // input files: in + "position.exr", ...
+    const std::string outDir = settings.outDir.empty() ? dir : settings.outDir;
+
+    // Inputs: all of them are checked before any work is done.
+    auto frame = readFrameJson(in + "frame.json");
+    if (!frame) return fail(frame.error());
+    auto position = readExr(in + "position.exr", {"R", "G", "B"}, 3, *frame);
+    if (!position) return fail(position.error());
+    std::optional<FloatImage> normal, shadow;
+    std::error_code ec;
+    if (fs::exists(in + "normal.exr", ec)) {
+        auto n = readExr(in + "normal.exr", {"R", "G", "B"}, 3, *frame);
+        if (!n) return fail(n.error());
+        normal = std::move(*n);
+    } else if (!settings.quiet) {
+        std::fprintf(stderr, "Warning: %snormal.exr missing: rays start off the surface along the "
+                             "light direction only (grazing light may self-shadow)\n", in.c_str());
+    }
+    if (fs::exists(in + "shadow.exr", ec)) {
+        auto s = readExr(in + "shadow.exr", {"R", "G", "B"}, 3, *frame);
+        if (!s) return fail(s.error());
+        shadow = std::move(*s);
+    }
+
+    auto container = pnb::Container::open(settings.scene);
+    if (!container) return fail({kExitInput, settings.scene + ": " + container.error().describe()});
+    auto scene = pnb::readScene(*container);
+    if (!scene) return fail({kExitInput, settings.scene + ": " + scene.error().describe()});
+
+    // Trace.
+    auto tracer = ShadowTracer::build(*scene, frame->cameraPosition);
+    if (!tracer) {
+        const auto& e = tracer.error();
+        int code = e.kind == TracerErrorKind::Input         ? kExitInput
+                   : e.kind == TracerErrorKind::Unsupported ? kExitUnsupported
+                                                            : kExitEmbree;
+        return fail({code, settings.scene + ": " + e.message});
+    }
+    const size_t pixels = size_t(frame->width) * size_t(frame->height);
+    std::vector<glm::vec3> positions(pixels), normals(normal ? pixels : 0);
+    for (size_t p = 0; p < pixels; ++p) {
+        positions[p] = {position->at(p, 0), position->at(p, 1), position->at(p, 2)};
+        if (normal) normals[p] = {normal->at(p, 0), normal->at(p, 1), normal->at(p, 2)};
+    }
+    std::vector<float> visibility(pixels);
+    auto traceStart = Clock::now();
+    (*tracer)->visibility(positions, normals, frame->towardLight, visibility);
+    const double rayMs = std::chrono::duration<double, std::milli>(Clock::now() - traceStart).count();
+    uint64_t rays = 0, litPixels = 0;
+    for (float v : visibility) {
+        rays += std::isfinite(v) ? 1 : 0;
+        litPixels += v == 1.0f ? 1 : 0;
+    }
+
+    // Compare.
+    std::vector<float> playerShadow, cascade, ratio;
+    pnb::reference::ShadowErrorMetrics metrics;
+    std::vector<pnb::reference::RatioStats> ratios;
+    if (shadow) {
+        playerShadow.resize(pixels);
+        cascade.resize(pixels);
+        ratio.resize(pixels);
+        for (size_t p = 0; p < pixels; ++p) {
+            playerShadow[p] = shadow->at(p, 0);
+            cascade[p] = shadow->at(p, 1);
+            ratio[p] = shadow->at(p, 2);
+        }
+        metrics = pnb::reference::compareShadow(playerShadow, visibility);
+        ratios = pnb::reference::texelRatioByCascade(cascade, ratio);
+    }
+
+    // Outputs.
+    fs::create_directories(outDir, ec);
+    if (!fs::is_directory(outDir, ec))
+        return fail({kExitOutput, outDir + ": cannot create the output directory"});
+    auto visExr = writeImage(outDir + "/visibility.exr", frame->width, frame->height, 1,
+                             OIIO::TypeDesc::FLOAT, visibility.data());
+    if (!visExr) return fail(visExr.error());
+    std::vector<uint8_t> rgb(pixels * 3);
+    for (size_t p = 0; p < pixels; ++p)
+        put(rgb, p, std::isnan(visibility[p]) ? kNoGeometry : visibility[p] > 0.5f ? kLit : kShadow);
+    auto visPng = writeImage(outDir + "/visibility.png", frame->width, frame->height, 3,
+                             OIIO::TypeDesc::UINT8, rgb.data());
+    if (!visPng) return fail(visPng.error());
+    if (shadow) {
+        for (size_t p = 0; p < pixels; ++p) {
+            const float pv = playerShadow[p], rv = visibility[p];
+            const bool playerGeometry = std::isfinite(pv) && pv >= 0.0f,
+                       referenceGeometry = std::isfinite(rv);
+            Rgb8 c = kNoGeometry;
+            if (playerGeometry != referenceGeometry) c = kCoverage;
+            else if (playerGeometry) {
+                const bool playerLit = pv >= pnb::reference::kLitThreshold, trulyLit = rv >= 0.5f;
+                c = playerLit == trulyLit ? (trulyLit ? kAgreeLit : kAgreeShadow)
+                    : playerLit           ? kFalseLit
+                                          : kFalseShadow;
+            }
+            put(rgb, p, c);
+        }
+        auto diff = writeImage(outDir + "/shadow_diff.png", frame->width, frame->height, 3,
+                               OIIO::TypeDesc::UINT8, rgb.data());
+        if (!diff) return fail(diff.error());
+    }
+
+    const pnb::reference::TracerStats& ts = (*tracer)->stats();
+    nlohmann::ordered_json j;
+    j["scene"] = settings.scene;
+    j["frame"] = dir;
+    j["width"] = frame->width;
+    j["height"] = frame->height;
+    j["reference"] = {{"pixels_with_geometry", rays},
+                      {"lit_percent", rays ? 100.0 * double(litPixels) / double(rays) : 0.0}};
+    if (shadow) {
+        j["shadow"] = {{"pixels", metrics.pixels},
+                       {"misclassified_percent", metrics.misclassifiedPercent},
+                       {"false_lit_percent", metrics.falseLitPercent},
+                       {"false_shadow_percent", metrics.falseShadowPercent},
+                       {"mean_abs_error", metrics.meanAbsError},
+                       {"coverage_mismatch_pixels", metrics.coverageMismatch}};
+        nlohmann::ordered_json list = nlohmann::ordered_json::array();
+        for (const auto& r : ratios)
+            list.push_back({{"cascade", r.cascade}, {"pixels", r.pixels}, {"median", r.median},
+                            {"p95", r.p95}});
+        j["texel_ratio"] = list;
+    }
+    j["tracer"] = {{"triangles", ts.triangles},
+                   {"caster_instances", ts.casterInstances},
+                   {"masked_casters_treated_opaque", ts.maskedCastersTreatedOpaque},
+                   {"excluded_instances", ts.excludedInstances},
+                   {"build_ms", ts.buildMs}};
+    j["rays"] = {{"count", rays},
+                 {"ms", rayMs},
+                 {"rays_per_second", rayMs > 0 ? double(rays) / (rayMs / 1000.0) : 0.0}};
+    auto json = writeText(outDir + "/metrics.json", j.dump(2) + "\n");
+    if (!json) return fail(json.error());
+
+    if (!settings.quiet) {
+        std::printf("pnb-reference: %llu triangles (built in %.1f ms), %llu rays in %.1f ms "
+                    "(%.2f Mrays/s), %.1f%% lit\n",
+                    (unsigned long long)ts.triangles, ts.buildMs, (unsigned long long)rays, rayMs,
+                    rayMs > 0 ? double(rays) / rayMs / 1000.0 : 0.0,
+                    rays ? 100.0 * double(litPixels) / double(rays) : 0.0);
+        if (ts.maskedCastersTreatedOpaque)
+            std::printf("  note: %u alpha-masked caster instance(s) traced as opaque\n",
+                        ts.maskedCastersTreatedOpaque);
+        if (shadow)
+            std::printf("  player vs reference over %llu pixels: misclassified %.3f%% (false lit "
+                        "%.3f%%, false shadow %.3f%%), mean abs error %.4f\n",
+                        (unsigned long long)metrics.pixels, metrics.misclassifiedPercent,
+                        metrics.falseLitPercent, metrics.falseShadowPercent, metrics.meanAbsError);
+        std::printf("  wrote %s/{visibility.exr,visibility.png%s,metrics.json}\n", outDir.c_str(),
+                    shadow ? ",shadow_diff.png" : "");
+    }
+    return kExitOk;
+}
+
+} // namespace
+
+int main(int argc, char** argv) {
+    Settings settings;
+    for (int i = 1; i < argc; ++i) {
+        std::string arg = argv[i];
+        if (arg == "-h" || arg == "--help") {
+            printHelp();
+            return kExitOk;
+        }
+        if (arg.size() > 1 && arg[0] == '-') {
+            const Option* match = nullptr;
+            for (const Option& o : options())
+                if (optionMatches(o, arg)) match = &o;
+            if (!match || !match->apply) {
+                std::fprintf(stderr, "Error: unknown option %s (see --help)\n", arg.c_str());
+                return kExitUsage;
+            }
+            const char* value = nullptr;
+            if (match->arg) {
+                if (i + 1 >= argc) {
+                    std::fprintf(stderr, "Error: %s needs %s\n", arg.c_str(), match->arg);
+                    return kExitUsage;
+                }
+                value = argv[++i];
+            }
+            match->apply(settings, value);
+            continue;
+        }
+        if (!settings.scene.empty()) {
+            std::fprintf(stderr, "Error: more than one scene given (%s, %s)\n",
+                         settings.scene.c_str(), arg.c_str());
+            return kExitUsage;
+        }
+        settings.scene = arg;
+    }
+    if (settings.scene.empty() || settings.frameDir.empty()) {
+        std::fprintf(stderr, "Error: need SCENE.pnb and --frame DIR (see --help)\n");
+        return kExitUsage;
+    }
+    return run(settings);
+}

@@ -1,0 +1,277 @@
+// pnb-reference end to end: a frame directory written here with OpenImageIO (the contract of
+// docs/REFERENCE.md), the executable run as a user would, its metrics and images checked; and
+// every missing or malformed input is exit code 2 with the file named.
+#include <sys/wait.h>
+
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <functional>
+#include <limits>
+#include <string>
+#include <vector>
+
+#include <OpenImageIO/imageio.h>
+#include <nlohmann/json.hpp>
+
+#include "reference_test_util.h"
+
+namespace pnb::reference::test {
+
+namespace {
+
+constexpr float kNaN = std::numeric_limits<float>::quiet_NaN();
+
+struct RunResult {
+    int exitCode = -1;
+    std::string output; // stdout and stderr
+};
+
+RunResult run(const std::string& args) {
+    std::string command = std::string("'") + PNB_REFERENCE_EXE + "' " + args + " 2>&1";
+    RunResult r;
+    FILE* pipe = ::popen(command.c_str(), "r");
+    if (!pipe) return r;
+    char buffer[4096];
+    size_t n;
+    while ((n = std::fread(buffer, 1, sizeof buffer, pipe)) > 0) r.output.append(buffer, n);
+    int status = ::pclose(pipe);
+    r.exitCode = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    return r;
+}
+
+std::string shellQuote(const fs::path& p) { return "'" + p.string() + "'"; }
+
+void writeExr(const fs::path& path, int width, int height, int channels,
+              const std::vector<float>& pixels) {
+    auto out = OIIO::ImageOutput::create(path.string());
+    ASSERT_TRUE(out);
+    OIIO::ImageSpec spec(width, height, channels, OIIO::TypeDesc::FLOAT);
+    ASSERT_TRUE(out->open(path.string(), spec)) << out->geterror();
+    ASSERT_TRUE(out->write_image(OIIO::TypeDesc::FLOAT, pixels.data())) << out->geterror();
+    ASSERT_TRUE(out->close());
+}
+
+std::vector<float> readImage(const fs::path& path, int& width, int& height, int& channels) {
+    auto in = OIIO::ImageInput::open(path.string());
+    EXPECT_TRUE(in) << path << ": " << OIIO::geterror();
+    if (!in) return {};
+    const OIIO::ImageSpec& spec = in->spec();
+    width = spec.width;
+    height = spec.height;
+    channels = spec.nchannels;
+    std::vector<float> pixels(size_t(width) * size_t(height) * size_t(channels));
+    EXPECT_TRUE(in->read_image(0, 0, 0, channels, OIIO::TypeDesc::FLOAT, pixels.data()));
+    return pixels;
+}
+
+// A W x H frame looking down at the ground + box scene from camera (0, 10, 10): pixel (i, j) sees
+// the ground point x = -4 + (i + 0.5) * 8 / W, z likewise (never within 0.125 of a shadow edge
+// for W = H = 32). Row 0 has no geometry. The player's shadow equals the truth except for
+// `wrong` pixels; the cascade is i % 2, the texel ratio (i + 1) in cascade 0 and 10 in cascade 1.
+struct Frame {
+    static constexpr int kSize = 32;
+    std::vector<float> position, normal, shadow;
+    std::vector<float> truth; // expected visibility (NaN = none)
+    int wrong = 0;
+};
+
+Frame makeFrame(int wrong) {
+    const int n = Frame::kSize;
+    Frame f;
+    f.wrong = wrong;
+    int flipped = 0;
+    for (int j = 0; j < n; ++j)
+        for (int i = 0; i < n; ++i) {
+            const double x = -4 + (i + 0.5) * 8.0 / n, z = -4 + (j + 0.5) * 8.0 / n;
+            const bool none = j == 0;
+            const float truth = none ? kNaN : (std::fabs(x) < 1 && std::fabs(z) < 1) ? 0.0f : 1.0f;
+            f.truth.push_back(truth);
+            if (none) {
+                f.position.insert(f.position.end(), {kNaN, kNaN, kNaN});
+                f.normal.insert(f.normal.end(), {0, 0, 0});
+            } else {
+                f.position.insert(f.position.end(), {float(x - 0), float(0 - 10), float(z - 10)});
+                f.normal.insert(f.normal.end(), {0, 1, 0});
+            }
+            float player = none ? -1.0f : truth;
+            if (!none && flipped < wrong) {
+                player = 1.0f - player;
+                ++flipped;
+            }
+            f.shadow.insert(f.shadow.end(), {player, none ? -1.0f : float(i % 2), i % 2 ? 10.0f : float(i + 1), 0.0f});
+        }
+    return f;
+}
+
+void writeFrame(const fs::path& dir, const Frame& f, bool withShadow = true) {
+    fs::create_directories(dir);
+    const int n = Frame::kSize;
+    writeExr(dir / "position.exr", n, n, 3, f.position);
+    writeExr(dir / "normal.exr", n, n, 3, f.normal);
+    if (withShadow) writeExr(dir / "shadow.exr", n, n, 4, f.shadow);
+    std::ofstream(dir / "frame.json") << R"({"camera_position": [0, 10, 10], "toward_light": [0, 2, 0],
+        "width": 32, "height": 32})";
+}
+
+class ReferenceCli : public ::testing::Test {
+protected:
+    static void SetUpTestSuite() {
+        sDir = new TempDir("cli");
+        sScene = pnb::test::convertDocument(sDir->str(), groundAndBox(), "ground-box", "", false);
+    }
+    static void TearDownTestSuite() { delete sDir; }
+    static TempDir* sDir;
+    static std::string sScene;
+};
+TempDir* ReferenceCli::sDir = nullptr;
+std::string ReferenceCli::sScene;
+
+TEST_F(ReferenceCli, TracesTheFrameAndReportsTheKnownError) {
+    TempDir dir("frame");
+    const Frame f = makeFrame(31);
+    writeFrame(dir.path / "in", f);
+    RunResult r = run(shellQuote(sScene) + " --frame " + shellQuote(dir.path / "in") + " --out " +
+                      shellQuote(dir.path / "out"));
+    ASSERT_EQ(r.exitCode, 0) << r.output;
+    EXPECT_NE(r.output.find("Mrays/s"), std::string::npos) << r.output;
+
+    std::ifstream in(dir.path / "out" / "metrics.json");
+    nlohmann::json m = nlohmann::json::parse(in, nullptr, false);
+    ASSERT_FALSE(m.is_discarded());
+    const int n = Frame::kSize, valid = n * (n - 1);
+    EXPECT_EQ(m["width"], n);
+    EXPECT_EQ(m["shadow"]["pixels"], valid);
+    EXPECT_DOUBLE_EQ(m["shadow"]["misclassified_percent"].get<double>(), 100.0 * 31 / valid);
+    EXPECT_DOUBLE_EQ(m["shadow"]["mean_abs_error"].get<double>(), 31.0 / valid);
+    EXPECT_EQ(m["shadow"]["coverage_mismatch_pixels"], 0);
+    // The first row's wrong pixels (ground far from the box) were lit, so the player says shadow.
+    EXPECT_DOUBLE_EQ(m["shadow"]["false_shadow_percent"].get<double>(), 100.0 * 31 / valid);
+    ASSERT_EQ(m["texel_ratio"].size(), 2u);
+    EXPECT_EQ(m["texel_ratio"][0]["cascade"], 0);
+    EXPECT_EQ(m["texel_ratio"][0]["pixels"], valid / 2);
+    EXPECT_DOUBLE_EQ(m["texel_ratio"][0]["median"].get<double>(), 16.0); // 1, 3, ..., 31
+    EXPECT_EQ(m["texel_ratio"][1]["cascade"], 1);
+    EXPECT_DOUBLE_EQ(m["texel_ratio"][1]["p95"].get<double>(), 10.0);
+    EXPECT_EQ(m["tracer"]["triangles"], 14);
+    EXPECT_EQ(m["tracer"]["caster_instances"], 2);
+    EXPECT_EQ(m["rays"]["count"], valid);
+    EXPECT_GT(m["rays"]["rays_per_second"].get<double>(), 0.0);
+
+    int w = 0, h = 0, c = 0;
+    auto vis = readImage(dir.path / "out" / "visibility.exr", w, h, c);
+    ASSERT_EQ(w, n);
+    ASSERT_EQ(h, n);
+    ASSERT_EQ(c, 1);
+    for (size_t p = 0; p < vis.size(); ++p) {
+        if (std::isnan(f.truth[p])) ASSERT_TRUE(std::isnan(vis[p])) << p;
+        else ASSERT_EQ(vis[p], f.truth[p]) << p;
+    }
+    for (const char* png : {"visibility.png", "shadow_diff.png"}) {
+        auto pixels = readImage(dir.path / "out" / png, w, h, c);
+        EXPECT_EQ(w, n) << png;
+        EXPECT_EQ(c, 3) << png;
+    }
+    // shadow_diff.png: pixel (0, 1) is a false shadow (red), pixel (16, 16) agrees in shadow.
+    auto diff = readImage(dir.path / "out" / "shadow_diff.png", w, h, c);
+    const size_t falseShadow = size_t(1 * n + 0) * 3, agreeShadow = size_t(16 * n + 16) * 3;
+    EXPECT_GT(diff[falseShadow], 0.8f);
+    EXPECT_LT(diff[falseShadow + 1], 0.2f);
+    EXPECT_FLOAT_EQ(diff[agreeShadow], diff[agreeShadow + 1]);
+    // No stray temporaries from the atomic writes.
+    for (const auto& entry : fs::directory_iterator(dir.path / "out"))
+        EXPECT_NE(entry.path().filename().string()[0], '.') << entry.path();
+}
+
+TEST_F(ReferenceCli, WithoutShadowExrItWritesVisibilityAndTracerMetricsOnly) {
+    TempDir dir("noshadow");
+    writeFrame(dir.path, makeFrame(0), false);
+    RunResult r = run(shellQuote(sScene) + " --frame " + shellQuote(dir.path) + " -q");
+    ASSERT_EQ(r.exitCode, 0) << r.output;
+    EXPECT_TRUE(r.output.empty()) << r.output;
+    EXPECT_TRUE(fs::exists(dir.path / "visibility.exr"));
+    EXPECT_TRUE(fs::exists(dir.path / "visibility.png"));
+    EXPECT_FALSE(fs::exists(dir.path / "shadow_diff.png"));
+    std::ifstream in(dir.path / "metrics.json");
+    nlohmann::json m = nlohmann::json::parse(in, nullptr, false);
+    ASSERT_FALSE(m.is_discarded());
+    EXPECT_FALSE(m.contains("shadow"));
+    EXPECT_EQ(m["rays"]["count"], Frame::kSize * (Frame::kSize - 1));
+}
+
+// Each damaged input: exit code 2 and a message naming the file.
+TEST_F(ReferenceCli, MissingOrMalformedInputsAreExitCode2NamingTheFile) {
+    struct Case {
+        const char* name;
+        std::function<void(const fs::path&)> damage;
+        const char* named; // substring the message must contain
+    };
+    const Case cases[] = {
+        {"missing frame.json", [](const fs::path& d) { fs::remove(d / "frame.json"); }, "frame.json"},
+        {"frame.json not JSON", [](const fs::path& d) { std::ofstream(d / "frame.json") << "{oops"; },
+         "frame.json"},
+        {"zero light",
+         [](const fs::path& d) {
+             std::ofstream(d / "frame.json") << R"({"camera_position": [0, 10, 10],
+                 "toward_light": [0, 0, 0], "width": 32, "height": 32})";
+         },
+         "toward_light"},
+        {"size mismatch",
+         [](const fs::path& d) {
+             std::ofstream(d / "frame.json") << R"({"camera_position": [0, 10, 10],
+                 "toward_light": [0, 1, 0], "width": 16, "height": 32})";
+         },
+         "position.exr"},
+        {"missing position.exr", [](const fs::path& d) { fs::remove(d / "position.exr"); },
+         "position.exr"},
+        {"corrupt position.exr",
+         [](const fs::path& d) { std::ofstream(d / "position.exr") << "v/1\x01 not an image"; },
+         "position.exr"},
+        {"truncated normal.exr",
+         [](const fs::path& d) { fs::resize_file(d / "normal.exr", fs::file_size(d / "normal.exr") / 2); },
+         "normal.exr"},
+        {"shadow.exr too few channels",
+         [](const fs::path& d) {
+             writeExr(d / "shadow.exr", Frame::kSize, Frame::kSize, 1,
+                      std::vector<float>(Frame::kSize * Frame::kSize, 1.0f));
+         },
+         "shadow.exr"},
+    };
+    for (const Case& c : cases) {
+        SCOPED_TRACE(c.name);
+        TempDir dir("bad");
+        writeFrame(dir.path, makeFrame(0));
+        c.damage(dir.path);
+        RunResult r = run(shellQuote(sScene) + " --frame " + shellQuote(dir.path) + " --out " +
+                          shellQuote(dir.path / "out"));
+        EXPECT_EQ(r.exitCode, 2) << r.output;
+        EXPECT_NE(r.output.find("Error:"), std::string::npos) << r.output;
+        EXPECT_NE(r.output.find(c.named), std::string::npos) << r.output;
+        EXPECT_FALSE(fs::exists(dir.path / "out" / "metrics.json"));
+    }
+}
+
+TEST_F(ReferenceCli, BadSceneOrUsage) {
+    TempDir dir("scene");
+    writeFrame(dir.path, makeFrame(0));
+    RunResult r = run(shellQuote(dir.path / "nope.pnb") + " --frame " + shellQuote(dir.path));
+    EXPECT_EQ(r.exitCode, 2) << r.output;
+    EXPECT_NE(r.output.find("nope.pnb"), std::string::npos) << r.output;
+
+    std::ofstream(dir.path / "junk.pnb") << "this is not a container";
+    r = run(shellQuote(dir.path / "junk.pnb") + " --frame " + shellQuote(dir.path));
+    EXPECT_EQ(r.exitCode, 2) << r.output;
+    EXPECT_NE(r.output.find("junk.pnb"), std::string::npos) << r.output;
+
+    EXPECT_EQ(run("").exitCode, 1);
+    EXPECT_EQ(run(shellQuote(sScene)).exitCode, 1); // no --frame
+    EXPECT_EQ(run(shellQuote(sScene) + " --frame").exitCode, 1);
+    EXPECT_EQ(run(shellQuote(sScene) + " --bogus x").exitCode, 1);
+    r = run("--help");
+    EXPECT_EQ(r.exitCode, 0);
+    EXPECT_NE(r.output.find("usage: pnb-reference"), std::string::npos);
+}
+
+} // namespace
+
+} // namespace pnb::reference::test
