@@ -147,6 +147,22 @@ ShadowFit fitLightRectangle(const glm::dmat3& light, glm::dvec2 lo, glm::dvec2 h
     return fit;
 }
 
+namespace {
+
+// The orthographic map around the light-space bounds of `points` (receivers).
+ShadowFit fitLightBox(const glm::dmat3& light, const glm::dvec3* points, size_t count, const FitBox& scene,
+                      uint32_t resolution) {
+    glm::dvec3 lo(kInf), hi(-kInf);
+    for (size_t i = 0; i < count; ++i) {
+        glm::dvec3 l = light * points[i];
+        lo = glm::min(lo, l);
+        hi = glm::max(hi, l);
+    }
+    return fitLightRectangle(light, glm::dvec2(lo), glm::dvec2(hi), lo.z, scene, resolution);
+}
+
+} // namespace
+
 ShadowFit fitCascade(const FitCamera& camera, double sliceNear, double sliceFar,
                      const glm::dmat3& light, const FitBox& scene, uint32_t resolution, FitMode mode) {
     if (mode == FitMode::Tight) {
@@ -156,13 +172,7 @@ ShadowFit fitCascade(const FitCamera& camera, double sliceNear, double sliceFar,
             corners.resize(8);
             sliceCorners(camera, sliceNear, sliceFar, corners.data());
         }
-        glm::dvec3 lo(kInf), hi(-kInf);
-        for (const glm::dvec3& c : corners) {
-            glm::dvec3 l = light * c;
-            lo = glm::min(lo, l);
-            hi = glm::max(hi, l);
-        }
-        return fitLightRectangle(light, glm::dvec2(lo), glm::dvec2(hi), lo.z, scene, resolution);
+        return fitLightBox(light, corners.data(), corners.size(), scene, resolution);
     }
     // Bounding sphere of the slice: centre on the view axis equidistant from a near and a far
     // corner (k = tangent of the half-diagonal angle), or the far cap's centre if that is nearer.
@@ -190,13 +200,7 @@ ShadowFit fitCascade(const FitCamera& camera, double sliceNear, double sliceFar,
 ShadowFit fitScene(const glm::dmat3& light, const FitBox& scene, uint32_t resolution) {
     glm::dvec3 corners[8];
     sceneCorners(scene, corners);
-    glm::dvec3 lo(kInf), hi(-kInf);
-    for (const glm::dvec3& c : corners) {
-        glm::dvec3 l = light * c;
-        lo = glm::min(lo, l);
-        hi = glm::max(hi, l);
-    }
-    return fitLightRectangle(light, glm::dvec2(lo), glm::dvec2(hi), lo.z, scene, resolution);
+    return fitLightBox(light, corners, 8, scene, resolution);
 }
 
 ShadowFit fitLispsm(const FitCamera& camera, double viewNear, double viewFar,
