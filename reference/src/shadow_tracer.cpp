@@ -356,8 +356,11 @@ void ShadowTracer::visibility(std::span<const glm::vec3> positions,
         rtcInitIntersectContext(&context);
         context.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT; // neighbouring pixels, one direction
         for (size_t first = begin; first < end; first += kPacket) {
+            // The manual requires the packet aligned to 64 bytes; Embree's AVX-512 path also
+            // reads the valid mask with an aligned 64-byte load, so a mask that happens to sit
+            // off a 64-byte boundary (as under ASan's stack layout) faults inside rtcOccluded16.
             RTCRay16 ray; // RTC_ALIGN(64)
-            int valid[kPacket];
+            alignas(64) int valid[kPacket];
             bool any = false;
             for (size_t lane = 0; lane < kPacket; ++lane) {
                 const size_t i = first + lane;
