@@ -8,6 +8,7 @@
 #include <glm/gtc/matrix_inverse.hpp>
 #include <glm/gtc/type_ptr.hpp>
 
+#include "node_transform.h"
 #include "pnb/scene.h"
 #include "program_compile.h"
 #include "upload.h"
@@ -42,16 +43,6 @@ MaterialBlock materialBlock(const Material& m) {
         b.texTransform[i * 2 + 1] = {s.rotationRadians, float(s.texCoord), 0, 0};
     }
     return b;
-}
-
-glm::dmat4 localMatrix(const Node& n) {
-    glm::dquat q(n.rotation.w, n.rotation.x, n.rotation.y, n.rotation.z);
-    glm::dmat4 m = glm::mat4_cast(glm::normalize(q));
-    m[0] *= double(n.scale.x);
-    m[1] *= double(n.scale.y);
-    m[2] *= double(n.scale.z);
-    m[3] = glm::dvec4(n.translation.x, n.translation.y, n.translation.z, 1.0);
-    return m;
 }
 
 void transformBounds(const glm::dmat4& m, const Aabb& box, glm::dvec3& outMin, glm::dvec3& outMax) {
@@ -138,7 +129,7 @@ void buildSceneGraph(const Scene& scene, GpuScene& gpu) {
     std::vector<glm::dmat4> world(scene.nodes.nodes.size());
     for (size_t i = 0; i < scene.nodes.nodes.size(); ++i) {
         const Node& n = scene.nodes.nodes[i];
-        world[i] = n.parent == kNone ? localMatrix(n) : world[n.parent] * localMatrix(n);
+        world[i] = n.parent == kNone ? nodeLocalMatrix(n) : world[n.parent] * nodeLocalMatrix(n);
         if (n.mesh != kNone) {
             const GpuMesh& mesh = gpu.meshes[n.mesh];
             glm::mat3 normal = glm::mat3(glm::inverseTranspose(glm::dmat3(world[i])));

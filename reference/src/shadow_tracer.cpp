@@ -15,6 +15,8 @@
 #include <thread>
 #include <vector>
 
+#include "node_transform.h"
+
 #if defined(__SSE__) || defined(__x86_64__)
 #include <pmmintrin.h>
 #include <xmmintrin.h>
@@ -24,7 +26,6 @@
 #include <embree3/rtcore.h>
 #include <glm/geometric.hpp>
 #include <glm/gtc/packing.hpp>
-#include <glm/gtc/quaternion.hpp>
 #include <glm/mat4x4.hpp>
 
 namespace pnb::reference {
@@ -75,17 +76,6 @@ std::string meshName(const Scene& scene, uint32_t mesh) {
 std::string nodeName(const Scene& scene, uint32_t node) {
     std::string name = nameOf(scene, scene.nodes.nodes[node].name);
     return "node " + std::to_string(node) + (name.empty() ? "" : " '" + name + "'");
-}
-
-// Mirrors the player's scene_load.cpp localMatrix: T * R(normalised quaternion) * S, in double.
-glm::dmat4 localMatrix(const Node& n) {
-    glm::dquat q(n.rotation.w, n.rotation.x, n.rotation.y, n.rotation.z);
-    glm::dmat4 m = glm::mat4_cast(glm::normalize(q));
-    m[0] *= double(n.scale.x);
-    m[1] *= double(n.scale.y);
-    m[2] *= double(n.scale.z);
-    m[3] = glm::dvec4(n.translation.x, n.translation.y, n.translation.z, 1.0);
-    return m;
 }
 
 template <class T> T load(const std::byte* p) {
@@ -239,7 +229,7 @@ TracerResult<std::unique_ptr<ShadowTracer>> ShadowTracer::build(const Scene& sce
         if (n.parent != kNone && n.parent >= i)
             return inputError(nodeName(scene, uint32_t(i)) + ": parent " + std::to_string(n.parent) +
                               " does not precede it");
-        world[i] = n.parent == kNone ? localMatrix(n) : world[n.parent] * localMatrix(n);
+        world[i] = n.parent == kNone ? pnb::player::nodeLocalMatrix(n) : world[n.parent] * pnb::player::nodeLocalMatrix(n);
         if (n.mesh == kNone) continue;
         if (n.mesh >= scene.meshes.size())
             return inputError(nodeName(scene, uint32_t(i)) + " refers to mesh " +
