@@ -2,8 +2,11 @@
 // sdsm.comp — Sample Distribution Shadow Maps (Lauritzen, Salvi, Lefohn 2011) fitted entirely on
 // the GPU: five stages of one file, selected by a define, dispatched in this order with storage
 // barriers between them (player/src/shadow_sdsm.cpp). Nothing is read back by the CPU.
-//   SDSM_REDUCE     per pixel of the depth buffer: tight min/max view depth and a 256-bin
-//                   logarithmic depth histogram (shared-memory reduction, one atomic per group)
+//   SDSM_REDUCE     per pixel of the depth buffer: tight min/max view depth and, when something
+//                   reads it, a 256-bin logarithmic depth histogram
+//   (REDUCE and BOUNDS give each invocation a TILE x TILE block of pixels reduced in registers,
+//   then one shared atomic per invocation and one global atomic per group: on llvmpipe, atomics
+//   and barriers, not the arithmetic, dominated a per-pixel version)
 //   SDSM_PARTITION  one thread: split depths — logarithmic over [zmin, zmax], or quantiles of the
 //                   histogram at the practical scheme's fractions (seed 000's variant)
 //   SDSM_BOUNDS     per pixel: light-space bounds of the samples of each cascade (and of the next
@@ -39,6 +42,7 @@ layout(location = 7) uniform vec2 uSceneLightDepth;        // scene's light-spac
 layout(location = 8) uniform float uBlend;
 layout(location = 9) uniform int uCasterCount;
 layout(location = 10) uniform uint uCommandStride;         // casters per command array
+layout(location = 11) uniform int uHistogram;              // 1: quantile partition or debug view
 
 // Order-preserving float <-> uint, for atomicMin/Max on signed floats.
 uint sortable(float f) {
@@ -50,6 +54,7 @@ float unsortable(uint u) {
 }
 
 #if defined(SDSM_REDUCE) || defined(SDSM_BOUNDS)
+#define TILE 4 // pixels per invocation along x and y; a group covers 64 x 64 pixels
 layout(local_size_x = 16, local_size_y = 16) in;
 layout(binding = 0) uniform sampler2D uDepth;
 
@@ -80,14 +85,26 @@ void main() {
     }
     sHistogram[local] = 0u; // 256 invocations, 256 bins
     barrier();
-    vec3 p;
-    float depth;
-    if (samplePixel(ivec2(gl_GlobalInvocationID.xy), p, depth)) {
-        atomicMin(sMin, floatBitsToUint(depth)); // positive floats order as their bits
-        atomicMax(sMax, floatBitsToUint(depth));
-        atomicAdd(sCount, 1u);
-        float t = log(depth / uDepthRange.x) / log(uDepthRange.y / uDepthRange.x);
-        atomicAdd(sHistogram[clamp(int(t * float(BINS)), 0, BINS - 1)], 1u);
+    float lo = 3.0e38, hi = 0.0;
+    uint count = 0u;
+    float logRange = log(uDepthRange.y / uDepthRange.x);
+    for (int j = 0; j < TILE * TILE; ++j) {
+        vec3 p;
+        float depth;
+        if (!samplePixel(ivec2(gl_GlobalInvocationID.xy) * TILE + ivec2(j % TILE, j / TILE), p, depth))
+            continue;
+        lo = min(lo, depth);
+        hi = max(hi, depth);
+        ++count;
+        if (uHistogram != 0) {
+            float t = log(depth / uDepthRange.x) / logRange;
+            atomicAdd(sHistogram[clamp(int(t * float(BINS)), 0, BINS - 1)], 1u);
+        }
+    }
+    if (count != 0u) {
+        atomicMin(sMin, floatBitsToUint(lo)); // positive floats order as their bits
+        atomicMax(sMax, floatBitsToUint(hi));
+        atomicAdd(sCount, count);
     }
     barrier();
     if (sHistogram[local] != 0u) atomicAdd(histogram[local], sHistogram[local]);
@@ -151,9 +168,16 @@ void main() {
     uint local = gl_LocalInvocationIndex;
     if (local < uint(MAX_CASCADES * 6)) sBounds[local] = (local % 6u) < 3u ? 0xffffffffu : 0u;
     barrier();
-    vec3 p;
-    float depth;
-    if (samplePixel(ivec2(gl_GlobalInvocationID.xy), p, depth)) {
+    vec3 lo[MAX_CASCADES], hi[MAX_CASCADES];
+    for (int c = 0; c < MAX_CASCADES; ++c) {
+        lo[c] = vec3(3.0e38);
+        hi[c] = vec3(-3.0e38);
+    }
+    for (int j = 0; j < TILE * TILE; ++j) {
+        vec3 p;
+        float depth;
+        if (!samplePixel(ivec2(gl_GlobalInvocationID.xy) * TILE + ivec2(j % TILE, j / TILE), p, depth))
+            continue;
         vec3 l = uLightRotation * p;
         for (int c = 0; c < uCascades; ++c) {
             vec4 range = cascadeRange[c];
@@ -163,11 +187,17 @@ void main() {
                 vec4 prev = cascadeRange[c - 1];
                 inside = inside || (depth <= prev.y && depth >= prev.y - uBlend * (prev.y - prev.x));
             }
-            if (!inside) continue;
-            for (int k = 0; k < 3; ++k) {
-                atomicMin(sBounds[c * 6 + k], sortable(l[k]));
-                atomicMax(sBounds[c * 6 + 3 + k], sortable(l[k]));
+            if (inside) {
+                lo[c] = min(lo[c], l);
+                hi[c] = max(hi[c], l);
             }
+        }
+    }
+    for (int c = 0; c < uCascades; ++c) {
+        if (lo[c].x > hi[c].x) continue; // no sample of this cascade here
+        for (int k = 0; k < 3; ++k) {
+            atomicMin(sBounds[c * 6 + k], sortable(lo[c][k]));
+            atomicMax(sBounds[c * 6 + 3 + k], sortable(hi[c][k]));
         }
     }
     barrier();

@@ -23,6 +23,10 @@ void runSdsmFit(FrameContext& ctx) {
 
     glm::dvec3 forward = -glm::dvec3(ctx.view.view[0][2], ctx.view.view[1][2], ctx.view.view[2][2]);
     glm::mat3 rotation(f.lightRotation);
+    // Only the quantile partition and the histogram view read the histogram; its per-sample
+    // atomics are the reduction's largest cost otherwise.
+    const bool histogram =
+        s.sdsmPartition == SdsmPartition::Quantile || s.debugView == DebugView::Histogram;
     auto setCommon = [&](GLuint p) {
         glProgramUniformMatrix4fv(p, 0, 1, GL_FALSE, glm::value_ptr(ctx.view.inverseViewProjection));
         glProgramUniform3f(p, 1, float(forward.x), float(forward.y), float(forward.z));
@@ -35,13 +39,15 @@ void runSdsmFit(FrameContext& ctx) {
         glProgramUniform1f(p, 8, s.shadowBlend);
         glProgramUniform1i(p, 9, int(f.casters.size()));
         glProgramUniform1ui(p, 10, r.sdsmCasterCapacity);
+        glProgramUniform1i(p, 11, histogram ? 1 : 0);
     };
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, r.sdsmState.id());
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, r.sdsmBlock.id());
     glBindBufferRange(GL_SHADER_STORAGE_BUFFER, 2, ctx.ring.buffer(), GLintptr(f.blockOffset),
                       sizeof(ShadowBlock));
     glBindTextureUnit(0, ctx.targets.depth.id());
-    GLuint groupsX = (ctx.targets.width + 15) / 16, groupsY = (ctx.targets.height + 15) / 16;
+    // 16 x 16 invocations of 4 x 4 pixels each (sdsm.comp's TILE).
+    GLuint groupsX = (ctx.targets.width + 63) / 64, groupsY = (ctx.targets.height + 63) / 64;
 
     setCommon(r.sdsmReduce.id());
     glUseProgram(r.sdsmReduce.id());
