@@ -5,8 +5,8 @@ For each scene, every configuration is played headless along the scene's camera 
 pnb-play --bench --shadow-metrics: GPU frame time (timer queries), the shadow pass, SDSM's
 reduction and lighting, shadow draw calls, exact shadow memory, and the error against Embree
 ray-traced visibility (misclassified pixels, mean absolute error, texel/pixel ratio, flicker).
-Shadows-off runs are interleaved through the sweep; each configuration's cost is its frame time
-divided by the mean of the nearest off runs before and after it (the machine drifts).
+Shadows-off runs are interleaved through the sweep; each configuration's cost is its mean frame
+time over the path divided by that of the nearest off runs before and after it (the machine drifts).
 
 Output (DIR/<scene>/): sweep.csv, sweep.md, pareto.png (error against cost, Pareto front), and
 runs/<config>/ (each run's summary.json, frames.csv, quality.csv).
@@ -53,16 +53,21 @@ def run(args, scene, c, out_dir):
                 "--set", "shadows.resolution=%d" % c["resolution"],
                 "--set", "shadows.filter=" + c["filter"],
                 "--set", "shadows.render=" + c["render"]]
-    subprocess.run(cmd, check=True)
+    if not args.summarize_only:
+        subprocess.run(cmd, check=True)
     with open(os.path.join(out_dir, "summary.json")) as f:
         s = json.load(f)
-    gpu = s["gpu_ms"]
     row = dict(c)
     row["config"] = name_of(c)
-    row["frame_ms"] = gpu["total"]["median_ms"]
+    # Means over the path, not medians: along a fly-through the frame time can change tenfold
+    # (flat-city: 280 -> 28 ms), and the median of such a ramp moves with every small shift.
+    with open(os.path.join(out_dir, "frames.csv")) as f:
+        frames = list(csv.DictReader(f))
+    mean = lambda k: sum(float(r[k]) for r in frames) / len(frames) if k in frames[0] else 0.0
+    row["frame_ms"] = mean("gpu_total_ms")
     for p in ["shadow", "reduce", "lighting", "gbuffer"]:
-        row[p + "_ms"] = gpu[p]["median_ms"] if p in gpu else 0.0
-    row["shadow_draws"] = s.get("shadow_draws", {}).get("median_ms", 0)
+        row[p + "_ms"] = mean("gpu_%s_ms" % p)
+    row["shadow_draws"] = mean("shadow_draws")
     mem = s["gpu_memory_bytes"]
     row["shadow_mib"] = (mem.get("shadow_maps", 0) + mem.get("shadow_buffers", 0)) / 1048576.0
     q = s.get("quality", {})
@@ -126,6 +131,8 @@ def main():
     ap.add_argument("--every", type=int, default=8)
     ap.add_argument("--size", default="480x270")
     ap.add_argument("--quick", action="store_true")
+    ap.add_argument("--summarize-only", action="store_true",
+                    help="re-read the runs already in DIR/<scene>/runs instead of playing them")
     ap.add_argument("scenes", nargs="+")
     args = ap.parse_args()
     for scene in args.scenes:
