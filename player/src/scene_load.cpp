@@ -129,7 +129,8 @@ void buildSceneGraph(const Scene& scene, GpuScene& gpu) {
     std::vector<glm::dmat4> world(scene.nodes.nodes.size());
     for (size_t i = 0; i < scene.nodes.nodes.size(); ++i) {
         const Node& n = scene.nodes.nodes[i];
-        world[i] = n.parent == kNone ? nodeLocalMatrix(n) : world[n.parent] * nodeLocalMatrix(n);
+        const glm::dmat4 local = nodeLocalMatrix(n);
+        world[i] = n.parent == kNone ? local : world[n.parent] * local;
         if (n.mesh != kNone) {
             const GpuMesh& mesh = gpu.meshes[n.mesh];
             glm::mat3 normal = glm::mat3(glm::inverseTranspose(glm::dmat3(world[i])));

@@ -23,8 +23,8 @@ void runSdsmFit(FrameContext& ctx) {
 
     glm::dvec3 forward = -glm::dvec3(ctx.view.view[0][2], ctx.view.view[1][2], ctx.view.view[2][2]);
     glm::mat3 rotation(f.lightRotation);
-    // Only the quantile partition and the histogram view read the histogram; its per-sample
-    // atomics are the reduction's largest cost otherwise.
+    // Only the quantile partition and the histogram view read the histogram, which costs one
+    // shared atomic per sample; the log partition skips it.
     const bool histogram =
         s.sdsmPartition == SdsmPartition::Quantile || s.debugView == DebugView::Histogram;
     auto setCommon = [&](GLuint p) {

@@ -229,7 +229,8 @@ TracerResult<std::unique_ptr<ShadowTracer>> ShadowTracer::build(const Scene& sce
         if (n.parent != kNone && n.parent >= i)
             return inputError(nodeName(scene, uint32_t(i)) + ": parent " + std::to_string(n.parent) +
                               " does not precede it");
-        world[i] = n.parent == kNone ? pnb::player::nodeLocalMatrix(n) : world[n.parent] * pnb::player::nodeLocalMatrix(n);
+        const glm::dmat4 nodeMatrix = player::nodeLocalMatrix(n);
+        world[i] = n.parent == kNone ? nodeMatrix : world[n.parent] * nodeMatrix;
         if (n.mesh == kNone) continue;
         if (n.mesh >= scene.meshes.size())
             return inputError(nodeName(scene, uint32_t(i)) + " refers to mesh " +
