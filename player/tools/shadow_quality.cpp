@@ -44,17 +44,18 @@ PlayResult<std::vector<std::pair<std::string, double>>> ShadowQuality::measure(R
 
     // Camera-relative positions to the tracer's origin, in double.
     glm::dvec3 shift = renderer.lastView().position - mImpl->tracer->origin();
-    std::vector<glm::vec3> points(pixels), normals(pixels);
+    std::vector<glm::vec3> cameraRelative(pixels), points(pixels), normals(pixels);
     std::vector<float> player(pixels), cascade(pixels), ratio(pixels), truth(pixels);
     for (size_t i = 0; i < pixels; ++i) {
         glm::dvec3 p(position->f32[i * 3], position->f32[i * 3 + 1], position->f32[i * 3 + 2]);
+        cameraRelative[i] = glm::vec3(p);
         points[i] = glm::vec3(p + shift);
         normals[i] = {normal->f32[i * 3], normal->f32[i * 3 + 1], normal->f32[i * 3 + 2]};
         player[i] = shadow->f32[i * 4];         // negative: not classified (facing away, none)
         cascade[i] = shadow->f32[i * 4 + 1];
         ratio[i] = shadow->f32[i * 4 + 2];
     }
-    mImpl->tracer->visibility(points, normals, towardLight, truth);
+    mImpl->tracer->visibility(points, towardLight, truth, shift);
     // Surfaces facing away are dark whatever the map says: the player leaves them out, and so
     // does the comparison.
     for (size_t i = 0; i < pixels; ++i)
@@ -79,12 +80,21 @@ PlayResult<std::vector<std::pair<std::string, double>>> ShadowQuality::measure(R
         }
         return out;
     }
-    reference::ShadowErrorMetrics m = reference::compareShadow(player, truth);
+    // Irradiance weights from the shading normal, or the positions' own where the player has
+    // none (forward surfaces).
+    const std::vector<float> weights = reference::lambertWeights(
+        normals,
+        reference::normalsFromPositions(cameraRelative, int(position->width), int(position->height)),
+        towardLight);
+    reference::ShadowErrorMetrics m = reference::compareShadow(player, truth, weights);
     out.emplace_back("pixels", double(m.pixels));
     out.emplace_back("misclassified_pct", m.misclassifiedPercent);
     out.emplace_back("false_lit_pct", m.falseLitPercent);
     out.emplace_back("false_shadow_pct", m.falseShadowPercent);
     out.emplace_back("mean_abs_error", m.meanAbsError);
+    out.emplace_back("weighted_error_pct", m.weightedErrorPercent);
+    out.emplace_back("weighted_false_lit_pct", m.weightedFalseLitPercent);
+    out.emplace_back("weighted_false_shadow_pct", m.weightedFalseShadowPercent);
     for (const reference::RatioStats& r : reference::texelRatioByCascade(cascade, ratio)) {
         out.emplace_back("texel_ratio_median_c" + std::to_string(r.cascade), r.median);
         out.emplace_back("texel_ratio_p95_c" + std::to_string(r.cascade), r.p95);

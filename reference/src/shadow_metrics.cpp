@@ -6,6 +6,8 @@
 #include <cmath>
 #include <map>
 
+#include <glm/geometric.hpp>
+
 namespace pnb::reference {
 
 namespace {
@@ -20,12 +22,16 @@ double percentOf(uint64_t part, uint64_t whole) {
 
 } // namespace
 
-ShadowErrorMetrics compareShadow(std::span<const float> player, std::span<const float> reference) {
+ShadowErrorMetrics compareShadow(std::span<const float> player, std::span<const float> reference,
+                                 std::span<const float> weights) {
     assert(player.size() == reference.size());
-    const size_t n = std::min(player.size(), reference.size());
+    assert(weights.empty() || weights.size() == player.size());
+    size_t n = std::min(player.size(), reference.size());
     ShadowErrorMetrics m;
+    m.weighted = !weights.empty();
+    if (m.weighted) n = std::min(n, weights.size());
     uint64_t falseLit = 0, falseShadow = 0;
-    double absSum = 0;
+    double absSum = 0, brighter = 0, darker = 0;
     for (size_t i = 0; i < n; ++i) {
         const bool pv = playerValid(player[i]), rv = referenceValid(reference[i]);
         if (pv != rv) ++m.coverageMismatch;
@@ -35,12 +41,80 @@ ShadowErrorMetrics compareShadow(std::span<const float> player, std::span<const 
         if (pl && !rl) ++falseLit;
         if (!pl && rl) ++falseShadow;
         absSum += std::fabs(double(player[i]) - double(reference[i]));
+        if (m.weighted) {
+            const double w = std::isfinite(weights[i]) && weights[i] > 0 ? weights[i] : 0.0;
+            const double d = std::clamp(double(player[i]), 0.0, 1.0) - double(reference[i]);
+            m.litIrradiance += w * double(reference[i]);
+            (d > 0 ? brighter : darker) += w * std::fabs(d);
+        }
     }
     m.falseLitPercent = percentOf(falseLit, m.pixels);
     m.falseShadowPercent = percentOf(falseShadow, m.pixels);
     m.misclassifiedPercent = percentOf(falseLit + falseShadow, m.pixels);
     m.meanAbsError = m.pixels ? absSum / double(m.pixels) : 0.0;
+    if (m.weighted) {
+        auto share = [&](double part) {
+            return m.litIrradiance > 0 ? 100.0 * part / m.litIrradiance : part > 0 ? 100.0 : 0.0;
+        };
+        m.weightedFalseLitPercent = share(brighter);
+        m.weightedFalseShadowPercent = share(darker);
+        m.weightedErrorPercent = share(brighter + darker);
+    }
     return m;
+}
+
+std::vector<glm::vec3> normalsFromPositions(std::span<const glm::vec3> positions, int width,
+                                            int height, glm::vec3 eye) {
+    assert(width >= 0 && height >= 0 && positions.size() == size_t(width) * size_t(height));
+    std::vector<glm::vec3> out(positions.size(), glm::vec3(0.0f));
+    if (positions.size() != size_t(width) * size_t(height)) return out;
+    auto valid = [](glm::vec3 p) { return std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z); };
+    // The difference towards the spatially closer valid neighbour (forward minus backward order
+    // kept, so the cross product's sign is consistent); zero when neither is valid.
+    auto along = [&](glm::vec3 p, const glm::vec3* back, const glm::vec3* forward) {
+        const bool b = back && valid(*back), f = forward && valid(*forward);
+        if (b && f) {
+            glm::vec3 db = p - *back, df = *forward - p;
+            return glm::dot(db, db) < glm::dot(df, df) ? db : df;
+        }
+        return f ? *forward - p : b ? p - *back : glm::vec3(0.0f);
+    };
+    for (int y = 0; y < height; ++y)
+        for (int x = 0; x < width; ++x) {
+            const size_t i = size_t(y) * size_t(width) + size_t(x);
+            const glm::vec3 p = positions[i];
+            if (!valid(p)) continue;
+            glm::vec3 dx = along(p, x > 0 ? &positions[i - 1] : nullptr,
+                                 x + 1 < width ? &positions[i + 1] : nullptr);
+            glm::vec3 dy = along(p, y > 0 ? &positions[i - size_t(width)] : nullptr,
+                                 y + 1 < height ? &positions[i + size_t(width)] : nullptr);
+            glm::dvec3 n = glm::cross(glm::dvec3(dx), glm::dvec3(dy));
+            const double length = glm::length(n);
+            if (!(length > 0) || !std::isfinite(length)) continue;
+            n /= length;
+            if (glm::dot(n, glm::dvec3(eye) - glm::dvec3(p)) < 0) n = -n;
+            out[i] = glm::vec3(n);
+        }
+    return out;
+}
+
+std::vector<float> lambertWeights(std::span<const glm::vec3> normals,
+                                  std::span<const glm::vec3> fallback, glm::vec3 towardLight) {
+    const size_t n = std::max(normals.size(), fallback.size());
+    const glm::vec3 l = glm::normalize(towardLight);
+    auto usable = [](glm::vec3 v) {
+        const float length = glm::length(v);
+        return std::isfinite(length) && length > 0.0f;
+    };
+    std::vector<float> out(n, 0.0f);
+    for (size_t i = 0; i < n; ++i) {
+        glm::vec3 nrm(0.0f);
+        if (i < normals.size() && usable(normals[i])) nrm = normals[i];
+        else if (i < fallback.size() && usable(fallback[i])) nrm = fallback[i];
+        else continue;
+        out[i] = std::max(0.0f, glm::dot(glm::normalize(nrm), l));
+    }
+    return out;
 }
 
 double flickerPercent(std::span<const float> previous, std::span<const float> current) {

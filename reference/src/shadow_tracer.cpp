@@ -50,6 +50,9 @@ struct ShadowTracer::Embree {
     RTCDevice device = nullptr;
     RTCScene scene = nullptr;
     ErrorSink errors; // outlives the device's use of it (released in the destructor below)
+    // Per geometry (the filter's user pointer), per triangle: kVertexRelativeError x the largest
+    // origin-relative vertex magnitude, the triangle's own error band.
+    std::vector<std::unique_ptr<std::vector<float>>> triangleTolerances;
 
     ~Embree() {
         if (scene) rtcReleaseScene(scene);
@@ -184,6 +187,41 @@ private:
 #endif
 };
 
+// The intersect context of one visibility() call: Embree hands it to the filter below.
+struct TraceContext {
+    RTCIntersectContext embree; // first: Embree sees a pointer to this member
+    glm::dvec3 eye{0.0};        // origin-relative camera the query points were reconstructed for
+};
+
+// Occlusion filter: rejects a hit on the query point's own surface. The point lies on the hit
+// triangle (up to the errors of both) when its distance to the triangle's plane, t |dir . Ng| /
+// |Ng|, is within the point's error band plus the triangle's; then the hit is the surface the
+// point was taken from (or one meeting it there, as a wall meets the ground), not an occluder.
+// Everything is relative to magnitudes of the scene, so the test is invariant to the unit.
+void rejectOwnSurface(const RTCFilterFunctionNArguments* args) {
+    const auto& context = *reinterpret_cast<const TraceContext*>(args->context);
+    const auto& tolerance = *static_cast<const std::vector<float>*>(args->geometryUserPtr);
+    const double eyeTerm = kVertexRelativeError * glm::length(context.eye);
+    for (unsigned i = 0; i < args->N; ++i) {
+        if (args->valid[i] != -1) continue;
+        RTCRayN* ray = args->ray;
+        RTCHitN* hit = args->hit;
+        const glm::dvec3 org(RTCRayN_org_x(ray, args->N, i), RTCRayN_org_y(ray, args->N, i),
+                             RTCRayN_org_z(ray, args->N, i));
+        const glm::dvec3 dir(RTCRayN_dir_x(ray, args->N, i), RTCRayN_dir_y(ray, args->N, i),
+                             RTCRayN_dir_z(ray, args->N, i));
+        const glm::dvec3 ng(RTCHitN_Ng_x(hit, args->N, i), RTCHitN_Ng_y(hit, args->N, i),
+                            RTCHitN_Ng_z(hit, args->N, i));
+        const double t = RTCRayN_tfar(ray, args->N, i); // the candidate hit's distance
+        const double ngLength = glm::length(ng);
+        const double distanceToPlane =
+            ngLength > 0 ? t * std::fabs(glm::dot(dir, ng)) / (ngLength * glm::length(dir)) : 0.0;
+        const double band = kPointRelativeError * glm::length(org - context.eye) +
+                            double(tolerance[RTCHitN_primID(hit, args->N, i)]) + eyeTerm;
+        if (distanceToPlane <= band) args->valid[i] = 0;
+    }
+}
+
 } // namespace
 
 ShadowTracer::~ShadowTracer() = default;
@@ -301,14 +339,25 @@ TracerResult<std::unique_ptr<ShadowTracer>> ShadowTracer::build(const Scene& sce
         // World space in double, then relative to the origin, then float: the subtraction is
         // exact enough that far-away scenes keep sub-millimetre precision near the camera.
         const glm::dmat4& m = world[i];
+        std::vector<double> magnitude(local.size());
         for (size_t v = 0; v < local.size(); ++v) {
             glm::dvec3 ws = glm::dvec3(m * glm::dvec4(local[v], 1.0));
             glm::dvec3 rel = ws - origin;
             vertices[v * 3 + 0] = float(rel.x);
             vertices[v * 3 + 1] = float(rel.y);
             vertices[v * 3 + 2] = float(rel.z);
+            magnitude[v] = glm::length(rel);
         }
         std::memcpy(indices, triangleIndices.data(), triangleIndices.size() * sizeof(uint32_t));
+        auto tolerance = std::make_unique<std::vector<float>>(triangleIndices.size() / 3);
+        for (size_t t = 0; t < tolerance->size(); ++t)
+            (*tolerance)[t] = float(kVertexRelativeError *
+                                    std::max({magnitude[triangleIndices[t * 3]],
+                                              magnitude[triangleIndices[t * 3 + 1]],
+                                              magnitude[triangleIndices[t * 3 + 2]]}));
+        rtcSetGeometryUserData(geometry, tolerance.get());
+        rtcSetGeometryOccludedFilterFunction(geometry, rejectOwnSurface);
+        embree.triangleTolerances.push_back(std::move(tolerance));
         rtcCommitGeometry(geometry);
         rtcAttachGeometry(embree.scene, geometry);
         rtcReleaseGeometry(geometry); // the scene holds its reference
@@ -322,14 +371,13 @@ TracerResult<std::unique_ptr<ShadowTracer>> ShadowTracer::build(const Scene& sce
     return tracer;
 }
 
-void ShadowTracer::visibility(std::span<const glm::vec3> positions,
-                              std::span<const glm::vec3> normals, glm::vec3 towardLight,
-                              std::span<float> out) const {
+void ShadowTracer::visibility(std::span<const glm::vec3> positions, glm::vec3 towardLight,
+                              std::span<float> out, glm::dvec3 eye) const {
     constexpr float kNaN = std::numeric_limits<float>::quiet_NaN();
     const size_t count = positions.size();
     const float lightLength = glm::length(towardLight);
-    if (out.size() != count || (!normals.empty() && normals.size() != count) ||
-        !std::isfinite(lightLength) || !(lightLength > 0.0f)) {
+    if (out.size() != count || !std::isfinite(lightLength) || !(lightLength > 0.0f) ||
+        !std::isfinite(eye.x) || !std::isfinite(eye.y) || !std::isfinite(eye.z)) {
         std::fill(out.begin(), out.end(), kNaN);
         return;
     }
@@ -343,9 +391,10 @@ void ShadowTracer::visibility(std::span<const glm::vec3> positions,
 
     auto traceChunk = [&](size_t chunk) {
         const size_t begin = chunk * kChunk, end = std::min(count, begin + kChunk);
-        RTCIntersectContext context;
-        rtcInitIntersectContext(&context);
-        context.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT; // neighbouring pixels, one direction
+        TraceContext context;
+        rtcInitIntersectContext(&context.embree);
+        context.embree.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT; // neighbouring pixels, one direction
+        context.eye = eye;
         for (size_t first = begin; first < end; first += kPacket) {
             // The manual requires the packet aligned to 64 bytes; Embree's AVX-512 path also
             // reads the valid mask with an aligned 64-byte load, so a mask that happens to sit
@@ -371,19 +420,13 @@ void ShadowTracer::visibility(std::span<const glm::vec3> positions,
                     out[i] = kNaN;
                     continue;
                 }
-                glm::vec3 nrm = normals.empty() ? glm::vec3(0.0f) : normals[i];
-                const float nrmLength = glm::length(nrm);
-                nrm = std::isfinite(nrmLength) && nrmLength > 0.0f ? nrm / nrmLength : glm::vec3(0.0f);
-                if (glm::dot(nrm, dir) < 0.0f) nrm = -nrm; // offset to the light's side
-                const float offset = kRelativeOffset * std::max(1.0f, glm::length(p));
-                const glm::vec3 o = p + nrm * offset;
-                ray.org_x[lane] = o.x, ray.org_y[lane] = o.y, ray.org_z[lane] = o.z;
-                ray.tnear[lane] = offset;
+                // From the point itself: its own surface is rejected by rejectOwnSurface.
+                ray.org_x[lane] = p.x, ray.org_y[lane] = p.y, ray.org_z[lane] = p.z;
                 valid[lane] = -1;
                 any = true;
             }
             if (!any) continue;
-            rtcOccluded16(valid, scene, &context, &ray);
+            rtcOccluded16(valid, scene, &context.embree, &ray);
             for (size_t lane = 0; lane < kPacket; ++lane)
                 if (valid[lane]) out[first + lane] = ray.tfar[lane] < 0.0f ? 0.0f : 1.0f; // -inf: hit
         }

@@ -305,7 +305,7 @@ int run(const Settings& settings) {
     }
     std::vector<float> visibility(pixels);
     auto traceStart = Clock::now();
-    (*tracer)->visibility(positions, normals, frame->towardLight, visibility);
+    (*tracer)->visibility(positions, frame->towardLight, visibility); // the eye is the origin
     const double rayMs = std::chrono::duration<double, std::milli>(Clock::now() - traceStart).count();
     uint64_t rays = 0, litPixels = 0;
     for (float v : visibility) {
@@ -326,7 +326,13 @@ int run(const Settings& settings) {
             cascade[p] = shadow->at(p, 1);
             ratio[p] = shadow->at(p, 2);
         }
-        metrics = pnb::reference::compareShadow(playerShadow, visibility);
+        // Irradiance weights: the player's shading normal where it wrote one, else the normal
+        // of the positions themselves.
+        const std::vector<glm::vec3> geometric =
+            pnb::reference::normalsFromPositions(positions, frame->width, frame->height);
+        const std::vector<float> weights =
+            pnb::reference::lambertWeights(normals, geometric, frame->towardLight);
+        metrics = pnb::reference::compareShadow(playerShadow, visibility, weights);
         ratios = pnb::reference::texelRatioByCascade(cascade, ratio);
     }
 
@@ -377,6 +383,9 @@ int run(const Settings& settings) {
                        {"false_lit_percent", metrics.falseLitPercent},
                        {"false_shadow_percent", metrics.falseShadowPercent},
                        {"mean_abs_error", metrics.meanAbsError},
+                       {"weighted_error_percent", metrics.weightedErrorPercent},
+                       {"weighted_false_lit_percent", metrics.weightedFalseLitPercent},
+                       {"weighted_false_shadow_percent", metrics.weightedFalseShadowPercent},
                        {"coverage_mismatch_pixels", metrics.coverageMismatch}};
         nlohmann::ordered_json list = nlohmann::ordered_json::array();
         for (const auto& r : ratios)
@@ -406,9 +415,12 @@ int run(const Settings& settings) {
                         ts.maskedCastersTreatedOpaque);
         if (shadow)
             std::printf("  player vs reference over %llu pixels: misclassified %.3f%% (false lit "
-                        "%.3f%%, false shadow %.3f%%), mean abs error %.4f\n",
+                        "%.3f%%, false shadow %.3f%%), mean abs error %.4f; irradiance-weighted "
+                        "error %.3f%% (false lit %.3f%%, false shadow %.3f%%)\n",
                         (unsigned long long)metrics.pixels, metrics.misclassifiedPercent,
-                        metrics.falseLitPercent, metrics.falseShadowPercent, metrics.meanAbsError);
+                        metrics.falseLitPercent, metrics.falseShadowPercent, metrics.meanAbsError,
+                        metrics.weightedErrorPercent, metrics.weightedFalseLitPercent,
+                        metrics.weightedFalseShadowPercent);
         std::printf("  wrote %s/{visibility.exr,visibility.png%s,metrics.json}\n", outDir.c_str(),
                     shadow ? ",shadow_diff.png" : "");
     }

@@ -31,11 +31,11 @@ std::unique_ptr<ShadowTracer> buildTracer(const Scene& scene, glm::dvec3 origin)
 
 // Visibility of world points (converted to origin-relative here, in double).
 std::vector<float> trace(const ShadowTracer& tracer, const std::vector<glm::dvec3>& wsPoints,
-                         glm::vec3 normal, glm::vec3 towardLight) {
-    std::vector<glm::vec3> positions, normals(wsPoints.size(), normal);
+                         glm::vec3 towardLight) {
+    std::vector<glm::vec3> positions;
     for (const glm::dvec3& p : wsPoints) positions.push_back(glm::vec3(p - tracer.origin()));
     std::vector<float> out(wsPoints.size(), -7.0f);
-    tracer.visibility(positions, normals, towardLight, out);
+    tracer.visibility(positions, towardLight, out);
     return out;
 }
 
@@ -100,7 +100,7 @@ TEST_F(ShadowTracerTest, OverheadSunCastsTheBoxFootprint) {
     EXPECT_GT(tracer->stats().buildMs, 0.0);
 
     auto points = groundGrid();
-    auto vis = trace(*tracer, points, kUp, kUp);
+    auto vis = trace(*tracer, points, kUp);
     size_t shadowed = 0;
     for (size_t i = 0; i < points.size(); ++i) {
         SCOPED_TRACE(testing::Message() << "x " << points[i].x << " z " << points[i].z);
@@ -115,7 +115,7 @@ TEST_F(ShadowTracerTest, TiltedSunShiftsTheFootprint) {
     auto tracer = buildTracer(sGroundBox->scene, {0, 10, 10});
     ASSERT_TRUE(tracer);
     auto points = groundGrid();
-    auto vis = trace(*tracer, points, kUp, kTilted);
+    auto vis = trace(*tracer, points, kTilted);
     for (size_t i = 0; i < points.size(); ++i) {
         SCOPED_TRACE(testing::Message() << "x " << points[i].x << " z " << points[i].z);
         ASSERT_EQ(vis[i], inTiltedShadow(points[i]) ? 0.0f : 1.0f);
@@ -134,12 +134,10 @@ TEST_F(ShadowTracerTest, BoxTopIsLitAndFacesAwayFromTheLightAreShadowed) {
             towardFace.push_back({1, 3 + u, v});
         }
     for (glm::vec3 light : {kUp, kTilted}) {
-        for (float v : trace(*tracer, top, kUp, light)) ASSERT_EQ(v, 1.0f);
+        for (float v : trace(*tracer, top, light)) ASSERT_EQ(v, 1.0f);
     }
-    for (float v : trace(*tracer, towardFace, {1, 0, 0}, kTilted)) ASSERT_EQ(v, 1.0f);
-    for (float v : trace(*tracer, awayFace, {-1, 0, 0}, kTilted)) ASSERT_EQ(v, 0.0f);
-    // Unknown normals: only tnear keeps the ray off its own surface; the top is still lit.
-    for (float v : trace(*tracer, top, {0, 0, 0}, kUp)) ASSERT_EQ(v, 1.0f);
+    for (float v : trace(*tracer, towardFace, kTilted)) ASSERT_EQ(v, 1.0f);
+    for (float v : trace(*tracer, awayFace, kTilted)) ASSERT_EQ(v, 0.0f);
 }
 
 // A flat plane lit 89.9 degrees from the zenith, from eight azimuths, with query points jittered
@@ -148,21 +146,20 @@ void expectNoAcneOnGrazingPlane(const Scene& scene, glm::dvec3 planeCentre, glm:
     auto tracer = buildTracer(scene, origin);
     ASSERT_TRUE(tracer);
     const double zenith = 89.9 * std::numbers::pi / 180.0;
-    std::vector<glm::vec3> positions, normals;
+    std::vector<glm::vec3> positions;
     for (double x = -90.3; x < 90; x += 1.7)
         for (double z = -90.1; z < 90; z += 1.3)
             for (double jitter : {-1e-6, 0.0, 1e-6}) {
                 glm::dvec3 rel = planeCentre + glm::dvec3(x, 0, z) - origin;
                 rel.y += jitter * glm::length(rel);
                 positions.push_back(glm::vec3(rel));
-                normals.push_back(kUp);
             }
     std::vector<float> out(positions.size());
     for (int a = 0; a < 8; ++a) {
         const double azimuth = a * std::numbers::pi / 4 + 0.1;
         glm::vec3 light(float(std::sin(zenith) * std::cos(azimuth)), float(std::cos(zenith)),
                         float(std::sin(zenith) * std::sin(azimuth)));
-        tracer->visibility(positions, normals, light, out);
+        tracer->visibility(positions, light, out);
         size_t occluded = 0;
         for (float v : out) occluded += v != 1.0f;
         EXPECT_EQ(occluded, 0u) << "azimuth " << azimuth << " of " << out.size() << " points";
@@ -197,8 +194,8 @@ TEST_F(ShadowTracerTest, SceneTranslatedByAMillionUnitsGivesIdenticalResults) {
         auto points = groundGrid();
         std::vector<glm::dvec3> farPoints;
         for (const glm::dvec3& p : points) farPoints.push_back(p + shift);
-        auto a = trace(*near, points, kUp, light);
-        auto b = trace(*far, farPoints, kUp, light);
+        auto a = trace(*near, points, light);
+        auto b = trace(*far, farPoints, light);
         ASSERT_EQ(a, b);
         for (size_t i = 0; i < points.size(); ++i)
             ASSERT_EQ(b[i], (light == kUp ? inOverheadShadow(points[i]) : inTiltedShadow(points[i]))
@@ -217,8 +214,8 @@ TEST_F(ShadowTracerTest, QuantizedPositionsDecodeToTheSameShadow) {
     auto tracer = buildTracer(sQuantized->scene, {0, 10, 10});
     ASSERT_TRUE(tracer);
     auto points = groundGrid();
-    auto overhead = trace(*tracer, points, kUp, kUp);
-    auto tilted = trace(*tracer, points, kUp, kTilted);
+    auto overhead = trace(*tracer, points, kUp);
+    auto tilted = trace(*tracer, points, kTilted);
     for (size_t i = 0; i < points.size(); ++i) {
         ASSERT_EQ(overhead[i], inOverheadShadow(points[i]) ? 0.0f : 1.0f);
         ASSERT_EQ(tilted[i], inTiltedShadow(points[i]) ? 0.0f : 1.0f);
@@ -244,7 +241,7 @@ TEST(ShadowTracerMaterials, MaskCastsAsOpaqueBlendAndNonCastingDoNot) {
     EXPECT_EQ(tracer->stats().maskedCastersTreatedOpaque, 1u);
     EXPECT_EQ(tracer->stats().excludedInstances, 2u);
     EXPECT_EQ(tracer->stats().triangles, 2u + 12u);
-    auto vis = trace(*tracer, {{-6, 0, 0}, {0, 0, 0}, {6, 0, 0}, {-3, 0, 0}}, kUp, kUp);
+    auto vis = trace(*tracer, {{-6, 0, 0}, {0, 0, 0}, {6, 0, 0}, {-3, 0, 0}}, kUp);
     EXPECT_EQ(vis, (std::vector<float>{0.0f, 1.0f, 1.0f, 1.0f}));
 }
 
@@ -256,33 +253,31 @@ TEST_F(ShadowTracerTest, NonFinitePositionsGiveNaNAndMisuseFillsNaN) {
     const glm::vec3 open = glm::vec3(5, 0, 0) - glm::vec3(0, 10, 10);   // lit
     std::vector<glm::vec3> positions = {ground, {kNaN, 0, 0}, open, {0, kInf, 0}, {0, 0, -kInf},
                                         open};
-    std::vector<glm::vec3> normals = {kUp, kUp, {kNaN, kNaN, kNaN}, kUp, kUp, {0, 0, 0}};
     std::vector<float> out(positions.size());
-    tracer->visibility(positions, normals, kUp, out);
+    tracer->visibility(positions, kUp, out);
     EXPECT_EQ(out[0], 0.0f);
     EXPECT_TRUE(std::isnan(out[1]));
-    EXPECT_EQ(out[2], 1.0f); // non-finite normal = unknown
+    EXPECT_EQ(out[2], 1.0f);
     EXPECT_TRUE(std::isnan(out[3]));
     EXPECT_TRUE(std::isnan(out[4]));
     EXPECT_EQ(out[5], 1.0f);
 
-    // No normals at all; a light direction that is not unit length is normalised.
-    tracer->visibility(positions, {}, kUp * 3.0f, out);
+    // A light direction that is not unit length is normalised.
+    tracer->visibility(positions, kUp * 3.0f, out);
     EXPECT_EQ(out[0], 0.0f);
     EXPECT_EQ(out[2], 1.0f);
 
     // Precondition violations: everything NaN, nothing traced.
     for (glm::vec3 light : {glm::vec3(0.0f), glm::vec3(kNaN, 1, 0)}) {
-        tracer->visibility(positions, normals, light, out);
+        tracer->visibility(positions, light, out);
         for (float v : out) EXPECT_TRUE(std::isnan(v));
     }
-    std::vector<float> wrongSize(2, 5.0f);
-    tracer->visibility(positions, normals, kUp, wrongSize);
-    for (float v : wrongSize) EXPECT_TRUE(std::isnan(v));
-    std::vector<glm::vec3> fewNormals(2, kUp);
-    tracer->visibility(positions, fewNormals, kUp, out);
+    tracer->visibility(positions, kUp, out, glm::dvec3(0, kInf, 0)); // non-finite eye
     for (float v : out) EXPECT_TRUE(std::isnan(v));
-    tracer->visibility({}, {}, kUp, std::span<float>()); // empty: nothing to do
+    std::vector<float> wrongSize(2, 5.0f);
+    tracer->visibility(positions, kUp, wrongSize);
+    for (float v : wrongSize) EXPECT_TRUE(std::isnan(v));
+    tracer->visibility({}, kUp, std::span<float>()); // empty: nothing to do
 }
 
 TEST_F(ShadowTracerTest, ManyPointsOnAllThreadsMatchOnePointAtATime) {
@@ -291,9 +286,9 @@ TEST_F(ShadowTracerTest, ManyPointsOnAllThreadsMatchOnePointAtATime) {
     ASSERT_TRUE(tracer);
     auto points = groundGrid(glm::dvec3(0.0), 12.0); // 9216 points: several chunks and packets
     points.push_back({0.5, 0, 0.5});                 // a partial last packet
-    auto all = trace(*tracer, points, kUp, kTilted);
+    auto all = trace(*tracer, points, kTilted);
     for (size_t i = 0; i < points.size(); i += 97) {
-        auto one = trace(*tracer, {points[i]}, kUp, kTilted);
+        auto one = trace(*tracer, {points[i]}, kTilted);
         ASSERT_EQ(one[0], all[i]) << i;
     }
 }
@@ -393,7 +388,7 @@ std::vector<float> traceDown(const Scene& scene, const std::vector<glm::dvec3>& 
                              glm::dvec3 origin = glm::dvec3(0.0)) {
     auto tracer = buildTracer(scene, origin);
     if (!tracer) return {};
-    return trace(*tracer, points, kUp, kUp);
+    return trace(*tracer, points, kUp);
 }
 
 TEST(ShadowTracerEncodings, EveryComponentTypeDecodesAsTheGpuWould) {
@@ -529,7 +524,7 @@ TEST(ShadowTracerScenes, EveryProceduralSceneBuilds) {
         for (int i = 0; i < 16; ++i)
             above.push_back({b.min.x + (b.max.x - b.min.x) * (i + 0.5) / 16.0, b.max.y + 1.0,
                              b.min.z + (b.max.z - b.min.z) * (i + 0.5) / 16.0});
-        for (float v : trace(*tracer, above, kUp, kUp)) EXPECT_EQ(v, 1.0f);
+        for (float v : trace(*tracer, above, kUp)) EXPECT_EQ(v, 1.0f);
     }
 }
 

@@ -17,6 +17,8 @@
 #include <span>
 #include <vector>
 
+#include <glm/vec3.hpp>
+
 namespace pnb::reference {
 
 inline constexpr float kLitThreshold = 0.5f;
@@ -28,11 +30,40 @@ struct ShadowErrorMetrics {
     double falseShadowPercent = 0;     // player shadowed, reference lit (acne, overdarkening)
     double meanAbsError = 0;           // mean |player - reference| (unclamped player values)
     uint64_t coverageMismatch = 0;     // pixels where exactly one of the two has geometry
+
+    // Irradiance-weighted error (only with weights): each pixel's |player - reference| counts
+    // with the weight w = max(N.L, 0) it receives light with, over the truth's lit irradiance
+    // sum(w * reference). Answers "how much of the light that should reach the surfaces is
+    // wrong", where the binary figures answer "how many pixels are wrong": a grazing wall
+    // (N.L ~ 0) misclassified from edge to edge adds to the binary figures only. Player values
+    // are clamped to [0, 1]. When the truth has no lit irradiance: 0 if the player has no error
+    // either, else 100.
+    bool weighted = false;                 // weights were given
+    double litIrradiance = 0;              // sum(w * reference) over the counted pixels
+    double weightedErrorPercent = 0;       // 100 * sum(w |player - reference|) / litIrradiance
+    double weightedFalseLitPercent = 0;    // the part where the player is brighter (leaks)
+    double weightedFalseShadowPercent = 0; // the part where the player is darker
 };
 
 // The player's shadow factor (1 lit .. 0 shadowed; negative or NaN = no geometry) against the
-// reference visibility (1 / 0; NaN = no geometry).
-ShadowErrorMetrics compareShadow(std::span<const float> player, std::span<const float> reference);
+// reference visibility (1 / 0; NaN = no geometry). `weights` (optional: empty, or one per pixel;
+// non-finite or negative counts as 0) adds the irradiance-weighted figures, see above.
+ShadowErrorMetrics compareShadow(std::span<const float> player, std::span<const float> reference,
+                                 std::span<const float> weights = {});
+
+// Unit normals of the surfaces seen in a position image (width x height, rows contiguous;
+// non-finite = no geometry) from the positions of neighbouring pixels: on each axis the
+// neighbour closer in space (so a silhouette's far side is not mixed in), crossed, and turned
+// to face `eye`. Zero where a pixel has no valid neighbour on an axis. For surfaces whose
+// shading normal is unknown (the player's normal dump holds deferred surfaces only).
+std::vector<glm::vec3> normalsFromPositions(std::span<const glm::vec3> positions, int width,
+                                            int height, glm::vec3 eye = glm::vec3(0.0f));
+
+// The weight of each pixel for compareShadow: max(dot(normal, towardLight), 0), with the
+// shading normal where it is known (non-zero, finite) and `fallback` otherwise (either may be
+// empty: all unknown). Normals need not be unit length; towardLight must be non-zero.
+std::vector<float> lambertWeights(std::span<const glm::vec3> normals,
+                                  std::span<const glm::vec3> fallback, glm::vec3 towardLight);
 
 // Temporal flicker: the percentage of pixels valid in both frames whose lit/shadow classification
 // changed between `previous` and `current` (both player values or both reference values).

@@ -12,9 +12,10 @@
 // TracerStats), point or spot lights, soft shadows (a directional light of zero angular size),
 // transmission through Blend materials (they cast nothing), images or files (pnb-reference does).
 //
-// Self-intersection (docs/REFERENCE.md): a query point is moved off its surface along the normal
-// (flipped to face the light) by kRelativeOffset * max(1, |position|), and the ray starts at
-// tnear = that same distance. A point whose normal is unknown (zero) is only moved by tnear.
+// Self-intersection (docs/REFERENCE.md): rays start exactly at the query point; a hit is
+// rejected as the point's own surface when the point lies within the hit triangle's error band
+// (its distance to the triangle's plane is below positionTolerance + triangleTolerance, both
+// relative: no constant in scene units, so the verdict does not depend on the unit of length).
 #pragma once
 
 #include <cstdint>
@@ -52,11 +53,18 @@ struct TracerStats {
     double buildMs = 0;                   // decode + transform + Embree BVH build, milliseconds
 };
 
-// How far a query point is moved off its surface, relative to max(1, |position|) in scene units:
-// 1e-4 covers float rounding of origin-relative positions (2^-24 relative) and the error of
-// positions reconstructed by the player (depth-buffer precision) with a wide margin, while
-// staying below a millimetre for points within 10 units of the origin. See docs/REFERENCE.md.
-inline constexpr float kRelativeOffset = 1e-4f;
+// Error bands of the self-intersection test, both relative (dimensionless), so that scaling a
+// scene and its camera by any factor gives the same verdict (docs/REFERENCE.md, "Tolerances"):
+//   - a query point may be off its surface by kPointRelativeError x its distance from the eye:
+//     the player reconstructs positions from a D32F reversed-Z depth buffer, whose relative depth
+//     error is a few 2^-24 (tests/player: position_error_test); 2^-16 leaves a wide margin yet
+//     stays below 1/30 of a pixel's footprint at 2160 rows and a 60 degree field of view;
+//   - a triangle may be off its true place by kVertexRelativeError x (its largest origin-relative
+//     vertex magnitude + the eye's distance from the origin): rounding origin-relative vertices to
+//     float here and camera-relative vertices in the player's float vertex transform are each
+//     within 2^-24 of those magnitudes per coordinate; 2^-20 is 16 x that.
+inline constexpr double kPointRelativeError = 1.0 / 65536.0;      // 2^-16
+inline constexpr double kVertexRelativeError = 1.0 / 1048576.0;   // 2^-20
 
 class ShadowTracer {
 public:
@@ -78,18 +86,20 @@ public:
     // For every i: out[i] = 1 if a ray from positions[i] towards the light reaches infinity
     // unblocked, 0 if a caster blocks it, NaN if positions[i] has a non-finite component (no
     // geometry at that pixel).
-    //   positions:   origin-relative world positions (scene units).
-    //   normals:     unit world normals of the surfaces the points lie on; a zero (or non-finite)
-    //                normal means unknown. May be empty (all unknown); otherwise the same size as
-    //                positions.
+    //   positions:   origin-relative world positions (scene units) of visible surface points.
     //   towardLight: direction from the surface towards the directional light (the negated
     //                direction the light shines in); normalised here, must be finite and non-zero.
+    //   eye:         origin-relative position of the camera the positions were reconstructed
+    //                for (their error grows with the distance from it). Default: the origin.
+    // A hit on a triangle whose plane passes within the combined error band of the point is the
+    // point's own surface (or one meeting it there) and does not block: no offset along a normal
+    // is needed, so contact shadows and grazing light are judged without a bias of their own.
     // Preconditions (checked, violations fill `out` with NaN): out.size() == positions.size();
-    // normals empty or of that size; towardLight finite and non-zero.
+    // towardLight finite and non-zero; eye finite.
     // Uses up to std::thread::hardware_concurrency() threads (chunks of the span; rows of an
     // image are contiguous). Thread safety: const; concurrent calls are safe.
-    void visibility(std::span<const glm::vec3> positions, std::span<const glm::vec3> normals,
-                    glm::vec3 towardLight, std::span<float> out) const;
+    void visibility(std::span<const glm::vec3> positions, glm::vec3 towardLight,
+                    std::span<float> out, glm::dvec3 eye = glm::dvec3(0.0)) const;
 
     const TracerStats& stats() const { return mStats; }
     glm::dvec3 origin() const { return mOrigin; }
@@ -99,7 +109,7 @@ private:
 
     ShadowTracer() = default;
 
-    std::unique_ptr<Embree> mEmbree;
+    std::unique_ptr<Embree> mEmbree; // also owns the per-triangle tolerances the filter reads
     TracerStats mStats;
     glm::dvec3 mOrigin{0.0};
 };
