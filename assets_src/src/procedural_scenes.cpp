@@ -1023,6 +1023,55 @@ gltf::Document buildGrazingPlane(const GrazingPlaneOptions& o) {
     return doc;
 }
 
+// [SECTION] one-triangle and wide-flat: extremes of the ground-truth matrix ---------------------
+
+gltf::Document buildOneTriangle() {
+    Document doc;
+    doc.sceneName = "one-triangle";
+    const uint32_t stone = addMaterial(doc, makeMaterial("stone", {0.6f, 0.6f, 0.6f}, 0.8f));
+    Mesh mesh;
+    mesh.name = "triangle";
+    Primitive& p = mesh.primitives.emplace_back();
+    p.material = stone;
+    p.positions = {{-5, 0, 5}, {5, 0, 5}, {0, 0, -5}};
+    p.normals.assign(3, Float3{0, 1, 0});
+    p.indices = {0, 1, 2};
+    addNode(doc, meshNode("triangle", addMesh(doc, std::move(mesh))));
+    addCamera(doc, "camera", {0, 6, 12}, {0, -6, -12}, radians(60), 16.0f / 9.0f, 0.1f, 0.0f);
+    addSun(doc, sunDirection(radians(40), radians(30)), {0, 0, 0}, 50.0f, {1, 1, 1}, 3.0f);
+    return doc;
+}
+
+gltf::Document buildWideFlat(const WideFlatOptions& o) {
+    Document doc;
+    doc.sceneName = "wide-flat";
+    const float half = o.widthMeters / 2;
+    const uint32_t ground = addMaterial(doc, makeMaterial("ground", {0.5f, 0.5f, 0.45f}, 0.9f));
+    const uint32_t block = addMaterial(doc, makeMaterial("block", {0.7f, 0.35f, 0.25f}, 0.7f));
+    Mesh groundMesh;
+    groundMesh.name = "ground";
+    groundMesh.primitives.resize(1);
+    groundMesh.primitives[0].material = ground;
+    addGrid(groundMesh.primitives[0], {-half, 0, -half}, {0, 0, o.widthMeters},
+            {o.widthMeters, 0, 0}, 1, 1, false);
+    Mesh blocks;
+    blocks.name = "blocks";
+    blocks.primitives.resize(1);
+    blocks.primitives[0].material = block;
+    // A 5 x 5 field of 0.5 m x 0.5 m blocks at 2 m pitch, as tall as the scene.
+    for (int i = -2; i <= 2; ++i)
+        for (int j = 0; j < 5; ++j) {
+            const float x = 2.0f * float(i), z = -4.0f - 2.0f * float(j);
+            addBox(blocks.primitives[0], blocks.primitives[0], {x - 0.25f, 0, z - 0.25f},
+                   {x + 0.25f, o.heightMeters, z + 0.25f}, {1, 1, 1}, false);
+        }
+    addNode(doc, meshNode("ground", addMesh(doc, std::move(groundMesh))));
+    addNode(doc, meshNode("blocks", addMesh(doc, std::move(blocks))));
+    addCamera(doc, "camera", {0, 2.5f, 2}, {0, -2.5f, -9}, radians(60), 16.0f / 9.0f, 0.05f, 0.0f);
+    addSun(doc, sunDirection(radians(30), radians(20)), {0, 0, -8}, 50.0f, {1, 1, 1}, 3.0f);
+    return doc;
+}
+
 // [SECTION] load-test ---------------------------------------------------------------------------
 
 namespace {
@@ -1315,6 +1364,8 @@ constexpr ProceduralScene kScenes[] = {
     {"load-test", "~1M triangles in 50 rock meshes, ten 1024^2 textures (load benchmark; big)"},
     {"light-field", "floor and 64 boxes lit by N point lights (--lights N, default 8; "
                     "deferred vs forward benchmark)"},
+    {"one-triangle", "a single triangle under a 40-degree sun (extremes of the ground truth)"},
+    {"wide-flat", "a 100 km ground with 1 m blocks: 10^5 x wider than tall (extremes)"},
 };
 
 uint32_t sqrtRound(double v) {
@@ -1380,6 +1431,8 @@ std::optional<gltf::Document> buildProceduralScene(std::string_view name,
             o.floorSubdivisions = sqrtRound(double(target > boxes ? target - boxes : 0) / 2.0);
         return buildLightField(o);
     }
+    if (name == "one-triangle") return buildOneTriangle();
+    if (name == "wide-flat") return buildWideFlat({});
     return std::nullopt;
 }
 

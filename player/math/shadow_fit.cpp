@@ -37,14 +37,15 @@ glm::dvec2 sceneDepthInterval(const glm::dmat3& light, const FitBox& scene) {
 // Is `p` inside the view slice [a, b] (with a relative tolerance)?
 bool insideSlice(const FitCamera& cam, double a, double b, const glm::dvec3& p) {
     double d = glm::dot(p, cam.forward);
-    double eps = 1e-9 * std::max(1.0, b);
+    double eps = 1e-9 * b; // relative: the same verdict in any unit of length
     if (d < a - eps || d > b + eps) return false;
     double h = d * cam.tanHalfFovY + eps, w = h * cam.aspect + eps;
     return std::abs(glm::dot(p, cam.up)) <= h && std::abs(glm::dot(p, cam.right)) <= w;
 }
 
 bool insideBox(const FitBox& box, const glm::dvec3& p) {
-    glm::dvec3 eps = 1e-9 * glm::max(glm::dvec3(1.0), glm::abs(box.max - box.min));
+    // Relative to the box (a flat box gets its diagonal's tolerance on its flat axis).
+    glm::dvec3 eps = 1e-9 * glm::max(glm::abs(box.max - box.min), glm::dvec3(glm::length(box.max - box.min)));
     return glm::all(glm::greaterThanEqual(p, box.min - eps)) && glm::all(glm::lessThanEqual(p, box.max + eps));
 }
 
@@ -121,12 +122,15 @@ ShadowFit fitLightRectangle(const glm::dmat3& light, glm::dvec2 lo, glm::dvec2 h
     glm::dvec2 sceneZ = sceneDepthInterval(light, scene);
     // Toward the light the map reaches the top of the scene: every caster above a receiver is in.
     // Away from it, receivers beyond the scene need no depth.
+    // Floors relative to the scene's size (a rectangle around one point, receivers only at the
+    // scene's top), so that the fit is the same in any unit of length.
+    const double floor = 1e-9 * std::max(glm::length(scene.max - scene.min), glm::length(hi - lo));
+    glm::dvec2 extent = glm::max(hi - lo, glm::dvec2(floor > 0 ? floor : 1e-300));
     double zHigh = sceneZ.y, zLow = std::max(receiversLow, sceneZ.x);
-    if (!(zHigh > zLow)) zLow = zHigh - 1.0;
-    double margin = (zHigh - zLow) * 1e-3 + 1e-6;
+    if (!(zHigh > zLow)) zLow = zHigh - std::max(extent.x, extent.y);
+    double margin = (zHigh - zLow) * 1e-3;
     zHigh += margin;
     zLow -= margin;
-    glm::dvec2 extent = glm::max(hi - lo, glm::dvec2(1e-9));
     glm::dvec2 centre = (lo + hi) * 0.5;
     glm::dvec2 scale = 2.0 / extent;
     double depthScale = 1.0 / (zHigh - zLow);

@@ -130,8 +130,9 @@ void main() {
         zmin = clamp(uintBitsToFloat(depthMinBits), n, f);
         zmax = clamp(uintBitsToFloat(depthMaxBits), zmin, f);
     }
-    // A single depth (one pixel, a flat wall) still needs a non-empty range.
-    zmax = max(zmax, zmin * 1.001 + 1e-6);
+    // A single depth (one pixel, a flat wall) still needs a non-empty range; relative, so the
+    // partition is the same in any unit of length (zmin >= near > 0).
+    zmax = max(zmax, zmin * 1.001);
     float start = zmin;
     uint cumulative = 0u;
     int bin = 0;
@@ -243,14 +244,15 @@ void main() {
     vec3 hi = vec3(unsortable(lightBounds[c * 8 + 3]), unsortable(lightBounds[c * 8 + 4]),
                    unsortable(lightBounds[c * 8 + 5]));
     float resolution = cpuBlock.mapInfo.x;
-    // Square texels (the filters work in texels), padded by the filter footprint.
-    float extent = max(max(hi.x - lo.x, hi.y - lo.y), 1e-4);
+    // Square texels (the filters work in texels), padded by the filter footprint. The floor (a
+    // cascade over a single point) is relative to the shadowed depth range, not a length.
+    float extent = max(max(hi.x - lo.x, hi.y - lo.y), 1e-6 * uDepthRange.y);
     float pad = (cpuBlock.params.w * 8.0 + 2.0) / resolution; // PCSS search reaches 8x the radius
     extent *= 1.0 + 2.0 * pad;
     vec2 centre = 0.5 * (lo.xy + hi.xy);
     float zHigh = uSceneLightDepth.y, zLow = max(lo.z, uSceneLightDepth.x);
-    if (!(zHigh > zLow)) zLow = zHigh - 1.0;
-    float margin = (zHigh - zLow) * 1e-3 + 1e-6;
+    if (!(zHigh > zLow)) zLow = zHigh - extent; // receivers only at the top: as deep as wide
+    float margin = (zHigh - zLow) * 1e-3;
     zHigh += margin;
     zLow -= margin;
     float scale = 2.0 / extent, depthScale = 1.0 / (zHigh - zLow);

@@ -62,7 +62,10 @@ CameraState framingCamera(const Aabb& bounds, float yfovRadians) {
     glm::dvec3 lo(bounds.min.x, bounds.min.y, bounds.min.z), hi(bounds.max.x, bounds.max.y, bounds.max.z);
     if (bounds.empty()) lo = hi = glm::dvec3(0.0);
     glm::dvec3 center = (lo + hi) * 0.5;
-    double radius = std::max(glm::length(hi - lo) * 0.5, 1e-3);
+    // An empty or one-point scene gets a unit radius; any other keeps its own size, whatever
+    // its unit of length.
+    double radius = glm::length(hi - lo) * 0.5;
+    if (!(radius > 0)) radius = 1.0;
     double distance = radius / std::sin(yfovRadians * 0.5);
     glm::dvec3 dir = glm::normalize(glm::dvec3(0.0, 0.5, 1.0));
     c.position = center + dir * distance;

@@ -125,7 +125,10 @@ void prepareShadows(FrameContext& ctx) {
         FitBox scene_{sc.sceneMin - ctx.view.position, sc.sceneMax - ctx.view.position};
         FitCamera cam = fitCamera(ctx.view);
         // Shadowed view depths: near plane to the far side of the scene (or the setting).
-        double nearDepth = std::max(double(ctx.view.znear), 1e-6);
+        // The camera's own near plane (validated > 0), never an absolute floor: at 10^-6 scale a
+        // floor in scene units would move every split.
+        double nearDepth = ctx.view.znear > 0 ? double(ctx.view.znear)
+                                              : 1e-6 * glm::length(sc.sceneMax - sc.sceneMin);
         double farDepth = s.shadowDistance;
         if (farDepth <= 0) {
             farDepth = 0;
@@ -136,7 +139,7 @@ void prepareShadows(FrameContext& ctx) {
             }
         }
         if (ctx.view.zfar > 0) farDepth = std::min(farDepth, double(ctx.view.zfar));
-        farDepth = std::max(farDepth, nearDepth * 1.001 + 1e-6);
+        farDepth = std::max(farDepth, nearDepth * 1.001);
         glm::dvec2 z{std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity()};
         for (int c = 0; c < 8; ++c) {
             glm::dvec3 p{(c & 1) ? scene_.max.x : scene_.min.x, (c & 2) ? scene_.max.y : scene_.min.y,

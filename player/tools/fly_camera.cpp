@@ -12,11 +12,14 @@ FlyCamera::FlyCamera(const CameraState& start, const Aabb& b) : mCamera(start) {
     glm::dvec3 lo(b.min.x, b.min.y, b.min.z), hi(b.max.x, b.max.y, b.max.z);
     if (b.empty()) lo = hi = glm::dvec3(0.0);
     mCenter = (lo + hi) * 0.5;
-    mSpeed = std::max(glm::length(hi - lo) * 0.15, 0.5);
+    // Speed and the closest orbit are relative to the scene, whatever its unit of length (an
+    // empty or one-point scene gets a unit size).
+    mSceneSize = glm::length(hi - lo) > 0 ? glm::length(hi - lo) : 1.0;
+    mSpeed = mSceneSize * 0.15;
     glm::dvec3 forward = start.rotation * glm::dvec3(0, 0, -1);
     mYaw = std::atan2(-forward.x, -forward.z);
     mPitch = std::asin(std::clamp(forward.y, -1.0, 1.0));
-    mDistance = std::max(glm::length(start.position - mCenter), 0.1);
+    mDistance = std::max(glm::length(start.position - mCenter), 1e-3 * mSceneSize);
 }
 
 void FlyCamera::applyAngles() {
@@ -34,7 +37,7 @@ void FlyCamera::update(GLFWwindow* w, double dt, bool uiWantsInput) {
     bool o = glfwGetKey(w, GLFW_KEY_O) == GLFW_PRESS;
     if (o && !mOKeyDown) {
         mOrbit = !mOrbit;
-        mDistance = std::max(glm::length(mCamera.position - mCenter), 0.1);
+        mDistance = std::max(glm::length(mCamera.position - mCenter), 1e-3 * mSceneSize);
     }
     mOKeyDown = o;
     int button = mOrbit ? GLFW_MOUSE_BUTTON_LEFT : GLFW_MOUSE_BUTTON_RIGHT;

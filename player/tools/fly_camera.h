@@ -22,6 +22,7 @@ private:
     CameraState mCamera;
     glm::dvec3 mCenter{0.0};
     double mSpeed = 1.0, mYaw = 0, mPitch = 0, mDistance = 1.0;
+    double mSceneSize = 1.0; // diagonal of the scene bounds (scene units)
     double mLastX = 0, mLastY = 0;
     bool mOrbit = false, mOKeyDown = false, mDragging = false;
     void applyAngles();

@@ -191,6 +191,7 @@ private:
 struct TraceContext {
     RTCIntersectContext embree; // first: Embree sees a pointer to this member
     glm::dvec3 eye{0.0};        // origin-relative camera the query points were reconstructed for
+    double worldBand = 0;       // kWorldRelativeError x the largest world-space magnitude
 };
 
 // Occlusion filter: rejects a hit on the query point's own surface. The point lies on the hit
@@ -217,7 +218,8 @@ void rejectOwnSurface(const RTCFilterFunctionNArguments* args) {
         const double distanceToPlane =
             ngLength > 0 ? t * std::fabs(glm::dot(dir, ng)) / (ngLength * glm::length(dir)) : 0.0;
         const double band = kPointRelativeError * glm::length(org - context.eye) +
-                            double(tolerance[RTCHitN_primID(hit, args->N, i)]) + eyeTerm;
+                            double(tolerance[RTCHitN_primID(hit, args->N, i)]) + eyeTerm +
+                            context.worldBand;
         if (distanceToPlane <= band) args->valid[i] = 0;
     }
 }
@@ -347,6 +349,7 @@ TracerResult<std::unique_ptr<ShadowTracer>> ShadowTracer::build(const Scene& sce
             vertices[v * 3 + 1] = float(rel.y);
             vertices[v * 3 + 2] = float(rel.z);
             magnitude[v] = glm::length(rel);
+            tracer->mWorldBand = std::max(tracer->mWorldBand, kWorldRelativeError * glm::length(ws));
         }
         std::memcpy(indices, triangleIndices.data(), triangleIndices.size() * sizeof(uint32_t));
         auto tolerance = std::make_unique<std::vector<float>>(triangleIndices.size() / 3);
@@ -395,6 +398,7 @@ void ShadowTracer::visibility(std::span<const glm::vec3> positions, glm::vec3 to
         rtcInitIntersectContext(&context.embree);
         context.embree.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT; // neighbouring pixels, one direction
         context.eye = eye;
+        context.worldBand = mWorldBand;
         for (size_t first = begin; first < end; first += kPacket) {
             // The manual requires the packet aligned to 64 bytes; Embree's AVX-512 path also
             // reads the valid mask with an aligned 64-byte load, so a mask that happens to sit

@@ -96,7 +96,8 @@ void printHelp() {
         "Ray traces (Embree) the true visibility of the shadowing directional light for every\n"
         "pixel of a frame dumped by `pnb-play --dump position,normal,shadow`, and compares the\n"
         "player's shadow factor with it. Writes visibility.exr, visibility.png and metrics.json,\n"
-        "and shadow_diff.png when the frame has shadow.exr. See docs/REFERENCE.md.\n\n"
+        "and shadow_diff.png when the frame has shadow.exr (and counts non-finite pixels of\n"
+        "hdr.exr when present). See docs/REFERENCE.md.\n\n"
         "options:\n");
     for (const Option& o : options()) {
         std::string left = std::string(o.name) + (o.arg ? std::string(" ") + o.arg : "");
@@ -282,6 +283,14 @@ int run(const Settings& settings) {
         if (!s) return fail(s.error());
         shadow = std::move(*s);
     }
+    // The player's HDR image, when dumped: only checked for non-finite pixels (the extremes
+    // matrix asks "is the image finite?" beside "is the verdict right?").
+    std::optional<FloatImage> hdr;
+    if (fs::exists(in + "hdr.exr", ec)) {
+        auto h = readExr(in + "hdr.exr", {"R", "G", "B"}, 3, *frame);
+        if (!h) return fail(h.error());
+        hdr = std::move(*h);
+    }
 
     auto container = pnb::Container::open(settings.scene);
     if (!container) return fail({kExitInput, settings.scene + ": " + container.error().describe()});
@@ -307,11 +316,20 @@ int run(const Settings& settings) {
     auto traceStart = Clock::now();
     (*tracer)->visibility(positions, frame->towardLight, visibility); // the eye is the origin
     const double rayMs = std::chrono::duration<double, std::milli>(Clock::now() - traceStart).count();
-    uint64_t rays = 0, litPixels = 0;
-    for (float v : visibility) {
+    uint64_t rays = 0, litPixels = 0, nonfiniteVerdicts = 0;
+    for (size_t p = 0; p < pixels; ++p) {
+        const float v = visibility[p];
         rays += std::isfinite(v) ? 1 : 0;
         litPixels += v == 1.0f ? 1 : 0;
+        const glm::vec3 q = positions[p];
+        nonfiniteVerdicts += std::isfinite(q.x) && std::isfinite(q.y) && std::isfinite(q.z) &&
+                             !std::isfinite(v);
     }
+    uint64_t nonfiniteImagePixels = 0;
+    if (hdr)
+        for (size_t p = 0; p < pixels; ++p)
+            nonfiniteImagePixels += !(std::isfinite(hdr->at(p, 0)) && std::isfinite(hdr->at(p, 1)) &&
+                                      std::isfinite(hdr->at(p, 2)));
 
     // Compare.
     std::vector<float> playerShadow, cascade, ratio;
@@ -376,7 +394,9 @@ int run(const Settings& settings) {
     j["width"] = frame->width;
     j["height"] = frame->height;
     j["reference"] = {{"pixels_with_geometry", rays},
-                      {"lit_percent", rays ? 100.0 * double(litPixels) / double(rays) : 0.0}};
+                      {"lit_percent", rays ? 100.0 * double(litPixels) / double(rays) : 0.0},
+                      {"nonfinite_verdicts", nonfiniteVerdicts}}; // at finite positions: a bug
+    if (hdr) j["player_image"] = {{"nonfinite_pixels", nonfiniteImagePixels}};
     if (shadow) {
         j["shadow"] = {{"pixels", metrics.pixels},
                        {"misclassified_percent", metrics.misclassifiedPercent},
@@ -410,6 +430,9 @@ int run(const Settings& settings) {
                     (unsigned long long)ts.triangles, ts.buildMs, (unsigned long long)rays, rayMs,
                     rayMs > 0 ? double(rays) / rayMs / 1000.0 : 0.0,
                     rays ? 100.0 * double(litPixels) / double(rays) : 0.0);
+        if (nonfiniteImagePixels)
+            std::printf("  warning: the player's hdr.exr has %llu non-finite pixels\n",
+                        (unsigned long long)nonfiniteImagePixels);
         if (ts.maskedCastersTreatedOpaque)
             std::printf("  note: %u alpha-masked caster instance(s) traced as opaque\n",
                         ts.maskedCastersTreatedOpaque);

@@ -26,6 +26,9 @@ layout(std430, binding = 3) readonly buffer LightBuffer {
 };
 
 // glTF's recommended range window: smooth falloff to zero at `range`, inverse-square inside.
+// The clamp is 1 cm² in glTF's unit (metres; KHR_lights_punctual intensities are candela per
+// metre²): a light never gets brighter than at 1 cm from its point. Scenes in other units carry
+// their scale in the container's meters_per_unit, not here.
 float rangeAttenuation(float distanceSquared, float range) {
     float inverseSquare = 1.0 / max(distanceSquared, 1e-4);
     if (range <= 0.0) return inverseSquare;
@@ -48,7 +51,7 @@ vec3 shadeLights(vec3 baseColor, float metallic, float roughness, vec3 n, vec3 p
         } else {
             vec3 toLight = light.positionRange.xyz - p;
             float d2 = dot(toLight, toLight);
-            l = toLight * inversesqrt(max(d2, 1e-8));
+            l = d2 > 0.0 ? toLight * inversesqrt(d2) : vec3(0.0, 0.0, 1.0); // unit at any scale
             attenuation = rangeAttenuation(d2, light.positionRange.w);
             if (type == PNB_LIGHT_SPOT) {
                 float cd = dot(light.directionType.xyz, -l);

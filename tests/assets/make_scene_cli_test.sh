@@ -49,6 +49,12 @@ expect 2 box-room "$dir/x.glb" --lights 3
 contains err "light-field only"
 expect 2 light-field "$dir/x.glb" --lights 4097
 expect 2 light-field "$dir/x.glb" --lights
+expect 2 street-canyon "$dir/x.glb" --unit-scale 0
+expect 2 street-canyon "$dir/x.glb" --unit-scale nan
+expect 2 street-canyon "$dir/x.glb" --origin 1,2
+expect 2 street-canyon "$dir/x.glb" --sun-elevation 91
+contains err "0..90"
+expect 2 street-canyon "$dir/x.glb" --camera-near -1
 [ -e "$dir/x.glb" ] && { echo "FAIL: a usage error wrote a file" >&2; status=1; }
 
 expect 4 box-room "$dir/no/such/dir/x.glb"
@@ -66,6 +72,9 @@ if ! cmp -s "$dir/canyon.glb" "$dir/canyon2.glb"; then
     echo "FAIL: output differs between runs" >&2
     status=1
 fi
+# The extremes' transforms: a scaled, moved, re-lit scene with a new root node.
+expect 0 street-canyon "$dir/scaled.glb" --unit-scale 1e-6 --origin 1e7,0,-1e7 --sun-elevation 90 --camera-near 0.01
+grep -q '"unit-root"' "$dir/scaled.glb" || { echo "FAIL: no unit-root node" >&2; status=1; }
 # Overwriting an existing file works (atomic rename), and leaves no temporary behind.
 expect 0 street-canyon "$dir/canyon.glb"
 leftovers=$(ls -A "$dir" | grep -c '\.tmp\.' || true)

@@ -15,6 +15,7 @@
 #include "pnb/scene_builder.h"
 #include "pnb_assets/box_room.h"
 #include "pnb_assets/procedural_scenes.h"
+#include "pnb_assets/scene_transform.h"
 
 namespace {
 
@@ -166,7 +167,8 @@ INSTANTIATE_TEST_SUITE_P(All, ProceduralScenes, testing::ValuesIn(sceneNames()),
 TEST(ProceduralScenesRegistry, ListsEverySceneAndRejectsUnknownNames) {
     std::vector<std::string> names = allSceneNames();
     EXPECT_EQ(names, (std::vector<std::string>{"street-canyon", "flat-city", "box-room", "terrain",
-                                               "grazing-plane", "load-test", "light-field"}));
+                                               "grazing-plane", "load-test", "light-field",
+                                               "one-triangle", "wide-flat"}));
     for (const assets::ProceduralScene& s : assets::proceduralScenes())
         EXPECT_FALSE(s.summary.empty());
     EXPECT_FALSE(assets::buildProceduralScene("no-such-scene", {}).has_value());
@@ -605,3 +607,73 @@ TEST(ProceduralLightField, PointLightsWithRangesAboveTheBoxesAndTheSameGeometryF
 }
 
 } // namespace
+
+namespace pnb::assets {
+namespace {
+
+// --- Scene transforms (the extremes matrix's inputs) ------------------------------------------
+
+TEST(SceneTransform, WrapsTheRootsAndScalesWhatNodesDoNotReach) {
+    gltf::Document doc = buildBoxRoomGltf();
+    const size_t nodes = doc.nodes.size();
+    std::vector<uint32_t> roots;
+    std::vector<bool> child(nodes, false);
+    for (const gltf::Node& n : doc.nodes)
+        for (uint32_t c : n.children) child[c] = true;
+    for (size_t i = 0; i < nodes; ++i)
+        if (!child[i]) roots.push_back(uint32_t(i));
+    const gltf::Document before = doc;
+    SceneTransform t;
+    t.unitScale = 1e-3;
+    t.origin = {1e7f, 0, -5};
+    ASSERT_EQ(applySceneTransform(doc, t), "");
+    ASSERT_EQ(doc.nodes.size(), nodes + 1);
+    const gltf::Node& root = doc.nodes.back();
+    EXPECT_EQ(root.name, "unit-root");
+    EXPECT_EQ(root.children, roots);
+    EXPECT_EQ(root.scale, (gltf::Float3{1e-3f, 1e-3f, 1e-3f}));
+    EXPECT_EQ(root.translation, t.origin);
+    for (size_t i = 0; i < doc.cameras.size(); ++i)
+        EXPECT_FLOAT_EQ(doc.cameras[i].znear, before.cameras[i].znear * 1e-3f);
+    for (size_t i = 0; i < doc.lights.size(); ++i) {
+        if (doc.lights[i].type == gltf::LightType::Point)
+            EXPECT_FLOAT_EQ(doc.lights[i].intensity, before.lights[i].intensity * 1e-6f);
+    }
+    EXPECT_EQ(gltf::validateDocument(doc), "");
+}
+
+TEST(SceneTransform, TurnsTheSunAndRejectsBadValuesWithoutChangingTheScene) {
+    gltf::Document doc = buildStreetCanyon();
+    SceneTransform t;
+    t.sunElevationDegrees = 90.0f;
+    ASSERT_EQ(applySceneTransform(doc, t), "");
+    EXPECT_EQ(doc.nodes.size(), buildStreetCanyon().nodes.size()); // unit scale: no new root
+    for (const gltf::Node& n : doc.nodes)
+        if (n.name == "sun") {
+            gltf::Float3 d = gltf::rotate(n.rotation, {0, 0, -1});
+            EXPECT_NEAR(d[1], -1.0f, 1e-6f); // straight down
+        }
+    t.sunElevationDegrees = 0.5f;
+    t.sunAzimuthDegrees = 90.0f;
+    ASSERT_EQ(applySceneTransform(doc, t), "");
+    for (const gltf::Node& n : doc.nodes)
+        if (n.name == "sun") {
+            gltf::Float3 d = gltf::rotate(n.rotation, {0, 0, -1});
+            EXPECT_NEAR(d[1], -std::sin(0.5 * std::numbers::pi / 180), 1e-6);
+            EXPECT_NEAR(d[2], -std::cos(0.5 * std::numbers::pi / 180), 1e-5); // towards -Z
+        }
+
+    const gltf::Document unchanged = doc;
+    for (SceneTransform bad : {SceneTransform{.unitScale = 0}, SceneTransform{.unitScale = -1},
+                               SceneTransform{.sunElevationDegrees = 91.0f},
+                               SceneTransform{.cameraNear = 0.0f}}) {
+        EXPECT_NE(applySceneTransform(doc, bad), "");
+        EXPECT_EQ(doc.nodes.size(), unchanged.nodes.size());
+    }
+    gltf::Document noSun;
+    EXPECT_NE(applySceneTransform(noSun, SceneTransform{.sunElevationDegrees = 10.0f}).find("sun"),
+              std::string::npos);
+}
+
+} // namespace
+} // namespace pnb::assets

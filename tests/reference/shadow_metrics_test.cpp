@@ -5,6 +5,8 @@
 
 #include <gtest/gtest.h>
 
+#include <glm/glm.hpp>
+
 #include "pnb_reference/shadow_metrics.h"
 
 namespace pnb::reference::test {
@@ -46,6 +48,71 @@ TEST(ShadowMetrics, ThresholdIsHalfInclusive) {
     const std::vector<float> player = {0.5f, 0.49999f};
     const std::vector<float> truth = {1.0f, 0.0f};
     EXPECT_EQ(compareShadow(player, truth).misclassifiedPercent, 0.0);
+}
+
+TEST(ShadowMetrics, WeightedErrorFollowsTheLightAndSplitsLeaksFromDarkening) {
+    // A lit ground (w = 1) and a grazing wall (w = 0.002) seen by as many pixels each: the wall
+    // is misclassified everywhere, the ground in one pixel of ten.
+    std::vector<float> player, truth, weights;
+    for (int i = 0; i < 10; ++i) {
+        player.push_back(i == 0 ? 0.0f : 1.0f); // one false shadow on the ground
+        truth.push_back(1.0f);
+        weights.push_back(1.0f);
+    }
+    for (int i = 0; i < 10; ++i) {
+        player.push_back(1.0f); // the wall: player lit, truly shadowed (a leak)
+        truth.push_back(0.0f);
+        weights.push_back(0.002f);
+    }
+    ShadowErrorMetrics m = compareShadow(player, truth, weights);
+    EXPECT_DOUBLE_EQ(m.misclassifiedPercent, 100.0 * 11 / 20); // binary: the wall dominates
+    ASSERT_TRUE(m.weighted);
+    EXPECT_NEAR(m.litIrradiance, 10.0, 1e-12);
+    EXPECT_NEAR(m.weightedFalseShadowPercent, 10.0, 1e-9);       // 1 of the ground's 10
+    EXPECT_NEAR(m.weightedFalseLitPercent, 100.0 * 0.02 / 10, 1e-6); // the wall: 0.2 %
+    EXPECT_NEAR(m.weightedErrorPercent, m.weightedFalseShadowPercent + m.weightedFalseLitPercent, 1e-9);
+    EXPECT_LT(m.weightedErrorPercent, m.misclassifiedPercent / 5);
+
+    // Filtered player values count by how far off they are; values above 1 are clamped; bad
+    // weights count as 0.
+    m = compareShadow(std::vector<float>{0.75f, 1.5f, 0.0f}, std::vector<float>{1.0f, 1.0f, 1.0f},
+                      std::vector<float>{1.0f, 1.0f, kNaN});
+    EXPECT_NEAR(m.weightedErrorPercent, 100.0 * 0.25 / 2, 1e-9);
+    EXPECT_FALSE(compareShadow(player, truth).weighted);
+
+    // Nothing truly lit: 0 when the player agrees, 100 when it leaks.
+    EXPECT_EQ(compareShadow(std::vector<float>{0.0f}, std::vector<float>{0.0f}, std::vector<float>{1.0f})
+                  .weightedErrorPercent, 0.0);
+    EXPECT_EQ(compareShadow(std::vector<float>{1.0f}, std::vector<float>{0.0f}, std::vector<float>{1.0f})
+                  .weightedErrorPercent, 100.0);
+}
+
+TEST(ShadowMetrics, NormalsFromPositionsFaceTheEyeAndSkipSilhouettes) {
+    // A 4 x 3 image of the plane y = -1 seen from the origin (spacing 0.1), except pixel (3, 1),
+    // which lies on a far wall: its neighbours on the plane must not bend the plane's normals,
+    // and it has no neighbour of its own on the wall.
+    const int w = 4, h = 3;
+    std::vector<glm::vec3> p;
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) p.push_back({0.1f * float(x), -1.0f, -1.0f - 0.1f * float(y)});
+    p[1 * w + 3] = {5.0f, 3.0f, -40.0f};
+    p[2 * w + 0] = {kNaN, kNaN, kNaN};
+    for (float scale : {1e-6f, 1.0f, 1e6f}) {
+        std::vector<glm::vec3> q;
+        for (glm::vec3 v : p) q.push_back(v * scale);
+        std::vector<glm::vec3> n = normalsFromPositions(q, w, h);
+        for (int i : {0, 1, 2, 4, 5, 6, 9, 10}) { // 3, 11: their only y neighbour is the wall
+            EXPECT_NEAR(n[size_t(i)].x, 0.0f, 1e-5f) << i << " at " << scale;
+            EXPECT_NEAR(n[size_t(i)].y, 1.0f, 1e-5f) << i << " at " << scale; // towards the eye
+            EXPECT_NEAR(n[size_t(i)].z, 0.0f, 1e-5f) << i << " at " << scale;
+        }
+        EXPECT_EQ(n[8], glm::vec3(0.0f)); // no geometry
+    }
+    // Weights: the shading normal wins where known, the fallback elsewhere, N.L clamped at 0.
+    std::vector<glm::vec3> shading = {{0, 0, 0}, {1, 0, 0}, {0, 0, 0}};
+    std::vector<glm::vec3> fallback = {{0, 2, 0}, {0, 1, 0}, {0, -1, 0}};
+    std::vector<float> wts = lambertWeights(shading, fallback, glm::vec3(0, 3, 0));
+    EXPECT_EQ(wts, (std::vector<float>{1.0f, 0.0f, 0.0f}));
 }
 
 TEST(ShadowMetrics, FlickerCountsClassificationChangesOverPixelsValidInBothFrames) {

@@ -16,6 +16,8 @@
 //                  colour + normal maps): the player's load-time benchmark (scripts/bench-load)
 //   light-field    a floor with a grid of boxes lit by N point lights with ranges: deferred vs
 //                  forward shading cost against the light count (scripts/bench-lights)
+//   one-triangle,  the degenerate ends of the ground-truth extremes matrix (scripts/bench-extremes)
+//   wide-flat
 //
 // load-test and light-field exist for benchmarks: they are not generated at build time (not in
 // assets_src/CMakeLists.txt's PNB_PROCEDURAL_SCENES), the benchmark scripts make them.
@@ -164,6 +166,19 @@ struct LightFieldOptions {
     uint32_t floorSubdivisions = 16; // floor quads per edge. Default 16.
 };
 gltf::Document buildLightField(const LightFieldOptions& options = {});
+
+// one-triangle: one 10 m triangle on y = 0 facing up, a camera above looking at it and a sun at
+// 40 degrees: the smallest scene there is (nothing casts a shadow on it).
+gltf::Document buildOneTriangle();
+
+// wide-flat: a single square ground quad `widthMeters` across and a 5 x 5 field of blocks
+// (0.5 m x 0.5 m, `heightMeters` tall) in front of a camera 2.5 m above the ground, sun at 30
+// degrees: a scene far wider than it is tall, for shadow fitting and ray-origin precision.
+struct WideFlatOptions {
+    float widthMeters = 100000.0f; // Default 100 km.
+    float heightMeters = 1.0f;     // Default 1 m (10^5 x narrower than wide).
+};
+gltf::Document buildWideFlat(const WideFlatOptions& options = {});
 
 // --- Registry (what pnb-make-scene lists) -----------------------------------------------------
 

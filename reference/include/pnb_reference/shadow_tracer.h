@@ -63,8 +63,13 @@ struct TracerStats {
 //     vertex magnitude + the eye's distance from the origin): rounding origin-relative vertices to
 //     float here and camera-relative vertices in the player's float vertex transform are each
 //     within 2^-24 of those magnitudes per coordinate; 2^-20 is 16 x that.
+//   - and everything may be off by kWorldRelativeError x the largest world-space magnitude:
+//     node transforms compose in double, whose rounding at 10^7 from the world origin is
+//     ~2 x 10^-9 per operation: a millimetre scene placed there is uncertain to a part in 10^6
+//     of its size (2^-48 covers a handful of such roundings, in the player and here).
 inline constexpr double kPointRelativeError = 1.0 / 65536.0;      // 2^-16
 inline constexpr double kVertexRelativeError = 1.0 / 1048576.0;   // 2^-20
+inline constexpr double kWorldRelativeError = 1.0 / 281474976710656.0; // 2^-48
 
 class ShadowTracer {
 public:
@@ -112,6 +117,7 @@ private:
     std::unique_ptr<Embree> mEmbree; // also owns the per-triangle tolerances the filter reads
     TracerStats mStats;
     glm::dvec3 mOrigin{0.0};
+    double mWorldBand = 0; // kWorldRelativeError x the largest world-space vertex magnitude
 };
 
 } // namespace pnb::reference
