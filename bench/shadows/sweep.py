@@ -4,11 +4,15 @@
 For each scene, every configuration is played headless along the scene's camera path with
 pnb-play --bench --shadow-metrics: GPU frame time (timer queries), the shadow pass, SDSM's
 reduction and lighting, shadow draw calls, exact shadow memory, and the error against Embree
-ray-traced visibility (misclassified pixels, mean absolute error, texel/pixel ratio, flicker).
+ray-traced visibility (misclassified pixels, irradiance-weighted error, mean absolute error,
+texel/pixel ratio, flicker).
 Shadows-off runs are interleaved through the sweep; each configuration's cost is its mean frame
 time over the path divided by that of the nearest off runs before and after it (the machine drifts).
 
-Output (DIR/<scene>/): sweep.csv, sweep.md, pareto.png (error against cost, Pareto front), and
+Two error axes, two fronts: misclassified pixels ("how many pixels are wrong") and the
+irradiance-weighted error ("how much of the light is wrong", where a grazing wall counts little).
+Output (DIR/<scene>/): sweep.csv, sweep.md, pareto.png and pareto_weighted.png (error against
+cost with its Pareto front; --error picks which front sweep.md marks first), and
 runs/<config>/ (each run's summary.json, frames.csv, quality.csv).
 """
 import argparse
@@ -72,6 +76,7 @@ def run(args, scene, c, out_dir):
     row["shadow_mib"] = (mem.get("shadow_maps", 0) + mem.get("shadow_buffers", 0)) / 1048576.0
     q = s.get("quality", {})
     for k in ["misclassified_pct", "false_lit_pct", "false_shadow_pct", "mean_abs_error",
+              "weighted_error_pct", "weighted_false_lit_pct", "weighted_false_shadow_pct",
               "flicker_pct", "spurious_flicker_pct"]:
         row[k] = q[k]["mean"] if k in q else ""
     row["texel_ratio_median_c0"] = q["texel_ratio_median_c0"]["mean"] if "texel_ratio_median_c0" in q else ""
@@ -79,17 +84,21 @@ def run(args, scene, c, out_dir):
     return row
 
 
-def pareto(rows):
-    pts = sorted((r for r in rows if r["misclassified_pct"] != ""), key=lambda r: r["cost"])
+ERRORS = {"misclassified": ("misclassified_pct", "misclassified pixels vs ray-traced truth (%)"),
+          "weighted": ("weighted_error_pct", "irradiance-weighted error vs ray-traced truth (%)")}
+
+
+def pareto(rows, key):
+    pts = sorted((r for r in rows if r[key] != ""), key=lambda r: r["cost"])
     front, best = [], float("inf")
     for r in pts:
-        if r["misclassified_pct"] < best:
+        if r[key] < best:
             front.append(r)
-            best = r["misclassified_pct"]
+            best = r[key]
     return front
 
 
-def plot(rows, front, path, title):
+def plot(rows, front, path, title, key, label):
     try:
         import matplotlib
         matplotlib.use("Agg")
@@ -101,12 +110,12 @@ def plot(rows, front, path, title):
     markers = {512: "o", 1024: "s", 2048: "^", 4096: "D"}
     fig, ax = plt.subplots(figsize=(8, 5.5))
     for r in rows:
-        if r["misclassified_pct"] == "":
+        if r[key] == "":
             continue
-        ax.scatter(r["cost"], max(r["misclassified_pct"], 1e-3), c=colours[r["technique"]],
+        ax.scatter(r["cost"], max(r[key], 1e-3), c=colours[r["technique"]],
                    marker=markers.get(r["resolution"], "x"), s=18 + 10 * r["cascades"], alpha=0.8,
                    edgecolors="k" if r["filter"] != "poisson" or r["render"] != "layered" else "none")
-    ax.plot([r["cost"] for r in front], [max(r["misclassified_pct"], 1e-3) for r in front], "k--", lw=1,
+    ax.plot([r["cost"] for r in front], [max(r[key], 1e-3) for r in front], "k--", lw=1,
             label="Pareto front")
     for t, col in colours.items():
         ax.scatter([], [], c=col, label=t)
@@ -114,7 +123,7 @@ def plot(rows, front, path, title):
         ax.scatter([], [], c="w", edgecolors="k", marker=m, label="%d²" % res)
     ax.set_yscale("log")
     ax.set_xlabel("frame time / shadows-off frame time (same run)")
-    ax.set_ylabel("misclassified pixels vs ray-traced truth (%)")
+    ax.set_ylabel(label)
     ax.set_title(title + " (marker size: cascades)")
     ax.grid(True, which="both", alpha=0.3)
     ax.legend(fontsize=8, ncol=2)
@@ -131,6 +140,8 @@ def main():
     ap.add_argument("--every", type=int, default=8)
     ap.add_argument("--size", default="480x270")
     ap.add_argument("--quick", action="store_true")
+    ap.add_argument("--error", choices=sorted(ERRORS), default="misclassified",
+                    help="the error whose Pareto front sweep.md marks first (both are plotted)")
     ap.add_argument("--summarize-only", action="store_true",
                     help="re-read the runs already in DIR/<scene>/runs instead of playing them")
     ap.add_argument("scenes", nargs="+")
@@ -157,31 +168,37 @@ def main():
             r["off_ms"] = base
             r["cost"] = r["frame_ms"] / base
         rows = [r for r in rows if r["technique"] != "off"] + [r for r in rows if r["technique"] == "off"]
-        front = pareto([r for r in rows if r["technique"] != "off"])
+        measured = [r for r in rows if r["technique"] != "off"]
+        fronts = {e: pareto(measured, ERRORS[e][0]) for e in ERRORS}
+        other = "weighted" if args.error == "misclassified" else "misclassified"
         keys = ["config", "technique", "cascades", "resolution", "filter", "render", "frame_ms", "off_ms",
                 "cost", "shadow_ms", "reduce_ms", "lighting_ms", "gbuffer_ms", "shadow_draws", "shadow_mib",
-                "misclassified_pct", "false_lit_pct", "false_shadow_pct", "mean_abs_error", "flicker_pct",
+                "misclassified_pct", "false_lit_pct", "false_shadow_pct", "mean_abs_error",
+                "weighted_error_pct", "weighted_false_lit_pct", "weighted_false_shadow_pct", "flicker_pct",
                 "spurious_flicker_pct", "texel_ratio_median_c0", "texel_ratio_p95_c0"]
         with open(os.path.join(out, "sweep.csv"), "w", newline="") as f:
-            w = csv.DictWriter(f, fieldnames=keys + ["pareto"], extrasaction="ignore")
+            w = csv.DictWriter(f, fieldnames=keys + ["pareto", "pareto_weighted"], extrasaction="ignore")
             w.writeheader()
             for r in rows:
-                w.writerow(dict(r, pareto=r in front))
+                w.writerow(dict(r, pareto=r in fronts["misclassified"], pareto_weighted=r in fronts["weighted"]))
         with open(os.path.join(out, "sweep.md"), "w") as f:
-            f.write("| config | ms | cost | shadow ms | reduce ms | draws | MiB | misclass. % | MAE | spurious flicker % | texel/px c0 | Pareto |\n")
-            f.write("|---|--:|--:|--:|--:|--:|--:|--:|--:|--:|--:|:-:|\n")
+            f.write("| config | ms | cost | shadow ms | reduce ms | draws | MiB | misclass. %% | weighted %% | MAE | "
+                    "spurious flicker %% | texel/px c0 | Pareto %s | Pareto %s |\n" % (args.error, other))
+            f.write("|---|--:|--:|--:|--:|--:|--:|--:|--:|--:|--:|--:|:-:|:-:|\n")
             fmt = lambda v, p=2: ("%.*f" % (p, v)) if isinstance(v, float) else str(v)
             for r in rows:
                 if r["technique"] == "off":
                     continue
-                f.write("| %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s |\n" % (
+                f.write("| %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s |\n" % (
                     r["config"], fmt(r["frame_ms"], 1), fmt(r["cost"]), fmt(r["shadow_ms"], 1),
                     fmt(r["reduce_ms"], 2), fmt(float(r["shadow_draws"]), 0), fmt(r["shadow_mib"], 0),
-                    fmt(r["misclassified_pct"], 3), fmt(r["mean_abs_error"], 4),
-                    fmt(r["spurious_flicker_pct"], 3), fmt(r["texel_ratio_median_c0"], 2),
-                    "*" if r in front else ""))
-        plot([r for r in rows if r["technique"] != "off"], front, os.path.join(out, "pareto.png"), scene)
-        print("wrote %s/sweep.csv, sweep.md, pareto.png" % out)
+                    fmt(r["misclassified_pct"], 3), fmt(r["weighted_error_pct"], 3),
+                    fmt(r["mean_abs_error"], 4), fmt(r["spurious_flicker_pct"], 3),
+                    fmt(r["texel_ratio_median_c0"], 2),
+                    "*" if r in fronts[args.error] else "", "*" if r in fronts[other] else ""))
+        for e, png in [("misclassified", "pareto.png"), ("weighted", "pareto_weighted.png")]:
+            plot(measured, fronts[e], os.path.join(out, png), scene, *ERRORS[e])
+        print("wrote %s/sweep.csv, sweep.md, pareto.png, pareto_weighted.png" % out)
 
 
 if __name__ == "__main__":

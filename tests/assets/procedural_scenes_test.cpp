@@ -636,8 +636,9 @@ TEST(SceneTransform, WrapsTheRootsAndScalesWhatNodesDoNotReach) {
     for (size_t i = 0; i < doc.cameras.size(); ++i)
         EXPECT_FLOAT_EQ(doc.cameras[i].znear, before.cameras[i].znear * 1e-3f);
     for (size_t i = 0; i < doc.lights.size(); ++i) {
-        if (doc.lights[i].type == gltf::LightType::Point)
+        if (doc.lights[i].type == gltf::LightType::Point) {
             EXPECT_FLOAT_EQ(doc.lights[i].intensity, before.lights[i].intensity * 1e-6f);
+        }
     }
     EXPECT_EQ(gltf::validateDocument(doc), "");
 }

@@ -85,6 +85,7 @@ Rendered render(const std::string& path, const CameraState& camera, uint32_t w, 
     out.color = std::move(*(*renderer)->capture(CaptureBuffer::Color));
     out.hdr = std::move(*(*renderer)->capture(CaptureBuffer::Hdr));
     out.depth = std::move(*(*renderer)->capture(CaptureBuffer::Depth));
+    out.position = std::move(*(*renderer)->capture(CaptureBuffer::Position));
     // PNB_TEST_IMAGES=DIR keeps every rendered image, for looking at a failure.
     if (const char* dir = std::getenv("PNB_TEST_IMAGES")) {
         static int counter = 0;

@@ -34,7 +34,7 @@ std::string convert(const gltf::Document& doc, const std::string& name,
                     const std::string& sidecarJson = "");
 
 struct Rendered {
-    CapturedImage color, hdr, depth;
+    CapturedImage color, hdr, depth, position; // position: camera-relative, NaN = no geometry
     FrameStats stats;
     TargetMemory memory;
     size_t deferredLayers = 0;

@@ -57,7 +57,7 @@ struct TracerStats {
 // scene and its camera by any factor gives the same verdict (docs/REFERENCE.md, "Tolerances"):
 //   - a query point may be off its surface by kPointRelativeError x its distance from the eye:
 //     the player reconstructs positions from a D32F reversed-Z depth buffer, whose relative depth
-//     error is a few 2^-24 (tests/player: position_error_test); 2^-16 leaves a wide margin yet
+//     error is a few 2^-24 (tests/player/precision_test.cpp measures it); 2^-16 leaves a wide margin yet
 //     stays below 1/30 of a pixel's footprint at 2160 rows and a 60 degree field of view;
 //   - a triangle may be off its true place by kVertexRelativeError x (its largest origin-relative
 //     vertex magnitude + the eye's distance from the origin): rounding origin-relative vertices to
