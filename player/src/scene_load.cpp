@@ -8,7 +8,7 @@
 #include <glm/gtc/matrix_inverse.hpp>
 #include <glm/gtc/type_ptr.hpp>
 
-#include "node_transform.h"
+#include "pnb/node_transform.h"
 #include "pnb/scene.h"
 #include "program_compile.h"
 #include "upload.h"
@@ -129,7 +129,7 @@ void buildSceneGraph(const Scene& scene, GpuScene& gpu) {
     std::vector<glm::dmat4> world(scene.nodes.nodes.size());
     for (size_t i = 0; i < scene.nodes.nodes.size(); ++i) {
         const Node& n = scene.nodes.nodes[i];
-        const glm::dmat4 local = nodeLocalMatrix(n);
+        const glm::dmat4 local = glm::make_mat4(nodeLocalMatrix(n).data());
         world[i] = n.parent == kNone ? local : world[n.parent] * local;
         if (n.mesh != kNone) {
             const GpuMesh& mesh = gpu.meshes[n.mesh];

@@ -5,6 +5,8 @@
 // the player's renderer, applied here on the CPU in double.
 #include "pnb_reference/shadow_tracer.h"
 
+#include "pnb/node_transform.h"
+
 #include <algorithm>
 #include <atomic>
 #include <chrono>
@@ -15,7 +17,6 @@
 #include <thread>
 #include <vector>
 
-#include "node_transform.h"
 
 #if defined(__SSE__) || defined(__x86_64__)
 #include <pmmintrin.h>
@@ -26,6 +27,7 @@
 #include <embree3/rtcore.h>
 #include <glm/geometric.hpp>
 #include <glm/gtc/packing.hpp>
+#include <glm/gtc/type_ptr.hpp>
 #include <glm/mat4x4.hpp>
 
 namespace pnb::reference {
@@ -269,7 +271,7 @@ TracerResult<std::unique_ptr<ShadowTracer>> ShadowTracer::build(const Scene& sce
         if (n.parent != kNone && n.parent >= i)
             return inputError(nodeName(scene, uint32_t(i)) + ": parent " + std::to_string(n.parent) +
                               " does not precede it");
-        const glm::dmat4 nodeMatrix = player::nodeLocalMatrix(n);
+        const glm::dmat4 nodeMatrix = glm::make_mat4(nodeLocalMatrix(n).data());
         world[i] = n.parent == kNone ? nodeMatrix : world[n.parent] * nodeMatrix;
         if (n.mesh == kNone) continue;
         if (n.mesh >= scene.meshes.size())
