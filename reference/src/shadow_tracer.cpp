@@ -426,8 +426,13 @@ void ShadowTracer::visibility(std::span<const glm::vec3> positions, glm::vec3 to
                     out[i] = kNaN;
                     continue;
                 }
-                // From the point itself: its own surface is rejected by rejectOwnSurface.
+                // From the point itself: its own surface is rejected by rejectOwnSurface. Nothing
+                // nearer than the point's own error band can be told from its surface anyway, so
+                // the ray skips that stretch (tnear): a ray that leaves its surface at more than a
+                // grazing angle is past the surface's band by then and never calls the filter for
+                // it. No offset along a normal: shadow edges do not move.
                 ray.org_x[lane] = p.x, ray.org_y[lane] = p.y, ray.org_z[lane] = p.z;
+                ray.tnear[lane] = float(kPointRelativeError * glm::length(glm::dvec3(p) - eye));
                 valid[lane] = -1;
                 any = true;
             }
