@@ -275,8 +275,8 @@ int run(const Settings& settings) {
         if (!n) return fail(n.error());
         normal = std::move(*n);
     } else if (!settings.quiet) {
-        std::fprintf(stderr, "Warning: %snormal.exr missing: rays start off the surface along the "
-                             "light direction only (grazing light may self-shadow)\n", in.c_str());
+        std::fprintf(stderr, "Warning: %snormal.exr missing: the irradiance weights use normals "
+                             "from the positions (no normal mapping)\n", in.c_str());
     }
     if (fs::exists(in + "shadow.exr", ec)) {
         auto s = readExr(in + "shadow.exr", {"R", "G", "B"}, 3, *frame);
