@@ -193,7 +193,8 @@ private:
 struct TraceContext {
     RTCIntersectContext embree; // first: Embree sees a pointer to this member
     glm::dvec3 eye{0.0};        // origin-relative camera the query points were reconstructed for
-    double worldBand = 0;       // kWorldRelativeError x the largest world-space magnitude
+    double fixedBand = 0;       // the bands common to every hit of the call: kVertexRelativeError
+                                // x |eye| + kWorldRelativeError x the largest world magnitude
 };
 
 // Occlusion filter: rejects a hit on the query point's own surface. The point lies on the hit
@@ -204,7 +205,6 @@ struct TraceContext {
 void rejectOwnSurface(const RTCFilterFunctionNArguments* args) {
     const auto& context = *reinterpret_cast<const TraceContext*>(args->context);
     const auto& tolerance = *static_cast<const std::vector<float>*>(args->geometryUserPtr);
-    const double eyeTerm = kVertexRelativeError * glm::length(context.eye);
     for (unsigned i = 0; i < args->N; ++i) {
         if (args->valid[i] != -1) continue;
         RTCRayN* ray = args->ray;
@@ -220,8 +220,7 @@ void rejectOwnSurface(const RTCFilterFunctionNArguments* args) {
         const double distanceToPlane =
             ngLength > 0 ? t * std::fabs(glm::dot(dir, ng)) / (ngLength * glm::length(dir)) : 0.0;
         const double band = kPointRelativeError * glm::length(org - context.eye) +
-                            double(tolerance[RTCHitN_primID(hit, args->N, i)]) + eyeTerm +
-                            context.worldBand;
+                            double(tolerance[RTCHitN_primID(hit, args->N, i)]) + context.fixedBand;
         if (distanceToPlane <= band) args->valid[i] = 0;
     }
 }
@@ -400,7 +399,7 @@ void ShadowTracer::visibility(std::span<const glm::vec3> positions, glm::vec3 to
         rtcInitIntersectContext(&context.embree);
         context.embree.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT; // neighbouring pixels, one direction
         context.eye = eye;
-        context.worldBand = mWorldBand;
+        context.fixedBand = kVertexRelativeError * glm::length(eye) + mWorldBand;
         for (size_t first = begin; first < end; first += kPacket) {
             // The manual requires the packet aligned to 64 bytes; Embree's AVX-512 path also
             // reads the valid mask with an aligned 64-byte load, so a mask that happens to sit

@@ -101,7 +101,8 @@ TEST(Precision, ReconstructedPositionsStayFarInsideTheReferencesBand) {
             }
             EXPECT_GT(floorPixels, 160u * 120u / 4);
             EXPECT_LT(worst, 1.0 / 65536 / 16) << "scale " << scale << ", eye height " << eye.y;
-            RecordProperty("worst_relative_position_error_x1e9_scale_" + std::to_string(scale),
+            RecordProperty("worst_relative_position_error_x1e9_scale_" + std::to_string(scale) +
+                               "_eye_height_" + std::to_string(eye.y),
                            std::to_string(worst * 1e9));
         }
     }
