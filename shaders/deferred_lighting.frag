@@ -5,6 +5,9 @@
 #include "include/interface.glsl"
 #include "include/octahedral.glsl"
 #include "include/lights.glsl"
+#ifdef GI
+#include "include/gi_lookup.glsl"
+#endif
 
 layout(binding = 0) uniform sampler2D uGBaseColor;
 layout(binding = 1) uniform sampler2D uGNormalMaterial;
@@ -29,8 +32,12 @@ void main() {
     float metallic = floor(packedBits / 256.0) / 255.0;
     float occlusion = mod(packedBits, 256.0) / 255.0;
     vec3 v = normalize(-position);
-    vec3 color = (shadeLights(base.rgb, metallic, nm.z, n, position, v) + uAmbient.rgb * base.rgb) *
-                 occlusion;
+    // Occlusion darkens indirect light only (glTF's definition): the ambient term and GI.
+    vec3 indirect = uAmbient.rgb * base.rgb;
+#ifdef GI
+    indirect += giIrradiance(position, n) * base.rgb * ((1.0 - metallic) / 3.14159265);
+#endif
+    vec3 color = shadeLights(base.rgb, metallic, nm.z, n, position, v) + indirect * occlusion;
     outColor = vec4(color + texture(uGEmissive, vUv).rgb, base.a);
 #ifdef SHADOWS
     outColor = shadowOutput(outColor);

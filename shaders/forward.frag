@@ -3,6 +3,9 @@
 // otherwise kept out of the G-buffer). Output alpha drives SRC_ALPHA / ONE_MINUS_SRC_ALPHA.
 #include "include/surface_input.glsl"
 #include "include/lights.glsl"
+#ifdef GI
+#include "include/gi_lookup.glsl"
+#endif
 
 layout(location = 0) out vec4 outColor;
 
@@ -10,7 +13,12 @@ void main() {
     Surface s = evaluateSurface(surfaceInput());
     vec3 v = normalize(-vPosition); // camera at the origin of camera-relative space
     vec3 color = shadeLights(s.baseColor, s.metallic, s.roughness, s.normal, vPosition, v);
-    color = (color + uAmbient.rgb * s.baseColor) * s.occlusion + s.emissive;
+    // Occlusion darkens indirect light only (glTF's definition): the ambient term and GI.
+    vec3 indirect = uAmbient.rgb * s.baseColor;
+#ifdef GI
+    indirect += giIrradiance(vPosition, s.normal) * s.baseColor * ((1.0 - s.metallic) / 3.14159265);
+#endif
+    color += indirect * s.occlusion + s.emissive;
     outColor = vec4(color, s.alpha);
 #ifdef SHADOWS
     outColor = shadowOutput(outColor);

@@ -178,7 +178,7 @@ void describeOmissions(const ResolvedMaterials& r, const ShaderPlan& plan,
         sum.omitted.push_back("G-buffer and deferred lighting programs: no deferred material");
     if (!needs.shadows)
         sum.omitted.push_back("shadow programs: no shadow-casting light and caster");
-    if (!needs.gi) sum.omitted.push_back("GI programs: gi.enabled is not true");
+    if (!needs.gi) sum.omitted.push_back("GI programs: gi.enabled is not true (pnb-convert --gi)");
 }
 
 } // namespace
@@ -393,9 +393,7 @@ Result<ConvertSummary, ConvertError> convertScene(const ConvertSettings& s,
         needs.maskedCasters |= shadowLight && m.castsShadows && m.alphaMode == AlphaMode::Mask;
     }
     for (const auto& [key, value] : s.renderSettings)
-        if (key == "gi.enabled" && value == "true") needs.gi = true;
-    if (needs.gi)
-        sum.warnings.push_back("gi.enabled = true, but this version has no GI shaders to pack");
+        if (key == "gi.enabled") needs.gi = value == "true"; // the last assignment wins
     ShaderPlan plan = planShaders(materials.materials, materials.features, needs);
     if (s.validateShaders) {
         report("shaders", 0, plan.programs.size());

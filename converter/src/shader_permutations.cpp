@@ -61,20 +61,29 @@ ShaderPlan planShaders(std::span<const Material> materials,
         std::vector<std::string> defines = surfaceDefines(features[i]);
         // Forward shading samples the shadow maps itself; deferred receivers get them in the
         // lighting pass.
+        // With GI the reflective shadow map draws every opaque or masked surface with the
+        // G-buffer program of its features: forward materials get one too.
+        if (!deferred && needs.gi && materials[i].alphaMode != AlphaMode::Blend)
+            add(variant("gbuffer", {"surface.vert", "gbuffer.frag"}, defines));
         if (!deferred && needs.shadows && materials[i].receivesShadows) defines.push_back("SHADOWS");
+        if (!deferred && needs.gi) defines.push_back("GI");
         plan.materialProgram.push_back(
             add(deferred ? variant("gbuffer", {"surface.vert", "gbuffer.frag"}, std::move(defines))
                          : variant("forward", {"surface.vert", "forward.frag"}, std::move(defines))));
     }
-    if (anyDeferred)
-        add(variant("deferred_lighting", {"fullscreen.vert", "deferred_lighting.frag"},
-                    needs.shadows ? std::vector<std::string>{"SHADOWS"} : std::vector<std::string>{}));
+    if (anyDeferred) {
+        std::vector<std::string> defines;
+        if (needs.shadows) defines.push_back("SHADOWS");
+        if (needs.gi) defines.push_back("GI");
+        add(variant("deferred_lighting", {"fullscreen.vert", "deferred_lighting.frag"}, std::move(defines)));
+    }
     if (needs.shadows) {
         add(variant("shadow", {"shadow.vert", "shadow.frag"}, {}));
         if (needs.maskedCasters)
             add(variant("shadow", {"shadow.vert", "shadow.frag"}, {"ALPHA_MASK"}));
     }
-    // GI (issue: LPV) adds its programs here when needs.gi; none exist yet, so none are packed.
+    // GI's own passes (RSM injection, propagation) are the player's compute shaders: they do not
+    // depend on the scene's materials, so they are not scene content.
     add(variant("tonemap", {"fullscreen.vert", "tonemap.frag"}, {}));
     return plan;
 }

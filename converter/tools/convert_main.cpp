@@ -98,6 +98,12 @@ const std::vector<Option>& options() {
              c.settings.renderSettings.emplace_back(std::string(a, eq), std::string(eq + 1));
              return true;
          }},
+        {"Container", "--gi", nullptr,
+         "pack the global-illumination programs and turn GI on (same as --set gi.enabled=true)",
+         [](CliState& c, const char*) {
+             c.settings.renderSettings.emplace_back("gi.enabled", "true");
+             return true;
+         }},
         {"General", "-j, --jobs", "N", "worker threads (default: all cores)",
          [](CliState& c, const char* a) { return parseUnsigned(a, 1, 256, c.settings.jobs); }},
         {"General", "--no-validate-shaders", nullptr, "skip the glslang check of packed shaders",

@@ -82,7 +82,8 @@ void buildDrawLists(const GpuScene& scene, const ViewMatrices& view, bool cull, 
     std::sort(lists.forwardBlended.begin(), lists.forwardBlended.end(), backToFront);
 }
 
-void drawItems(FrameContext& ctx, std::span<const DrawRef> refs, GLuint program) {
+void drawItems(FrameContext& ctx, std::span<const DrawRef> refs, GLuint program,
+               uint32_t GpuMaterial::*materialProgram) {
     const GpuScene& scene = ctx.scene;
     GLuint boundProgram = ~0u, boundVao = ~0u;
     uint32_t boundMaterial = kNone;
@@ -91,7 +92,7 @@ void drawItems(FrameContext& ctx, std::span<const DrawRef> refs, GLuint program)
         const DrawItem& item = scene.items[ref.item];
         const GpuMesh& mesh = scene.meshes[item.mesh];
         const GpuMaterial& material = scene.materials[item.material];
-        GLuint p = program ? program : scene.programs[material.program].id();
+        GLuint p = program ? program : scene.programs[material.*materialProgram].id();
         if (p != boundProgram) glUseProgram(boundProgram = p);
         if (item.material != boundMaterial) {
             boundMaterial = item.material;

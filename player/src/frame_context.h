@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "frame_targets.h"
+#include "gi.h"
 #include "shadow_maps.h"
 #include "pnb_player/renderer.h"
 #include "stream_ring.h"
@@ -37,6 +38,12 @@ void buildDrawLists(const GpuScene& scene, const ViewMatrices& view, bool cull, 
 size_t pushObjectBlock(const GpuScene& scene, const DrawItem& item, const glm::dmat4& toCamera,
                        StreamRing& ring, float casterIndex);
 
+// std140 FrameBlock (interface.glsl).
+struct FrameBlock {
+    glm::mat4 viewProjection, view;
+    glm::vec4 cameraPosition, viewport, ambient;
+};
+
 struct BuiltinPrograms {
     GlHandle fxaa, debugView, flat, shadowDebug;
 };
@@ -53,6 +60,8 @@ struct FrameContext {
     BuiltinPrograms& builtins;
     size_t objectBlockBytes = 0;
     ShadowContext& shadows;
+    GiContext& gi;
+    size_t frameBlockOffset = 0; // this frame's FrameBlock in the ring (binding 0)
 };
 
 // The renderer's private state (renderer.cpp, frame_capture.cpp).
@@ -64,6 +73,7 @@ struct Renderer::Impl {
     GlHandle emptyVao; // fullscreen passes draw without attributes
     DrawLists lists;   // this frame's visible draws
     ShadowContext shadows;
+    GiContext gi;
     uint64_t shadowsForMaterials = ~0ull; // GpuScene::materialsVersion the casters were built for
     CameraState lastCamera;               // re-rendered for CaptureBuffer::Shadow
     GpuTimer captureTimer;                // times of capture renders (discarded)
@@ -73,9 +83,11 @@ struct Renderer::Impl {
     uint64_t frame = 0;
 };
 
-// Binds material state and draws `refs` with each material's own program, or with `program`
-// if non-zero (depth-only and debug draws). Counts draws and triangles in ctx.stats.
-void drawItems(FrameContext& ctx, std::span<const DrawRef> refs, GLuint program = 0);
+// Binds material state and draws `refs` with each material's own program (or the one
+// `materialProgram` names: the RSM's), or with `program` if non-zero (depth-only and debug
+// draws). Counts draws and triangles in ctx.stats.
+void drawItems(FrameContext& ctx, std::span<const DrawRef> refs, GLuint program = 0,
+               uint32_t GpuMaterial::*materialProgram = &GpuMaterial::program);
 
 // Full-screen triangle (fullscreen.vert: no vertex buffer).
 void drawFullscreenTriangle();

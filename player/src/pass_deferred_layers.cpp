@@ -33,6 +33,7 @@ void runDeferredLayers(FrameContext& ctx) {
             runSdsmFit(ctx);
             runShadowPass(ctx);
         }
+        if (ctx.gi.frame.pending) finishGi(ctx); // GI's camera surfels: this layer's G-buffer
 
         ctx.timer.mark("lighting");
         glBindFramebuffer(GL_FRAMEBUFFER, ctx.targets.composeFb.id());

@@ -16,12 +16,6 @@ namespace pnb::player {
 
 namespace {
 
-// std140 FrameBlock (interface.glsl).
-struct FrameBlock {
-    glm::mat4 viewProjection, view;
-    glm::vec4 cameraPosition, viewport, ambient;
-};
-
 // std430 GpuLight (lights.glsl).
 struct GpuLight {
     glm::vec4 positionRange, directionType, colorIntensity, cone;
@@ -53,8 +47,9 @@ PlayResult<std::unique_ptr<Renderer>> Renderer::create(const GpuScene& scene,
     // caster, the shadow block, caster masks or (SDSM) caster bounds.
     size_t lightBytes = 16 + sizeof(GpuLight) * std::max<size_t>(scene.lights.size(), 1);
     size_t objectStride = (kObjectBlockBytes + impl.alignment - 1) / impl.alignment * impl.alignment;
-    impl.ring.reserve(sizeof(FrameBlock) + lightBytes + sizeof(ShadowBlock) + impl.alignment * 6 +
-                          scene.items.size() * (2 * objectStride + 4 + 32),
+    // GI adds its block, the RSM's frame block and one object block per item the RSM draws.
+    impl.ring.reserve(2 * sizeof(FrameBlock) + lightBytes + sizeof(ShadowBlock) + sizeof(GiBlock) +
+                          impl.alignment * 8 + scene.items.size() * (3 * objectStride + 4 + 32),
                       impl.alignment);
     impl.targets.memory.streamingBytes = impl.ring.totalBytes();
     return r;
@@ -102,6 +97,7 @@ TargetMemory Renderer::targetMemory() const {
     TargetMemory m = mImpl->targets.memory;
     m.shadowMapBytes = mImpl->shadows.resources.mapBytes;
     m.shadowBufferBytes = mImpl->shadows.resources.bufferBytes;
+    m.giBytes = mImpl->gi.resources.bytes;
     return m;
 }
 
@@ -133,13 +129,6 @@ PlayResult<Done> Renderer::render(const CameraState& camera, uint32_t width, uin
     timer.beginFrame(mStats.frame);
     timer.mark("setup");
     impl.ring.beginFrame();
-    FrameBlock fb;
-    fb.viewProjection = mView.viewProjection;
-    fb.view = mView.view;
-    fb.cameraPosition = glm::vec4(glm::vec3(mView.position), 1);
-    fb.viewport = {float(width), float(height), 1.0f / float(width), 1.0f / float(height)};
-    fb.ambient = glm::vec4(glm::vec3(mSettings.ambient), 0);
-    size_t frameOffset = impl.ring.push(&fb, sizeof fb);
 
     // The light list is written straight into the mapped ring (no per-frame allocation).
     const size_t lightBytes = 16 + sizeof(GpuLight) * scene.lights.size();
@@ -157,7 +146,6 @@ PlayResult<Done> Renderer::render(const CameraState& camera, uint32_t width, uin
         g.cone = {cosOuter, 1.0f / std::max(cosInner - cosOuter, 1e-4f), 0, 0};
         std::memcpy(lightData + 16 + i * sizeof g, &g, sizeof g);
     }
-    glBindBufferRange(GL_UNIFORM_BUFFER, 0, impl.ring.buffer(), GLintptr(frameOffset), sizeof fb);
     glBindBufferRange(GL_SHADER_STORAGE_BUFFER, 3, impl.ring.buffer(), GLintptr(lightOffset),
                       GLsizeiptr(lightBytes));
 
@@ -167,12 +155,22 @@ PlayResult<Done> Renderer::render(const CameraState& camera, uint32_t width, uin
     mStats.culledItems = lists.culled;
 
     FrameContext ctx{scene, mSettings, mView, impl.targets, impl.ring, lists, mStats, timer,
-                     impl.builtins, kObjectBlockBytes, impl.shadows};
+                     impl.builtins, kObjectBlockBytes, impl.shadows, impl.gi};
     if (impl.shadowsForMaterials != scene.materialsVersion) {
         initShadowContext(scene, impl.shadows);
         impl.shadowsForMaterials = scene.materialsVersion;
     }
     prepareShadows(ctx);
+    prepareGi(ctx);
+    FrameBlock fb;
+    fb.viewProjection = mView.viewProjection;
+    fb.view = mView.view;
+    fb.cameraPosition = glm::vec4(glm::vec3(mView.position), 1);
+    fb.viewport = {float(width), float(height), 1.0f / float(width), 1.0f / float(height)};
+    // a: the GI cascades lighting reads (0: GI off, gi_lookup.glsl returns at once).
+    fb.ambient = glm::vec4(glm::vec3(mSettings.ambient), float(impl.gi.frame.cascades.size()));
+    ctx.frameBlockOffset = impl.ring.push(&fb, sizeof fb);
+    glBindBufferRange(GL_UNIFORM_BUFFER, 0, impl.ring.buffer(), GLintptr(ctx.frameBlockOffset), sizeof fb);
     ShadowFrame& shadowFrame = impl.shadows.frame;
     if (shadowFrame.active) {
         auto ok = impl.shadows.resources.ensure(mSettings.shadowResolution, shadowFrame.cascades,
@@ -191,6 +189,11 @@ PlayResult<Done> Renderer::render(const CameraState& camera, uint32_t width, uin
         runShadowPass(ctx);
     }
     bindShadowsForLighting(ctx);
+    runGiRsm(ctx);
+    runGiInject(ctx);
+    // The camera's blocking surfels come from the first deferred layer's G-buffer; without one
+    // the volumes are finished now.
+    if (!deferredDepth || !mSettings.giCameraOcclusion) finishGi(ctx);
     glViewport(0, 0, GLsizei(width), GLsizei(height));
     const float black[4] = {0, 0, 0, 0};
     glClearNamedFramebufferfv(impl.targets.hdrFb.id(), GL_COLOR, 0, black);

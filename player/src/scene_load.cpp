@@ -115,6 +115,30 @@ PlayResult<Done> compileNeededPrograms(const Scene& scene, GpuScene& gpu) {
             wanted.insert(i);
         }
     }
+    // GI: lighting built with it, and the G-buffer program each opaque or masked material's
+    // surfels enter the reflective shadow map with (a forward material's: the G-buffer variant
+    // with its features, which the converter packs with GI).
+    auto defines = [&](uint32_t p) {
+        std::set<std::string_view> d;
+        for (StringRef r : scene.programs[p].defines)
+            if (scene.str(r) != "SHADOWS" && scene.str(r) != "GI") d.insert(scene.str(r));
+        return d;
+    };
+    gpu.giPrograms = false;
+    for (uint32_t i = 0; i < scene.programs.size(); ++i)
+        for (StringRef r : scene.programs[i].defines) gpu.giPrograms |= scene.str(r) == "GI";
+    for (GpuMaterial& m : gpu.materials) {
+        m.rsmProgram = kNone;
+        if (!gpu.giPrograms || m.program == kNone || m.translucent()) continue;
+        if (scene.str(scene.programs[m.program].name) == "gbuffer") {
+            m.rsmProgram = m.program;
+            continue;
+        }
+        auto features = defines(m.program);
+        for (uint32_t i = 0; i < scene.programs.size() && m.rsmProgram == kNone; ++i)
+            if (scene.str(scene.programs[i].name) == "gbuffer" && defines(i) == features) m.rsmProgram = i;
+        if (m.rsmProgram != kNone) wanted.insert(m.rsmProgram);
+    }
     for (uint32_t i : wanted) {
         if (gpu.programs[i]) continue;
         auto p = compileSceneProgram(scene, i);

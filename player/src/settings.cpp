@@ -57,6 +57,7 @@ constexpr std::string_view kLayerSourceNames[] = {"auto", "vertex", "geometry"};
 constexpr std::string_view kFilterNames[] = {"hardware", "poisson", "pcss"};
 constexpr std::string_view kSelectNames[] = {"depth", "bounds"};
 constexpr std::string_view kPartitionNames[] = {"log", "quantile"};
+constexpr std::string_view kAtomicsNames[] = {"fixed", "float"};
 
 const std::vector<Row>& rows() {
     using S = RenderSettings;
@@ -125,6 +126,34 @@ const std::vector<Row>& rows() {
           "sdsm: logarithmic splits over the tight depth range, or equal sample counts per cascade "
           "(seed 000's histogram variant, weighted by the pssm scheme)"},
          enumField<&S::sdsmPartition>(kPartitionNames)},
+        {{"gi.enabled", "bool",
+          "one-bounce indirect light from the sun: reflective shadow map, cascaded light "
+          "propagation volumes (needs a container converted with GI: pnb-convert --gi)"},
+         BoolField{&S::giEnabled}},
+        {{"gi.cascades", "int 1..4", "nested propagation volumes, each twice the previous' cell"},
+         UIntField{&S::giCascades, 1, 4}},
+        {{"gi.cells", "int 8..128", "cells along each side of every cascade"},
+         UIntField{&S::giCells, 8, 128}},
+        {{"gi.cell_size", "float >= 0",
+          "finest cascade's cell in scene units, all cascades following the camera; 0 = the outer "
+          "cascade is the scene's bounding cube and the finer ones follow the camera"},
+         FloatField{&S::giCellSize, 0.0f, 1e30f}},
+        {{"gi.iterations", "int 0..64", "propagation steps (light travels one cell per step)"},
+         UIntField{&S::giIterations, 0, 64}},
+        {{"gi.rsm_resolution", "int 16..2048",
+          "reflective shadow map side: one virtual point light per texel, flux per texel area"},
+         UIntField{&S::giRsmResolution, 16, 2048}},
+        {{"gi.occlusion", "bool", "geometry volume blocks light during propagation"},
+         BoolField{&S::giOcclusion}},
+        {{"gi.camera_occlusion", "bool",
+          "the geometry volume also holds what the camera's G-buffer sees (merged by max)"},
+         BoolField{&S::giCameraOcclusion}},
+        {{"gi.intensity", "float 0..1000", "scale of the indirect light (1 = physically based)"},
+         FloatField{&S::giIntensity, 0.0f, 1000.0f}},
+        {{"gi.atomics", "fixed|float",
+          "injection accumulates in 32-bit fixed point (order-independent, deterministic) or with "
+          "NV_shader_atomic_float float adds"},
+         enumField<&S::giAtomics>(kAtomicsNames)},
         {{"debug.view",
           "none|basecolor|alpha|normal|roughness|metallic|occlusion|emissive|depth|layer|overdraw|"
           "cascades|shadowmap|histogram",

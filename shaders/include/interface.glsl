@@ -26,7 +26,7 @@ layout(std140, binding = 0) uniform FrameBlock {
     mat4 uView;             // camera-relative world -> view
     vec4 uCameraPosition;   // xyz world (for reference only; shading uses camera-relative)
     vec4 uViewport;         // width, height, 1/width, 1/height
-    vec4 uAmbient;          // rgb: uniform ambient radiance (a stand-in until GI), a unused
+    vec4 uAmbient;          // rgb: uniform ambient radiance; a: GI cascades this frame (0 = GI off)
 };
 
 // Per draw.

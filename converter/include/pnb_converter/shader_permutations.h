@@ -54,7 +54,7 @@ struct MaterialFeatures {
 struct SceneShaderNeeds {
     bool shadows = false;       // a light casts shadows and some material casts them
     bool maskedCasters = false; // some shadow caster is alpha-masked
-    bool gi = false;            // render settings enable GI (no GI programs exist yet)
+    bool gi = false;            // GI: lighting with GI, G-buffer variants for forward materials
 };
 
 // A program with its stage files and the sorted defines of this permutation.

@@ -55,6 +55,9 @@ struct GpuMaterial {
     Material desc;
     std::string name;
     uint32_t program = kNone;    // index into GpuScene::programs (= the PROG chunk index)
+    // GI: the G-buffer program the reflective shadow map draws it with (the material's own if
+    // deferred; kNone for blended materials or a container without GI).
+    uint32_t rsmProgram = kNone;
     uint32_t uniformOffset = 0;  // bytes into GpuScene::materialBuffer
     bool translucent() const { return desc.alphaMode == AlphaMode::Blend; }
 };
@@ -118,6 +121,8 @@ struct GpuScene {
     // The shadow pass's programs (present when the converter found a shadow-casting light and
     // caster; lighting programs are then built with SHADOWS).
     std::optional<uint32_t> shadowProgram, shadowMaskProgram;
+    // The lighting programs were built with GI (pnb-convert --gi): gi.enabled can take effect.
+    bool giPrograms = false;
     // Their stage sources and defines, kept so the player can link a geometry-shader variant
     // when the vertex shader cannot write gl_Layer (shadows.layer_from).
     struct KeptProgram {

@@ -49,6 +49,7 @@ enum class LayerSource { Auto, Vertex, Geometry }; // shadows.layer_from
 enum class ShadowFilter { Hardware, Poisson, Pcss }; // shadows.filter
 enum class CascadeSelect { Depth, Bounds };    // shadows.select
 enum class SdsmPartition { Log, Quantile };    // shadows.sdsm_partition
+enum class GiAtomics { Fixed, Float };         // gi.atomics
 
 struct RenderSettings {
     float exposure = 1.0f;       // lighting.exposure: HDR scale before tone mapping
@@ -79,6 +80,19 @@ struct RenderSettings {
     float shadowNormalOffset = 1.0f; // texels
     float shadowSlopeBias = 1.0f;    // texels per unit of tan(angle to the light)
     SdsmPartition sdsmPartition = SdsmPartition::Log;
+
+    // gi.*: one-bounce diffuse indirect light from the sun through cascaded Light Propagation
+    // Volumes (seed 004; see settings.cpp and docs/PLAYER.md "Global illumination").
+    bool giEnabled = false;
+    uint32_t giCascades = 3;
+    uint32_t giCells = 32;
+    float giCellSize = 0.0f;      // finest cell in scene units; 0 = outer cascade fits the scene
+    uint32_t giIterations = 8;
+    uint32_t giRsmResolution = 256;
+    bool giOcclusion = true;      // geometry-volume blocking during propagation
+    bool giCameraOcclusion = true; // blocking geometry also from the camera's G-buffer
+    float giIntensity = 1.0f;
+    GiAtomics giAtomics = GiAtomics::Fixed;
 };
 
 struct SettingInfo {

@@ -1,0 +1,85 @@
+#version 450 core
+// lpv_propagate.comp — one propagation step (Kaplanyan & Dachsbacher 2010): every cell gathers
+// from its six neighbours. A neighbour's intensity, evaluated towards each of this cell's faces
+// that it sees (the far face: 0.4006696846 sr; four side faces: 0.4234313544 sr each), times that
+// solid angle, is the flux through the face; it is re-emitted from this cell's centre as a
+// clamped-cosine lobe along the face's normal (flux / pi times the lobe: same integral). Six
+// neighbours x (far + 4 sides) cover 4 pi, so without occluders the flux is kept, step to step.
+// With OCCLUSION the geometry volume, interpolated at the face the light crosses, blocks that
+// fraction of it. The step's result goes to the next source (images 0-2) and is added to the sum
+// (images 3-5). Cascades are stacked along z; a neighbour outside this cell's cascade is dark.
+layout(local_size_x = 4, local_size_y = 4, local_size_z = 4) in;
+
+layout(binding = 0) uniform sampler3D uSourceR;
+layout(binding = 1) uniform sampler3D uSourceG;
+layout(binding = 2) uniform sampler3D uSourceB;
+layout(binding = 3) uniform sampler3D uGeometryVolume; // (cells + 1)^3 per cascade, linear filter
+
+layout(rgba16f, binding = 0) writeonly uniform image3D uNextR;
+layout(rgba16f, binding = 1) writeonly uniform image3D uNextG;
+layout(rgba16f, binding = 2) writeonly uniform image3D uNextB;
+layout(rgba16f, binding = 3) uniform image3D uSumR;
+layout(rgba16f, binding = 4) uniform image3D uSumG;
+layout(rgba16f, binding = 5) uniform image3D uSumB;
+
+layout(location = 0) uniform ivec2 uGrid; // cells, cascades
+
+const float kFarFace = 0.4006696846;
+const float kSideFace = 0.4234313544;
+const float kShY0 = 0.282094792, kShY1 = 0.488602512;
+const float kLobeC0 = 0.886226925, kLobeC1 = 1.023326708;
+const float kInvPi = 0.318309886;
+
+vec4 basis(vec3 w) { return vec4(kShY0, -kShY1 * w.y, kShY1 * w.z, -kShY1 * w.x); }
+vec4 lobe(vec3 n) { return vec4(kLobeC0, -kLobeC1 * n.y, kLobeC1 * n.z, -kLobeC1 * n.x); }
+
+const ivec3 kDirections[6] = ivec3[](ivec3(1, 0, 0), ivec3(-1, 0, 0), ivec3(0, 1, 0),
+                                     ivec3(0, -1, 0), ivec3(0, 0, 1), ivec3(0, 0, -1));
+
+void main() {
+    ivec3 id = ivec3(gl_GlobalInvocationID);
+    int cells = uGrid.x;
+    if (id.x >= cells || id.y >= cells || id.z >= cells * uGrid.y) return;
+    int cascade = id.z / cells;
+    ivec3 local = ivec3(id.xy, id.z - cascade * cells);
+    vec4 sum[3] = vec4[](vec4(0.0), vec4(0.0), vec4(0.0));
+    for (int i = 0; i < 6; ++i) {
+        ivec3 d = kDirections[i]; // from the neighbour towards this cell
+        ivec3 from = local - d;
+        if (any(lessThan(from, ivec3(0))) || any(greaterThanEqual(from, ivec3(cells)))) continue;
+        ivec3 at = from + ivec3(0, 0, cascade * cells);
+        vec4 src[3] = vec4[](texelFetch(uSourceR, at, 0), texelFetch(uSourceG, at, 0),
+                             texelFetch(uSourceB, at, 0));
+        float transmit = 1.0;
+#ifdef OCCLUSION
+        // The face between the neighbour and this cell, in corner units of the geometry volume
+        // (whose texel centres are this volume's corners): texel coordinate = position + 0.5.
+        vec3 face = vec3(local) + 0.5 - 0.5 * vec3(d);
+        int corners = cells + 1;
+        vec3 uvw = (face + 0.5 + vec3(0.0, 0.0, float(cascade * corners))) /
+                   vec3(corners, corners, corners * uGrid.y);
+        vec4 blocking = textureLod(uGeometryVolume, uvw, 0.0);
+        // Surfaces facing the light's travel direction d block it: evaluate at -d.
+        transmit = 1.0 - clamp(dot(blocking, basis(-vec3(d))), 0.0, 1.0);
+#endif
+        vec3 dv = vec3(d);
+        // The far face: straight on.
+        {
+            vec4 y = basis(dv), l = lobe(dv) * (kFarFace * kInvPi * transmit);
+            for (int ch = 0; ch < 3; ++ch) sum[ch] += max(dot(src[ch], y), 0.0) * l;
+        }
+        // The four side faces: towards d + 0.5 e, re-emitted along e.
+        for (int j = 0; j < 4; ++j) {
+            ivec3 e3 = kDirections[(i / 2 * 2 + 2 + j) % 6];
+            vec3 e = vec3(e3);
+            vec4 y = basis(normalize(dv + 0.5 * e)), l = lobe(e) * (kSideFace * kInvPi * transmit);
+            for (int ch = 0; ch < 3; ++ch) sum[ch] += max(dot(src[ch], y), 0.0) * l;
+        }
+    }
+    imageStore(uNextR, id, sum[0]);
+    imageStore(uNextG, id, sum[1]);
+    imageStore(uNextB, id, sum[2]);
+    imageStore(uSumR, id, imageLoad(uSumR, id) + sum[0]);
+    imageStore(uSumG, id, imageLoad(uSumG, id) + sum[1]);
+    imageStore(uSumB, id, imageLoad(uSumB, id) + sum[2]);
+}

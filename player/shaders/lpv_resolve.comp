@@ -1,0 +1,60 @@
+#version 450 core
+// lpv_resolve.comp — the injection's accumulation buffers into the volumes' textures.
+//   RESOLVE_LIGHT     per cell: 3 x 4 SH coefficients -> the propagation source (images 0-2) and
+//                     the accumulated volume (images 3-5, iteration 0 of the sum);
+//   RESOLVE_GEOMETRY  per corner: the geometry volume seen from the light (slot 0) and from the
+//                     camera (slot 1) merged by keeping the vector with the larger band-0
+//                     coefficient (each surface counted once, not once per view that saw it).
+// Cascades are stacked along z: cascade c is slices [c * side, (c + 1) * side).
+#ifdef FLOAT_ATOMICS
+#define ACC float
+#define VALUE(x) (x)
+#else
+#define ACC int
+#define VALUE(x) (float(x) * uInverseScale)
+#endif
+layout(local_size_x = 4, local_size_y = 4, local_size_z = 4) in;
+
+layout(std430, binding = 0) readonly buffer LightAccumulation { ACC uLight[]; };
+layout(std430, binding = 1) readonly buffer GeometryAccumulation { ACC uGeometry[]; };
+
+layout(location = 0) uniform ivec3 uVolume; // side (cells or corners), stacked depth, geometry slots
+layout(location = 1) uniform float uInverseScale;
+
+#ifdef RESOLVE_LIGHT
+layout(rgba16f, binding = 0) writeonly uniform image3D uSourceR;
+layout(rgba16f, binding = 1) writeonly uniform image3D uSourceG;
+layout(rgba16f, binding = 2) writeonly uniform image3D uSourceB;
+layout(rgba16f, binding = 3) writeonly uniform image3D uSumR;
+layout(rgba16f, binding = 4) writeonly uniform image3D uSumG;
+layout(rgba16f, binding = 5) writeonly uniform image3D uSumB;
+#else
+layout(rgba16f, binding = 0) writeonly uniform image3D uGeometryVolume;
+#endif
+
+void main() {
+    ivec3 id = ivec3(gl_GlobalInvocationID);
+    int side = uVolume.x;
+    if (id.x >= side || id.y >= side || id.z >= uVolume.y) return;
+    int at = (id.z * side + id.y) * side + id.x;
+#ifdef RESOLVE_LIGHT
+    vec4 sh[3];
+    for (int ch = 0; ch < 3; ++ch)
+        for (int k = 0; k < 4; ++k) sh[ch][k] = VALUE(uLight[at * 12 + ch * 4 + k]);
+    imageStore(uSourceR, id, sh[0]);
+    imageStore(uSourceG, id, sh[1]);
+    imageStore(uSourceB, id, sh[2]);
+    imageStore(uSumR, id, sh[0]);
+    imageStore(uSumG, id, sh[1]);
+    imageStore(uSumB, id, sh[2]);
+#else
+    int slot = side * side * uVolume.y; // corners per slot
+    vec4 best = vec4(0.0);
+    for (int s = 0; s < uVolume.z; ++s) {
+        vec4 v;
+        for (int k = 0; k < 4; ++k) v[k] = VALUE(uGeometry[(s * slot + at) * 4 + k]);
+        if (v.x > best.x) best = v;
+    }
+    imageStore(uGeometryVolume, id, best);
+#endif
+}

@@ -1,0 +1,89 @@
+// gi.h — one-bounce diffuse global illumination from the sun: reflective shadow map (RSM) ->
+// injection into cascaded light propagation volumes (L1 SH per colour) and a geometry volume ->
+// propagation -> look-up in lighting (shaders/include/gi_lookup.glsl). Seed 004; Kaplanyan &
+// Dachsbacher 2010.
+//
+// Per frame, when gi.enabled and the container's lighting was built with GI:
+//   prepareGi      places the cascades (player/math/lpv_math), fits the RSM over the outer one
+//                  with the shadow code's light fitting, writes the GiBlock into the ring;
+//   runGiRsm       draws opaque and masked surfaces from the sun with their G-buffer programs
+//                  (pass_gi_rsm.cpp): base colour, normal, depth;
+//   runGiInject    RSM texels -> light and geometry accumulation buffers (pass_gi_inject.cpp);
+//   finishGi       the camera's G-buffer -> geometry (gi.camera_occlusion), resolve the buffers
+//                  into volumes, propagate (pass_gi_propagate.cpp). Runs after the first deferred
+//                  layer's G-buffer is drawn, or straight away when nothing deferred is visible.
+// Nothing of this exists while GI is off: no program, texture or buffer.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "lpv_math.h"
+#include "pnb_player/gl_handles.h"
+#include "pnb_player/renderer.h"
+#include "shadow_fit.h"
+
+namespace pnb::player {
+
+struct FrameContext;
+
+constexpr uint32_t kMaxGiCascades = 4;
+
+// std140 GiBlock (shaders/include/gi_lookup.glsl).
+struct GiBlock {
+    glm::vec4 cascade[kMaxGiCascades]; // camera-relative minimum corner, cell size
+    glm::vec4 grid;                    // cells, cascades, outer cascade fades, 0
+    glm::vec4 irradiance;              // sun irradiance rgb x gi.intensity
+};
+
+struct GiResources {
+    uint32_t cells = 0, cascades = 0, rsmResolution = 0;
+    bool floatAtomics = false;
+    // RSM: RT0 base colour (sRGB), RT1 normal + material (as the G-buffer), depth.
+    GlHandle rsmColor, rsmNormal, rsmDepth, rsmFb;
+    // Volumes, cascades stacked along z (cells x cells x cells*cascades), RGBA16F per colour:
+    // two propagation buffers and the sum the look-up reads. Geometry: (cells+1)^3 per cascade.
+    std::array<GlHandle, 3> source, next, sum;
+    GlHandle geometry;
+    GlHandle lightAccumulation, geometryAccumulation; // injection's atomic buffers
+    GlHandle injectRsm, injectCamera, resolveLight, resolveGeometry, propagate, propagateOccluded;
+    uint64_t bytes = 0;
+
+    PlayResult<Done> ensure(uint32_t cells, uint32_t cascades, uint32_t rsmResolution, bool floatAtomics);
+};
+
+// This frame's GI state (prepareGi).
+struct GiFrame {
+    bool active = false;
+    bool pending = false; // finishGi still to run this frame
+    std::vector<LpvCascade> cascades;
+    ShadowFit rsm;             // camera-relative world -> RSM clip
+    double rsmTexelArea = 0;   // perpendicular world area of one RSM texel
+    glm::dvec3 toward{0, 1, 0}; // toward the sun
+    std::vector<uint32_t> rsmItems;
+    std::vector<size_t> rsmObjectOffsets;
+    size_t rsmFrameOffset = 0, blockOffset = 0;
+    float lightScale = 0, geometryScale = 0; // fixed-point units per 1.0
+};
+
+struct GiContext {
+    GiResources resources;
+    GiFrame frame;
+};
+
+void prepareGi(FrameContext& ctx);                 // gi_setup.cpp
+void runGiRsm(FrameContext& ctx);                  // pass_gi_rsm.cpp
+void runGiInject(FrameContext& ctx);               // pass_gi_inject.cpp: RSM texels
+void runGiCameraGeometry(FrameContext& ctx);       // pass_gi_inject.cpp: G-buffer surfels
+void runGiResolve(FrameContext& ctx, bool cameraGeometry); // pass_gi_inject.cpp: -> volumes
+void runGiPropagate(FrameContext& ctx);            // pass_gi_propagate.cpp
+// The rest of the frame's GI once the camera's G-buffer is there (or will not be): camera
+// geometry, resolve, propagation. Runs once per frame (clears GiFrame::pending).
+void finishGi(FrameContext& ctx);
+// Binds the GiBlock (binding 6) and the summed volumes (units 10-12) for lighting.
+void bindGiForLighting(FrameContext& ctx);
+
+} // namespace pnb::player

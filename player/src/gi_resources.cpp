@@ -1,0 +1,105 @@
+// GI's GPU objects, created for the current gi.* sizes and dropped with GI (gi.h).
+#include <string_view>
+
+#include "gi.h"
+#include "program_compile.h"
+
+namespace pnb::player {
+
+namespace {
+
+GlHandle texture2d(GLenum format, uint32_t size, const char* label) {
+    GlHandle t = createTexture(GL_TEXTURE_2D);
+    glTextureStorage2D(t.id(), 1, format, GLsizei(size), GLsizei(size));
+    glTextureParameteri(t.id(), GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+    glTextureParameteri(t.id(), GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+    glTextureParameteri(t.id(), GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+    glTextureParameteri(t.id(), GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+    glObjectLabel(GL_TEXTURE, t.id(), -1, label);
+    return t;
+}
+
+// Linear filtering: the look-up is trilinear and propagation interpolates the geometry volume.
+GlHandle volume(uint32_t side, uint32_t depth, const char* label) {
+    GlHandle t = createTexture(GL_TEXTURE_3D);
+    glTextureStorage3D(t.id(), 1, GL_RGBA16F, GLsizei(side), GLsizei(side), GLsizei(depth));
+    glTextureParameteri(t.id(), GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+    glTextureParameteri(t.id(), GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+    for (GLenum wrap : {GL_TEXTURE_WRAP_S, GL_TEXTURE_WRAP_T, GL_TEXTURE_WRAP_R})
+        glTextureParameteri(t.id(), wrap, GL_CLAMP_TO_EDGE);
+    glObjectLabel(GL_TEXTURE, t.id(), -1, label);
+    return t;
+}
+
+GlHandle storage(uint64_t bytes, const char* label) {
+    GlHandle b = createBuffer();
+    glNamedBufferStorage(b.id(), GLsizeiptr(bytes), nullptr, GL_DYNAMIC_STORAGE_BIT);
+    glObjectLabel(GL_BUFFER, b.id(), -1, label);
+    return b;
+}
+
+} // namespace
+
+PlayResult<Done> GiResources::ensure(uint32_t cellCount, uint32_t cascadeCount, uint32_t rsm,
+                                     bool useFloatAtomics) {
+    if (useFloatAtomics != floatAtomics || !injectRsm) {
+        floatAtomics = useFloatAtomics;
+        std::vector<std::string_view> common;
+        if (floatAtomics) common.push_back("FLOAT_ATOMICS");
+        struct Stage {
+            GlHandle* program;
+            const char* file;
+            std::string_view define;
+        } stages[] = {{&injectRsm, "lpv_inject.comp", "SOURCE_RSM"},
+                      {&injectCamera, "lpv_inject.comp", "SOURCE_CAMERA"},
+                      {&resolveLight, "lpv_resolve.comp", "RESOLVE_LIGHT"},
+                      {&resolveGeometry, "lpv_resolve.comp", "RESOLVE_GEOMETRY"},
+                      {&propagate, "lpv_propagate.comp", "PLAIN"},
+                      {&propagateOccluded, "lpv_propagate.comp", "OCCLUSION"}};
+        for (Stage& st : stages) {
+            std::vector<std::string_view> defines = common;
+            defines.push_back(st.define);
+            auto p = compileEmbeddedCompute(st.file, defines);
+            if (!p) return p.error();
+            *st.program = std::move(*p);
+        }
+    }
+    if (rsm != rsmResolution) {
+        rsmResolution = rsm;
+        rsmColor = texture2d(GL_SRGB8_ALPHA8, rsm, "rsm base colour");
+        rsmNormal = texture2d(GL_RGBA16, rsm, "rsm normal+material");
+        rsmDepth = texture2d(GL_DEPTH_COMPONENT32F, rsm, "rsm depth");
+        rsmFb = createFramebuffer();
+        glNamedFramebufferTexture(rsmFb.id(), GL_COLOR_ATTACHMENT0, rsmColor.id(), 0);
+        glNamedFramebufferTexture(rsmFb.id(), GL_COLOR_ATTACHMENT1, rsmNormal.id(), 0);
+        glNamedFramebufferTexture(rsmFb.id(), GL_DEPTH_ATTACHMENT, rsmDepth.id(), 0);
+        // gbuffer.frag's third output (emissive) has no attachment: discarded.
+        const GLenum buffers[3] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1, GL_NONE};
+        glNamedFramebufferDrawBuffers(rsmFb.id(), 3, buffers);
+    }
+    if (cellCount != cells || cascadeCount != cascades) {
+        cells = cellCount;
+        cascades = cascadeCount;
+        const uint32_t depth = cells * cascades, corners = cells + 1;
+        const char* names[3][3] = {{"lpv source r", "lpv source g", "lpv source b"},
+                                   {"lpv next r", "lpv next g", "lpv next b"},
+                                   {"lpv sum r", "lpv sum g", "lpv sum b"}};
+        for (int ch = 0; ch < 3; ++ch) {
+            source[size_t(ch)] = volume(cells, depth, names[0][ch]);
+            next[size_t(ch)] = volume(cells, depth, names[1][ch]);
+            sum[size_t(ch)] = volume(cells, depth, names[2][ch]);
+        }
+        geometry = volume(corners, corners * cascades, "lpv geometry");
+        uint64_t cellsTotal = uint64_t(cells) * cells * depth;
+        uint64_t cornersTotal = uint64_t(corners) * corners * corners * cascades;
+        lightAccumulation = storage(cellsTotal * 12 * 4, "lpv light accumulation");
+        geometryAccumulation = storage(cornersTotal * 2 * 4 * 4, "lpv geometry accumulation");
+    }
+    const uint64_t cellsTotal = uint64_t(cells) * cells * cells * cascades;
+    const uint64_t cornersTotal = uint64_t(cells + 1) * (cells + 1) * (cells + 1) * cascades;
+    bytes = uint64_t(rsmResolution) * rsmResolution * (4 + 8 + 4) + cellsTotal * 9 * 8 +
+            cornersTotal * 8 + cellsTotal * 12 * 4 + cornersTotal * 2 * 4 * 4;
+    return Done{};
+}
+
+} // namespace pnb::player

@@ -1,0 +1,137 @@
+// GI's per-frame set-up: the cascades, the RSM's fit, what it draws, the GiBlock (gi.h).
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+
+#include <glm/gtc/matrix_transform.hpp>
+
+#include "frame_context.h"
+
+namespace pnb::player {
+
+namespace {
+
+// The sun GI bounces: the shadowing light, else the first directional light; -1 if none.
+int giLight(const GpuScene& scene, const ShadowContext& shadows) {
+    if (shadows.light >= 0) return shadows.light;
+    for (size_t i = 0; i < scene.lights.size(); ++i)
+        if (scene.lights[i].desc.type == LightType::Directional) return int(i);
+    return -1;
+}
+
+// A power of two of fixed-point units per 1.0 such that `largest` stays below 2^29 (headroom
+// for a few of them in one cell), at most 2^27.
+float fixedScale(double largest) {
+    double e = std::floor(std::log2(std::ldexp(1.0, 29) / std::max(largest, 1e-30)));
+    return float(std::ldexp(1.0, int(std::clamp(e, 0.0, 27.0))));
+}
+
+} // namespace
+
+void prepareGi(FrameContext& ctx) {
+    GiContext& gi = ctx.gi;
+    GiFrame& f = gi.frame;
+    const RenderSettings& s = ctx.settings;
+    const GpuScene& scene = ctx.scene;
+    f.active = f.pending = false;
+    f.cascades.clear();
+    f.rsmItems.clear();
+    f.rsmObjectOffsets.clear();
+    int sun = giLight(scene, ctx.shadows);
+    if (s.giEnabled && scene.giPrograms && sun >= 0) {
+        glm::dvec3 forward = -glm::dvec3(ctx.view.view[0][2], ctx.view.view[1][2], ctx.view.view[2][2]);
+        f.cascades = placeCascades(std::min(s.giCascades, kMaxGiCascades), s.giCells, s.giCellSize,
+                                   ctx.shadows.sceneMin, ctx.shadows.sceneMax, ctx.view.position, forward);
+    }
+    if (f.cascades.empty()) {
+        gi.resources = GiResources{}; // GI off: nothing allocated, nothing compiled
+        return;
+    }
+    auto ok = gi.resources.ensure(s.giCells, uint32_t(f.cascades.size()), s.giRsmResolution,
+                                  s.giAtomics == GiAtomics::Float);
+    if (!ok) {
+        std::fprintf(stderr, "pnb-play: GI off: %s\n", ok.error().message.c_str());
+        gi.resources = GiResources{};
+        f.cascades.clear();
+        return;
+    }
+    f.active = true;
+    const SceneLight& light = scene.lights[size_t(sun)];
+    f.toward = -glm::normalize(glm::dvec3(light.direction));
+    const glm::dvec3 cam = ctx.view.position;
+
+    // The RSM covers the outer cascade's part of the scene, as a square in light space whose
+    // centre is snapped to whole texels in absolute light space (it does not swim while the
+    // cascade stays put); toward the light it reaches the scene's top (occluders above).
+    const LpvCascade& outer = f.cascades.back();
+    glm::dvec3 lo = glm::max(outer.origin, ctx.shadows.sceneMin), hi = glm::min(outer.max(), ctx.shadows.sceneMax);
+    lo = glm::min(lo, hi);
+    glm::dmat3 rotation = lightRotation(-f.toward);
+    glm::dvec3 llo(std::numeric_limits<double>::infinity()), lhi(-std::numeric_limits<double>::infinity());
+    for (int c = 0; c < 8; ++c) {
+        glm::dvec3 p{(c & 1) ? hi.x : lo.x, (c & 2) ? hi.y : lo.y, (c & 4) ? hi.z : lo.z};
+        glm::dvec3 l = rotation * (p - cam);
+        llo = glm::min(llo, l);
+        lhi = glm::max(lhi, l);
+    }
+    const uint32_t res = s.giRsmResolution;
+    double side = std::max(lhi.x - llo.x, lhi.y - llo.y);
+    side = std::max(side, 1e-9 * outer.cellSize * outer.cells);
+    double texel = side / double(res);
+    side = texel * double(res + 2); // a texel of margin each side for the snap
+    glm::dvec2 camLight = glm::dvec2(rotation * cam);
+    glm::dvec2 centre = glm::floor((0.5 * glm::dvec2(llo + lhi) + camLight) / texel + 0.5) * texel - camLight;
+    FitBox sceneBox{ctx.shadows.sceneMin - cam, ctx.shadows.sceneMax - cam};
+    f.rsm = fitLightRectangle(rotation, centre - 0.5 * side, centre + 0.5 * side, llo.z, sceneBox, res);
+    f.rsmTexelArea = (side / res) * (side / res);
+
+    // What the RSM draws: opaque and masked items whose bounds reach its rectangle.
+    glm::dmat4 toCamera = glm::translate(glm::dmat4(1.0), -cam);
+    for (uint32_t i = 0; i < scene.items.size(); ++i) {
+        const DrawItem& item = scene.items[i];
+        if (scene.materials[item.material].rsmProgram == kNone) continue;
+        glm::dvec2 ilo(std::numeric_limits<double>::infinity()), ihi(-std::numeric_limits<double>::infinity());
+        for (int c = 0; c < 8; ++c) {
+            glm::dvec3 p{(c & 1) ? item.boundsMax.x : item.boundsMin.x, (c & 2) ? item.boundsMax.y : item.boundsMin.y,
+                         (c & 4) ? item.boundsMax.z : item.boundsMin.z};
+            glm::dvec2 l = glm::dvec2(rotation * (p - cam));
+            ilo = glm::min(ilo, l);
+            ihi = glm::max(ihi, l);
+        }
+        glm::dvec2 rlo = centre - 0.5 * side, rhi = centre + 0.5 * side;
+        if (ihi.x < rlo.x || ilo.x > rhi.x || ihi.y < rlo.y || ilo.y > rhi.y) continue;
+        f.rsmItems.push_back(i);
+        f.rsmObjectOffsets.push_back(pushObjectBlock(scene, item, toCamera, ctx.ring, 0.0f));
+    }
+    FrameBlock rsmFrame{};
+    rsmFrame.viewProjection = glm::mat4(f.rsm.matrix);
+    rsmFrame.view = glm::mat4(1.0f);
+    rsmFrame.cameraPosition = glm::vec4(glm::vec3(cam), 1);
+    rsmFrame.viewport = {float(res), float(res), 1.0f / float(res), 1.0f / float(res)};
+    f.rsmFrameOffset = ctx.ring.push(&rsmFrame, sizeof rsmFrame);
+
+    // Fixed point: the largest value one texel adds is its area over the finest cell's face
+    // (times the lobe's 1/pi * c0 < 1), a cell sums a few of them.
+    double finest = f.cascades.front().cellSize;
+    f.lightScale = fixedScale(4.0 * std::max(1.0, f.rsmTexelArea / (finest * finest)));
+    f.geometryScale = float(1 << 20); // blocking surfels are clamped to 1 each
+
+    GiBlock block{};
+    for (size_t c = 0; c < f.cascades.size(); ++c)
+        block.cascade[c] = glm::vec4(glm::vec3(f.cascades[c].origin - cam), float(f.cascades[c].cellSize));
+    block.grid = {float(s.giCells), float(f.cascades.size()), s.giCellSize > 0 ? 1.0f : 0.0f, 0.0f};
+    glm::vec3 irradiance = glm::vec3(light.desc.color.x, light.desc.color.y, light.desc.color.z) *
+                           (light.desc.intensity * s.giIntensity);
+    block.irradiance = glm::vec4(irradiance, 0);
+    f.blockOffset = ctx.ring.push(&block, sizeof block);
+}
+
+void bindGiForLighting(FrameContext& ctx) {
+    const GiFrame& f = ctx.gi.frame;
+    if (!f.active) return;
+    glBindBufferRange(GL_UNIFORM_BUFFER, 6, ctx.ring.buffer(), GLintptr(f.blockOffset), sizeof(GiBlock));
+    for (GLuint ch = 0; ch < 3; ++ch) glBindTextureUnit(10 + ch, ctx.gi.resources.sum[ch].id());
+}
+
+} // namespace pnb::player
