@@ -32,6 +32,12 @@ void main() {
     float metallic = floor(packedBits / 256.0) / 255.0;
     float occlusion = mod(packedBits, 256.0) / 255.0;
     vec3 v = normalize(-position);
+#ifdef GI
+    if (giCaptureIrradiance()) { // CaptureBuffer::Indirect: the irradiance GI adds, per pixel
+        outColor = vec4(giIrradiance(position, n), 1.0);
+        return;
+    }
+#endif
     // Occlusion darkens indirect light only (glTF's definition): the ambient term and GI.
     vec3 indirect = uAmbient.rgb * base.rgb;
 #ifdef GI

@@ -12,6 +12,12 @@ layout(location = 0) out vec4 outColor;
 void main() {
     Surface s = evaluateSurface(surfaceInput());
     vec3 v = normalize(-vPosition); // camera at the origin of camera-relative space
+#ifdef GI
+    if (giCaptureIrradiance()) { // CaptureBuffer::Indirect: the irradiance GI adds, per pixel
+        outColor = vec4(giIrradiance(vPosition, s.normal), 1.0);
+        return;
+    }
+#endif
     vec3 color = shadeLights(s.baseColor, s.metallic, s.roughness, s.normal, vPosition, v);
     // Occlusion darkens indirect light only (glTF's definition): the ambient term and GI.
     vec3 indirect = uAmbient.rgb * s.baseColor;

@@ -1,4 +1,5 @@
 // Reading the frame's buffers back exactly (for screenshots, dumps and tests).
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -76,21 +77,41 @@ PlayResult<CapturedImage> Renderer::capture(CaptureBuffer buffer) {
         }
         break;
     }
-    case CaptureBuffer::Shadow: {
-        // Lighting writes visibility, cascade and texel ratio instead of radiance for one frame
-        // of the same view; then the frame is rendered again so the output is the image again.
+    case CaptureBuffer::Shadow:
+    case CaptureBuffer::Indirect: {
+        // Lighting writes visibility, cascade and texel ratio (or indirect irradiance) instead
+        // of radiance for one frame of the same view; then the frame is rendered again so the
+        // output is the image again.
         img.channels = 4;
         Impl& impl = *mImpl;
         FrameStats stats = mStats;
-        impl.capturing = impl.shadows.capture = true;
+        bool& mode = buffer == CaptureBuffer::Shadow ? impl.shadows.capture : impl.gi.capture;
+        impl.capturing = mode = true;
         auto r = render(impl.lastCamera, t.width, t.height);
         if (r) img.f32 = readFloats(t.hdr.id(), GL_RGBA, 4, t.width, t.height);
-        impl.shadows.capture = false;
+        if (buffer == CaptureBuffer::Indirect && !impl.gi.frame.active) std::fill(img.f32.begin(), img.f32.end(), 0.0f);
+        mode = false;
         if (r) r = render(impl.lastCamera, t.width, t.height);
         impl.capturing = false;
         impl.frame -= 2;
         mStats = stats;
         if (!r) return r.error();
+        break;
+    }
+    case CaptureBuffer::GiVolume: {
+        const GiResources& gi = mImpl->gi.resources;
+        img.channels = 12;
+        img.width = img.height = 0;
+        if (!mImpl->gi.frame.active) break;
+        img.width = gi.cells;
+        img.height = gi.cells * gi.cells * gi.cascades;
+        size_t count = size_t(img.width) * img.height;
+        img.f32.resize(count * 12);
+        for (size_t ch = 0; ch < 3; ++ch) {
+            std::vector<float> v = readFloats(gi.sum[ch].id(), GL_RGBA, 4, img.width, img.height);
+            for (size_t i = 0; i < count; ++i)
+                for (size_t k = 0; k < 4; ++k) img.f32[i * 12 + ch * 4 + k] = v[i * 4 + k];
+        }
         break;
     }
     case CaptureBuffer::Normal: {

@@ -72,6 +72,8 @@ struct GiFrame {
 struct GiContext {
     GiResources resources;
     GiFrame frame;
+    bool capture = false; // lighting writes indirect irradiance (CaptureBuffer::Indirect)
+    bool warned = false;  // "gi.enabled, but ..." said once
 };
 
 void prepareGi(FrameContext& ctx);                 // gi_setup.cpp

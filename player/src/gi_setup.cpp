@@ -39,6 +39,12 @@ void prepareGi(FrameContext& ctx) {
     f.rsmItems.clear();
     f.rsmObjectOffsets.clear();
     int sun = giLight(scene, ctx.shadows);
+    if (s.giEnabled && (!scene.giPrograms || sun < 0) && !gi.warned) {
+        gi.warned = true;
+        std::fprintf(stderr, "pnb-play: gi.enabled, but %s: no indirect light\n",
+                     !scene.giPrograms ? "the container's lighting has no GI (convert with pnb-convert --gi)"
+                                       : "the scene has no directional light");
+    }
     if (s.giEnabled && scene.giPrograms && sun >= 0) {
         glm::dvec3 forward = -glm::dvec3(ctx.view.view[0][2], ctx.view.view[1][2], ctx.view.view[2][2]);
         f.cascades = placeCascades(std::min(s.giCascades, kMaxGiCascades), s.giCells, s.giCellSize,
@@ -120,7 +126,8 @@ void prepareGi(FrameContext& ctx) {
     GiBlock block{};
     for (size_t c = 0; c < f.cascades.size(); ++c)
         block.cascade[c] = glm::vec4(glm::vec3(f.cascades[c].origin - cam), float(f.cascades[c].cellSize));
-    block.grid = {float(s.giCells), float(f.cascades.size()), s.giCellSize > 0 ? 1.0f : 0.0f, 0.0f};
+    block.grid = {float(s.giCells), float(f.cascades.size()), s.giCellSize > 0 ? 1.0f : 0.0f,
+                  gi.capture ? 1.0f : 0.0f};
     glm::vec3 irradiance = glm::vec3(light.desc.color.x, light.desc.color.y, light.desc.color.z) *
                            (light.desc.intensity * s.giIntensity);
     block.irradiance = glm::vec4(irradiance, 0);

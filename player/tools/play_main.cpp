@@ -43,7 +43,8 @@ Run:
   --dump KIND[,KIND...]   save exact buffers of frame --frame into --out as EXR/PNG:
                           color, hdr, depth, lineardepth, normal, position (camera-relative),
                           shadow (sun visibility, cascade, texel/pixel ratio; with position
-                          or shadow, frameK_frame.json holds the camera and light)
+                          or shadow, frameK_frame.json holds the camera and light),
+                          indirect (the irradiance GI adds, rgb; 0 with GI off)
   --frame K               frame for --screenshot and --dump (default 0)
   --no-plot               do not call the plot script
   --shadow-metrics N      with --bench: replay every N-th frame (and the view 1/60 s later) and compare
@@ -174,14 +175,15 @@ PlayResult<CaptureRequest> dumpRequest(const std::string& kind, const Args& a) {
                                  {"lineardepth", CaptureBuffer::LinearDepth, "exr"},
                                  {"normal", CaptureBuffer::Normal, "exr"},
                                  {"position", CaptureBuffer::Position, "exr"},
-                                 {"shadow", CaptureBuffer::Shadow, "exr"}};
+                                 {"shadow", CaptureBuffer::Shadow, "exr"},
+                                 {"indirect", CaptureBuffer::Indirect, "exr"}};
     for (const Kind& k : kinds)
         if (kind == k.name)
             return CaptureRequest{k.buffer, a.frame,
                                   a.outDir + "/frame" + std::to_string(a.frame) + "_" + k.name + "." + k.ext};
     return PlayError{PlayErrorKind::Usage,
                      "--dump: unknown buffer '" + kind +
-                         "' (color, hdr, depth, lineardepth, normal, position, shadow)"};
+                         "' (color, hdr, depth, lineardepth, normal, position, shadow, indirect)"};
 }
 
 } // namespace

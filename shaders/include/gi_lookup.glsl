@@ -10,7 +10,8 @@
 
 layout(std140, binding = 6) uniform GiBlock {
     vec4 uGiCascade[4];   // camera-relative minimum corner, cell size
-    vec4 uGiGrid;         // cells, cascades, 1 if the outer cascade fades out at its border, 0
+    vec4 uGiGrid;         // cells, cascades, 1 if the outer cascade fades out at its border,
+                          // 1 if lighting writes the indirect irradiance instead of radiance
     vec4 uGiIrradiance;   // sun irradiance (rgb, lux or W/m^2) times gi.intensity
 };
 layout(binding = 10) uniform sampler3D uGiR;
@@ -26,6 +27,8 @@ vec3 giSample(int c, vec3 q, vec4 lobe) {
                 dot(textureLod(uGiB, uvw, 0.0), lobe));
 }
 
+bool giCaptureIrradiance() { return uAmbient.a > 0.0 && uGiGrid.w > 0.5; }
+
 // Irradiance at camera-relative p with unit normal n. Read half a cell in front of the surface
 // (where injection put its light), from the finest cascade that holds the point, blended over
 // two cells into the next coarser one near its border.
@@ -36,15 +39,16 @@ vec3 giIrradiance(vec3 p, vec3 n) {
     float cells = uGiGrid.x;
     vec3 result = vec3(0.0);
     float remaining = 1.0; // weight not yet taken by a finer cascade
-    for (int c = 0; c < cascades && remaining > 0.0; ++c) {
-        float s = uGiCascade[c].w;
-        vec3 q = (p - uGiCascade[c].xyz) / s + 0.5 * n;
+    for (int c = 0; c < cascades; ++c) {
+        vec4 cascade = uGiCascade[c];
+        vec3 q = (p - cascade.xyz) / cascade.w + 0.5 * n;
         float inside = min(min(min(q.x, q.y), q.z), min(min(cells - q.x, cells - q.y), cells - q.z));
-        if (inside <= 0.5) continue;
         bool outer = c == cascades - 1;
         float w = (outer && uGiGrid.z < 0.5) ? 1.0 : clamp((inside - 0.5) * 0.5, 0.0, 1.0);
-        result += remaining * w * giSample(c, q, lobe);
-        remaining *= 1.0 - w;
+        if (inside > 0.5 && remaining > 0.0) {
+            result += remaining * w * giSample(c, q, lobe);
+            remaining *= 1.0 - w;
+        }
     }
     return max(result, vec3(0.0)) * uGiIrradiance.rgb;
 }

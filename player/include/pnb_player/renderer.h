@@ -69,6 +69,12 @@ enum class CaptureBuffer {
     Shadow, // re-renders the last frame's view with lighting writing, per pixel: sun visibility
             // (1 lit .. 0 shadowed; -1 unclassified: no geometry or facing away), cascade index
             // (-1 none) and shadow-texel / screen-pixel world size; 4 floats (alpha 1)
+    Indirect, // re-renders the last frame's view with lighting writing the irradiance GI adds
+              // (rgb, lux like the sun's intensity; 0 without GI or geometry); 4 floats
+    GiVolume, // the summed light volume GI's look-up reads: width = cells, height =
+              // cells * cells * cascades (x fastest, then y, then z; cascades stacked along z),
+              // 12 floats per cell (R, G, B x 4 SH coefficients, radiance / sun irradiance);
+              // empty (0 x 0) while GI is off
 };
 
 struct CapturedImage {
