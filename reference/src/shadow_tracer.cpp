@@ -6,6 +6,8 @@
 #include "pnb_reference/shadow_tracer.h"
 
 #include "pnb/node_transform.h"
+#include "mesh_decode.h"
+#include "self_intersection.h"
 
 #include <algorithm>
 #include <atomic>
@@ -31,6 +33,12 @@
 #include <glm/mat4x4.hpp>
 
 namespace pnb::reference {
+
+using detail::meshName;
+using detail::nodeName;
+using detail::readIndex;
+using detail::rejectOwnSurface;
+using detail::TraceContext;
 
 namespace {
 
@@ -68,111 +76,6 @@ using Clock = std::chrono::steady_clock;
 
 TracerError inputError(std::string message) { return {TracerErrorKind::Input, std::move(message)}; }
 
-// The string `ref` names, or "" (also for a reference past the table: names are only decoration).
-std::string nameOf(const Scene& scene, StringRef ref) {
-    return ref < scene.strings.strings.size() ? std::string(scene.strings.strings[ref]) : "";
-}
-
-std::string meshName(const Scene& scene, uint32_t mesh) {
-    std::string name = nameOf(scene, scene.meshes[mesh].name);
-    return "mesh " + std::to_string(mesh) + (name.empty() ? "" : " '" + name + "'");
-}
-
-std::string nodeName(const Scene& scene, uint32_t node) {
-    std::string name = nameOf(scene, scene.nodes.nodes[node].name);
-    return "node " + std::to_string(node) + (name.empty() ? "" : " '" + name + "'");
-}
-
-template <class T> T load(const std::byte* p) {
-    T v;
-    std::memcpy(&v, p, sizeof(T));
-    return v;
-}
-
-// One stored component as the GPU's vertex fetch reads it (OpenGL 4.5 §10.3.7 / §2.3.5.1):
-// normalised unsigned c / (2^b - 1), normalised signed max(c / (2^(b-1) - 1), -1).
-double readComponent(const std::byte* p, ComponentType type, bool normalized) {
-    switch (type) {
-    case ComponentType::F32: return load<float>(p);
-    case ComponentType::F16: return glm::unpackHalf1x16(load<uint16_t>(p));
-    case ComponentType::I8: {
-        double c = load<int8_t>(p);
-        return normalized ? std::max(c / 127.0, -1.0) : c;
-    }
-    case ComponentType::U8: {
-        double c = load<uint8_t>(p);
-        return normalized ? c / 255.0 : c;
-    }
-    case ComponentType::I16: {
-        double c = load<int16_t>(p);
-        return normalized ? std::max(c / 32767.0, -1.0) : c;
-    }
-    case ComponentType::U16: {
-        double c = load<uint16_t>(p);
-        return normalized ? c / 65535.0 : c;
-    }
-    case ComponentType::I32: {
-        double c = load<int32_t>(p);
-        return normalized ? std::max(c / 2147483647.0, -1.0) : c;
-    }
-    case ComponentType::U32: {
-        double c = load<uint32_t>(p);
-        return normalized ? c / 4294967295.0 : c;
-    }
-    case ComponentType::Count: break;
-    }
-    return 0.0;
-}
-
-// Mesh-space positions: value = stored (normalised if so flagged) * dequantScale + dequantOffset,
-// as FORMAT.md §4.3 specifies and the player's vertex shader applies (F32 Plain streams have scale
-// 1, offset 0). Missing components (componentCount < 3) read as 0, as GL's vertex fetch does.
-TracerResult<std::vector<glm::dvec3>> decodePositions(const Scene& scene, uint32_t meshIndex) {
-    const Mesh& mesh = scene.meshes[meshIndex];
-    const VertexStream* stream = nullptr;
-    for (const VertexStream& s : mesh.streams)
-        if (s.semantic == VertexSemantic::Position) {
-            stream = &s;
-            break;
-        }
-    if (!stream)
-        return inputError(meshName(scene, meshIndex) + " has casting triangles but no position stream");
-    const VertexStream& s = *stream;
-    if (s.encoding != VertexEncoding::Plain)
-        return TracerError{TracerErrorKind::Unsupported,
-                           meshName(scene, meshIndex) +
-                               ": the position stream is octahedral-encoded (a unit-vector "
-                               "encoding); positions must be Plain"};
-    if (s.componentType >= ComponentType::Count || s.componentCount < 1 || s.componentCount > 4)
-        return inputError(meshName(scene, meshIndex) + ": position stream has an invalid layout");
-    const uint64_t elementBytes = uint64_t(componentSizeBytes(s.componentType)) * s.componentCount;
-    if (s.data.size() != elementBytes * mesh.vertexCount)
-        return inputError(meshName(scene, meshIndex) + ": position stream holds " +
-                          std::to_string(s.data.size()) + " bytes, expected " +
-                          std::to_string(elementBytes * mesh.vertexCount) + " (vertexCount " +
-                          std::to_string(mesh.vertexCount) + ")");
-    const double scale[3] = {s.dequantScale.x, s.dequantScale.y, s.dequantScale.z};
-    const double offset[3] = {s.dequantOffset.x, s.dequantOffset.y, s.dequantOffset.z};
-    const uint32_t componentBytes = componentSizeBytes(s.componentType);
-    std::vector<glm::dvec3> out(mesh.vertexCount);
-    for (uint32_t v = 0; v < mesh.vertexCount; ++v) {
-        const std::byte* element = s.data.data() + uint64_t(v) * elementBytes;
-        for (uint32_t c = 0; c < 3; ++c) {
-            double stored = c < s.componentCount
-                                ? readComponent(element + c * componentBytes, s.componentType,
-                                                s.normalized)
-                                : 0.0;
-            out[v][int(c)] = stored * scale[c] + offset[c];
-        }
-    }
-    return out;
-}
-
-uint32_t readIndex(const Mesh& mesh, uint64_t k) {
-    if (mesh.indexType == IndexType::U16) return load<uint16_t>(mesh.indices.data() + k * 2);
-    return load<uint32_t>(mesh.indices.data() + k * 4);
-}
-
 // Sets flush-to-zero and denormals-are-zero for the lifetime of the guard (Embree's advice for
 // traversal speed), restoring the caller's MXCSR afterwards.
 class DenormalGuard {
@@ -188,42 +91,6 @@ private:
     unsigned int mSaved;
 #endif
 };
-
-// The intersect context of one visibility() call: Embree hands it to the filter below.
-struct TraceContext {
-    RTCIntersectContext embree; // first: Embree sees a pointer to this member
-    glm::dvec3 eye{0.0};        // origin-relative camera the query points were reconstructed for
-    double fixedBand = 0;       // the bands common to every hit of the call: kVertexRelativeError
-                                // x |eye| + kWorldRelativeError x the largest world magnitude
-};
-
-// Occlusion filter: rejects a hit on the query point's own surface. The point lies on the hit
-// triangle (up to the errors of both) when its distance to the triangle's plane, t |dir . Ng| /
-// |Ng|, is within the point's error band plus the triangle's; then the hit is the surface the
-// point was taken from (or one meeting it there, as a wall meets the ground), not an occluder.
-// Everything is relative to magnitudes of the scene, so the test is invariant to the unit.
-void rejectOwnSurface(const RTCFilterFunctionNArguments* args) {
-    const auto& context = *reinterpret_cast<const TraceContext*>(args->context);
-    const auto& tolerance = *static_cast<const std::vector<float>*>(args->geometryUserPtr);
-    for (unsigned i = 0; i < args->N; ++i) {
-        if (args->valid[i] != -1) continue;
-        RTCRayN* ray = args->ray;
-        RTCHitN* hit = args->hit;
-        const glm::dvec3 org(RTCRayN_org_x(ray, args->N, i), RTCRayN_org_y(ray, args->N, i),
-                             RTCRayN_org_z(ray, args->N, i));
-        const glm::dvec3 dir(RTCRayN_dir_x(ray, args->N, i), RTCRayN_dir_y(ray, args->N, i),
-                             RTCRayN_dir_z(ray, args->N, i));
-        const glm::dvec3 ng(RTCHitN_Ng_x(hit, args->N, i), RTCHitN_Ng_y(hit, args->N, i),
-                            RTCHitN_Ng_z(hit, args->N, i));
-        const double t = RTCRayN_tfar(ray, args->N, i); // the candidate hit's distance
-        const double ngLength = glm::length(ng);
-        const double distanceToPlane =
-            ngLength > 0 ? t * std::fabs(glm::dot(dir, ng)) / (ngLength * glm::length(dir)) : 0.0;
-        const double band = kPointRelativeError * glm::length(org - context.eye) +
-                            double(tolerance[RTCHitN_primID(hit, args->N, i)]) + context.fixedBand;
-        if (distanceToPlane <= band) args->valid[i] = 0;
-    }
-}
 
 } // namespace
 
@@ -318,9 +185,10 @@ TracerResult<std::unique_ptr<ShadowTracer>> ShadowTracer::build(const Scene& sce
         if (triangleIndices.empty()) continue;
 
         if (!isDecoded[n.mesh]) {
-            auto positions = decodePositions(scene, n.mesh);
+            auto positions = detail::decodeStream(scene, n.mesh, VertexSemantic::Position, true);
             if (!positions) return positions.error();
-            decoded[n.mesh] = std::move(*positions);
+            decoded[n.mesh].resize(positions->size());
+            for (size_t v = 0; v < positions->size(); ++v) decoded[n.mesh][v] = glm::dvec3((*positions)[v]);
             isDecoded[n.mesh] = true;
         }
         const std::vector<glm::dvec3>& local = decoded[n.mesh];
@@ -377,10 +245,21 @@ TracerResult<std::unique_ptr<ShadowTracer>> ShadowTracer::build(const Scene& sce
 
 void ShadowTracer::visibility(std::span<const glm::vec3> positions, glm::vec3 towardLight,
                               std::span<float> out, glm::dvec3 eye) const {
+    trace(positions, towardLight, nullptr, out, eye);
+}
+
+void ShadowTracer::visibilityToPoint(std::span<const glm::vec3> positions, glm::vec3 light,
+                                     std::span<float> out, glm::dvec3 eye) const {
+    trace(positions, glm::vec3(0.0f, 1.0f, 0.0f), &light, out, eye);
+}
+
+void ShadowTracer::trace(std::span<const glm::vec3> positions, glm::vec3 towardLight,
+                         const glm::vec3* point, std::span<float> out, glm::dvec3 eye) const {
     constexpr float kNaN = std::numeric_limits<float>::quiet_NaN();
     const size_t count = positions.size();
     const float lightLength = glm::length(towardLight);
-    if (out.size() != count || !std::isfinite(lightLength) || !(lightLength > 0.0f) ||
+    const bool pointOk = !point || (std::isfinite(point->x) && std::isfinite(point->y) && std::isfinite(point->z));
+    if (out.size() != count || !std::isfinite(lightLength) || !(lightLength > 0.0f) || !pointOk ||
         !std::isfinite(eye.x) || !std::isfinite(eye.y) || !std::isfinite(eye.z)) {
         std::fill(out.begin(), out.end(), kNaN);
         return;
@@ -432,6 +311,13 @@ void ShadowTracer::visibility(std::span<const glm::vec3> positions, glm::vec3 to
                 // it. No offset along a normal: shadow edges do not move.
                 ray.org_x[lane] = p.x, ray.org_y[lane] = p.y, ray.org_z[lane] = p.z;
                 ray.tnear[lane] = float(kPointRelativeError * glm::length(glm::dvec3(p) - eye));
+                if (point) { // a segment to the light: the direction is not normalised, t = 1 at it
+                    const glm::vec3 d = *point - p;
+                    ray.dir_x[lane] = d.x, ray.dir_y[lane] = d.y, ray.dir_z[lane] = d.z;
+                    const float length = glm::length(d);
+                    ray.tnear[lane] = length > 0.0f ? ray.tnear[lane] / length : 0.0f;
+                    ray.tfar[lane] = 1.0f;
+                }
                 valid[lane] = -1;
                 any = true;
             }

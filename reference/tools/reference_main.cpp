@@ -29,6 +29,8 @@
 #include "pnb/atomic_file.h"
 #include "pnb/reader.h"
 #include "pnb/scene.h"
+#include "pnb_reference/indirect_metrics.h"
+#include "pnb_reference/indirect_tracer.h"
 #include "pnb_reference/shadow_metrics.h"
 #include "pnb_reference/shadow_tracer.h"
 
@@ -51,6 +53,8 @@ template <class T> using Expected = pnb::Result<T, Failure>;
 struct Settings {
     std::string scene, frameDir, outDir, prefix;
     bool quiet = false;
+    bool indirect = false;
+    pnb::reference::IndirectSettings indirectSettings;
 };
 
 // [SECTION] command line: a declarative table that parses and prints --help (STYLE.md §16)
@@ -72,6 +76,21 @@ const std::vector<Option>& options() {
          [](Settings& s, const char* a) { s.prefix = a; }},
         {"--out", "DIR", "where to write the outputs (default: the --frame directory)",
          [](Settings& s, const char* a) { s.outDir = a; }},
+        {"--indirect", nullptr,
+         "also the one-bounce diffuse irradiance (Monte Carlo): indirect_reference.exr, "
+         "indirect_stderr.exr, and against the player's indirect.exr when dumped",
+         [](Settings& s, const char*) { s.indirect = true; }},
+        {"--samples", "N", "cosine-weighted rays per pixel for --indirect (default 256)",
+         [](Settings& s, const char* a) { s.indirectSettings.samples = uint32_t(std::max(1L, std::atol(a))); }},
+        {"--indirect-lights", "all|sun",
+         "light the bounce with every light (default: the scene's truth) or the sun alone (what "
+         "the player's GI models)",
+         [](Settings& s, const char* a) {
+             s.indirectSettings.lights = std::string(a) == "sun" ? pnb::reference::IndirectLights::Sun
+                                                                 : pnb::reference::IndirectLights::All;
+         }},
+        {"--seed", "S", "random seed of --indirect (default 1)",
+         [](Settings& s, const char* a) { s.indirectSettings.seed = uint64_t(std::atoll(a)); }},
         {"-q, --quiet", nullptr, "print errors only", [](Settings& s, const char*) { s.quiet = true; }},
         {"-h, --help", nullptr, "print this help", nullptr},
     };
@@ -252,6 +271,86 @@ void put(std::vector<uint8_t>& rgb, size_t pixel, Rgb8 c) {
     rgb[pixel * 3 + 2] = c.b;
 }
 
+// --indirect: the one-bounce truth at the frame's pixels, its images, and (with the player's
+// indirect.exr) the comparison. Returns the "indirect" object of metrics.json.
+Expected<nlohmann::ordered_json> runIndirect(const Settings& settings, const pnb::Scene& scene, const Frame& frame,
+                                             const std::vector<glm::vec3>& positions,
+                                             const std::vector<glm::vec3>& shadingNormals,
+                                             const std::string& in, const std::string& outDir) {
+    using pnb::reference::IndirectTracer;
+    std::error_code ec;
+    std::optional<FloatImage> player;
+    if (fs::exists(in + "indirect.exr", ec)) {
+        auto p = readExr(in + "indirect.exr", {"R", "G", "B"}, 3, frame);
+        if (!p) return p.error();
+        player = std::move(*p);
+    }
+    auto tracer = IndirectTracer::build(scene, frame.cameraPosition);
+    if (!tracer) {
+        const auto& e = tracer.error();
+        int code = e.kind == TracerErrorKind::Input         ? kExitInput
+                   : e.kind == TracerErrorKind::Unsupported ? kExitUnsupported
+                                                            : kExitEmbree;
+        return Failure{code, settings.scene + ": " + e.message};
+    }
+    const size_t pixels = positions.size();
+    // Normals: the player's shading normal where it dumped one (deferred surfaces), else the
+    // surface's own from the positions (forward surfaces, no normal dump).
+    std::vector<glm::vec3> normals = pnb::reference::normalsFromPositions(positions, frame.width, frame.height);
+    for (size_t p = 0; p < pixels && p < shadingNormals.size(); ++p)
+        if (glm::length(shadingNormals[p]) > 0.5f) normals[p] = shadingNormals[p];
+    std::vector<glm::vec3> mean(pixels), error(pixels);
+    auto start = std::chrono::steady_clock::now();
+    (*tracer)->irradiance(positions, normals, settings.indirectSettings, mean, error);
+    const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+    auto a = writeImage(outDir + "/indirect_reference.exr", frame.width, frame.height, 3, OIIO::TypeDesc::FLOAT,
+                        mean.data());
+    if (!a) return a.error();
+    auto b = writeImage(outDir + "/indirect_stderr.exr", frame.width, frame.height, 3, OIIO::TypeDesc::FLOAT,
+                        error.data());
+    if (!b) return b.error();
+    const auto& st = (*tracer)->stats();
+    nlohmann::ordered_json j;
+    j["lights"] = settings.indirectSettings.lights == pnb::reference::IndirectLights::Sun ? "sun" : "all";
+    j["samples"] = settings.indirectSettings.samples;
+    j["seed"] = settings.indirectSettings.seed;
+    j["tracer"] = {{"triangles", st.triangles}, {"instances", st.instances},
+                   {"textured_materials", st.texturedMaterials},
+                   {"textures_factor_only", st.texturesFactorOnly}, {"lights", st.lights},
+                   {"build_ms", st.buildMs}, {"trace_ms", ms}};
+    double refSum = 0;
+    uint64_t valid = 0;
+    for (const glm::vec3& m : mean)
+        if (std::isfinite(m.x)) refSum += pnb::reference::luminance(m), ++valid;
+    j["reference_mean_luminance"] = valid ? refSum / double(valid) : 0.0;
+    if (player) {
+        std::vector<glm::vec3> p(pixels);
+        for (size_t i = 0; i < pixels; ++i) {
+            p[i] = {player->at(i, 0), player->at(i, 1), player->at(i, 2)};
+            const glm::vec3 q = positions[i];
+            if (!(std::isfinite(q.x) && std::isfinite(q.y) && std::isfinite(q.z))) p[i] = glm::vec3(NAN);
+        }
+        auto m = pnb::reference::compareIndirect(p, mean, error);
+        j["pixels"] = m.pixels;
+        j["player_mean_luminance"] = m.playerMean;
+        j["relative_rmse_percent"] = m.relativeRmsePercent;
+        j["reference_noise_percent"] = m.referenceNoisePercent;
+        j["energy_ratio"] = m.energyRatio;
+        j["channel_ratio"] = {m.channelRatio[0], m.channelRatio[1], m.channelRatio[2]};
+        j["leak_percent"] = m.leakPercent;
+        if (!settings.quiet)
+            std::printf("  indirect (%s lights, %u samples): relative RMSE %.1f%% (reference noise %.1f%%), "
+                        "energy ratio %.3f (R %.3f G %.3f B %.3f), leak %.2f%%\n",
+                        settings.indirectSettings.lights == pnb::reference::IndirectLights::Sun ? "sun" : "all",
+                        settings.indirectSettings.samples, m.relativeRmsePercent, m.referenceNoisePercent,
+                        m.energyRatio, m.channelRatio[0], m.channelRatio[1], m.channelRatio[2], m.leakPercent);
+    }
+    if (!settings.quiet)
+        std::printf("  indirect reference: %zu pixels x %u rays in %.0f ms\n", size_t(valid),
+                    settings.indirectSettings.samples, ms);
+    return j;
+}
+
 int fail(const Failure& f) {
     std::fprintf(stderr, "Error: %s\n", f.message.c_str());
     return f.exitCode;
@@ -421,6 +520,11 @@ int run(const Settings& settings) {
     j["rays"] = {{"count", rays},
                  {"ms", rayMs},
                  {"rays_per_second", rayMs > 0 ? double(rays) / (rayMs / 1000.0) : 0.0}};
+    if (settings.indirect) {
+        auto indirect = runIndirect(settings, *scene, *frame, positions, normals, in, outDir);
+        if (!indirect) return fail(indirect.error());
+        j["indirect"] = *indirect;
+    }
     auto json = writeText(outDir + "/metrics.json", j.dump(2) + "\n");
     if (!json) return fail(json.error());
 

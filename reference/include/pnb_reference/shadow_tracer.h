@@ -106,6 +106,12 @@ public:
     void visibility(std::span<const glm::vec3> positions, glm::vec3 towardLight,
                     std::span<float> out, glm::dvec3 eye = glm::dvec3(0.0)) const;
 
+    // The same for a point light at `light` (origin-relative): 1 if the segment from
+    // positions[i] to the light is unblocked (a light inside or behind a caster is blocked by
+    // it); 0 if blocked; NaN for non-finite positions, and everywhere if `light` is not finite.
+    void visibilityToPoint(std::span<const glm::vec3> positions, glm::vec3 light,
+                           std::span<float> out, glm::dvec3 eye = glm::dvec3(0.0)) const;
+
     const TracerStats& stats() const { return mStats; }
     glm::dvec3 origin() const { return mOrigin; }
 
@@ -113,6 +119,9 @@ private:
     struct Embree; // RTCDevice + RTCScene (Embree types stay out of this header)
 
     ShadowTracer() = default;
+    // visibility() (point == nullptr: towards `toward`) and visibilityToPoint().
+    void trace(std::span<const glm::vec3> positions, glm::vec3 toward, const glm::vec3* point,
+               std::span<float> out, glm::dvec3 eye) const;
 
     std::unique_ptr<Embree> mEmbree; // also owns the per-triangle tolerances the filter reads
     TracerStats mStats;

@@ -1,0 +1,47 @@
+// Player indirect irradiance against the one-bounce truth (indirect_metrics.h).
+#include "pnb_reference/indirect_metrics.h"
+
+#include <cmath>
+
+namespace pnb::reference {
+
+IndirectErrorMetrics compareIndirect(std::span<const glm::vec3> player, std::span<const glm::vec3> reference,
+                                     std::span<const glm::vec3> standardError) {
+    IndirectErrorMetrics m;
+    if (player.size() != reference.size() || standardError.size() != reference.size()) return m;
+    auto finite = [](const glm::vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); };
+    double sumP = 0, sumR = 0, sq = 0, noise = 0, channelP[3] = {0, 0, 0}, channelR[3] = {0, 0, 0};
+    for (size_t i = 0; i < reference.size(); ++i) {
+        if (!finite(player[i]) || !finite(reference[i]) || !finite(standardError[i])) continue;
+        ++m.pixels;
+        double p = luminance(player[i]), r = luminance(reference[i]), se = luminance(standardError[i]);
+        sumP += p;
+        sumR += r;
+        sq += (p - r) * (p - r);
+        noise += se * se;
+        for (int c = 0; c < 3; ++c) {
+            channelP[c] += player[i][c];
+            channelR[c] += reference[i][c];
+        }
+    }
+    if (m.pixels == 0) return m;
+    const double n = double(m.pixels);
+    m.referenceMean = sumR / n;
+    m.playerMean = sumP / n;
+    if (m.referenceMean > 0) {
+        m.relativeRmsePercent = 100.0 * std::sqrt(sq / n) / m.referenceMean;
+        m.referenceNoisePercent = 100.0 * std::sqrt(noise / n) / m.referenceMean;
+    }
+    m.energyRatio = sumR > 0 ? sumP / sumR : 0.0;
+    for (int c = 0; c < 3; ++c) m.channelRatio[c] = channelR[c] > 0 ? channelP[c] / channelR[c] : 0.0;
+    double leak = 0;
+    for (size_t i = 0; i < reference.size(); ++i) {
+        if (!finite(player[i]) || !finite(reference[i]) || !finite(standardError[i])) continue;
+        double r = luminance(reference[i]), se = luminance(standardError[i]);
+        if (r < 3.0 * se + 1e-30 && r < 0.01 * m.referenceMean) leak += luminance(player[i]);
+    }
+    m.leakPercent = sumP > 0 ? 100.0 * leak / sumP : 0.0;
+    return m;
+}
+
+} // namespace pnb::reference

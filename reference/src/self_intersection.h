@@ -1,0 +1,52 @@
+// self_intersection.h — the Embree filter both tracers use to tell a query point's own surface
+// from an occluder (docs/REFERENCE.md "Tolerances"). Internal to pnb_reference.
+#pragma once
+
+#include <cmath>
+#include <vector>
+
+#include <embree3/rtcore.h>
+#include <glm/geometric.hpp>
+#include <glm/vec3.hpp>
+
+#include "pnb_reference/shadow_tracer.h"
+
+namespace pnb::reference::detail {
+
+// The intersect context of one visibility() call: Embree hands it to the filter below.
+struct TraceContext {
+    RTCIntersectContext embree; // first: Embree sees a pointer to this member
+    glm::dvec3 eye{0.0};        // origin-relative camera the query points were reconstructed for
+    double fixedBand = 0;       // the bands common to every hit of the call: kVertexRelativeError
+                                // x |eye| + kWorldRelativeError x the largest world magnitude
+};
+
+// Occlusion filter: rejects a hit on the query point's own surface. The point lies on the hit
+// triangle (up to the errors of both) when its distance to the triangle's plane, t |dir . Ng| /
+// |Ng|, is within the point's error band plus the triangle's; then the hit is the surface the
+// point was taken from (or one meeting it there, as a wall meets the ground), not an occluder.
+// Everything is relative to magnitudes of the scene, so the test is invariant to the unit.
+inline void rejectOwnSurface(const RTCFilterFunctionNArguments* args) {
+    const auto& context = *reinterpret_cast<const TraceContext*>(args->context);
+    const auto& tolerance = *static_cast<const std::vector<float>*>(args->geometryUserPtr);
+    for (unsigned i = 0; i < args->N; ++i) {
+        if (args->valid[i] != -1) continue;
+        RTCRayN* ray = args->ray;
+        RTCHitN* hit = args->hit;
+        const glm::dvec3 org(RTCRayN_org_x(ray, args->N, i), RTCRayN_org_y(ray, args->N, i),
+                             RTCRayN_org_z(ray, args->N, i));
+        const glm::dvec3 dir(RTCRayN_dir_x(ray, args->N, i), RTCRayN_dir_y(ray, args->N, i),
+                             RTCRayN_dir_z(ray, args->N, i));
+        const glm::dvec3 ng(RTCHitN_Ng_x(hit, args->N, i), RTCHitN_Ng_y(hit, args->N, i),
+                            RTCHitN_Ng_z(hit, args->N, i));
+        const double t = RTCRayN_tfar(ray, args->N, i); // the candidate hit's distance
+        const double ngLength = glm::length(ng);
+        const double distanceToPlane =
+            ngLength > 0 ? t * std::fabs(glm::dot(dir, ng)) / ngLength : 0.0; // dir need not be unit
+        const double band = kPointRelativeError * glm::length(org - context.eye) +
+                            double(tolerance[RTCHitN_primID(hit, args->N, i)]) + context.fixedBand;
+        if (distanceToPlane <= band) args->valid[i] = 0;
+    }
+}
+
+} // namespace pnb::reference::detail

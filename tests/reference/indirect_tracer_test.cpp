@@ -1,0 +1,177 @@
+// The one-bounce truth checks itself against closed forms: a point facing a lit square floor
+// receives rho E F (F the view factor of the square), per colour; a sun below the floor gives
+// nothing; the estimate's standard error shrinks as 1/sqrt(N); the same seed gives the same
+// answer on all threads; shadow rays towards a point light stop at the light.
+#include <cmath>
+#include <numbers>
+#include <vector>
+
+#include <glm/geometric.hpp>
+#include <glm/glm.hpp>
+
+#include "pnb_reference/indirect_metrics.h"
+#include "pnb_reference/indirect_tracer.h"
+#include "pnb_reference/shadow_tracer.h"
+#include "reference_test_util.h"
+
+namespace pnb::reference::test {
+namespace {
+
+constexpr double kPi = std::numbers::pi;
+
+// View factor from a differential area facing a parallel square of half-size a, centred below
+// it at distance h (Howell's catalogue, C-11, four a x a rectangles meeting below the point).
+double squareViewFactor(double a, double h) {
+    double x = a / h, y = a / h;
+    double f = (x / std::sqrt(1 + x * x)) * std::atan(y / std::sqrt(1 + x * x)) +
+               (y / std::sqrt(1 + y * y)) * std::atan(x / std::sqrt(1 + y * y));
+    return 4.0 * f / (2.0 * kPi);
+}
+
+// A lit square floor (half-size `half`, albedo `albedo`) and a sun of `lux` along `travel`.
+std::unique_ptr<LoadedScene> floorScene(const TempDir& dir, double half, gltf::Float3 albedo, float lux,
+                                        gltf::Float4 sunRotation) {
+    gltf::Document doc;
+    gltf::Material m = material("floor");
+    m.baseColorFactor = {albedo[0], albedo[1], albedo[2], 1};
+    doc.materials.push_back(m);
+    pnb::test::addObject(doc, "floor", pnb::test::quad(float(2 * half), float(2 * half), 0), {0, 0, 0}, kFaceUp);
+    gltf::Light sun;
+    sun.name = "sun";
+    sun.intensity = lux;
+    doc.lights.push_back(sun);
+    gltf::Node n;
+    n.name = "sun";
+    n.light = 0;
+    n.rotation = sunRotation;
+    doc.nodes.push_back(n);
+    std::string path = pnb::test::convertDocument(dir.str(), doc, "floor", "", false);
+    return loadPnb(path);
+}
+
+struct Estimate {
+    std::vector<glm::vec3> mean, error;
+};
+
+Estimate estimate(const IndirectTracer& tracer, const std::vector<glm::vec3>& points, glm::vec3 normal,
+                  uint32_t samples, uint64_t seed = 1) {
+    Estimate e;
+    e.mean.resize(points.size());
+    e.error.resize(points.size());
+    std::vector<glm::vec3> normals(points.size(), normal);
+    IndirectSettings s;
+    s.samples = samples;
+    s.seed = seed;
+    tracer.irradiance(points, normals, s, e.mean, e.error);
+    return e;
+}
+
+TEST(IndirectTracer, APointOverALitFloorReceivesAlbedoTimesIrradianceTimesTheViewFactor) {
+    TempDir dir("indirect-floor");
+    const double half = 5.0, h = 1.0;
+    const float lux = 3.0f;
+    auto scene = floorScene(dir, half, {0.8f, 0.4f, 0.2f}, lux, kFaceUp); // sun straight down
+    ASSERT_TRUE(scene);
+    auto tracer = IndirectTracer::build(scene->scene, glm::dvec3(0.0));
+    ASSERT_TRUE(tracer.ok()) << tracer.error().message;
+    EXPECT_EQ((*tracer)->stats().lights, 1u);
+    // Points facing down at height h over the floor's centre: nothing shadows the floor.
+    std::vector<glm::vec3> points(64, glm::vec3(0.0f, float(h), 0.0f));
+    Estimate e = estimate(**tracer, points, {0, -1, 0}, 1024);
+    const double f = squareViewFactor(half, h); // 0.9407 for a = 5, h = 1
+    glm::dvec3 mean(0.0), se(0.0);
+    for (size_t i = 0; i < points.size(); ++i) {
+        mean += glm::dvec3(e.mean[i]) / double(points.size());
+        se += glm::dvec3(e.error[i]) / double(points.size());
+    }
+    const double albedo[3] = {0.8, 0.4, 0.2};
+    for (int c = 0; c < 3; ++c) {
+        double truth = albedo[c] * lux * f;
+        // The average of 64 independent estimates: its error is se / 8; allow 4 of those.
+        EXPECT_NEAR(mean[c], truth, 4.0 * se[c] / 8.0 + 1e-6) << "channel " << c;
+        EXPECT_NEAR(mean[c], truth, 0.02 * truth) << "channel " << c;
+    }
+}
+
+TEST(IndirectTracer, StandardErrorShrinksWithTheSquareRootOfTheSampleCount) {
+    TempDir dir("indirect-noise");
+    // A small floor far below: few rays hit it, so the estimate is noisy.
+    auto scene = floorScene(dir, 1.0, {1, 1, 1}, 1.0f, kFaceUp);
+    ASSERT_TRUE(scene);
+    auto tracer = IndirectTracer::build(scene->scene, glm::dvec3(0.0));
+    ASSERT_TRUE(tracer.ok());
+    std::vector<glm::vec3> point(1, glm::vec3(0, 3, 0));
+    Estimate a = estimate(**tracer, point, {0, -1, 0}, 256), b = estimate(**tracer, point, {0, -1, 0}, 4096);
+    ASSERT_GT(a.error[0].x, 0.0f);
+    EXPECT_NEAR(a.error[0].x / b.error[0].x, 4.0, 0.6);
+    double truth = squareViewFactor(1.0, 3.0);
+    EXPECT_NEAR(b.mean[0].x, truth, 4.0 * b.error[0].x);
+}
+
+TEST(IndirectTracer, ASunBelowTheFloorAndPointsWithoutSurfaceGiveNothing) {
+    TempDir dir("indirect-below");
+    const gltf::Float4 up{0.70710678f, 0, 0, 0.70710678f}; // shines along +Y: from below
+    auto scene = floorScene(dir, 5.0, {1, 1, 1}, 1e6f, up);
+    ASSERT_TRUE(scene);
+    auto tracer = IndirectTracer::build(scene->scene, glm::dvec3(0.0));
+    ASSERT_TRUE(tracer.ok());
+    std::vector<glm::vec3> points = {{0, 1, 0}, {NAN, 0, 0}};
+    Estimate e = estimate(**tracer, points, {0, -1, 0}, 64);
+    // The floor's top is what the point sees; the sun lights its underside only.
+    EXPECT_EQ(e.mean[0], glm::vec3(0.0f));
+    EXPECT_TRUE(std::isnan(e.mean[1].x));
+}
+
+TEST(IndirectTracer, TheSameSeedGivesTheSameAnswerAndPointsAreIndependent) {
+    TempDir dir("indirect-seed");
+    auto scene = floorScene(dir, 5.0, {0.5f, 0.5f, 0.5f}, 2.0f, kFaceUp);
+    ASSERT_TRUE(scene);
+    auto tracer = IndirectTracer::build(scene->scene, glm::dvec3(0.0));
+    ASSERT_TRUE(tracer.ok());
+    std::vector<glm::vec3> many(3000, glm::vec3(0, 1, 0));
+    many[1234] = glm::vec3(2, 0.5f, 1);
+    Estimate all = estimate(**tracer, many, {0, -1, 0}, 32, 7);
+    Estimate again = estimate(**tracer, many, {0, -1, 0}, 32, 7);
+    EXPECT_EQ(all.mean, again.mean);
+    Estimate other = estimate(**tracer, many, {0, -1, 0}, 32, 8);
+    EXPECT_NE(all.mean[0], other.mean[0]);
+}
+
+TEST(ShadowTracerPointLight, SegmentsToThePointLightAreBlockedOnlyBetweenPointAndLight) {
+    TempDir dir("point-visibility");
+    auto scene = loadPnb(pnb::test::convertDocument(dir.str(), groundAndBox(), "ground-box", "", false));
+    ASSERT_TRUE(scene);
+    auto tracer = ShadowTracer::build(scene->scene, glm::dvec3(0.0));
+    ASSERT_TRUE(tracer.ok());
+    std::vector<glm::vec3> points = {{0, 0, 0}, {10, 0, 0}, {0, 0, 0}, {NAN, 0, 0}};
+    std::vector<float> above(4), between(4);
+    (*tracer)->visibilityToPoint(points, {0, 10, 0}, above);  // the box (y 2..4) is in the way
+    (*tracer)->visibilityToPoint(points, {0, 1, 0}, between); // the light is under the box
+    EXPECT_EQ(above[0], 0.0f);
+    EXPECT_EQ(above[1], 1.0f);
+    EXPECT_EQ(between[0], 1.0f);
+    EXPECT_EQ(between[1], 1.0f);
+    EXPECT_TRUE(std::isnan(above[3]));
+    std::vector<float> bad(4);
+    (*tracer)->visibilityToPoint(points, {NAN, 1, 0}, bad);
+    for (float v : bad) EXPECT_TRUE(std::isnan(v));
+}
+
+TEST(IndirectMetrics, RmseEnergyChannelsAndLeak) {
+    std::vector<glm::vec3> reference = {{1, 1, 1}, {1, 1, 1}, {0, 0, 0}, {NAN, NAN, NAN}};
+    std::vector<glm::vec3> error(4, glm::vec3(0.01f));
+    std::vector<glm::vec3> player = {{2, 1, 1}, {1, 1, 1}, {0.5f, 0.5f, 0.5f}, {9, 9, 9}};
+    IndirectErrorMetrics m = compareIndirect(player, reference, error);
+    EXPECT_EQ(m.pixels, 3u);
+    double lum0 = luminance({2, 1, 1});
+    EXPECT_NEAR(m.energyRatio, (lum0 + 1 + 0.5) / 2.0, 1e-9);
+    EXPECT_NEAR(m.channelRatio[0], 3.5 / 2.0, 1e-9);
+    EXPECT_NEAR(m.channelRatio[1], 2.5 / 2.0, 1e-9);
+    EXPECT_NEAR(m.leakPercent, 100.0 * 0.5 / (lum0 + 1 + 0.5), 1e-9);
+    double rmse = std::sqrt(((lum0 - 1) * (lum0 - 1) + 0.25) / 3.0);
+    EXPECT_NEAR(m.relativeRmsePercent, 100.0 * rmse / (2.0 / 3.0), 1e-6);
+    EXPECT_NEAR(m.referenceNoisePercent, 100.0 * 0.01 / (2.0 / 3.0), 1e-5);
+}
+
+} // namespace
+} // namespace pnb::reference::test
