@@ -111,12 +111,14 @@ bool optionMatches(const Option& o, const std::string& arg) {
 
 void printHelp() {
     std::printf(
-        "usage: pnb-reference SCENE.pnb --frame DIR [--prefix P] [--out DIR] [-q]\n\n"
+        "usage: pnb-reference SCENE.pnb --frame DIR [--prefix P] [--out DIR] [--indirect ...] [-q]\n\n"
         "Ray traces (Embree) the true visibility of the shadowing directional light for every\n"
         "pixel of a frame dumped by `pnb-play --dump position,normal,shadow`, and compares the\n"
         "player's shadow factor with it. Writes visibility.exr, visibility.png and metrics.json,\n"
         "and shadow_diff.png when the frame has shadow.exr (and counts non-finite pixels of\n"
-        "hdr.exr when present). See docs/REFERENCE.md.\n\n"
+        "hdr.exr when present). With --indirect, also the one-bounce diffuse irradiance\n"
+        "(Monte Carlo, with its standard error) and its comparison with the player's\n"
+        "indirect.exr (`pnb-play --dump indirect`). See docs/REFERENCE.md.\n\n"
         "options:\n");
     for (const Option& o : options()) {
         std::string left = std::string(o.name) + (o.arg ? std::string(" ") + o.arg : "");
