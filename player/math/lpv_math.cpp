@@ -48,11 +48,13 @@ std::vector<LpvCascade> placeCascades(uint32_t count, uint32_t cells, double cel
         return out;
     }
     if (!sceneOk) return out;
-    // The outer cascade holds the scene's bounding cube with half a cell to spare on each side,
-    // so that the half-cell shifts of injection and look-up stay inside it.
+    // The outer cascade holds the scene's bounding cube with a cell to spare on each side, so
+    // that the half-cell shifts of injection and look-up never leave it (with half a cell, a
+    // surface on the scene's boundary facing out lands exactly on the grid's edge, in or out by
+    // rounding).
     LpvCascade outer;
     outer.cells = cells;
-    outer.cellSize = largest / (double(cells) - 1.0 > 0 ? double(cells) - 1.0 : 1.0);
+    outer.cellSize = largest / (cells > 2 ? double(cells) - 2.0 : 1.0);
     outer.origin = 0.5 * (sceneMin + sceneMax) - 0.5 * outer.cellSize * double(cells);
     for (uint32_t k = 0; k + 1 < count; ++k)
         out.push_back(following(std::ldexp(outer.cellSize, -int(count - 1 - k))));

@@ -59,9 +59,9 @@ struct LpvCascade {
 //   - cellSize > 0: every cascade follows the camera; cascade k has cells of cellSize * 2^k,
 //     is centred on the camera shifted by a quarter of its extent along the view direction, and
 //     its origin snapped to whole cells (sub-cell camera motion moves nothing).
-//   - cellSize == 0 (auto): the outer cascade is the scene's bounding cube (fixed: it does not
-//     move with the camera); each finer cascade halves the cell and follows the camera as above,
-//     unless it would cover the whole scene anyway, in which case it is dropped.
+//   - cellSize == 0 (auto): the outer cascade is the scene's bounding cube with one cell of
+//     margin on each side (fixed: it does not move with the camera); each finer cascade halves
+//     the cell and follows the camera as above.
 // Non-finite or empty scene bounds give no cascades.
 std::vector<LpvCascade> placeCascades(uint32_t count, uint32_t cells, double cellSize,
                                       const glm::dvec3& sceneMin, const glm::dvec3& sceneMax,

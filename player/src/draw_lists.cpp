@@ -83,7 +83,7 @@ void buildDrawLists(const GpuScene& scene, const ViewMatrices& view, bool cull, 
 }
 
 void drawItems(FrameContext& ctx, std::span<const DrawRef> refs, GLuint program,
-               uint32_t GpuMaterial::*materialProgram) {
+               uint32_t GpuMaterial::*materialProgram, bool twoSided) {
     const GpuScene& scene = ctx.scene;
     GLuint boundProgram = ~0u, boundVao = ~0u;
     uint32_t boundMaterial = kNone;
@@ -102,7 +102,7 @@ void drawItems(FrameContext& ctx, std::span<const DrawRef> refs, GLuint program,
                 uint32_t t = material.desc.textures[slot].texture;
                 glBindTextureUnit(GLuint(slot), t == kNone ? 0 : scene.textures[t].texture.id());
             }
-            int wantCull = material.desc.doubleSided ? 0 : 1;
+            int wantCull = material.desc.doubleSided || twoSided ? 0 : 1;
             if (wantCull != cullState) {
                 (cullState = wantCull) ? glEnable(GL_CULL_FACE) : glDisable(GL_CULL_FACE);
             }

@@ -85,9 +85,10 @@ struct Renderer::Impl {
 
 // Binds material state and draws `refs` with each material's own program (or the one
 // `materialProgram` names: the RSM's), or with `program` if non-zero (depth-only and debug
-// draws). Counts draws and triangles in ctx.stats.
+// draws). Back faces are culled where the material is single-sided, unless `twoSided` (the RSM:
+// what the sun hits first is what it lights, whichever side). Counts draws and triangles.
 void drawItems(FrameContext& ctx, std::span<const DrawRef> refs, GLuint program = 0,
-               uint32_t GpuMaterial::*materialProgram = &GpuMaterial::program);
+               uint32_t GpuMaterial::*materialProgram = &GpuMaterial::program, bool twoSided = false);
 
 // Full-screen triangle (fullscreen.vert: no vertex buffer).
 void drawFullscreenTriangle();

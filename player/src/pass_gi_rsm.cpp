@@ -2,7 +2,9 @@
 // outer cascade, drawn with the surfaces' own G-buffer programs (base colour, normal, metallic
 // exactly as the camera's G-buffer gets them; no RSM-specific shader variants) under a frame block
 // holding the RSM's matrix. Depth clamp flattens surfaces above the map's near plane onto it, as in
-// the shadow pass; back faces are culled as the materials ask.
+// the shadow pass, and, as there, no face is culled: a single-sided roof seen from above still
+// stops the sun (the reference's casters and reflectors are two-sided too); its back face's normal
+// is turned towards the sun as the G-buffer shader turns every back face's.
 #include "frame_context.h"
 
 namespace pnb::player {
@@ -28,7 +30,7 @@ void runGiRsm(FrameContext& ctx) {
     glDisable(GL_BLEND);
     glEnable(GL_DEPTH_CLAMP);
     glBindBufferRange(GL_UNIFORM_BUFFER, 0, ctx.ring.buffer(), GLintptr(f.rsmFrameOffset), sizeof(FrameBlock));
-    drawItems(ctx, refs, 0, &GpuMaterial::rsmProgram);
+    drawItems(ctx, refs, 0, &GpuMaterial::rsmProgram, true);
     glBindBufferRange(GL_UNIFORM_BUFFER, 0, ctx.ring.buffer(), GLintptr(ctx.frameBlockOffset), sizeof(FrameBlock));
     glDisable(GL_DEPTH_CLAMP);
     glViewport(0, 0, GLsizei(ctx.targets.width), GLsizei(ctx.targets.height));
