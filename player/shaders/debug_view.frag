@@ -4,9 +4,13 @@ layout(binding = 0) uniform sampler2D uGBaseColor;
 layout(binding = 1) uniform sampler2D uGNormalMaterial;
 layout(binding = 2) uniform sampler2D uGEmissive;
 layout(binding = 3) uniform sampler2D uDepth;
-layout(binding = 4) uniform sampler2D uDebug; // layer colours or overdraw counts
+layout(binding = 4) uniform sampler2D uDebug; // layer colours, overdraw counts or the RSM
+layout(binding = 5) uniform sampler3D uGiR;   // GI's summed volume (gi_volume)
+layout(binding = 6) uniform sampler3D uGiG;
+layout(binding = 7) uniform sampler3D uGiB;
 layout(location = 0) uniform int uMode;
 layout(location = 1) uniform vec2 uNearFar; // near, far (0 = infinite)
+layout(location = 2) uniform vec2 uGiSlice; // normalised z of the slice, 1 if GI is on
 
 layout(location = 0) in vec2 vUv;
 layout(location = 0) out vec4 outColor;
@@ -42,5 +46,10 @@ void main() {
         c = vec3(d <= 0.0 ? 0.0 : 1.0 - clamp(log2(z / n) / 20.0, 0.0, 1.0));
     } else if (uMode == 9) c = texture(uDebug, vUv).rgb;
     else if (uMode == 10) c = heat(texture(uDebug, vUv).r);
+    else if (uMode == 15) c = texture(uDebug, vUv).rgb; // RSM (black without GI)
+    else if (uMode == 16 && uGiSlice.y > 0.5) { // band 0 = radiance / sun irradiance x 2 sqrt(pi)
+        vec3 uvw = vec3(vUv, uGiSlice.x);
+        c = 4.0 * vec3(texture(uGiR, uvw).x, texture(uGiG, uvw).x, texture(uGiB, uvw).x); // x4: visible
+    }
     outColor = vec4(c, 1.0);
 }

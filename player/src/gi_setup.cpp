@@ -127,7 +127,7 @@ void prepareGi(FrameContext& ctx) {
     for (size_t c = 0; c < f.cascades.size(); ++c)
         block.cascade[c] = glm::vec4(glm::vec3(f.cascades[c].origin - cam), float(f.cascades[c].cellSize));
     block.grid = {float(s.giCells), float(f.cascades.size()), s.giCellSize > 0 ? 1.0f : 0.0f,
-                  gi.capture ? 1.0f : 0.0f};
+                  gi.capture || s.debugView == DebugView::GiIndirect ? 1.0f : 0.0f};
     glm::vec3 irradiance = glm::vec3(light.desc.color.x, light.desc.color.y, light.desc.color.z) *
                            (light.desc.intensity * s.giIntensity);
     block.irradiance = glm::vec4(irradiance, 0);

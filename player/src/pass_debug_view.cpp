@@ -85,7 +85,8 @@ void renderShadowDebug(FrameContext& ctx, DebugView mode) {
 void runDebugView(FrameContext& ctx) {
     DebugView mode = ctx.settings.debugView;
     // The cascade tint is drawn by lighting itself (shadow_sampling.glsl).
-    if (mode == DebugView::None || mode == DebugView::Cascades) return;
+    // GI's indirect light alone is written by lighting itself (gi_lookup.glsl).
+    if (mode == DebugView::None || mode == DebugView::Cascades || mode == DebugView::GiIndirect) return;
     ctx.timer.mark("debug");
     if (mode == DebugView::ShadowMap || mode == DebugView::Histogram) {
         renderShadowDebug(ctx, mode);
@@ -104,6 +105,14 @@ void runDebugView(FrameContext& ctx) {
         glBindTextureUnit(unit, ctx.targets.gbuffer[0] ? ctx.targets.gbuffer[unit].id() : 0);
     glBindTextureUnit(3, ctx.targets.depth.id());
     glBindTextureUnit(4, ctx.targets.debugColor ? ctx.targets.debugColor.id() : 0);
+    // GI views: the RSM on unit 4, the summed volume on 5-7 (black while GI is off).
+    const GiResources& gi = ctx.gi.resources;
+    const bool giOn = ctx.gi.frame.active;
+    if (mode == DebugView::GiRsm) glBindTextureUnit(4, giOn ? gi.rsmColor.id() : 0);
+    for (GLuint ch = 0; ch < 3; ++ch) glBindTextureUnit(5 + ch, giOn ? gi.sum[ch].id() : 0);
+    uint32_t slices = giOn ? gi.cells * gi.cascades : 1;
+    glProgramUniform2f(p, 2, (float(std::min(ctx.settings.debugGiSlice, slices - 1)) + 0.5f) / float(slices),
+                       giOn ? 1.0f : 0.0f);
     drawFullscreenTriangle();
     glEnable(GL_FRAMEBUFFER_SRGB);
     glEnable(GL_DEPTH_TEST);

@@ -87,7 +87,7 @@ void Renderer::setSettings(const RenderSettings& settings) {
     bool shadowDebug = settings.debugView == DebugView::ShadowMap || settings.debugView == DebugView::Histogram;
     ensure(b.shadowDebug, shadowDebug, "fullscreen.vert", "shadow_debug.frag");
     bool debug = settings.debugView != DebugView::None && settings.debugView != DebugView::Cascades &&
-                 !shadowDebug;
+                 settings.debugView != DebugView::GiIndirect && !shadowDebug;
     ensure(b.debugView, debug, "fullscreen.vert", "debug_view.frag");
     ensure(b.flat, settings.debugView == DebugView::Layer || settings.debugView == DebugView::Overdraw,
            "flat.vert", "flat.frag");

@@ -48,7 +48,8 @@ struct Row {
 constexpr std::string_view kDebugViewNames[] = {"none", "basecolor", "alpha", "normal",
                                                 "roughness", "metallic", "occlusion", "emissive",
                                                 "depth", "layer", "overdraw", "cascades",
-                                                "shadowmap", "histogram"};
+                                                "shadowmap", "histogram", "gi_indirect", "gi_rsm",
+                                                "gi_volume"};
 static_assert(std::size(kDebugViewNames) == size_t(DebugView::Count));
 constexpr std::string_view kTechniqueNames[] = {"off", "single", "lispsm", "pssm", "sdsm"};
 constexpr std::string_view kFitNames[] = {"sphere", "tight"};
@@ -156,11 +157,15 @@ const std::vector<Row>& rows() {
          enumField<&S::giAtomics>(kAtomicsNames)},
         {{"debug.view",
           "none|basecolor|alpha|normal|roughness|metallic|occlusion|emissive|depth|layer|overdraw|"
-          "cascades|shadowmap|histogram",
+          "cascades|shadowmap|histogram|gi_indirect|gi_rsm|gi_volume",
           "show one buffer instead of the lit image"},
          enumField<&S::debugView>(kDebugViewNames)},
         {{"debug.shadow_layer", "int 0..7", "the shadow-map layer debug.view=shadowmap shows"},
          UIntField{&S::debugShadowLayer, 0, 7}},
+        {{"debug.gi_slice", "int 0..511",
+          "the z slice debug.view=gi_volume shows (cascades stacked: cascade c is slices "
+          "c*cells .. (c+1)*cells-1)"},
+         UIntField{&S::debugGiSlice, 0, 511}},
         {{"textures.anisotropy", "float 1..16",
           "largest anisotropic filtering ratio of mipmapped textures (1 = trilinear only)"},
          FloatField{&S::anisotropy, 1.0f, 16.0f}},

@@ -333,3 +333,31 @@ TEST(GiPipeline, ExtremesStayFinite) {
 
 } // namespace
 } // namespace pnb::player::test
+
+namespace pnb::player::test {
+namespace {
+
+double meanColor(const CapturedImage& c) {
+    double s = 0;
+    for (size_t i = 0; i < c.u8.size(); i += 4) s += c.u8[i] + c.u8[i + 1] + c.u8[i + 2];
+    return s / double(c.u8.size() / 4 * 3);
+}
+
+TEST(GiPipeline, DebugViewsShowTheRsmTheVolumeAndIndirectLightAndNothingWithoutGi) {
+    for (DebugView view : {DebugView::GiIndirect, DebugView::GiRsm, DebugView::GiVolume}) {
+        RenderSettings s = giSettings();
+        s.giCascades = 1;
+        s.debugView = view;
+        s.debugGiSlice = 2; // just above the floor of the scene's grid
+        GiFrameResult on = renderGi(giBoxRoom(), kView, s, 96, 72);
+        s.giEnabled = false;
+        GiFrameResult off = renderGi(giBoxRoom(), kView, s, 96, 72);
+        EXPECT_GT(meanColor(on.color), 2.0) << toString(view);
+        if (view != DebugView::GiIndirect) {
+            EXPECT_EQ(meanColor(off.color), 0.0) << toString(view);
+        }
+    }
+}
+
+} // namespace
+} // namespace pnb::player::test

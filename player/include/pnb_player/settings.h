@@ -32,6 +32,9 @@ enum class DebugView {
     Cascades,  // lit image tinted by the shadow cascade each pixel reads (seed 000's colours)
     ShadowMap, // one layer of the shadow-map array (debug.shadow_layer), depth as grey
     Histogram, // SDSM's depth histogram with the split positions marked (sdsm only)
+    GiIndirect, // the irradiance GI adds, tone mapped (lighting writes it instead of radiance)
+    GiRsm,      // the reflective shadow map: diffuse albedo each texel reflects (flux / (E A_t))
+    GiVolume,   // one z slice (debug.gi_slice) of the summed light volume: band 0 per colour, x4
     Count
 };
 
@@ -60,6 +63,7 @@ struct RenderSettings {
     float farPlane = -1.0f;      // camera.far: metres; 0 = infinite; -1 = the container camera's
     DebugView debugView = DebugView::None; // debug.view
     uint32_t debugShadowLayer = 0;         // debug.shadow_layer
+    uint32_t debugGiSlice = 0;             // debug.gi_slice
     float anisotropy = 8.0f;               // textures.anisotropy: max anisotropic filter ratio
 
     // shadows.*: see settings.cpp for each key's meaning.
