@@ -15,6 +15,7 @@
 
 #include "fly_camera.h"
 #include "overlay.h"
+#include "gi_quality.h"
 #include "shadow_quality.h"
 #include "pnb_player/benchmark.h"
 #include "pnb_player/gl_context.h"
@@ -51,6 +52,14 @@ Run:
                           the sun's shadows with Embree ray-traced visibility: quality.csv and
                           "quality" in summary.json (misclassified %, mean abs error, texel/pixel
                           ratio per cascade, flicker)
+  --gi-metrics N          with --bench, on a container with GI: replay every N-th frame (and the
+                          view 1/60 s later) and compare the indirect light with the ray-traced
+                          one-bounce truth (gi_rmse_pct, gi_energy_ratio, per-colour ratios,
+                          gi_leak_pct, the reference's noise, gi_flicker_pct); with
+                          --shadow-metrics, N must be the same
+  --gi-samples S          rays per pixel of that truth (default 64)
+  --gi-lights sun|all     light the truth's bounce with the sun alone (default: what GI models)
+                          or every light
 
 Settings (container RSET < command line):
   --set KEY=VALUE         e.g. --set lighting.exposure=1.5 (repeatable)
@@ -71,7 +80,8 @@ struct Args {
          checksums = true, glDebug = false, quiet = false;
     double dt = 0, seconds = 0;
     int camera = -1;
-    uint32_t frames = 0, frame = 0, width = 0, height = 0, shadowMetrics = 0;
+    uint32_t frames = 0, frame = 0, width = 0, height = 0, shadowMetrics = 0, giMetrics = 0, giSamples = 64;
+    bool giAllLights = false;
 };
 
 [[noreturn]] void usageError(const std::string& message) {
@@ -116,6 +126,9 @@ Args parseArgs(int argc, char** argv) {
         else if (s == "--camera") a.camera = int(parseCount("--camera", next(i)));
         else if (s == "--frames") a.frames = parseCount("--frames", next(i));
         else if (s == "--shadow-metrics") a.shadowMetrics = parseCount("--shadow-metrics", next(i));
+        else if (s == "--gi-metrics") a.giMetrics = parseCount("--gi-metrics", next(i));
+        else if (s == "--gi-samples") a.giSamples = parseCount("--gi-samples", next(i));
+        else if (s == "--gi-lights") a.giAllLights = std::string(next(i)) == "all";
         else if (s == "--seconds") a.seconds = parsePositive("--seconds", next(i));
         else if (s == "--fixed-dt") {
             a.fixedDt = true;
@@ -293,6 +306,35 @@ int main(int argc, char** argv) {
         bo.quality.every = args.shadowMetrics;
         bo.quality.measure = [&, toward](uint32_t, Renderer& r, bool followUp) {
             return shadowQuality->measure(r, toward, followUp);
+        };
+    }
+    std::unique_ptr<GiQuality> giQuality;
+    if (args.giMetrics > 0) {
+        if (!args.bench) return fail({PlayErrorKind::Usage, "--gi-metrics needs --bench"});
+        if (args.shadowMetrics > 0 && args.shadowMetrics != args.giMetrics)
+            return fail({PlayErrorKind::Usage, "--gi-metrics and --shadow-metrics must measure the same frames"});
+        if (!(*scene)->giPrograms)
+            return fail({PlayErrorKind::Usage, "--gi-metrics: the container has no GI (pnb-convert --gi)"});
+        pnb::reference::IndirectSettings is;
+        is.samples = std::max(1u, args.giSamples);
+        is.lights = args.giAllLights ? pnb::reference::IndirectLights::All : pnb::reference::IndirectLights::Sun;
+        auto q = GiQuality::create(args.scene, first.position, is);
+        if (!q) return fail(q.error());
+        giQuality = std::move(*q);
+        auto shadows = bo.quality.measure;
+        bo.quality.every = args.giMetrics;
+        bo.quality.measure = [&, shadows](uint32_t k, Renderer& r, bool followUp)
+            -> PlayResult<std::vector<std::pair<std::string, double>>> {
+            std::vector<std::pair<std::string, double>> out;
+            if (shadows) {
+                auto s = shadows(k, r, followUp);
+                if (!s) return s.error();
+                out = std::move(*s);
+            }
+            auto g = giQuality->measure(r, followUp);
+            if (!g) return g.error();
+            out.insert(out.end(), g->begin(), g->end());
+            return out;
         };
     }
 
