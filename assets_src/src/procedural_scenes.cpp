@@ -1042,6 +1042,84 @@ gltf::Document buildOneTriangle() {
     return doc;
 }
 
+gltf::Document buildAtrium() {
+    Document doc;
+    doc.sceneName = "atrium";
+    constexpr float kHalf = 12.0f, kWallHeight = 14.0f, kWall = 0.6f;
+    constexpr float kArcade = 3.0f;      // depth of the arcade and gallery from the walls
+    constexpr float kGallery = 5.0f;     // gallery floor height (slab 5.0 .. 5.4)
+    constexpr float kColumn = 0.7f;      // column side
+    constexpr float kPitch = 4.0f;       // column spacing
+    const uint32_t stone = addMaterial(doc, makeMaterial("floor-stone", {0.55f, 0.5f, 0.45f}, 0.85f));
+    const uint32_t ochre = addMaterial(doc, makeMaterial("ochre-wall", {0.7f, 0.55f, 0.35f}, 0.9f));
+    const uint32_t marble = addMaterial(doc, makeMaterial("white-marble", {0.8f, 0.8f, 0.78f}, 0.5f));
+    const uint32_t red = addMaterial(doc, makeMaterial("red-banner", {0.7f, 0.06f, 0.05f}, 0.9f));
+    const uint32_t plaster = addMaterial(doc, makeMaterial("partition", {0.75f, 0.75f, 0.75f}, 0.9f));
+
+    Mesh floor;
+    floor.name = "floor";
+    floor.primitives.resize(1);
+    floor.primitives[0].material = stone;
+    addGrid(floor.primitives[0], {-kHalf, 0, -kHalf}, {0, 0, 2 * kHalf}, {2 * kHalf, 0, 0}, 12, 12, false);
+    addNode(doc, meshNode("floor", addMesh(doc, std::move(floor))));
+
+    // Enclosing walls (closed boxes) and the gallery slabs with their parapets.
+    std::vector<Box> walls = {
+        {{-kHalf - kWall, 0, -kHalf - kWall}, {kHalf + kWall, kWallHeight, -kHalf}},
+        {{-kHalf - kWall, 0, kHalf}, {kHalf + kWall, kWallHeight, kHalf + kWall}},
+        {{-kHalf - kWall, 0, -kHalf}, {-kHalf, kWallHeight, kHalf}},
+        {{kHalf, 0, -kHalf}, {kHalf + kWall, kWallHeight, kHalf}},
+    };
+    addNode(doc, meshNode("walls", addMesh(doc, boxesMesh("walls", walls, 2.0f, ochre, ochre))));
+    const float inner = kHalf - kArcade; // |x| or |z| of the arcade's open edge
+    std::vector<Box> gallery = {
+        {{-kHalf, kGallery, -kHalf}, {kHalf, kGallery + 0.4f, -inner}},
+        {{-kHalf, kGallery, inner}, {kHalf, kGallery + 0.4f, kHalf}},
+        {{-kHalf, kGallery, -inner}, {-inner, kGallery + 0.4f, inner}},
+        {{inner, kGallery, -inner}, {kHalf, kGallery + 0.4f, inner}},
+        // parapets, 1 m high and 0.2 m thick, on the open edges
+        {{-inner, kGallery + 0.4f, -inner - 0.2f}, {inner, kGallery + 1.4f, -inner}},
+        {{-inner, kGallery + 0.4f, inner}, {inner, kGallery + 1.4f, inner + 0.2f}},
+        {{-inner - 0.2f, kGallery + 0.4f, -inner}, {-inner, kGallery + 1.4f, inner}},
+        {{inner, kGallery + 0.4f, -inner}, {inner + 0.2f, kGallery + 1.4f, inner}},
+    };
+    addNode(doc, meshNode("gallery", addMesh(doc, boxesMesh("gallery", gallery, 2.0f, marble, marble))));
+
+    // Columns along the arcade's open edge and, between neighbours, an arch of five voussoirs on
+    // a semicircle springing at 3.8 m whose crown meets the slab.
+    std::vector<Box> columns, arches;
+    const float springing = 3.8f;
+    for (int side = 0; side < 4; ++side) {
+        for (float t = -inner; t <= inner + 1e-3f; t += kPitch) {
+            float x = side < 2 ? t : (side == 2 ? -inner : inner);
+            float z = side < 2 ? (side == 0 ? -inner : inner) : t;
+            if (side >= 2 && std::fabs(t) > inner - 1e-3f) continue; // corners once
+            columns.push_back({{x - kColumn / 2, 0, z - kColumn / 2}, {x + kColumn / 2, kGallery, z + kColumn / 2}});
+            if (t + kPitch > inner + 1e-3f) continue;
+            const float radius = (kPitch - kColumn) / 2, centre = t + kPitch / 2;
+            for (int k = 0; k < 5; ++k) {
+                float angle = float(std::numbers::pi) * (float(k) + 0.5f) / 5.0f;
+                float u = centre - radius * std::cos(angle), h = springing + radius * std::sin(angle);
+                float top = std::min(kGallery, h + 0.35f);
+                Box b = side < 2 ? Box{{u - 0.3f, h - 0.2f, z - 0.2f}, {u + 0.3f, top, z + 0.2f}}
+                                 : Box{{x - 0.2f, h - 0.2f, u - 0.3f}, {x + 0.2f, top, u + 0.3f}};
+                arches.push_back(b);
+            }
+        }
+    }
+    addNode(doc, meshNode("columns", addMesh(doc, boxesMesh("columns", columns, 2.0f, marble, marble))));
+    addNode(doc, meshNode("arches", addMesh(doc, boxesMesh("arches", arches, 2.0f, marble, marble))));
+    std::vector<Box> banner = {{{-3.0f, 6.0f, -kHalf + 0.02f}, {3.0f, 12.0f, -kHalf + 0.07f}}};
+    addNode(doc, meshNode("red-banner", addMesh(doc, boxesMesh("red-banner", banner, 2.0f, red, red))));
+    std::vector<Box> partition = {{{-4.0f, 0, 2.0f}, {4.0f, 4.0f, 2.1f}}};
+    addNode(doc, meshNode("thin-partition", addMesh(doc, boxesMesh("thin-partition", partition, 2.0f, plaster, plaster))));
+
+    addCamera(doc, "gallery-camera", {-9.5f, kGallery + 2.2f, 9.5f}, {12.0f, -6.0f, -12.0f}, radians(60),
+              16.0f / 9.0f, 0.05f, 0.0f);
+    addSun(doc, sunDirection(radians(55), radians(30)), {0, 0, 0}, 40.0f, {1.0f, 0.97f, 0.9f}, 3.0f);
+    return doc;
+}
+
 gltf::Document buildWideFlat(const WideFlatOptions& o) {
     Document doc;
     doc.sceneName = "wide-flat";
@@ -1366,6 +1444,8 @@ constexpr ProceduralScene kScenes[] = {
                     "deferred vs forward benchmark)"},
     {"one-triangle", "a single triangle under a 40-degree sun (extremes of the ground truth)"},
     {"wide-flat", "a 100 km ground with 1 m blocks: 10^5 x wider than tall (extremes)"},
+    {"atrium", "walled courtyard open to the sky: arcade of columns and arches, upper gallery, "
+               "red banner, thin partition (GI: bounce light, bleeding, leaks)"},
 };
 
 uint32_t sqrtRound(double v) {
@@ -1433,6 +1513,7 @@ std::optional<gltf::Document> buildProceduralScene(std::string_view name,
     }
     if (name == "one-triangle") return buildOneTriangle();
     if (name == "wide-flat") return buildWideFlat({});
+    if (name == "atrium") return buildAtrium();
     return std::nullopt;
 }
 

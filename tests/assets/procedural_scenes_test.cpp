@@ -168,7 +168,7 @@ TEST(ProceduralScenesRegistry, ListsEverySceneAndRejectsUnknownNames) {
     std::vector<std::string> names = allSceneNames();
     EXPECT_EQ(names, (std::vector<std::string>{"street-canyon", "flat-city", "box-room", "terrain",
                                                "grazing-plane", "load-test", "light-field",
-                                               "one-triangle", "wide-flat"}));
+                                               "one-triangle", "wide-flat", "atrium"}));
     for (const assets::ProceduralScene& s : assets::proceduralScenes())
         EXPECT_FALSE(s.summary.empty());
     EXPECT_FALSE(assets::buildProceduralScene("no-such-scene", {}).has_value());

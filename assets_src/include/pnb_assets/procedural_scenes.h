@@ -180,6 +180,13 @@ struct WideFlatOptions {
 };
 gltf::Document buildWideFlat(const WideFlatOptions& options = {});
 
+// atrium: a 24 m x 24 m courtyard walled 14 m high and open to the sky (sun at 55 degrees), a
+// ground-floor arcade of columns and arches (five-stone voussoirs) on all four sides carrying an
+// upper gallery with a parapet, a red banner in the sun (colour bleeding) and a 0.1 m thin
+// partition between sunlit and shaded floor (light leaking through thin walls). For GI: light
+// reaches the arcade and the gallery's underside only by bouncing. Camera on the gallery.
+gltf::Document buildAtrium();
+
 // --- Registry (what pnb-make-scene lists) -----------------------------------------------------
 
 struct ProceduralScene {
