@@ -5,15 +5,16 @@
 // solid angle, is the flux through the face; it is re-emitted from this cell's centre as a
 // clamped-cosine lobe along the face's normal (flux / pi times the lobe: same integral). Six
 // neighbours x (far + 4 sides) cover 4 pi, so without occluders the flux is kept, step to step.
-// With OCCLUSION the geometry volume, interpolated at the face the light crosses, blocks that
-// fraction of it. The step's result goes to the next source (images 0-2) and is added to the sum
+// With OCCLUSION each face lets in the fraction lpv_resolve.comp's RESOLVE_TRANSMITTANCE found
+// from the geometry volume (once per frame, not once per step). The step's result goes to the next source (images 0-2) and is added to the sum
 // (images 3-5). Cascades are stacked along z; a neighbour outside this cell's cascade is dark.
 layout(local_size_x = 4, local_size_y = 4, local_size_z = 4) in;
 
 layout(binding = 0) uniform sampler3D uSourceR;
 layout(binding = 1) uniform sampler3D uSourceG;
 layout(binding = 2) uniform sampler3D uSourceB;
-layout(binding = 3) uniform sampler3D uGeometryVolume; // (cells + 1)^3 per cascade, linear filter
+layout(binding = 3) uniform sampler3D uTransmit0; // per cell: faces from the -x, +x, -y, +y neighbours
+layout(binding = 4) uniform sampler3D uTransmit1; // from the -z, +z neighbours
 
 layout(rgba16f, binding = 0) writeonly uniform image3D uNextR;
 layout(rgba16f, binding = 1) writeonly uniform image3D uNextG;
@@ -43,6 +44,10 @@ void main() {
     int cascade = id.z / cells;
     ivec3 local = ivec3(id.xy, id.z - cascade * cells);
     vec4 sum[3] = vec4[](vec4(0.0), vec4(0.0), vec4(0.0));
+#ifdef OCCLUSION
+    vec4 t0 = texelFetch(uTransmit0, id, 0), t1 = texelFetch(uTransmit1, id, 0);
+    float transmitted[6] = float[](t0.x, t0.y, t0.z, t0.w, t1.x, t1.y);
+#endif
     for (int i = 0; i < 6; ++i) {
         ivec3 d = kDirections[i]; // from the neighbour towards this cell
         ivec3 from = local - d;
@@ -52,15 +57,7 @@ void main() {
                              texelFetch(uSourceB, at, 0));
         float transmit = 1.0;
 #ifdef OCCLUSION
-        // The face between the neighbour and this cell, in corner units of the geometry volume
-        // (whose texel centres are this volume's corners): texel coordinate = position + 0.5.
-        vec3 face = vec3(local) + 0.5 - 0.5 * vec3(d);
-        int corners = cells + 1;
-        vec3 uvw = (face + 0.5 + vec3(0.0, 0.0, float(cascade * corners))) /
-                   vec3(corners, corners, corners * uGrid.y);
-        vec4 blocking = textureLod(uGeometryVolume, uvw, 0.0);
-        // Surfaces facing the light's travel direction d block it: evaluate at -d.
-        transmit = 1.0 - clamp(dot(blocking, basis(-vec3(d))), 0.0, 1.0);
+        transmit = transmitted[i];
 #endif
         vec3 dv = vec3(d);
         // The far face: straight on.

@@ -328,7 +328,8 @@ PlayResult<BenchResult> runBenchmark(const GpuScene& scene, Renderer& renderer,
                              {"gbuffer", tm.gbufferBytes}, {"depth", tm.depthBytes}, {"hdr", tm.hdrBytes},
                              {"output", tm.outputBytes}, {"debug", tm.debugBytes},
                              {"per_frame_stream", tm.streamingBytes}, {"shadow_maps", tm.shadowMapBytes},
-                             {"shadow_buffers", tm.shadowBufferBytes}};
+                             {"shadow_buffers", tm.shadowBufferBytes},
+                             {"gi", tm.giBytes}};
     nlohmann::json gpu = nlohmann::json::object();
     for (const PassSummary& s : result.gpu) gpu[s.pass] = toJson(s);
     j["gpu_ms"] = gpu;

@@ -48,8 +48,10 @@ struct GiResources {
     // two propagation buffers and the sum the look-up reads. Geometry: (cells+1)^3 per cascade.
     std::array<GlHandle, 3> source, next, sum;
     GlHandle geometry;
+    std::array<GlHandle, 2> transmittance; // per cell, the six faces' transmittance (RGBA8 x 2)
     GlHandle lightAccumulation, geometryAccumulation; // injection's atomic buffers
-    GlHandle injectRsm, injectCamera, resolveLight, resolveGeometry, propagate, propagateOccluded;
+    GlHandle injectRsm, injectCamera, resolveLight, resolveGeometry, resolveTransmittance, propagate,
+        propagateOccluded;
     uint64_t bytes = 0;
 
     PlayResult<Done> ensure(uint32_t cells, uint32_t cascades, uint32_t rsmResolution, bool floatAtomics);

@@ -20,9 +20,9 @@ GlHandle texture2d(GLenum format, uint32_t size, const char* label) {
 }
 
 // Linear filtering: the look-up is trilinear and propagation interpolates the geometry volume.
-GlHandle volume(uint32_t side, uint32_t depth, const char* label) {
+GlHandle volume(uint32_t side, uint32_t depth, const char* label, GLenum format = GL_RGBA16F) {
     GlHandle t = createTexture(GL_TEXTURE_3D);
-    glTextureStorage3D(t.id(), 1, GL_RGBA16F, GLsizei(side), GLsizei(side), GLsizei(depth));
+    glTextureStorage3D(t.id(), 1, format, GLsizei(side), GLsizei(side), GLsizei(depth));
     glTextureParameteri(t.id(), GL_TEXTURE_MIN_FILTER, GL_LINEAR);
     glTextureParameteri(t.id(), GL_TEXTURE_MAG_FILTER, GL_LINEAR);
     for (GLenum wrap : {GL_TEXTURE_WRAP_S, GL_TEXTURE_WRAP_T, GL_TEXTURE_WRAP_R})
@@ -54,6 +54,7 @@ PlayResult<Done> GiResources::ensure(uint32_t cellCount, uint32_t cascadeCount, 
                       {&injectCamera, "lpv_inject.comp", "SOURCE_CAMERA"},
                       {&resolveLight, "lpv_resolve.comp", "RESOLVE_LIGHT"},
                       {&resolveGeometry, "lpv_resolve.comp", "RESOLVE_GEOMETRY"},
+                      {&resolveTransmittance, "lpv_resolve.comp", "RESOLVE_TRANSMITTANCE"},
                       {&propagate, "lpv_propagate.comp", "PLAIN"},
                       {&propagateOccluded, "lpv_propagate.comp", "OCCLUSION"}};
         for (Stage& st : stages) {
@@ -90,6 +91,8 @@ PlayResult<Done> GiResources::ensure(uint32_t cellCount, uint32_t cascadeCount, 
             sum[size_t(ch)] = volume(cells, depth, names[2][ch]);
         }
         geometry = volume(corners, corners * cascades, "lpv geometry");
+        transmittance[0] = volume(cells, depth, "lpv transmittance -x +x -y +y", GL_RGBA8);
+        transmittance[1] = volume(cells, depth, "lpv transmittance -z +z", GL_RGBA8);
         uint64_t cellsTotal = uint64_t(cells) * cells * depth;
         uint64_t cornersTotal = uint64_t(corners) * corners * corners * cascades;
         lightAccumulation = storage(cellsTotal * 12 * 4, "lpv light accumulation");
@@ -97,7 +100,7 @@ PlayResult<Done> GiResources::ensure(uint32_t cellCount, uint32_t cascadeCount, 
     }
     const uint64_t cellsTotal = uint64_t(cells) * cells * cells * cascades;
     const uint64_t cornersTotal = uint64_t(cells + 1) * (cells + 1) * (cells + 1) * cascades;
-    bytes = uint64_t(rsmResolution) * rsmResolution * (4 + 8 + 4) + cellsTotal * 9 * 8 +
+    bytes = uint64_t(rsmResolution) * rsmResolution * (4 + 8 + 4) + cellsTotal * (9 * 8 + 2 * 4) +
             cornersTotal * 8 + cellsTotal * 12 * 4 + cornersTotal * 2 * 4 * 4;
     return Done{};
 }

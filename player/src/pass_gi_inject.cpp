@@ -29,7 +29,7 @@ void runGiInject(FrameContext& ctx) {
     GiFrame& f = ctx.gi.frame;
     if (!f.active) return;
     const GiResources& r = ctx.gi.resources;
-    ctx.timer.mark("gi inject");
+    ctx.timer.mark("gi_inject");
     const uint32_t zero = 0;
     glClearNamedBufferData(r.lightAccumulation.id(), GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
     glClearNamedBufferData(r.geometryAccumulation.id(), GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
@@ -57,7 +57,7 @@ void runGiCameraGeometry(FrameContext& ctx) {
     const GiFrame& f = ctx.gi.frame;
     const GiResources& r = ctx.gi.resources;
     const FrameTargets& t = ctx.targets;
-    ctx.timer.mark("gi geometry");
+    ctx.timer.mark("gi_geometry");
     GLuint p = r.injectCamera.id();
     glProgramUniformMatrix4fv(p, 0, 1, GL_FALSE, glm::value_ptr(ctx.view.inverseViewProjection));
     setCascades(p, f, ctx.view.position);
@@ -103,6 +103,17 @@ void runGiResolve(FrameContext& ctx, bool cameraGeometry) {
     glUseProgram(geometry);
     g = GLuint(corners + 3) / 4;
     glDispatchCompute(g, g, GLuint(corners * cascades + 3) / 4);
+    glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT);
+
+    if (!ctx.settings.giOcclusion) return;
+    GLuint transmit = r.resolveTransmittance.id();
+    glProgramUniform3i(transmit, 0, cells, cells * cascades, cascades);
+    glBindTextureUnit(0, r.geometry.id());
+    glBindImageTexture(0, r.transmittance[0].id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA8);
+    glBindImageTexture(1, r.transmittance[1].id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA8);
+    glUseProgram(transmit);
+    g = GLuint(cells + 3) / 4;
+    glDispatchCompute(g, g, GLuint(cells * cascades + 3) / 4);
     glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT);
 }
 

@@ -10,12 +10,13 @@ namespace pnb::player {
 void runGiPropagate(FrameContext& ctx) {
     const GiFrame& f = ctx.gi.frame;
     GiResources& r = ctx.gi.resources;
-    ctx.timer.mark("gi propagate");
+    ctx.timer.mark("gi_propagate");
     GLuint p = ctx.settings.giOcclusion ? r.propagateOccluded.id() : r.propagate.id();
     const GLint cells = GLint(r.cells), cascades = GLint(f.cascades.size());
     glProgramUniform2i(p, 0, cells, cascades);
     glUseProgram(p);
-    glBindTextureUnit(3, r.geometry.id());
+    glBindTextureUnit(3, r.transmittance[0].id());
+    glBindTextureUnit(4, r.transmittance[1].id());
     for (GLuint ch = 0; ch < 3; ++ch)
         glBindImageTexture(3 + ch, r.sum[ch].id(), 0, GL_TRUE, 0, GL_READ_WRITE, GL_RGBA16F);
     std::array<GlHandle, 3>* from = &r.source;
@@ -30,7 +31,7 @@ void runGiPropagate(FrameContext& ctx) {
         glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT);
         std::swap(from, to);
     }
-    for (GLuint unit = 0; unit < 4; ++unit) glBindTextureUnit(unit, 0);
+    for (GLuint unit = 0; unit < 5; ++unit) glBindTextureUnit(unit, 0);
 }
 
 void finishGi(FrameContext& ctx) {

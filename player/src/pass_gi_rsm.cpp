@@ -13,7 +13,7 @@ void runGiRsm(FrameContext& ctx) {
     const GiFrame& f = ctx.gi.frame;
     if (!f.active) return;
     const GiResources& r = ctx.gi.resources;
-    ctx.timer.mark("gi rsm");
+    ctx.timer.mark("gi_rsm");
     std::vector<DrawRef> refs;
     refs.reserve(f.rsmItems.size());
     for (size_t i = 0; i < f.rsmItems.size(); ++i) refs.push_back({f.rsmItems[i], 0.0f, f.rsmObjectOffsets[i]});

@@ -23,9 +23,9 @@ namespace fs = std::filesystem;
 
 constexpr int kN = 16;
 
-GlHandle volume(int side, int depth, const std::vector<float>* data = nullptr) {
+GlHandle volume(int side, int depth, const std::vector<float>* data = nullptr, GLenum format = GL_RGBA16F) {
     GlHandle t = createTexture(GL_TEXTURE_3D);
-    glTextureStorage3D(t.id(), 1, GL_RGBA16F, side, side, depth);
+    glTextureStorage3D(t.id(), 1, format, side, side, depth);
     glTextureParameteri(t.id(), GL_TEXTURE_MIN_FILTER, GL_LINEAR);
     glTextureParameteri(t.id(), GL_TEXTURE_MAG_FILTER, GL_LINEAR);
     for (GLenum w : {GL_TEXTURE_WRAP_S, GL_TEXTURE_WRAP_T, GL_TEXTURE_WRAP_R})
@@ -56,7 +56,8 @@ struct Propagation {
 };
 
 // A point source (isotropic: band 0 only) in cell `at`, `iterations` steps, the geometry volume
-// `geometry` ((kN+1)^3 corners) if given. Mirrors pass_gi_propagate.cpp's dispatch.
+// `geometry` ((kN+1)^3 corners) if given, turned into face transmittance first. Mirrors
+// pass_gi_inject.cpp's runGiResolve (transmittance) and pass_gi_propagate.cpp's dispatch.
 Propagation propagate(glm::ivec3 at, int iterations, const std::vector<float>* geometry) {
     std::vector<float> src(size_t(kN) * kN * kN * 4, 0.0f);
     src[cell(at.x, at.y, at.z)] = 1.0f;
@@ -67,6 +68,20 @@ Propagation propagate(glm::ivec3 at, int iterations, const std::vector<float>* g
         sum[ch] = volume(kN, kN, &src);
     }
     GlHandle gv = volume(kN + 1, kN + 1, geometry);
+    GlHandle transmit[2] = {volume(kN, kN, nullptr, GL_RGBA8), volume(kN, kN, nullptr, GL_RGBA8)};
+    if (geometry) {
+        std::string_view mode = "RESOLVE_TRANSMITTANCE";
+        auto resolve = compileEmbeddedCompute("lpv_resolve.comp", std::span(&mode, 1));
+        EXPECT_TRUE(resolve.ok()) << (resolve.ok() ? "" : resolve.error().message);
+        if (!resolve) return {};
+        glProgramUniform3i(resolve->id(), 0, kN, kN, 1);
+        glBindTextureUnit(0, gv.id());
+        glBindImageTexture(0, transmit[0].id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA8);
+        glBindImageTexture(1, transmit[1].id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA8);
+        glUseProgram(resolve->id());
+        glDispatchCompute(kN / 4, kN / 4, kN / 4);
+        glMemoryBarrier(GL_ALL_BARRIER_BITS);
+    }
     std::string_view define = geometry ? "OCCLUSION" : "PLAIN";
     auto program = compileEmbeddedCompute("lpv_propagate.comp", std::span(&define, 1));
     EXPECT_TRUE(program.ok()) << (program.ok() ? "" : program.error().message);
@@ -75,7 +90,8 @@ Propagation propagate(glm::ivec3 at, int iterations, const std::vector<float>* g
     GLuint p = program->id();
     glProgramUniform2i(p, 0, kN, 1);
     glUseProgram(p);
-    glBindTextureUnit(3, gv.id());
+    glBindTextureUnit(3, transmit[0].id());
+    glBindTextureUnit(4, transmit[1].id());
     for (GLuint ch = 0; ch < 3; ++ch)
         glBindImageTexture(3 + ch, sum[ch].id(), 0, GL_TRUE, 0, GL_READ_WRITE, GL_RGBA16F);
     auto* from = &source;
