@@ -86,7 +86,10 @@ void main() {
         // half a cell: its cell centres are the light volume's corners).
         ivec3 g = ivec3(floor(q + 0.5));
         if (all(greaterThanEqual(g, ivec3(0))) && all(lessThanEqual(g, ivec3(cells)))) {
-            float blocking = min(area / (s * s), 1.0);
+            // L1's clamped-cosine lobe peaks at c0 y0 + c1 y1 = 0.75, not 1: scaled by 4/3 so that
+            // a surface covering the face head-on blocks all of it (K&D's unscaled lobe lets a
+            // solid wall pass a quarter of the light on every crossing).
+            float blocking = min(area / (s * s), 1.0) * (4.0 / 3.0);
             int at = (((uGrid.w * uGrid.y + c) * corners + g.z) * corners + g.y) * corners + g.x;
             for (int k = 0; k < 4; ++k) ADD(uGeometry[at * 4 + k], blocking * l[k], uSurfel.z);
         }
