@@ -174,20 +174,36 @@ TEST(GiPropagation, AThinWallCutsTheLightThatReachesTheFarSide) {
 
 // --- the pipeline on the box room ------------------------------------------------------------
 
+// This binary's scratch directory, removed when the process ends.
+const fs::path& scratchDir() {
+    struct Dir {
+        fs::path path = fs::temp_directory_path() / ("pnb_gi_test_" + std::to_string(::getpid()));
+        Dir() { fs::create_directories(path); }
+        ~Dir() {
+            std::error_code ec;
+            fs::remove_all(path, ec);
+        }
+    };
+    static const Dir dir;
+    return dir.path;
+}
+
+// `input` (a .glb) converted with GI into the scratch directory as NAME.pnb.
+std::string convertWithGi(const std::string& input, const std::string& name) {
+    converter::ConvertSettings s;
+    s.input = input;
+    s.output = (scratchDir() / (name + ".pnb")).string();
+    s.jobs = 1;
+    s.validateShaders = false;
+    s.noSidecar = true;
+    s.renderSettings = {{"gi.enabled", "true"}};
+    auto r = converter::convertScene(s);
+    EXPECT_TRUE(r.ok()) << (r.ok() ? "" : r.error().message);
+    return s.output;
+}
+
 std::string giBoxRoom() {
-    static const std::string path = [] {
-        std::string out = (fs::temp_directory_path() / ("pnb_gi_box_room_" + std::to_string(::getpid()) + ".pnb")).string();
-        converter::ConvertSettings s;
-        s.input = std::string(PNB_SCENE_DIR) + "/box-room.glb";
-        s.output = out;
-        s.jobs = 1;
-        s.validateShaders = false;
-        s.noSidecar = true;
-        s.renderSettings = {{"gi.enabled", "true"}};
-        auto r = converter::convertScene(s);
-        EXPECT_TRUE(r.ok()) << (r.ok() ? "" : r.error().message);
-        return out;
-    }();
+    static const std::string path = convertWithGi(std::string(PNB_SCENE_DIR) + "/box-room.glb", "box-room");
     return path;
 }
 
@@ -392,21 +408,9 @@ namespace {
 std::string giVariant(const std::string& name, const std::function<void(gltf::Document&)>& edit) {
     gltf::Document doc = assets::buildBoxRoomGltf();
     edit(doc);
-    fs::path dir = fs::temp_directory_path() / ("pnb_gi_" + name + "_" + std::to_string(::getpid()));
-    fs::create_directories(dir);
-    std::string glb = (dir / (name + ".glb")).string();
-    auto bytes = assets::gltf::encodeGlb(doc);
-    EXPECT_TRUE(isOk(pnb::writeFileAtomic(glb, bytes)));
-    converter::ConvertSettings s;
-    s.input = glb;
-    s.output = (dir / (name + ".pnb")).string();
-    s.jobs = 1;
-    s.validateShaders = false;
-    s.noSidecar = true;
-    s.renderSettings = {{"gi.enabled", "true"}};
-    auto r = converter::convertScene(s);
-    EXPECT_TRUE(r.ok()) << (r.ok() ? "" : r.error().message);
-    return s.output;
+    std::string glb = (scratchDir() / (name + ".glb")).string();
+    EXPECT_TRUE(isOk(pnb::writeFileAtomic(glb, assets::gltf::encodeGlb(doc))));
+    return convertWithGi(glb, name);
 }
 
 double meanIndirect(const CapturedImage& c) {

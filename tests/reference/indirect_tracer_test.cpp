@@ -49,6 +49,26 @@ std::unique_ptr<LoadedScene> floorScene(const TempDir& dir, double half, gltf::F
     return loadPnb(path);
 }
 
+// A floor scene and its tracer, kept together (the tracer reads the scene's mapping).
+struct Floor {
+    TempDir dir;
+    std::unique_ptr<LoadedScene> scene;
+    std::unique_ptr<IndirectTracer> tracer;
+    explicit Floor(const std::string& name) : dir(name) {}
+};
+
+std::unique_ptr<Floor> floorTracer(const std::string& name, double half, gltf::Float3 albedo, float lux,
+                                   gltf::Float4 sunRotation) {
+    auto f = std::make_unique<Floor>(name);
+    f->scene = floorScene(f->dir, half, albedo, lux, sunRotation);
+    if (!f->scene) return nullptr;
+    auto tracer = IndirectTracer::build(f->scene->scene, glm::dvec3(0.0));
+    EXPECT_TRUE(tracer.ok()) << (tracer.ok() ? "" : tracer.error().message);
+    if (!tracer) return nullptr;
+    f->tracer = std::move(*tracer);
+    return f;
+}
+
 struct Estimate {
     std::vector<glm::vec3> mean, error;
 };
@@ -67,17 +87,15 @@ Estimate estimate(const IndirectTracer& tracer, const std::vector<glm::vec3>& po
 }
 
 TEST(IndirectTracer, APointOverALitFloorReceivesAlbedoTimesIrradianceTimesTheViewFactor) {
-    TempDir dir("indirect-floor");
     const double half = 5.0, h = 1.0;
     const float lux = 3.0f;
-    auto scene = floorScene(dir, half, {0.8f, 0.4f, 0.2f}, lux, kFaceUp); // sun straight down
-    ASSERT_TRUE(scene);
-    auto tracer = IndirectTracer::build(scene->scene, glm::dvec3(0.0));
-    ASSERT_TRUE(tracer.ok()) << tracer.error().message;
-    EXPECT_EQ((*tracer)->stats().lights, 1u);
+    auto floor = floorTracer("indirect-floor", half, {0.8f, 0.4f, 0.2f}, lux, kFaceUp); // sun straight down
+    ASSERT_TRUE(floor);
+    const IndirectTracer& tracer = *floor->tracer;
+    EXPECT_EQ(tracer.stats().lights, 1u);
     // Points facing down at height h over the floor's centre: nothing shadows the floor.
     std::vector<glm::vec3> points(64, glm::vec3(0.0f, float(h), 0.0f));
-    Estimate e = estimate(**tracer, points, {0, -1, 0}, 1024);
+    Estimate e = estimate(tracer, points, {0, -1, 0}, 1024);
     const double f = squareViewFactor(half, h); // 0.9407 for a = 5, h = 1
     glm::dvec3 mean(0.0), se(0.0);
     for (size_t i = 0; i < points.size(); ++i) {
@@ -94,14 +112,11 @@ TEST(IndirectTracer, APointOverALitFloorReceivesAlbedoTimesIrradianceTimesTheVie
 }
 
 TEST(IndirectTracer, StandardErrorShrinksWithTheSquareRootOfTheSampleCount) {
-    TempDir dir("indirect-noise");
-    // A small floor far below: few rays hit it, so the estimate is noisy.
-    auto scene = floorScene(dir, 1.0, {1, 1, 1}, 1.0f, kFaceUp);
-    ASSERT_TRUE(scene);
-    auto tracer = IndirectTracer::build(scene->scene, glm::dvec3(0.0));
-    ASSERT_TRUE(tracer.ok());
+    auto floor = floorTracer("indirect-noise", 1.0, {1, 1, 1}, 1.0f, kFaceUp);
+    ASSERT_TRUE(floor);
+    const IndirectTracer& tracer = *floor->tracer;
     std::vector<glm::vec3> point(1, glm::vec3(0, 3, 0));
-    Estimate a = estimate(**tracer, point, {0, -1, 0}, 256), b = estimate(**tracer, point, {0, -1, 0}, 4096);
+    Estimate a = estimate(tracer, point, {0, -1, 0}, 256), b = estimate(tracer, point, {0, -1, 0}, 4096);
     ASSERT_GT(a.error[0].x, 0.0f);
     EXPECT_NEAR(a.error[0].x / b.error[0].x, 4.0, 0.6);
     double truth = squareViewFactor(1.0, 3.0);
@@ -109,31 +124,27 @@ TEST(IndirectTracer, StandardErrorShrinksWithTheSquareRootOfTheSampleCount) {
 }
 
 TEST(IndirectTracer, ASunBelowTheFloorAndPointsWithoutSurfaceGiveNothing) {
-    TempDir dir("indirect-below");
     const gltf::Float4 up{0.70710678f, 0, 0, 0.70710678f}; // shines along +Y: from below
-    auto scene = floorScene(dir, 5.0, {1, 1, 1}, 1e6f, up);
-    ASSERT_TRUE(scene);
-    auto tracer = IndirectTracer::build(scene->scene, glm::dvec3(0.0));
-    ASSERT_TRUE(tracer.ok());
+    auto floor = floorTracer("indirect-below", 5.0, {1, 1, 1}, 1e6f, up);
+    ASSERT_TRUE(floor);
+    const IndirectTracer& tracer = *floor->tracer;
     std::vector<glm::vec3> points = {{0, 1, 0}, {NAN, 0, 0}};
-    Estimate e = estimate(**tracer, points, {0, -1, 0}, 64);
+    Estimate e = estimate(tracer, points, {0, -1, 0}, 64);
     // The floor's top is what the point sees; the sun lights its underside only.
     EXPECT_EQ(e.mean[0], glm::vec3(0.0f));
     EXPECT_TRUE(std::isnan(e.mean[1].x));
 }
 
 TEST(IndirectTracer, TheSameSeedGivesTheSameAnswerAndPointsAreIndependent) {
-    TempDir dir("indirect-seed");
-    auto scene = floorScene(dir, 5.0, {0.5f, 0.5f, 0.5f}, 2.0f, kFaceUp);
-    ASSERT_TRUE(scene);
-    auto tracer = IndirectTracer::build(scene->scene, glm::dvec3(0.0));
-    ASSERT_TRUE(tracer.ok());
+    auto floor = floorTracer("indirect-seed", 5.0, {0.5f, 0.5f, 0.5f}, 2.0f, kFaceUp);
+    ASSERT_TRUE(floor);
+    const IndirectTracer& tracer = *floor->tracer;
     std::vector<glm::vec3> many(3000, glm::vec3(0, 1, 0));
     many[1234] = glm::vec3(2, 0.5f, 1);
-    Estimate all = estimate(**tracer, many, {0, -1, 0}, 32, 7);
-    Estimate again = estimate(**tracer, many, {0, -1, 0}, 32, 7);
+    Estimate all = estimate(tracer, many, {0, -1, 0}, 32, 7);
+    Estimate again = estimate(tracer, many, {0, -1, 0}, 32, 7);
     EXPECT_EQ(all.mean, again.mean);
-    Estimate other = estimate(**tracer, many, {0, -1, 0}, 32, 8);
+    Estimate other = estimate(tracer, many, {0, -1, 0}, 32, 8);
     EXPECT_NE(all.mean[0], other.mean[0]);
 }
 
