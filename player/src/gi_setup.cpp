@@ -3,6 +3,7 @@
 #include <cmath>
 #include <cstdio>
 #include <limits>
+#include <utility>
 
 #include <glm/gtc/matrix_transform.hpp>
 
@@ -25,6 +26,19 @@ int giLight(const GpuScene& scene, const ShadowContext& shadows) {
 float fixedScale(double largest) {
     double e = std::floor(std::log2(std::ldexp(1.0, 29) / std::max(largest, 1e-30)));
     return float(std::ldexp(1.0, int(std::clamp(e, 0.0, 27.0))));
+}
+
+// The light-space bounds of the camera-relative box [lo, hi] - camera.
+std::pair<glm::dvec3, glm::dvec3> lightBounds(const glm::dmat3& rotation, const glm::dvec3& lo,
+                                              const glm::dvec3& hi, const glm::dvec3& camera) {
+    glm::dvec3 a(std::numeric_limits<double>::infinity()), b(-std::numeric_limits<double>::infinity());
+    for (int c = 0; c < 8; ++c) {
+        glm::dvec3 p{(c & 1) ? hi.x : lo.x, (c & 2) ? hi.y : lo.y, (c & 4) ? hi.z : lo.z};
+        glm::dvec3 l = rotation * (p - camera);
+        a = glm::min(a, l);
+        b = glm::max(b, l);
+    }
+    return {a, b};
 }
 
 } // namespace
@@ -74,13 +88,7 @@ void prepareGi(FrameContext& ctx) {
     glm::dvec3 lo = glm::max(outer.origin, ctx.shadows.sceneMin), hi = glm::min(outer.max(), ctx.shadows.sceneMax);
     lo = glm::min(lo, hi);
     glm::dmat3 rotation = lightRotation(-f.toward);
-    glm::dvec3 llo(std::numeric_limits<double>::infinity()), lhi(-std::numeric_limits<double>::infinity());
-    for (int c = 0; c < 8; ++c) {
-        glm::dvec3 p{(c & 1) ? hi.x : lo.x, (c & 2) ? hi.y : lo.y, (c & 4) ? hi.z : lo.z};
-        glm::dvec3 l = rotation * (p - cam);
-        llo = glm::min(llo, l);
-        lhi = glm::max(lhi, l);
-    }
+    auto [llo, lhi] = lightBounds(rotation, lo, hi, cam);
     const uint32_t res = s.giRsmResolution;
     double side = std::max(lhi.x - llo.x, lhi.y - llo.y);
     side = std::max(side, 1e-9 * outer.cellSize * outer.cells);
@@ -97,14 +105,7 @@ void prepareGi(FrameContext& ctx) {
     for (uint32_t i = 0; i < scene.items.size(); ++i) {
         const DrawItem& item = scene.items[i];
         if (scene.materials[item.material].rsmProgram == kNone) continue;
-        glm::dvec2 ilo(std::numeric_limits<double>::infinity()), ihi(-std::numeric_limits<double>::infinity());
-        for (int c = 0; c < 8; ++c) {
-            glm::dvec3 p{(c & 1) ? item.boundsMax.x : item.boundsMin.x, (c & 2) ? item.boundsMax.y : item.boundsMin.y,
-                         (c & 4) ? item.boundsMax.z : item.boundsMin.z};
-            glm::dvec2 l = glm::dvec2(rotation * (p - cam));
-            ilo = glm::min(ilo, l);
-            ihi = glm::max(ihi, l);
-        }
+        auto [ilo, ihi] = lightBounds(rotation, item.boundsMin, item.boundsMax, cam);
         glm::dvec2 rlo = centre - 0.5 * side, rhi = centre + 0.5 * side;
         if (ihi.x < rlo.x || ilo.x > rhi.x || ihi.y < rlo.y || ilo.y > rhi.y) continue;
         f.rsmItems.push_back(i);
@@ -121,7 +122,7 @@ void prepareGi(FrameContext& ctx) {
     // (times the lobe's 1/pi * c0 < 1), a cell sums a few of them.
     double finest = f.cascades.front().cellSize;
     f.lightScale = fixedScale(4.0 * std::max(1.0, f.rsmTexelArea / (finest * finest)));
-    f.geometryScale = float(1 << 20); // blocking surfels are clamped to 1 each
+    f.geometryScale = float(1 << 20); // a blocking surfel adds at most 4/3 x the lobe
 
     GiBlock block{};
     for (size_t c = 0; c < f.cascades.size(); ++c)
