@@ -73,19 +73,27 @@ def run(args, scene_file, c, out_dir):
     with open(os.path.join(out_dir, "summary.json")) as f:
         summary = json.load(f)
     row["gi_mib"] = summary["gpu_memory_bytes"].get("gi", 0) / 1048576.0
+    row["size"] = "%dx%d" % (summary["run"]["width"], summary["run"]["height"])
     q = summary.get("quality", {})
-    for k in ["gi_rmse_pct", "gi_reference_noise_pct", "gi_energy_ratio", "gi_red_ratio", "gi_green_ratio",
+    for k in ["gi_rmse_pct", "gi_reference_noise_pct", "gi_corrected_rmse_pct", "gi_energy_ratio", "gi_red_ratio", "gi_green_ratio",
               "gi_blue_ratio", "gi_leak_pct", "gi_flicker_pct"]:
         row[k] = q[k]["mean"] if k in q else ""
+    if row["gi_corrected_rmse_pct"] == "" and row["gi_rmse_pct"] != "":  # runs of an older pnb-play
+        row["gi_corrected_rmse_pct"] = max(0.0, row["gi_rmse_pct"] ** 2 - row["gi_reference_noise_pct"] ** 2) ** 0.5
     return row
 
 
+ERROR = "gi_corrected_rmse_pct" # the player's error with the truth's Monte-Carlo noise taken out
+
+
 def pareto(rows):
+    # Cheapest first; a configuration joins the front if it beats every cheaper one by more than
+    # half a point (ties within the truth's noise are not progress).
     front, best = [], float("inf")
-    for r in sorted((r for r in rows if r["gi_rmse_pct"] != ""), key=lambda r: r["cost"]):
-        if r["gi_rmse_pct"] < best:
+    for r in sorted((r for r in rows if r[ERROR] != ""), key=lambda r: r["cost"]):
+        if r[ERROR] < best - 0.5:
             front.append(r)
-            best = r["gi_rmse_pct"]
+            best = r[ERROR]
     return front
 
 
@@ -101,15 +109,15 @@ def plot(rows, front, path, title):
     markers = {16: "o", 32: "s", 64: "^"}
     fig, ax = plt.subplots(figsize=(8, 5.5))
     for r in rows:
-        ax.scatter(r["cost"], r["gi_rmse_pct"], c=colours.get(r["cascades"], "k"), marker=markers.get(r["cells"], "x"),
+        ax.scatter(r["cost"], r[ERROR], c=colours.get(r["cascades"], "k"), marker=markers.get(r["cells"], "x"),
                    s=10 + 2 * r["iterations"], alpha=0.8, edgecolors="none" if r["occlusion"] else "k")
-    ax.plot([r["cost"] for r in front], [r["gi_rmse_pct"] for r in front], "k--", lw=1, label="Pareto front")
+    ax.plot([r["cost"] for r in front], [r[ERROR] for r in front], "k--", lw=1, label="Pareto front")
     for c, col in colours.items():
         ax.scatter([], [], c=col, label="%d cascade%s" % (c, "s" if c > 1 else ""))
     for n, m in markers.items():
         ax.scatter([], [], c="w", edgecolors="k", marker=m, label="%d³" % n)
     ax.set_xlabel("frame time / GI-off frame time (same run)")
-    ax.set_ylabel("relative RMSE of indirect light vs ray-traced truth (%)")
+    ax.set_ylabel("relative RMSE of indirect light vs ray-traced truth, noise removed (%)")
     ax.set_title(title + " (marker size: iterations; black edge: no occlusion)")
     ax.grid(True, alpha=0.3)
     ax.legend(fontsize=8, ncol=2)
@@ -178,7 +186,8 @@ def main():
         front = pareto(measured)
         keys = ["config", "cascades", "cells", "iterations", "rsm", "occlusion", "frame_ms", "off_ms", "cost",
                 "gi_ms", "gi_rsm_ms", "gi_inject_ms", "gi_geometry_ms", "gi_propagate_ms", "lookup_ms", "gi_mib",
-                "gi_rmse_pct", "gi_reference_noise_pct", "gi_energy_ratio", "gi_red_ratio", "gi_green_ratio",
+                "gi_rmse_pct", "gi_reference_noise_pct", "gi_corrected_rmse_pct", "gi_energy_ratio", "gi_red_ratio",
+                "gi_green_ratio",
                 "gi_blue_ratio", "gi_leak_pct", "gi_flicker_pct"]
         with open(os.path.join(out, "sweep.csv"), "w", newline="") as f:
             w = csv.DictWriter(f, fieldnames=keys + ["pareto"], extrasaction="ignore")
@@ -187,27 +196,29 @@ def main():
                 w.writerow(dict(r, pareto=r in front))
         fmt = lambda v, p=2: ("%.*f" % (p, v)) if isinstance(v, float) else str(v)
         with open(os.path.join(out, "sweep.md"), "w") as f:
+            size = measured[0]["size"] if measured else args.size
             f.write("%s, %s, %d frames, truth %d rays/pixel every %d frames (llvmpipe: read ratios)\n\n" % (
-                scene, args.size, args.frames, args.samples, args.every))
-            f.write("| config | cost | GI ms | RSM | inject | geometry | propagate | look-up | MiB | RMSE %% | "
-                    "noise %% | energy | R/G/B | leak %% | flicker %% | Pareto |\n")
-            f.write("|---|--:|--:|--:|--:|--:|--:|--:|--:|--:|--:|--:|--:|--:|--:|:-:|\n")
+                scene, size, args.frames, args.samples, args.every))
+            f.write("| config | cost | GI ms | RSM | inject | geometry | propagate | look-up | MiB | RMSE % | "
+                    "noise % | RMSE w/o noise % | energy | R/G/B | leak % | flicker % | Pareto |\n")
+            f.write("|---|--:|--:|--:|--:|--:|--:|--:|--:|--:|--:|--:|--:|--:|--:|--:|:-:|\n")
             for r in measured:
-                f.write("| %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s/%s/%s | %s | %s | %s |\n" % (
+                f.write("| %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s/%s/%s | %s | %s | %s |\n" % (
                     r["config"], fmt(r["cost"]), fmt(r["gi_ms"], 1), fmt(r["gi_rsm_ms"], 1), fmt(r["gi_inject_ms"], 1),
                     fmt(r["gi_geometry_ms"], 1), fmt(r["gi_propagate_ms"], 1), fmt(r["lookup_ms"], 1),
                     fmt(r["gi_mib"], 1), fmt(r["gi_rmse_pct"], 1), fmt(r["gi_reference_noise_pct"], 1),
+                    fmt(r["gi_corrected_rmse_pct"], 1),
                     fmt(r["gi_energy_ratio"]), fmt(r["gi_red_ratio"]), fmt(r["gi_green_ratio"]), fmt(r["gi_blue_ratio"]),
                     fmt(r["gi_leak_pct"], 1), fmt(r["gi_flicker_pct"], 1), "*" if r in front else ""))
             f.write("\nThe seed's configurations (thesis: GTX 960, Crytek Sponza, RSM 256²; init = injection "
                     "with geometry):\n\n| config | inject+geometry ms | propagate ms | thesis init | thesis propagate "
-                    "| RMSE % |\n|---|--:|--:|--:|--:|--:|\n")
+                    "| RMSE w/o noise % |\n|---|--:|--:|--:|--:|--:|\n")
             for (c, n, i), (ti, tp) in SEED.items():
                 r = find(measured, c, n, i)
                 if r:
                     f.write("| %d×%d³ %d it. | %s | %s | %.3f | %.3f | %s |\n" % (
                         c, n, i, fmt(r["gi_inject_ms"] + r["gi_geometry_ms"], 1), fmt(r["gi_propagate_ms"], 1), ti, tp,
-                        fmt(r["gi_rmse_pct"], 1)))
+                        fmt(r[ERROR], 1)))
             a, b = find(measured, 3, 32, 8), find(measured, 1, 64, 8)
             noocc = find(measured, 3, 32, 8, occlusion=False)
             f.write("\nRatios (same run):\n\n")
@@ -228,7 +239,7 @@ def main():
             d = find(measured, 3, 32, 8)
             if d:
                 f.write("- the default (3×32³, 8 it., RSM 256²) adds %.0f %% to the frame at %s\n" % (
-                    100 * (d["cost"] - 1), args.size))
+                    100 * (d["cost"] - 1), size))
         plot(measured, front, os.path.join(out, "pareto.png"), scene)
         print("wrote %s/sweep.csv, sweep.md, pareto.png" % out)
 

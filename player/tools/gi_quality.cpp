@@ -81,6 +81,7 @@ PlayResult<std::vector<std::pair<std::string, double>>> GiQuality::measure(Rende
     out.emplace_back("gi_pixels", double(m.pixels));
     out.emplace_back("gi_rmse_pct", m.relativeRmsePercent);
     out.emplace_back("gi_reference_noise_pct", m.referenceNoisePercent);
+    out.emplace_back("gi_corrected_rmse_pct", m.correctedRmsePercent);
     out.emplace_back("gi_energy_ratio", m.energyRatio);
     out.emplace_back("gi_red_ratio", m.channelRatio[0]);
     out.emplace_back("gi_green_ratio", m.channelRatio[1]);

@@ -1,6 +1,7 @@
 // Player indirect irradiance against the one-bounce truth (indirect_metrics.h).
 #include "pnb_reference/indirect_metrics.h"
 
+#include <algorithm>
 #include <cmath>
 
 namespace pnb::reference {
@@ -31,6 +32,7 @@ IndirectErrorMetrics compareIndirect(std::span<const glm::vec3> player, std::spa
     if (m.referenceMean > 0) {
         m.relativeRmsePercent = 100.0 * std::sqrt(sq / n) / m.referenceMean;
         m.referenceNoisePercent = 100.0 * std::sqrt(noise / n) / m.referenceMean;
+        m.correctedRmsePercent = 100.0 * std::sqrt(std::max(0.0, (sq - noise) / n)) / m.referenceMean;
     }
     m.energyRatio = sumR > 0 ? sumP / sumR : 0.0;
     for (int c = 0; c < 3; ++c) m.channelRatio[c] = channelR[c] > 0 ? channelP[c] / channelR[c] : 0.0;

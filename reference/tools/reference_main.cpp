@@ -337,14 +337,17 @@ Expected<nlohmann::ordered_json> runIndirect(const Settings& settings, const pnb
         j["player_mean_luminance"] = m.playerMean;
         j["relative_rmse_percent"] = m.relativeRmsePercent;
         j["reference_noise_percent"] = m.referenceNoisePercent;
+        j["corrected_rmse_percent"] = m.correctedRmsePercent;
         j["energy_ratio"] = m.energyRatio;
         j["channel_ratio"] = {m.channelRatio[0], m.channelRatio[1], m.channelRatio[2]};
         j["leak_percent"] = m.leakPercent;
         if (!settings.quiet)
-            std::printf("  indirect (%s lights, %u samples): relative RMSE %.1f%% (reference noise %.1f%%), "
+            std::printf("  indirect (%s lights, %u samples): relative RMSE %.1f%% (reference noise %.1f%%, "
+                        "without it %.1f%%), "
                         "energy ratio %.3f (R %.3f G %.3f B %.3f), leak %.2f%%\n",
                         settings.indirectSettings.lights == pnb::reference::IndirectLights::Sun ? "sun" : "all",
                         settings.indirectSettings.samples, m.relativeRmsePercent, m.referenceNoisePercent,
+                        m.correctedRmsePercent,
                         m.energyRatio, m.channelRatio[0], m.channelRatio[1], m.channelRatio[2], m.leakPercent);
     }
     if (!settings.quiet)

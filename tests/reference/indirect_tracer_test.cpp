@@ -182,6 +182,9 @@ TEST(IndirectMetrics, RmseEnergyChannelsAndLeak) {
     double rmse = std::sqrt(((lum0 - 1) * (lum0 - 1) + 0.25) / 3.0);
     EXPECT_NEAR(m.relativeRmsePercent, 100.0 * rmse / (2.0 / 3.0), 1e-6);
     EXPECT_NEAR(m.referenceNoisePercent, 100.0 * 0.01 / (2.0 / 3.0), 1e-5);
+    double se = luminance({0.01f, 0.01f, 0.01f});
+    EXPECT_NEAR(m.correctedRmsePercent,
+                100.0 * std::sqrt(((lum0 - 1) * (lum0 - 1) + 0.25) / 3.0 - se * se) / (2.0 / 3.0), 1e-5);
 }
 
 } // namespace

@@ -19,6 +19,10 @@ struct IndirectErrorMetrics {
     // The reference's own noise on the same scale: sqrt(mean standardError^2) / mean reference,
     // percent. An RMSE near it cannot be told from Monte-Carlo noise.
     double referenceNoisePercent = 0;
+    // The player's own error with the reference's noise taken out: E[(p - r^)^2] = (p - r)^2 +
+    // Var(r^), so sqrt(max(0, MSE - mean standardError^2)) / mean reference, percent. Reads true
+    // even when the truth was traced with few rays.
+    double correctedRmsePercent = 0;
     double energyRatio = 0;       // sum player / sum reference, luminance (1 = same total light)
     double channelRatio[3] = {0, 0, 0}; // per colour (colour bleeding: R, G, B each 1 ideally)
     // Light where there is none: the player's luminance in pixels whose reference is below
