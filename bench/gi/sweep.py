@@ -74,6 +74,10 @@ def run(args, scene_file, c, out_dir):
         summary = json.load(f)
     row["gi_mib"] = summary["gpu_memory_bytes"].get("gi", 0) / 1048576.0
     row["size"] = "%dx%d" % (summary["run"]["width"], summary["run"]["height"])
+    row["frames"] = summary["run"]["frames"]
+    words = summary["run"]["command"].split()
+    option = lambda name, default: words[words.index(name) + 1] if name in words else default
+    row["samples"], row["every"] = option("--gi-samples", "?"), option("--gi-metrics", "?")
     q = summary.get("quality", {})
     for k in ["gi_rmse_pct", "gi_reference_noise_pct", "gi_corrected_rmse_pct", "gi_energy_ratio", "gi_red_ratio", "gi_green_ratio",
               "gi_blue_ratio", "gi_leak_pct", "gi_flicker_pct"]:
@@ -197,8 +201,8 @@ def main():
         fmt = lambda v, p=2: ("%.*f" % (p, v)) if isinstance(v, float) else str(v)
         with open(os.path.join(out, "sweep.md"), "w") as f:
             size = measured[0]["size"] if measured else args.size
-            f.write("%s, %s, %d frames, truth %d rays/pixel every %d frames (llvmpipe: read ratios)\n\n" % (
-                scene, size, args.frames, args.samples, args.every))
+            f.write("%s, %s, %s frames, truth %s rays/pixel every %s frames (llvmpipe: read ratios)\n\n" % (
+                scene, size, measured[0]["frames"], measured[0]["samples"], measured[0]["every"]))
             f.write("| config | cost | GI ms | RSM | inject | geometry | propagate | look-up | MiB | RMSE % | "
                     "noise % | RMSE w/o noise % | energy | R/G/B | leak % | flicker % | Pareto |\n")
             f.write("|---|--:|--:|--:|--:|--:|--:|--:|--:|--:|--:|--:|--:|--:|--:|--:|:-:|\n")
