@@ -6,8 +6,9 @@
 // clamped-cosine lobe along the face's normal (flux / pi times the lobe: same integral). Six
 // neighbours x (far + 4 sides) cover 4 pi, so without occluders the flux is kept, step to step.
 // With OCCLUSION each face lets in the fraction lpv_resolve.comp's RESOLVE_TRANSMITTANCE found
-// from the geometry volume (once per frame, not once per step). The step's result goes to the next source (images 0-2) and is added to the sum
-// (images 3-5). Cascades are stacked along z; a neighbour outside this cell's cascade is dark.
+// from the geometry volume (once per frame, not once per step); the other variant, PLAIN, lets
+// everything through. The step's result goes to the next source (images 0-2) and is added to the
+// sum (images 3-5). Cascades are stacked along z; a neighbour outside this cell's cascade is dark.
 layout(local_size_x = 4, local_size_y = 4, local_size_z = 4) in;
 
 layout(binding = 0) uniform sampler3D uSourceR;
