@@ -520,6 +520,14 @@ std::string shadowLabel(bool casts, bool receives) {
     return casts ? "cast" : receives ? "receive" : "none";
 }
 
+// Chunks written without a payload checksum (pnb-convert --no-checksums): their bytes decode,
+// but nothing says they are the bytes that were written.
+size_t chunksWithoutChecksum(const Container& c) {
+    size_t n = 0;
+    for (const ChunkInfo& info : c.chunks()) n += info.header.hasChecksum() ? 0 : 1;
+    return n;
+}
+
 // [SECTION] text report
 
 const char* yesNo(bool v) {
@@ -532,9 +540,14 @@ void textHeader(std::string& o, const InspectOptions& opt, const Container& c,
     o += "format: version " + std::to_string(c.header().versionMajor) + "." +
          std::to_string(c.header().versionMinor) + ", " + u64(c.bytes().size()) + " bytes, " +
          u64(c.chunks().size()) + " chunks + table of contents\n";
+    const size_t unchecked = chunksWithoutChecksum(c);
     o += std::string("read: chunks located by ") +
          (opt.useToc ? "table of contents" : "scanning chunk headers") + ", payload checksums " +
-         (opt.verifyChecksums ? "verified" : "not verified") + "\n";
+         (opt.verifyChecksums ? "verified" : "not verified");
+    if (unchecked > 0)
+        o += " (" + u64(unchecked) + " of " + u64(c.chunks().size()) +
+             " chunks carry no checksum: their payload bytes cannot be checked)";
+    o += "\n";
     o += "\nchunks:\n";
     TextTable table(
         {"#", "tag", "ver", "offset", "stored", "raw", "compression", "ratio", "checksum", "note"},
@@ -738,6 +751,7 @@ void jsonHeader(Json& j, const InspectOptions& opt, const Container& c, const Ch
     j.key("header_flags").uint(c.header().flags);
     j.key("index_mode").str(opt.useToc ? "toc" : "scan");
     j.key("checksums_verified").boolean(opt.verifyChecksums);
+    j.key("chunks_without_checksum").uint(chunksWithoutChecksum(c));
 
     j.key("chunks").beginArray();
     for (const ChunkRow& r : t.rows) {
@@ -995,13 +1009,24 @@ int fail(std::FILE* err, const Error& e) {
     return unsupported ? kInspectUnsupported : kInspectInputError;
 }
 
-// Opens, checks every byte, decodes everything: the first error wins.
+// Opens, checks every byte, decodes everything: the first error wins. A chunk written without a
+// checksum (pnb-convert --no-checksums) has nothing its payload can be checked against: strict
+// mode fails on it, the default says so beside the verdict.
 Result<Container> verifyFile(const InspectOptions& opt, const ReadOptions& ro) {
     auto c = Container::open(opt.path, ro);
     if (!c) return c.error();
     if (Status s = c->verifyAll(); !isOk(s)) return s;
     auto scene = readScene(*c);
     if (!scene) return scene.error();
+    if (opt.strict) {
+        for (const ChunkInfo& info : c->chunks())
+            if (!info.header.hasChecksum())
+                return makeError(FormatError::Missing, info.headerOffset,
+                                 "strict: chunk %llu ('%s') carries no checksum, its payload "
+                                 "cannot be verified",
+                                 (unsigned long long)info.header.sequence,
+                                 info.header.tag.str().c_str());
+    }
     return c;
 }
 
@@ -1009,8 +1034,14 @@ int runVerify(const InspectOptions& opt, const ReadOptions& ro, std::FILE* out, 
     auto c = verifyFile(opt, ro);
     if (!opt.json) {
         if (!c) return fail(err, c.error());
+        const size_t unchecked = chunksWithoutChecksum(*c);
         std::fprintf(out, "verify: ok (%zu chunks, %zu bytes)\n", c->chunks().size(),
                      c->bytes().size());
+        if (unchecked > 0)
+            std::fprintf(out,
+                         "verify: %zu of %zu chunks carry no checksum: their structure was checked, "
+                         "their payload bytes could not be (--strict fails on this)\n",
+                         unchecked, c->chunks().size());
         return kInspectOk;
     }
     Json j;
@@ -1020,6 +1051,7 @@ int runVerify(const InspectOptions& opt, const ReadOptions& ro, std::FILE* out, 
     j.key("ok").boolean(c.ok());
     if (c) {
         j.key("chunks").uint(c->chunks().size());
+        j.key("chunks_without_checksum").uint(chunksWithoutChecksum(*c));
         j.key("size_bytes").uint(c->bytes().size());
     } else {
         jsonError(j, c.error());

@@ -26,6 +26,9 @@ struct InspectOptions {
     bool json = false;           // one JSON object on `out` instead of text. Default: false.
     bool verify = false;         // check mode: verifyAll() + readScene(), print only the
                                  // verdict. Default: false.
+    bool strict = false;         // verify mode: also fail (kInspectInputError) when a chunk has
+                                 // no payload checksum to verify. Default: false (the verdict
+                                 // then says how many chunks could not be checked).
     bool verifyChecksums = true; // ReadOptions::verifyChecksums while decoding. --verify hashes
                                  // every payload regardless. Default: true.
     bool useToc = true;          // ReadOptions::useToc: false locates chunks by scanning chunk
@@ -42,7 +45,8 @@ InspectOptions inspectDefaults();
 // to succeed. On a decode error the text report stops after the chunk table, the JSON report has
 // "scene": null and an "error" object, and the result is kInspectInputError.
 // Verify mode: "verify: ok (N chunks, M bytes)" (or {"verify": {...}} with json) and kInspectOk,
-// or the first error and kInspectInputError.
+// or the first error and kInspectInputError. Chunks without a checksum are counted on a second
+// line ("chunks_without_checksum" in JSON); with strict they are an error ("missing").
 //
 // Output is deterministic: the same file and options give the same bytes. Strings from the file
 // are escaped (control bytes in text, JSON escapes and U+FFFD for invalid UTF-8 in JSON), so a

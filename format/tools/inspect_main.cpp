@@ -25,6 +25,10 @@ constexpr Option kOptions[] = {
      "check mode: hash and pad-check every chunk, inflate compressed ones, decode every chunk "
      "and check cross-references; prints only the verdict",
      [](pnb::InspectOptions& o) { o.verify = true; }},
+    {"Checks", "--strict",
+     "with --verify: also fail when a chunk carries no payload checksum (written with "
+     "--no-checksums), since its bytes cannot be checked",
+     [](pnb::InspectOptions& o) { o.strict = true; }},
     {"Reading", "--no-checksums",
      "do not hash payloads while decoding (structural checks still run; --verify hashes anyway)",
      [](pnb::InspectOptions& o) { o.verifyChecksums = false; }},

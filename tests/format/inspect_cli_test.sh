@@ -33,6 +33,7 @@ contains() {
 expect 0 --help
 contains out "Exit codes:"
 contains out "--no-checksums"
+contains out "--strict"
 expect 1
 contains err "Error: no input file"
 expect 1 --bogus "$sample"

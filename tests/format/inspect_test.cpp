@@ -209,8 +209,9 @@ protected:
     void TearDown() override { fs::remove_all(dir); }
 
     // Writes builder.scene plus any extra raw chunks, the way pnb-make-sample does.
-    void writeSample(const fs::path& path, Tag extraTag = {}, bool extra = false) {
-        auto w = Writer::create(path.string());
+    void writeSample(const fs::path& path, Tag extraTag = {}, bool extra = false,
+                     WriteOptions options = {}) {
+        auto w = Writer::create(path.string(), options);
         ASSERT_TRUE(w.ok()) << w.error().describe();
         ASSERT_TRUE(isOk(writeScene(*w, builder.scene)));
         if (extra) {
@@ -442,6 +443,57 @@ TEST_F(Inspect, NoChecksumsSkipsHashingButVerifyStillHashes) {
     Captured v = inspect(o);
     EXPECT_EQ(v.code, kInspectInputError);
     EXPECT_NE(v.err.find("checksum-mismatch"), std::string::npos);
+}
+
+// A file written without checksums cannot show a flipped byte that still decodes: verify must say
+// what it could not check, and strict mode must fail on it.
+TEST_F(Inspect, VerifySaysWhatItCouldNotCheckAndStrictFailsOnIt) {
+    writeSample(sample, {}, false, WriteOptions{.checksums = false});
+    auto bytes = readFile(sample);
+    auto c = Container::open(sample.string());
+    ASSERT_TRUE(c.ok());
+    const size_t total = c->chunks().size();
+    // The last texel of the largest mip: the payload still decodes, only its bytes are wrong.
+    const ChunkInfo* last = c->find(tags::kTextureMip).back();
+    const uint64_t at = last->payloadOffset + last->header.storedSize - 1;
+    bytes[at] = char(bytes[at] ^ 0x01);
+    fs::path bad = dir / "unchecked.pnb";
+    writeFile(bad, bytes);
+
+    InspectOptions o = inspectDefaults();
+    o.path = bad.string();
+    o.verify = true;
+    Captured v = inspect(o);
+    EXPECT_EQ(v.code, kInspectOk) << v.err;
+    // Every chunk but the TOC (which always has one) lacks a checksum.
+    EXPECT_NE(v.out.find("verify: " + std::to_string(total) + " of " + std::to_string(total) +
+                         " chunks carry no checksum"),
+              std::string::npos)
+        << v.out;
+    o.json = true;
+    Captured j = inspect(o);
+    EXPECT_TRUE(isValidJson(j.out)) << j.out;
+    EXPECT_NE(j.out.find(R"("chunks_without_checksum": )" + std::to_string(total)),
+              std::string::npos)
+        << j.out;
+
+    o.json = false;
+    o.strict = true;
+    Captured s = inspect(o);
+    EXPECT_EQ(s.code, kInspectInputError);
+    EXPECT_EQ(s.err.rfind("Error: missing at byte ", 0), 0u) << s.err;
+    EXPECT_NE(s.err.find("carries no checksum"), std::string::npos) << s.err;
+
+    // The report mode says it too, instead of "checksums verified" alone.
+    Captured r = inspect(bad.string());
+    EXPECT_NE(r.out.find("chunks carry no checksum: their payload bytes cannot be checked"),
+              std::string::npos)
+        << r.out;
+
+    // A file with checksums passes strict mode.
+    writeSample(sample);
+    o.path = sample.string();
+    EXPECT_EQ(inspect(o).code, kInspectOk);
 }
 
 TEST_F(Inspect, TruncatedFilesAreInputErrorsNotCrashes) {
