@@ -172,16 +172,22 @@ template <class T> std::vector<std::byte> encodeChunk(const T& value) {
 }
 
 template <class T>
-Result<T> decodeChunk(std::span<const std::byte> payload, uint16_t version, uint64_t offset) {
+Result<T> decodeChunk(std::span<const std::byte> payload, const ChunkHeader& header,
+                      uint64_t offset) {
     const std::string tag = ChunkTraits<T>::tag.str();
-    if (version == 0 || version > ChunkTraits<T>::version)
+    const uint16_t known = ChunkTraits<T>::version;
+    const bool newer = header.version > known;
+    if (header.version == 0 || (newer && (header.flags & kChunkCritical)))
         return makeError(FormatError::UnsupportedChunkVersion, offset,
-                         "'%s' chunk version %u, this reader supports 1..%u", tag.c_str(),
-                         version, ChunkTraits<T>::version);
+                         "'%s' chunk version %u%s, this reader supports 1..%u%s", tag.c_str(),
+                         header.version, newer ? " (critical)" : "", known,
+                         newer ? ": update Penumbra to read it" : "");
     T value{};
     Decoder d(payload, offset, tag.c_str());
     d(value);
-    if (d.ok() && d.pos() != payload.size())
+    // Bytes after the known fields are a newer version's appended fields; in a version this
+    // reader knows they can only be damage.
+    if (d.ok() && !newer && d.pos() != payload.size())
         d.fail("%zu bytes left over after the last field", payload.size() - d.pos());
     if (!d.ok()) return d.error();
     return value;
@@ -194,7 +200,8 @@ template <class T> Status writeChunk(Writer& writer, const T& value, Compression
 
 #define PNB_INSTANTIATE(Type)                                                                      \
     template std::vector<std::byte> encodeChunk<Type>(const Type&);                                \
-    template Result<Type> decodeChunk<Type>(std::span<const std::byte>, uint16_t, uint64_t);       \
+    template Result<Type> decodeChunk<Type>(std::span<const std::byte>, const ChunkHeader&,         \
+                                            uint64_t);                                             \
     template Status writeChunk<Type>(Writer&, const Type&, Compression);
 PNB_INSTANTIATE(StringTable)
 PNB_INSTANTIATE(SceneInfo)

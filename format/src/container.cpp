@@ -117,7 +117,7 @@ Result<ChunkHeader> decodeChunkHeader(std::span<const std::byte> b, uint64_t off
     h.payloadChecksum = loadLE<uint64_t>(&b[24]);
     h.sequence = loadLE<uint32_t>(&b[32]);
     std::string tag = h.tag.str();
-    if (h.flags & ~(kChunkCompressionMask | kChunkHasChecksum))
+    if (h.flags & ~(kChunkCompressionMask | kChunkHasChecksum | kChunkCritical))
         return makeError(FormatError::BadHeader, offset + 6, "chunk '%s': unknown flags 0x%04x",
                          tag.c_str(), h.flags);
     if (uint8_t(h.compression()) > uint8_t(Compression::Zstd))

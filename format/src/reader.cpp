@@ -14,6 +14,7 @@
 #include <zstd.h>
 
 #include "frame_rules.h"
+#include "mapping_guard.h"
 
 namespace pnb {
 
@@ -171,10 +172,12 @@ Result<Container> Container::open(const std::string& path, const ReadOptions& op
         }
         c.mMapping = m;
         c.mMappingSize = size;
+        c.mGuardSlot = detail::guardMapping(m, size);
         c.mBytes = {static_cast<const std::byte*>(m), size};
     }
     ::close(fd);
-    Status s = c.index();
+    c.mPath = path;
+    Status s = c.guarded(c.index());
     if (!isOk(s)) {
         s.message = path + ": " + s.message;
         return s;
@@ -196,21 +199,44 @@ Container::Container(Container&& o) noexcept { *this = std::move(o); }
 
 Container& Container::operator=(Container&& o) noexcept {
     if (this == &o) return *this;
-    if (mMapping) munmap(mMapping, mMappingSize);
+    if (mMapping) {
+        detail::unguardMapping(mGuardSlot);
+        munmap(mMapping, mMappingSize);
+    }
     mOptions = o.mOptions;
     mHeader = o.mHeader;
     mChunks = std::move(o.mChunks);
     mBytes = o.mBytes;
     mMapping = o.mMapping;
     mMappingSize = o.mMappingSize;
+    mGuardSlot = o.mGuardSlot;
+    mPath = std::move(o.mPath);
     o.mMapping = nullptr;
     o.mMappingSize = 0;
+    o.mGuardSlot = detail::kNoGuard;
     o.mBytes = {};
     return *this;
 }
 
 Container::~Container() {
-    if (mMapping) munmap(mMapping, mMappingSize);
+    if (mMapping) {
+        detail::unguardMapping(mGuardSlot);
+        munmap(mMapping, mMappingSize);
+    }
+}
+
+Status Container::intact() const {
+    const uint64_t missing = detail::truncatedAt(mGuardSlot);
+    if (missing == UINT64_MAX) return {};
+    return makeError(FormatError::IoError, missing,
+                     "'%s' shrank while it was being read (truncated or rewritten by another "
+                     "program): its bytes from offset %llu on are gone",
+                     mPath.c_str(), (unsigned long long)missing);
+}
+
+Status Container::guarded(Status s) const {
+    if (Status t = intact(); !isOk(t)) return t;
+    return s;
 }
 
 namespace {
@@ -354,10 +380,10 @@ Status Container::checkHeader(const ChunkInfo& c) const {
 }
 
 Result<std::span<const std::byte>> Container::stored(const ChunkInfo& c) const {
-    if (Status s = checkHeader(c); !isOk(s)) return s;
+    if (Status s = guarded(checkHeader(c)); !isOk(s)) return s;
     auto bytes = mBytes.subspan(c.payloadOffset, c.header.storedSize);
     if (mOptions.verifyChecksums)
-        if (Status s = verifyChecksum(c, bytes); !isOk(s)) return s;
+        if (Status s = guarded(verifyChecksum(c, bytes)); !isOk(s)) return s;
     return bytes;
 }
 
@@ -368,7 +394,7 @@ Result<Payload> Container::load(const ChunkInfo& c) const {
     if (Status s = checkRawLimit(c, mOptions); !isOk(s)) return s;
     if (Status s = checkFrameContentSize(c, *bytes); !isOk(s)) return s;
     std::vector<std::byte> raw(c.header.rawSize);
-    if (Status s = decompressInto(c, *bytes, raw); !isOk(s)) return s;
+    if (Status s = guarded(decompressInto(c, *bytes, raw)); !isOk(s)) return s;
     return Payload::own(std::move(raw));
 }
 
@@ -381,12 +407,14 @@ Status Container::loadInto(const ChunkInfo& c, std::span<std::byte> dst) const {
     if (!bytes) return bytes.error();
     if (c.header.compression() == Compression::None) {
         if (!dst.empty()) std::memcpy(dst.data(), bytes->data(), dst.size());
-        return {};
+        return intact();
     }
-    return decompressInto(c, *bytes, dst);
+    return guarded(decompressInto(c, *bytes, dst));
 }
 
-Status Container::verifyAll() const {
+Status Container::verifyAll() const { return guarded(verifyAllUnguarded()); }
+
+Status Container::verifyAllUnguarded() const {
     for (const ChunkInfo& c : mChunks) {
         if (Status s = checkHeader(c); !isOk(s)) return s;
         auto bytes = mBytes.subspan(c.payloadOffset, c.header.storedSize);

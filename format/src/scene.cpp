@@ -22,8 +22,9 @@ bool isSingleton(Tag t) {
 template <class T> Status decodeInto(const Container& c, const ChunkInfo& info, Scene& s, T& out) {
     auto payload = c.load(info);
     if (!payload) return payload.error();
-    auto value = decodeChunk<T>(payload->bytes(), info.header.version, info.payloadOffset);
+    auto value = decodeChunk<T>(payload->bytes(), info.header, info.payloadOffset);
     if (!value) return value.error();
+    if (info.header.version > ChunkTraits<T>::version) ++s.newerChunks;
     out = std::move(*value);
     s.payloads.push_back(std::move(*payload));
     return {};
@@ -54,6 +55,11 @@ Result<Scene> readScene(const Container& container) {
         const Tag tag = info.header.tag;
         int rank = streamOrderRank(tag);
         if (rank < 0) {
+            if (info.header.flags & kChunkCritical)
+                return makeError(FormatError::UnsupportedChunkVersion, info.headerOffset,
+                                 "chunk %u '%s' is critical and unknown to this reader: update "
+                                 "Penumbra to read it",
+                                 info.header.sequence, tag.str().c_str());
             ++s.unknownChunks;
             continue;
         }

@@ -28,8 +28,8 @@ struct Writer::Impl {
     bool failed = false;
 
     ~Impl() {
-        if (fd >= 0) ::close(fd);
         if (!committed && !tempPath.empty()) ::unlink(tempPath.c_str());
+        if (fd >= 0) ::close(fd);
     }
 
     Status write(std::span<const std::byte> bytes) {
@@ -70,14 +70,10 @@ Result<Writer> Writer::create(const std::string& path, const WriteOptions& optio
     impl->options = options;
     impl->path = path;
     // Same directory as the target, so rename() is atomic (same file system).
-    impl->tempPath = temporaryPathFor(path);
-    impl->fd = ::open(impl->tempPath.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0644);
-    if (impl->fd < 0) {
-        int e = errno;
-        impl->tempPath.clear(); // nothing to remove
-        return makeError(FormatError::IoError, 0, "cannot create a temporary file next to '%s': %s",
-                         path.c_str(), std::strerror(e));
-    }
+    auto temp = createTemporaryFor(path);
+    if (!temp) return temp.error();
+    impl->tempPath = temp->path;
+    impl->fd = temp->fd;
     // Replacing a file keeps its permissions (the temporary is created 0644).
     struct stat existing {};
     if (::stat(path.c_str(), &existing) == 0) ::fchmod(impl->fd, existing.st_mode & 07777);
@@ -99,7 +95,7 @@ Writer Writer::toMemory(std::vector<std::byte>* out, const WriteOptions& options
 uint64_t Writer::size() const { return mImpl->size; }
 
 Status Writer::addChunk(Tag tag, uint16_t version, std::span<const std::byte> raw,
-                        Compression compression) {
+                        Compression compression, bool critical) {
     Impl& w = *mImpl;
     if (w.failed || w.committed)
         return makeError(FormatError::IoError, w.size, "writer is closed after an earlier error");
@@ -117,7 +113,8 @@ Status Writer::addChunk(Tag tag, uint16_t version, std::span<const std::byte> ra
     ChunkHeader h;
     h.tag = tag;
     h.version = version;
-    h.flags = uint16_t(used) | (w.options.checksums ? kChunkHasChecksum : 0);
+    h.flags = uint16_t(used) | (w.options.checksums ? kChunkHasChecksum : 0) |
+              (critical ? kChunkCritical : 0);
     h.storedSize = stored.size();
     h.rawSize = raw.size();
     h.payloadChecksum = w.options.checksums ? checksum(stored) : 0;
@@ -188,20 +185,21 @@ Status Writer::commit() {
         return {};
     }
     // Data must be durable before the rename makes it visible, and the rename itself must be
-    // durable (directory fsync), or a power cut could leave an empty or missing file.
-    if (::fsync(w.fd) != 0 || ::close(w.fd) != 0) {
-        w.fd = -1;
+    // durable (directory fsync), or a power cut could leave an empty or missing file. The file
+    // stays open (and flock-ed) until renamed, so no other writer takes it for a stale one.
+    if (::fsync(w.fd) != 0) {
         w.failed = true;
         return makeError(FormatError::IoError, w.size, "cannot flush '%s': %s",
                          w.tempPath.c_str(), std::strerror(errno));
     }
-    w.fd = -1;
     if (::rename(w.tempPath.c_str(), w.path.c_str()) != 0) {
         w.failed = true;
         return makeError(FormatError::IoError, 0, "cannot rename '%s' to '%s': %s",
                          w.tempPath.c_str(), w.path.c_str(), std::strerror(errno));
     }
     w.committed = true;
+    ::close(w.fd); // fsync succeeded: nothing is left to report
+    w.fd = -1;
     int dir = ::open(directoryOf(w.path).c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
     if (dir >= 0) {
         ::fsync(dir);

@@ -587,6 +587,9 @@ void textScene(std::string& o, const Scene& s) {
     o += "  bounds: " + boundsText(s.info.bounds) + "\n";
     o += "  strings: " + u64(s.strings.strings.size()) + "\n";
     o += "  unknown chunks (skipped): " + u64(s.unknownChunks) + "\n";
+    if (s.newerChunks > 0)
+        o += "  newer chunk versions (read by the fields this reader knows, the rest ignored): " +
+             u64(s.newerChunks) + "\n";
 
     o += "\nrender settings (" + u64(s.settings.entries.size()) + "):\n";
     for (const Setting& e : s.settings.entries)
@@ -801,6 +804,7 @@ void jsonScene(Json& j, const Scene& s) {
     j.endObject();
     j.key("string_count").uint(s.strings.strings.size());
     j.key("unknown_chunks").uint(s.unknownChunks);
+    j.key("newer_chunks").uint(s.newerChunks);
 
     // An array, not an object: keys may repeat in a file and order is meaningful to readers.
     j.key("render_settings").beginArray();

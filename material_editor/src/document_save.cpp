@@ -115,6 +115,15 @@ Result<SaveStats> Document::Impl::save(const std::string& target) {
         return {};
     };
 
+    // A chunk of a newer version than this build knows carries appended fields it cannot
+    // re-encode (FORMAT.md 3.5): rewriting it would silently drop them, so refuse instead.
+    auto refuseNewer = [](const ChunkInfo& c, uint16_t known, const char* what) -> Status {
+        if (c.header.version <= known) return {};
+        return makeError(FormatError::UnsupportedChunkVersion, c.headerOffset,
+                         "%s is chunk version %u, newer than this editor's %u: saving the edit "
+                         "would drop fields this editor does not know; update Penumbra",
+                         what, c.header.version, known);
+    };
     uint32_t materialIndex = 0, mipIndex = 0;
     for (const ChunkInfo& c : source.chunks()) {
         const Tag tag = c.header.tag;
@@ -123,6 +132,9 @@ Result<SaveStats> Document::Impl::save(const std::string& target) {
             if (Status s = flushBelow(rank); !isOk(s)) return s;
         Status s;
         if (tag == tags::kStrings && !newStrings.empty()) {
+            if (s = refuseNewer(c, ChunkTraits<StringTable>::version, "the string table");
+                !isOk(s))
+                return s;
             StringTable table;
             table.strings.assign(scene.strings.strings.begin(),
                                  scene.strings.strings.begin() + long(base.strings));
@@ -131,6 +143,9 @@ Result<SaveStats> Document::Impl::save(const std::string& target) {
         } else if (tag == tags::kMaterial &&
                    encodeChunk(current.materials[materialIndex]) !=
                        encodeChunk(base.materials[materialIndex])) {
+            const std::string what = "material " + std::to_string(materialIndex);
+            if (s = refuseNewer(c, ChunkTraits<Material>::version, what.c_str()); !isOk(s))
+                return s;
             s = done(writeChunk(w, current.materials[materialIndex], c.header.compression()),
                      stats.chunksRewritten);
         } else {

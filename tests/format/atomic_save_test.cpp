@@ -21,6 +21,7 @@
 #include <vector>
 
 #include "format_test_util.h"
+#include "pnb/atomic_file.h"
 
 namespace {
 
@@ -158,8 +159,8 @@ TEST_F(AtomicSave, KillMidSaveLeavesTheOriginalIntact) {
     // The target is exactly what it was, and still a valid container.
     expectTargetIs(original);
 
-    // SIGKILL gives the writer no chance to clean up: its partial temporary stays behind (a
-    // cleanup tool can recognise it by name). It must not pass for a container.
+    // SIGKILL gives the writer no chance to clean up: its partial temporary stays behind until
+    // the next save of the same file. It must not pass for a container meanwhile.
     std::vector<std::string> left = temporaries(pidPart);
     ASSERT_EQ(left.size(), 1u);
     EXPECT_EQ(left[0], temp);
@@ -168,6 +169,23 @@ TEST_F(AtomicSave, KillMidSaveLeavesTheOriginalIntact) {
         ASSERT_FALSE(partial.ok()) << "a killed save's temporary opened as a container";
         EXPECT_EQ(partial.error().code, FormatError::Truncated) << partial.error().describe();
     }
+
+    // The next save removes it: its writer holds no lock any more (a temporary younger than a
+    // second is left alone, so wait that out). A live writer's temporary, locked, survives.
+    std::this_thread::sleep_for(std::chrono::milliseconds(1100));
+    auto live = Writer::create(mTarget);
+    ASSERT_TRUE(live.ok()) << live.error().describe();
+    EXPECT_TRUE(temporaries(pidPart).empty()) << "the dead writer's temporary is still there";
+    std::this_thread::sleep_for(std::chrono::milliseconds(1100));
+    EXPECT_EQ(removeStaleTemporaries(mTarget), 0u);
+    EXPECT_EQ(temporaries().size(), 1u) << "the live writer's temporary was removed";
+    // Files that merely look alike are not ours to remove.
+    for (const char* name : {".scene.pnb.tmp.x.1", ".scene.pnb.tmp.12", ".other.pnb.tmp.1.2"})
+        std::ofstream(mDir + "/" + name) << "user data";
+    std::this_thread::sleep_for(std::chrono::milliseconds(1100));
+    EXPECT_EQ(removeStaleTemporaries(mTarget), 0u);
+    for (const char* name : {".scene.pnb.tmp.x.1", ".scene.pnb.tmp.12", ".other.pnb.tmp.1.2"})
+        EXPECT_EQ(::access((mDir + "/" + name).c_str(), F_OK), 0) << name;
 }
 
 TEST_F(AtomicSave, WriterDestroyedWithoutCommitLeavesTargetAndRemovesTemporary) {

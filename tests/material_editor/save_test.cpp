@@ -10,6 +10,7 @@
 #include <unistd.h>
 
 #include <chrono>
+#include <filesystem>
 #include <cstdio>
 #include <thread>
 
@@ -77,6 +78,53 @@ TEST(Save, UntouchedChunksStayByteIdentical) {
     EXPECT_EQ(differing, 1u);
     EXPECT_EQ(getMaterialField(b.scene.materials[edited], "roughness"), "0.125");
     verifyWithInspect(out);
+}
+
+// A file from a newer writer (FORMAT.md 3.5: MATL version 2 with an appended field): saving
+// other edits copies that chunk as stored, appended field included; editing the newer material
+// itself is refused by name instead of silently dropping the field.
+TEST(Save, NewerChunkVersionsAreCopiedNeverRewrittenWithoutTheirFields) {
+    TempDir dir;
+    const std::string today = copyScene(dir, "terrain");
+    const std::string future = dir.file("future.pnb");
+    {
+        Opened src = openScene(today);
+        auto w = Writer::create(future);
+        ASSERT_TRUE(w.ok());
+        bool first = true;
+        for (const ChunkInfo& c : src.container->chunks()) {
+            if (c.header.tag == tags::kMaterial && first) {
+                first = false;
+                std::vector<std::byte> v2 = encodeChunk(src.scene.materials[0]);
+                v2.insert(v2.end(), 4, std::byte{0x3F}); // an appended field of version 2
+                ASSERT_TRUE(isOk(w->addChunk(tags::kMaterial, 2, v2)));
+            } else {
+                ASSERT_TRUE(isOk(w->copyChunk(*src.container, c)));
+            }
+        }
+        ASSERT_TRUE(isOk(w->commit()));
+    }
+    auto doc = openDoc(future);
+    ASSERT_TRUE(doc);
+    ASSERT_GE(doc->materialCount(), 2u);
+    ASSERT_TRUE(isOk(doc->setField(1, "roughness", "0.25")));
+    const std::string other = dir.file("other_edit.pnb");
+    auto stats = doc->save(other);
+    ASSERT_TRUE(stats.ok()) << stats.error().describe();
+    Opened a = openScene(future), b = openScene(other);
+    const ChunkInfo& ca = *a.container->find(tags::kMaterial)[0];
+    const ChunkInfo& cb = *b.container->find(tags::kMaterial)[0];
+    EXPECT_EQ(cb.header.version, 2u);
+    EXPECT_TRUE(sameStored(*a.container, ca, *b.container, cb));
+
+    ASSERT_TRUE(isOk(doc->setField(0, "roughness", "0.5")));
+    const std::string refused = dir.file("refused.pnb");
+    auto r = doc->save(refused);
+    ASSERT_FALSE(r.ok());
+    EXPECT_EQ(r.error().code, FormatError::UnsupportedChunkVersion);
+    EXPECT_NE(r.error().message.find("material 0 is chunk version 2"), std::string::npos)
+        << r.error().message;
+    EXPECT_FALSE(std::filesystem::exists(refused));
 }
 
 TEST(Save, DeferredOnlySceneGainsAForwardProgramAndSwitchingBackReusesTheGBufferOne) {

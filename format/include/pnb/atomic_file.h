@@ -17,9 +17,21 @@ namespace pnb {
 // file and the failing step; the temporary is removed.
 Status writeFileAtomic(const std::string& path, std::span<const uint8_t> bytes);
 
-// The pieces pnb::Writer shares: a fresh "<dir>/.<name>.tmp.<pid>.<n>" beside `path` (same file
-// system, so the rename is atomic), and the directory to fsync after the rename ("." if none).
-std::string temporaryPathFor(const std::string& path);
+// The pieces pnb::Writer shares. createTemporaryFor makes a fresh "<dir>/.<name>.tmp.<pid>.<n>"
+// beside `path` (same file system, so the rename is atomic), exclusively, and holds an flock on it
+// for as long as `fd` stays open: the kernel drops that lock when the writer dies, however it
+// dies, which is how a later writer tells a stale temporary from a live one. It first removes
+// the stale temporaries of `path` (removeStaleTemporaries). Errors: IoError naming `path`.
+struct TemporaryFile {
+    int fd = -1;
+    std::string path;
+};
+Result<TemporaryFile> createTemporaryFor(const std::string& path);
+// Removes "<dir>/.<name>.tmp.<pid>.<n>" files of `path` whose writer is gone (no flock held,
+// older than a second so that a writer between create and lock is never touched). Returns how
+// many were removed; never fails (what it cannot remove it leaves).
+size_t removeStaleTemporaries(const std::string& path);
+// The directory to fsync after the rename ("." if none).
 std::string directoryOf(const std::string& path);
 
 } // namespace pnb

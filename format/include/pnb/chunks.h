@@ -332,11 +332,15 @@ PNB_CHUNK_TRAITS(TextureMip, tags::kTextureMip, Compression::None);
 
 // Encodes a chunk payload (deterministic: equal structs give equal bytes; blob padding is zero).
 template <class T> std::vector<std::byte> encodeChunk(const T& value);
-// Decodes a payload of the given chunk version. Errors: UnsupportedChunkVersion, BadPayload
-// (truncated field, enum out of range, bool not 0/1, padding not zero, bytes left over).
+// Decodes a payload written as chunk `header` (its version and flags). A newer version than this
+// reader's is read by the fields this reader knows; the bytes after them are the newer version's
+// appended fields and are ignored (FORMAT.md 3.5) — unless the chunk is critical. Errors:
+// UnsupportedChunkVersion (version 0, or newer and critical), BadPayload (truncated field, enum
+// out of range, bool not 0/1, padding not zero, bytes left over in a version this reader knows).
 // `offset` is the payload's position in the file, for messages.
-template <class T> Result<T> decodeChunk(std::span<const std::byte> payload, uint16_t version,
-                                         uint64_t offset = 0);
+template <class T>
+Result<T> decodeChunk(std::span<const std::byte> payload, const ChunkHeader& header,
+                      uint64_t offset = 0);
 // Encodes and appends a chunk with its traits' tag and version.
 template <class T>
 Status writeChunk(Writer& writer, const T& value, Compression compression = ChunkTraits<T>::compression);

@@ -46,6 +46,9 @@ enum class Compression : uint8_t {
 // Chunk header flag bits (u16). Bits not listed must be zero.
 inline constexpr uint16_t kChunkCompressionMask = 0x000F; // a Compression value
 inline constexpr uint16_t kChunkHasChecksum = 0x0010;     // payloadChecksum is valid
+// A reader that does not know this chunk's tag or version must refuse it instead of skipping it
+// or reading the fields it knows (FORMAT.md 3.5).
+inline constexpr uint16_t kChunkCritical = 0x0020;
 
 struct FileHeader {
     uint16_t versionMajor = kVersionMajor;

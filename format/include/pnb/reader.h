@@ -89,6 +89,11 @@ public:
     // Checks every chunk: header vs index, zero padding, checksum (always, whatever the
     // options), and that compressed payloads inflate to their raw size. First error wins.
     Status verifyAll() const;
+    // IoError if the mapped file shrank under this Container (another program truncated it):
+    // the pages past its new end read as zeros instead of raising SIGBUS, and every read above
+    // reports this error instead of its own. A caller that reads bytes()/payload views itself
+    // (an upload straight from the mapping) calls it after reading. Always ok for fromMemory.
+    Status intact() const;
 
 private:
     Container() = default;
@@ -101,6 +106,11 @@ private:
     std::span<const std::byte> mBytes;
     void* mMapping = nullptr; // owned mmap, or null for fromMemory
     size_t mMappingSize = 0;
+    int mGuardSlot = -1;      // detail::guardMapping slot of the mapping
+    std::string mPath;        // for intact()'s message
+    // `s`, unless the mapping shrank meanwhile: then intact()'s error, the true cause.
+    Status guarded(Status s) const;
+    Status verifyAllUnguarded() const;
 };
 
 // A chunk handed to a streaming callback. `payload` is the raw (decompressed, verified) payload;

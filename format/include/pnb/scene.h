@@ -34,6 +34,7 @@ struct Scene {
 
     std::vector<Payload> payloads; // storage of decoded chunks (owned or views of the mapping)
     uint32_t unknownChunks = 0;    // chunks with tags this reader does not know (skipped)
+    uint32_t newerChunks = 0;      // chunks of a newer version, read by the fields known here
 
     // The string a StringRef names; "" for kNone. Precondition: validateScene passed.
     std::string_view str(StringRef ref) const {

@@ -33,7 +33,8 @@ struct WriteOptions {
 class Writer {
 public:
     // Starts a file that commit() will atomically place at `path`. The temporary is
-    // "<dir>/.<name>.tmp.<pid>.<n>"; it is removed if the Writer is destroyed uncommitted.
+    // "<dir>/.<name>.tmp.<pid>.<n>"; it is removed if the Writer is destroyed uncommitted, and by
+    // the next create() for the same path if the process died first (createTemporaryFor).
     static Result<Writer> create(const std::string& path, const WriteOptions& options = {});
     // Writes into `out` (cleared first) instead of a file; commit() only finalises. For tests.
     static Writer toMemory(std::vector<std::byte>* out, const WriteOptions& options = {});
@@ -46,8 +47,10 @@ public:
     // compression would not make it smaller (the flag then says None). Deterministic: the same
     // arguments always produce the same bytes. Errors: IoError (disk), after which only
     // destruction is valid.
+    // `critical` sets kChunkCritical: readers that do not know this tag or version must refuse
+    // the chunk (FORMAT.md 3.5); no chunk of format 1.0 needs it.
     Status addChunk(Tag tag, uint16_t version, std::span<const std::byte> raw,
-                    Compression compression = Compression::None);
+                    Compression compression = Compression::None, bool critical = false);
     // Appends `chunk` of `source` as it is stored there: the same tag, version, flags
     // (compression and checksum bit), stored and raw sizes, payload checksum and payload bytes.
     // Only the sequence number and the header checksum are this writer's. The payload is neither
