@@ -31,6 +31,9 @@ void main() {
     float packedBits = floor(nm.w * 65535.0 + 0.5);
     float metallic = floor(packedBits / 256.0) / 255.0;
     float occlusion = mod(packedBits, 256.0) / 255.0;
+    float roughnessBits = floor(nm.z * 65535.0 + 0.5);
+    float roughness = floor(roughnessBits / 2.0) / 32767.0;
+    bool receivesShadows = mod(roughnessBits, 2.0) > 0.5;
     vec3 v = normalize(-position);
 #ifdef GI
     if (giCaptureIrradiance()) { // CaptureBuffer::Indirect: the irradiance GI adds, per pixel
@@ -43,7 +46,8 @@ void main() {
 #ifdef GI
     indirect += giIrradiance(position, n) * base.rgb * ((1.0 - metallic) / 3.14159265);
 #endif
-    vec3 color = shadeLights(base.rgb, metallic, nm.z, n, position, v) + indirect * occlusion;
+    vec3 color = shadeLights(base.rgb, metallic, roughness, n, position, v, receivesShadows) +
+                 indirect * occlusion;
     outColor = vec4(color + texture(uGEmissive, vUv).rgb, base.a);
 #ifdef SHADOWS
     outColor = shadowOutput(outColor);

@@ -18,7 +18,7 @@ void main() {
         return;
     }
 #endif
-    vec3 color = shadeLights(s.baseColor, s.metallic, s.roughness, s.normal, vPosition, v);
+    vec3 color = shadeLights(s.baseColor, s.metallic, s.roughness, s.normal, vPosition, v, true);
     // Occlusion darkens indirect light only (glTF's definition): the ambient term and GI.
     vec3 indirect = uAmbient.rgb * s.baseColor;
 #ifdef GI

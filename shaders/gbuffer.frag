@@ -3,7 +3,8 @@
 // (20 B/px; UberRender used 36). Position is not stored: the lighting pass reconstructs it from
 // depth.
 //   RT0 RGBA8 sRGB   base colour, alpha (the layer's blend weight; 0 = no surface)
-//   RT1 RGBA16       octahedral normal xy, roughness, metallic (8 bit) + occlusion (8 bit)
+//   RT1 RGBA16       octahedral normal xy, roughness (15 bit) + receives shadows (1 bit),
+//                    metallic (8 bit) + occlusion (8 bit)
 //   RT2 R11G11B10F   emissive radiance
 #include "include/surface_input.glsl"
 
@@ -16,7 +17,11 @@ void main() {
     outBaseColor = vec4(s.baseColor, s.alpha);
     float metallic8 = floor(clamp(s.metallic, 0.0, 1.0) * 255.0 + 0.5);
     float occlusion8 = floor(clamp(s.occlusion, 0.0, 1.0) * 255.0 + 0.5);
-    outNormalMaterial = vec4(octEncode(s.normal) * 0.5 + 0.5, s.roughness,
+    // receives_shadows is per material, the lighting pass per layer: the flag rides in the
+    // roughness channel's lowest bit (roughness keeps 15 bits, steps of 3e-5).
+    float roughness15 = floor(clamp(s.roughness, 0.0, 1.0) * 32767.0 + 0.5);
+    float receives = uAlphaParams.z > 0.5 ? 1.0 : 0.0;
+    outNormalMaterial = vec4(octEncode(s.normal) * 0.5 + 0.5, (roughness15 * 2.0 + receives) / 65535.0,
                              (metallic8 * 256.0 + occlusion8) / 65535.0);
     outEmissive = s.emissive;
 }

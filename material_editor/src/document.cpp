@@ -225,6 +225,24 @@ Status Document::setField(uint32_t index, std::string_view field, std::string_vi
     return mImpl->applyEdits({{index, std::string(field), std::string(value)}}, mergeWithPrevious);
 }
 
+std::string Document::noEffectReason(uint32_t index, std::string_view field) const {
+    if (index >= mImpl->current.materials.size()) return {};
+    const Material& m = mImpl->current.materials[index];
+    const bool shadowField = field == "receives_shadows" || field == "casts_shadows";
+    if (shadowField && !mImpl->sceneNeeds(mImpl->current.materials).shadows) {
+        bool shadowLight = false;
+        for (const Light& l : mImpl->scene.lights.lights)
+            shadowLight |= l.type == LightType::Directional && l.castsShadows;
+        return shadowLight ? "no material casts shadows, so the scene has no shadow pass"
+                           : "the scene has no shadow-casting (directional) light";
+    }
+    if (field == "casts_shadows" && m.alphaMode == AlphaMode::Blend)
+        return "BLEND materials cast no shadows (the shadow pass draws opaque and MASK ones)";
+    if (field == "alpha_cutoff" && m.alphaMode != AlphaMode::Mask)
+        return "alpha_cutoff applies to alpha_mode mask only";
+    return {};
+}
+
 Status Document::apply(const std::vector<FieldEdit>& edits) {
     return mImpl->applyEdits(edits, false);
 }

@@ -10,6 +10,7 @@
 #include <cstdio>
 #include <cstring>
 #include <functional>
+#include <map>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -437,6 +438,15 @@ int runBatch(const Settings& s) {
     if (!s.quiet)
         for (const std::string& line : summaries)
             std::fprintf(info, "set %s\n", printable(line).c_str());
+    // An edit the player cannot show is still applied (it may matter once the scene changes),
+    // but never silently: one note per field and reason, with how many materials it concerns.
+    std::map<std::pair<std::string, std::string>, size_t> noEffect;
+    for (const Document::FieldEdit& e : s.quiet ? std::vector<Document::FieldEdit>{} : edits)
+        if (std::string why = doc.noEffectReason(e.material, e.field); !why.empty())
+            ++noEffect[{e.field, why}];
+    for (const auto& [what, count] : noEffect)
+        std::fprintf(stderr, "note: %s has no effect on %zu material%s: %s\n", what.first.c_str(),
+                     count, count == 1 ? "" : "s", what.second.c_str());
 
     const bool edited = !s.imports.empty() || !s.sets.empty();
     if (!s.output.empty() || (edited && doc.dirty())) {

@@ -84,6 +84,8 @@ Status EditorApp::setField(uint32_t material, const std::string& field, const st
         status(s.message);
         return s;
     }
+    if (std::string why = mDocument->noEffectReason(material, field); !why.empty())
+        status("note: " + field + " has no effect here: " + why);
     syncGpu();
     return s;
 }
@@ -92,8 +94,17 @@ Status EditorApp::applyToSelection(const std::string& field, const std::string& 
     std::vector<Document::FieldEdit> edits;
     for (uint32_t m : mSelection) edits.push_back({m, field, value});
     Status s = mDocument->apply(edits);
-    if (!isOk(s)) status(s.message);
-    else syncGpu();
+    if (!isOk(s)) {
+        status(s.message);
+        return s;
+    }
+    for (uint32_t m : mSelection)
+        if (std::string why = mDocument->noEffectReason(m, field); !why.empty()) {
+            status("note: " + field + " has no effect on material " + std::to_string(m) + ": " +
+                   why);
+            break;
+        }
+    syncGpu();
     return s;
 }
 

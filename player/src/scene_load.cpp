@@ -36,7 +36,8 @@ MaterialBlock materialBlock(const Material& m) {
     b.emissive = glm::vec4(m.emissiveFactor.x, m.emissiveFactor.y, m.emissiveFactor.z, 0) *
                  m.emissiveStrength;
     b.params = {m.metallicFactor, m.roughnessFactor, m.normalScale, m.occlusionStrength};
-    b.alphaParams = {m.alphaCutoff, m.alphaMode == AlphaMode::Blend ? 1.0f : 0.0f, 0, 0};
+    b.alphaParams = {m.alphaCutoff, m.alphaMode == AlphaMode::Blend ? 1.0f : 0.0f,
+                     m.receivesShadows ? 1.0f : 0.0f, 0};
     for (size_t i = 0; i < m.textures.size(); ++i) {
         const TextureSlot& s = m.textures[i];
         b.texTransform[i * 2] = {s.offset.x, s.offset.y, s.scale.x, s.scale.y};
@@ -213,6 +214,13 @@ PlayResult<std::unique_ptr<GpuScene>> loadScene(const std::string& path,
     readOptions.verifyChecksums = false;
     auto container = Container::open(path, readOptions);
     if (!container) return inputError(container.error());
+    if (options.afterOpen) options.afterOpen();
+    // Another program may truncate the mapped file at any moment: the reads below then see zero
+    // pages instead of dying of SIGBUS, and this names the true cause instead of their symptom.
+    auto fail = [&](const Error& e) {
+        const Status shrank = container->intact();
+        return inputError(isOk(shrank) ? e : shrank);
+    };
     stats.openMs = msSince(start);
     stats.fileBytes = container->bytes().size();
     stats.chunks = uint32_t(container->chunks().size());
@@ -221,10 +229,10 @@ PlayResult<std::unique_ptr<GpuScene>> loadScene(const std::string& path,
     auto phase = Clock::now();
     for (const ChunkInfo& chunk : container->chunks()) {
         auto stored = container->stored(chunk);
-        if (!stored) return inputError(stored.error());
+        if (!stored) return fail(stored.error());
         if (options.verifyChecksums && chunk.header.hasChecksum() &&
             checksum(*stored) != chunk.header.payloadChecksum)
-            return inputError(makeError(FormatError::ChecksumMismatch, chunk.payloadOffset,
+            return fail(makeError(FormatError::ChecksumMismatch, chunk.payloadOffset,
                                         "chunk %u '%s': payload checksum does not match its "
                                         "bytes (the file is damaged)",
                                         chunk.header.sequence, chunk.header.tag.str().c_str()));
@@ -236,12 +244,13 @@ PlayResult<std::unique_ptr<GpuScene>> loadScene(const std::string& path,
     // Decode: decompress, decode every chunk, check order and cross-references.
     phase = Clock::now();
     auto decoded = readScene(*container);
-    if (!decoded) return inputError(decoded.error());
+    if (!decoded) return fail(decoded.error());
     const Scene& scene = *decoded;
     stats.unknownChunks = scene.unknownChunks;
     stats.decodeMs = msSince(phase);
 
     auto gpu = uploadScene(scene, &stats);
+    if (Status shrank = container->intact(); !isOk(shrank)) return inputError(shrank);
     if (!gpu) return gpu.error();
     stats.totalMs = msSince(start);
     if (statsOut) *statsOut = stats;

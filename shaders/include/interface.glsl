@@ -43,7 +43,8 @@ layout(std140, binding = 2) uniform MaterialBlock {
     vec4 uBaseColorFactor;
     vec4 uEmissive;         // rgb * strength, a unused
     vec4 uMaterialParams;   // metallic, roughness, normalScale, occlusionStrength
-    vec4 uAlphaParams;      // alphaCutoff, 1 if BLEND (else alpha is forced to 1), 0, 0
+    vec4 uAlphaParams;      // alphaCutoff, 1 if BLEND (else alpha is forced to 1),
+                            // 1 if the surface receives shadows (deferred: a G-buffer bit), 0
     vec4 uTexTransform[5 * 2]; // per slot: (offset.xy, scale.xy), (rotation, texCoord, 0, 0)
 };
 

@@ -38,8 +38,10 @@ float rangeAttenuation(float distanceSquared, float range) {
 }
 
 // Radiance reflected towards the viewer by all lights. `p` is camera-relative, `v` points from
-// the surface to the camera.
-vec3 shadeLights(vec3 baseColor, float metallic, float roughness, vec3 n, vec3 p, vec3 v) {
+// the surface to the camera. `receivesShadows`: the material's flag (forward programs of
+// materials that do not receive are built without SHADOWS; deferred ones read a G-buffer bit).
+vec3 shadeLights(vec3 baseColor, float metallic, float roughness, vec3 n, vec3 p, vec3 v,
+                 bool receivesShadows) {
     vec3 sum = vec3(0.0);
     for (uint i = 0u; i < uLightCount; ++i) {
         GpuLight light = uLights[i];
@@ -61,7 +63,7 @@ vec3 shadeLights(vec3 baseColor, float metallic, float roughness, vec3 n, vec3 p
         }
         vec3 radiance = light.colorIntensity.rgb * light.colorIntensity.a * attenuation;
 #ifdef SHADOWS
-        if (float(i) == uShadowLight.w) radiance *= shadowVisibility(p, n);
+        if (receivesShadows && float(i) == uShadowLight.w) radiance *= shadowVisibility(p, n);
 #endif
         sum += shadeBrdf(baseColor, metallic, roughness, n, v, l, radiance);
     }

@@ -284,6 +284,32 @@ TEST(Document, SceneLevelProgramsOnlyWhenAnEditNeedsThem) {
     EXPECT_TRUE(isOk(validateScene(doc->scene())));
 }
 
+// An edit the player cannot show is named, never silently accepted.
+TEST(Document, EditsWithoutEffectSayWhy) {
+    TempDir dir;
+    auto doc = openDoc(convert(dir, editorScene(), "lit"));
+    ASSERT_TRUE(doc);
+    const Scene& s = doc->scene();
+    const uint32_t plain = materialIndex(s, "plain"), glass = materialIndex(s, "glass"),
+                   leaf = materialIndex(s, "leaf");
+    EXPECT_EQ(doc->noEffectReason(plain, "receives_shadows"), "");
+    EXPECT_EQ(doc->noEffectReason(plain, "casts_shadows"), "");
+    EXPECT_EQ(doc->noEffectReason(plain, "roughness"), "");
+    EXPECT_NE(doc->noEffectReason(glass, "casts_shadows").find("BLEND"), std::string::npos);
+    EXPECT_EQ(doc->noEffectReason(glass, "receives_shadows"), "") << "forward honours it";
+    EXPECT_NE(doc->noEffectReason(plain, "alpha_cutoff").find("mask only"), std::string::npos);
+    EXPECT_EQ(doc->noEffectReason(leaf, "alpha_cutoff"), "");
+    ASSERT_TRUE(isOk(doc->setField(plain, "alpha_mode", "mask")));
+    EXPECT_EQ(doc->noEffectReason(plain, "alpha_cutoff"), "");
+
+    // Nothing casts any more: receiving shadows has no effect anywhere.
+    std::vector<Document::FieldEdit> noCasters;
+    for (uint32_t m = 0; m < doc->materialCount(); ++m) noCasters.push_back({m, "casts_shadows", "false"});
+    ASSERT_TRUE(isOk(doc->apply(noCasters)));
+    EXPECT_NE(doc->noEffectReason(plain, "receives_shadows").find("no material casts shadows"),
+              std::string::npos);
+}
+
 TEST(Document, ImportTexture) {
     TempDir dir;
     auto doc = openDoc(copyScene(dir, "grazing-plane"));

@@ -46,6 +46,12 @@ same "failures leave the file untouched" "$WORK/scene.pnb" "$WORK/original.pnb"
 grep -q "no change" "$WORK/noop.txt" || { echo "FAIL: no 'no change' note: $(cat "$WORK/noop.txt")"; fail=1; }
 same "no-op edit leaves the file" "$WORK/scene.pnb" "$WORK/original.pnb"
 
+# An edit the player cannot show is applied but named (alpha_cutoff outside mask mode).
+"$EDIT" "$WORK/scene.pnb" --set '*.alpha_cutoff=0.25' -o "$WORK/cutoff.pnb" 2> "$WORK/note.txt" >/dev/null
+check "edit without effect" 0 $?
+grep -q "note: alpha_cutoff has no effect on .* alpha_mode mask only" "$WORK/note.txt" ||
+    { echo "FAIL: no note for an edit without effect: $(cat "$WORK/note.txt")"; fail=1; }
+
 # Edits: deterministic (-o twice gives the same bytes), in place == -o, and valid.
 "$EDIT" "$WORK/scene.pnb" --set '*.shading_path=forward' --set '*.roughness=0.25' -o "$WORK/a.pnb" > "$WORK/a.txt"
 check "edit -o a" 0 $?

@@ -1,6 +1,8 @@
 // Loading real containers: every procedural scene loads, compiles and renders; damaged files and
 // broken shaders give errors that name what and where; golden images; culling; debug views;
 // the benchmark harness.
+#include <unistd.h>
+
 #include <filesystem>
 #include <fstream>
 
@@ -96,6 +98,21 @@ TEST(SceneLoad, DamagedContainersAreRejectedWithWhatAndWhere) {
     auto missing = loadScene("/nonexistent/scene.pnb");
     ASSERT_FALSE(missing.ok());
     EXPECT_NE(missing.error().message.find("/nonexistent/scene.pnb"), std::string::npos);
+}
+
+// Another program truncates the file between open and read (pnb-play used to die of SIGBUS):
+// a clean Input error naming the file.
+TEST(SceneLoad, FileTruncatedWhileMappedIsAnErrorNamingItNotASignal) {
+    const std::string path = writeTemp("shrinking.pnb", readFile(scenePath("street-canyon")));
+    LoadOptions options;
+    options.afterOpen = [&] { ASSERT_EQ(::truncate(path.c_str(), 8192), 0); };
+    auto r = loadScene(path, options);
+    ASSERT_FALSE(r.ok());
+    EXPECT_EQ(r.error().kind, PlayErrorKind::Input);
+    EXPECT_NE(r.error().message.find(path), std::string::npos) << r.error().message;
+    EXPECT_NE(r.error().message.find("shrank while it was being read"), std::string::npos)
+        << r.error().message;
+    std::filesystem::remove(path);
 }
 
 TEST(SceneLoad, ShaderCompileErrorNamesProgramPermutationFileAndLine) {

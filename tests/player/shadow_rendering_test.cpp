@@ -10,6 +10,8 @@
 #include <epoxy/gl.h>
 #include <epoxy/egl.h>
 
+#include "pnb/reader.h"
+#include "pnb/scene.h"
 #include "pnb_player/gpu_scene.h"
 #include "render_fixture.h"
 
@@ -140,6 +142,63 @@ TEST(ShadowRendering, ShadowsOffMeansLitEverywhere) {
     ShadowCheck c = checkShadows(file, overview(), shadowSettings(ShadowTechnique::Off), kSun);
     EXPECT_EQ(c.shadowed, 0u);
     EXPECT_GT(c.ground, 1000u);
+}
+
+// receives_shadows = false on a deferred material (a flag bit in the G-buffer) lights it as if
+// shadows were off, while the scene's shadows stay on for everything else.
+TEST(ShadowRendering, DeferredMaterialThatDoesNotReceiveIsLitAsWithShadowsOff) {
+    std::string file = shadowScene(kSun, "box-receive");
+    auto container = Container::open(file);
+    ASSERT_TRUE(container.ok());
+    auto decoded = readScene(*container);
+    ASSERT_TRUE(decoded.ok()) << decoded.error().describe();
+    Scene edited = std::move(*decoded);
+    bool found = false;
+    for (Material& m : edited.materials)
+        if (edited.str(m.name) == "ground") {
+            ASSERT_EQ(m.shadingPath, ShadingPath::Deferred);
+            m.receivesShadows = false;
+            found = true;
+        }
+    ASSERT_TRUE(found);
+
+    constexpr uint32_t w = 160, h = 112;
+    struct Frame {
+        CapturedImage hdr, position;
+    };
+    auto render = [&](const GpuScene& scene, ShadowTechnique t) {
+        Frame f;
+        auto renderer = Renderer::create(scene, shadowSettings(t));
+        EXPECT_TRUE(renderer.ok());
+        if (!renderer.ok()) return f;
+        EXPECT_TRUE((*renderer)->render(overview(), w, h).ok());
+        auto hdr = (*renderer)->capture(CaptureBuffer::Hdr);
+        auto position = (*renderer)->capture(CaptureBuffer::Position);
+        EXPECT_TRUE(hdr.ok() && position.ok());
+        if (hdr.ok() && position.ok()) f = {std::move(*hdr), std::move(*position)};
+        return f;
+    };
+    auto original = loadScene(file);
+    ASSERT_TRUE(original.ok());
+    auto notReceiving = uploadScene(edited);
+    ASSERT_TRUE(notReceiving.ok()) << notReceiving.error().message;
+    Frame on = render(**original, ShadowTechnique::Pssm);
+    Frame off = render(**original, ShadowTechnique::Off);
+    Frame flagged = render(**notReceiving, ShadowTechnique::Pssm);
+    ASSERT_FALSE(on.hdr.f32.empty() || off.hdr.f32.empty() || flagged.hdr.f32.empty());
+
+    uint64_t ground = 0, shadowedOnGround = 0, flaggedDiffers = 0;
+    for (size_t i = 0; i < size_t(w) * h; ++i) {
+        float y = on.position.f32[i * 3 + 1] + float(overview().position.y);
+        if (!std::isfinite(y) || std::abs(y) > 1e-3f) continue; // ground pixels only
+        ++ground;
+        float lOn = on.hdr.f32[i * 4], lOff = off.hdr.f32[i * 4], lFlag = flagged.hdr.f32[i * 4];
+        shadowedOnGround += lOn < 0.8f * lOff;
+        flaggedDiffers += std::abs(lFlag - lOff) > 1e-3f * std::max(1.0f, lOff);
+    }
+    EXPECT_GT(ground, 1000u);
+    EXPECT_GT(shadowedOnGround, 150u) << "the box's shadow falls on the ground";
+    EXPECT_EQ(flaggedDiffers, 0u) << "of " << ground << " ground pixels";
 }
 
 TEST(ShadowRendering, EveryFilterAndSelectionAgreesWithTheAnalysis) {

@@ -73,6 +73,11 @@ public:
     // take a texture index, a texture name, or "none". An edit that changes nothing is no step.
     Status setField(uint32_t index, std::string_view field, std::string_view value,
                     bool mergeWithPrevious = false);
+    // Why `field` of material `index`, in its current state, changes nothing the player draws
+    // ("" when it does): receives/casts_shadows in a scene without a shadow-casting light,
+    // casts_shadows on a BLEND material, alpha_cutoff outside MASK. The editor shows it beside
+    // the field and pnb-edit --set prints it, so no edit is silently without effect.
+    std::string noEffectReason(uint32_t index, std::string_view field) const;
     // Several edits as one undo step (batch operations, --set with wildcards). All or nothing.
     struct FieldEdit {
         uint32_t material;

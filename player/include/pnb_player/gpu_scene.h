@@ -15,6 +15,7 @@
 
 #include <array>
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <optional>
 #include <string>
@@ -108,6 +109,9 @@ struct LoadStats {
 
 struct LoadOptions {
     bool verifyChecksums = true;
+    // Called once the file is mapped and indexed, before any payload is read (progress
+    // reporting; tests change the file at that, the worst, moment). Default: none.
+    std::function<void()> afterOpen;
 };
 
 struct GpuScene {
