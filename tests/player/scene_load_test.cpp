@@ -3,6 +3,7 @@
 // the benchmark harness.
 #include <unistd.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 
@@ -123,12 +124,20 @@ TEST(SceneLoad, ShaderCompileErrorNamesProgramPermutationFileAndLine) {
     ASSERT_TRUE(scene.ok());
     // Break the gbuffer fragment stage at a known line of gbuffer.frag.
     std::string broken;
+    size_t brokenLine = 0;
     for (ShaderSource& s : scene->shaders) {
         if (scene->str(s.name) != "gbuffer.frag") continue;
         std::string text(reinterpret_cast<const char*>(s.source.data()), s.source.size());
         size_t at = text.find("    outEmissive = s.emissive;");
         ASSERT_NE(at, std::string::npos);
         text.insert(at, "    this is not glsl;\n");
+        // Its line in gbuffer.frag: the last "#line N 0" before it, plus the lines since.
+        size_t directive = text.rfind("\n#line ", at);
+        ASSERT_NE(directive, std::string::npos);
+        size_t after = text.find('\n', directive + 1) + 1;
+        brokenLine = std::stoul(text.substr(directive + 7)) +
+                     size_t(std::count(text.begin() + std::ptrdiff_t(after),
+                                       text.begin() + std::ptrdiff_t(at), '\n'));
         broken = text;
         s.source = {reinterpret_cast<const std::byte*>(broken.data()), broken.size()};
     }
@@ -144,7 +153,8 @@ TEST(SceneLoad, ShaderCompileErrorNamesProgramPermutationFileAndLine) {
     EXPECT_NE(m.find("program gbuffer["), std::string::npos) << m;
     EXPECT_NE(m.find("(PROG "), std::string::npos) << m;
     EXPECT_NE(m.find("fragment stage"), std::string::npos) << m;
-    EXPECT_NE(m.find("gbuffer.frag:21"), std::string::npos) << m; // the inserted line
+    EXPECT_NE(m.find("gbuffer.frag:" + std::to_string(brokenLine) + "("), std::string::npos)
+        << m; // the inserted line
 }
 
 TEST(SceneLoad, FrustumCullingChangesDrawsNotPixels) {
