@@ -5,6 +5,7 @@
 #include <GLFW/glfw3.h>
 
 #include <chrono>
+#include <cstdarg>
 #include <cstdio>
 #include <ctime>
 #include <deque>
@@ -70,9 +71,12 @@ void removeCallbacks(GLFWwindow* w) {
     gTarget = {};
 }
 
-std::string format(const char* fmt, auto... args) {
-    char buf[512];
-    std::snprintf(buf, sizeof buf, fmt, args...);
+__attribute__((format(printf, 1, 2))) std::string format(const char* fmt, ...) {
+    char buf[1024];
+    va_list args;
+    va_start(args, fmt);
+    std::vsnprintf(buf, sizeof buf, fmt, args);
+    va_end(args);
     return buf;
 }
 
@@ -264,7 +268,7 @@ int Session::run() {
             mQueue.pop_front();
             for (const Action& a : mMapper.apply(e, uiInput)) handle(a);
         }
-        if (mQuit) break;
+        if (mQuit || mContext.shouldClose()) break; // the close callback, or anything else that closed it
         int w = 0, h = 0;
         mContext.framebufferSize(w, h);
         if (mMinimised || w <= 0 || h <= 0) {

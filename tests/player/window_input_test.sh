@@ -41,6 +41,12 @@ print(m.group({"frames": 1, "waits": 2, "speed": 3, "fov": 4}[sys.argv[2]]) if m
 PY
 }
 
+# --- --help lists the window's controls and options.
+"$play" --help >"$tmp/help.out"
+for word in F9 F12 Esc wheel --record-path --record-every --screenshot-dir --script-input "--path NAME|FILE"; do
+    grep -q -- "$word" "$tmp/help.out" || fail "--help does not mention $word"
+done
+
 # --- A script that does not parse is a usage error naming the line.
 printf '0 key NOPE down\n' >"$tmp/bad.script"
 set +e
