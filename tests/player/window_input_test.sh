@@ -96,6 +96,10 @@ shot=$(ls "$tmp"/shots/pnb-play-*-001.png 2>/dev/null | head -1)
 [ -s "$shot" ] || { show drops; fail "F12 wrote no screenshot"; }
 grep -q "screenshot $shot" "$tmp/drops.out" || { show drops; fail "screenshot path not printed"; }
 grep -q "opened" "$tmp/drops.out" && fail "a bad drop claims to have opened"
+# The scene really is the one it was: the same frame without the drops is the same image.
+window nodrops "0.20 key F12 tap
+0.30 key ESCAPE tap" --screenshot-dir "$tmp/shots_nodrops"
+cmp -s "$shot" "$(ls "$tmp"/shots_nodrops/pnb-play-*-001.png)" || fail "the scene changed after bad drops"
 
 # --- No converter anywhere: a clear message, the scene stays.
 unset PNB_CONVERT
