@@ -68,10 +68,10 @@ Window (see docs/PLAYER.md):
   WASD move, Q/E down/up, Shift faster, right-drag look, O orbit (left-drag, W/S in/out)
   wheel: fly speed (x1.25 a notch); Ctrl+wheel or right button+wheel: field of view (5..120 deg)
   F9 start/stop recording a camera path, K add a key now, F12 screenshot, Esc or close: quit
-  drop a .pnb to open it, or a .gltf/.glb/.obj to convert it first (child pnb-convert: beside
-  pnb-play, on PATH, or $PNB_CONVERT); a file that fails to open leaves the scene as it was
+  drop a .pnb to open it, or a .gltf/.glb/.obj to convert it first (child pnb-convert:
+  $PNB_CONVERT, else beside pnb-play, else on PATH); a file that fails to open changes nothing
   --record-path FILE      where F9 saves the path (default recorded_path.json; an existing file
-                          is kept and FILE-2.json, FILE-3.json, ... used instead)
+                          is kept and NAME-2.json, NAME-3.json, ... used instead)
   --record-every S        while recording, also add a key every S seconds
   --screenshot-dir DIR    where F12 saves pnb-play-DATE-TIME-NNN.png (default: current directory)
   --script-input FILE     replay timed input events (keys, mouse, wheel, drops, close, iconify;
