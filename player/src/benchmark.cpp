@@ -8,6 +8,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <iomanip>
 #include <map>
 #include <sstream>
 #include <thread>
@@ -26,6 +27,8 @@ struct FrameRecord {
     FrameStats stats;
     std::map<std::string, double> gpu; // summed per pass name
     double gpuTotal = -1;              // -1 = not measured
+    glm::dvec3 cameraPosition{0.0};
+    double cameraYfovDegrees = 0;
 };
 
 PassSummary summarize(std::string name, std::vector<double> v) {
@@ -167,6 +170,8 @@ PlayResult<BenchResult> runBenchmark(const GpuScene& scene, Renderer& renderer,
         FrameRecord rec;
         rec.pathTime = t;
         rec.stats = renderer.lastFrame();
+        rec.cameraPosition = camera.position;
+        rec.cameraYfovDegrees = glm::degrees(double(camera.yfovRadians));
         records.push_back(rec);
         // Timer results are keyed by the renderer's frame number; map them to this run's index.
         for (FrameGpuTimes& f : renderer.timer().completed()) f.frame -= rec.stats.frame - k;
@@ -277,7 +282,7 @@ PlayResult<BenchResult> runBenchmark(const GpuScene& scene, Renderer& renderer,
     csv << "frame,time_s,cpu_ms,gpu_total_ms";
     for (const std::string& n : passNames) csv << ",gpu_" << n << "_ms";
     csv << ",draw_calls,triangles,visible_items,culled_items,deferred_layers,shadow_draws,"
-           "shadow_triangles,shadow_casters\n";
+           "shadow_triangles,shadow_casters,camera_x,camera_y,camera_z,camera_yfov_deg\n";
     for (size_t k = 0; k < records.size(); ++k) {
         const FrameRecord& r = records[k];
         csv << k << ',' << r.pathTime << ',' << r.stats.cpuMs << ',';
@@ -288,7 +293,9 @@ PlayResult<BenchResult> runBenchmark(const GpuScene& scene, Renderer& renderer,
         }
         csv << ',' << r.stats.drawCalls << ',' << r.stats.triangles << ',' << r.stats.visibleItems
             << ',' << r.stats.culledItems << ',' << r.stats.deferredLayersDrawn << ','
-            << r.stats.shadowDraws << ',' << r.stats.shadowTriangles << ',' << r.stats.shadowCasters << '\n';
+            << r.stats.shadowDraws << ',' << r.stats.shadowTriangles << ',' << r.stats.shadowCasters << ','
+            << std::setprecision(9) << r.cameraPosition.x << ',' << r.cameraPosition.y << ','
+            << r.cameraPosition.z << ',' << r.cameraYfovDegrees << std::setprecision(6) << '\n';
     }
     std::string csvPath = options.outDir + "/frames.csv";
     if (auto w = writeText(csvPath, csv.str()); !w) return w.error();

@@ -30,6 +30,10 @@ public:
     bool shouldClose() const override { return glfwWindowShouldClose(mWindow); }
     void swapBuffers() override { glfwSwapBuffers(mWindow); }
     void pollEvents() override { glfwPollEvents(); }
+    void waitEvents(double timeoutSeconds) override {
+        if (timeoutSeconds < 0) glfwWaitEvents();
+        else glfwWaitEventsTimeout(timeoutSeconds);
+    }
     void framebufferSize(int& width, int& height) const override {
         glfwGetFramebufferSize(mWindow, &width, &height);
     }

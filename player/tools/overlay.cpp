@@ -32,13 +32,16 @@ bool Overlay::wantsInput() const {
     return ImGui::GetIO().WantCaptureMouse || ImGui::GetIO().WantCaptureKeyboard;
 }
 
-bool Overlay::draw(const Renderer& renderer, const FrameGpuTimes* times, RenderSettings& settings) {
+bool Overlay::draw(const Renderer& renderer, const FrameGpuTimes* times, RenderSettings& settings,
+                   const std::vector<std::string>& status) {
     ImGui_ImplOpenGL3_NewFrame();
     ImGui_ImplGlfw_NewFrame();
     ImGui::NewFrame();
     bool changed = false;
     ImGui::SetNextWindowPos(ImVec2(8, 8), ImGuiCond_FirstUseEver);
     ImGui::Begin("pnb-play", nullptr, ImGuiWindowFlags_AlwaysAutoResize);
+    for (const std::string& line : status) ImGui::TextUnformatted(line.c_str());
+    if (!status.empty()) ImGui::Separator();
     const FrameStats& s = renderer.lastFrame();
     ImGui::Text("CPU %.2f ms   draws %u   triangles %llu", s.cpuMs, s.drawCalls,
                 static_cast<unsigned long long>(s.triangles));
@@ -78,7 +81,8 @@ bool Overlay::draw(const Renderer& renderer, const FrameGpuTimes* times, RenderS
         }
         if (ImGui::IsItemHovered()) ImGui::SetTooltip("%s", std::string(info.description).c_str());
     }
-    ImGui::TextDisabled("WASD/QE move, right-drag look, O orbit");
+    ImGui::TextDisabled("WASD/QE move, right-drag look, O orbit, wheel speed, Ctrl+wheel zoom");
+    ImGui::TextDisabled("F9 record path, K add key, F12 screenshot, Esc quit, drop a file to open");
     ImGui::End();
     ImGui::Render();
     ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());

@@ -2,6 +2,9 @@
 // GPU memory, and every render setting as a control generated from the settings table.
 #pragma once
 
+#include <string>
+#include <vector>
+
 #include "pnb_player/renderer.h"
 
 struct GLFWwindow;
@@ -16,8 +19,10 @@ public:
     Overlay& operator=(const Overlay&) = delete;
 
     // Draws the overlay into the default framebuffer; returns true if a setting changed
-    // (`settings` then holds the new values).
-    bool draw(const Renderer& renderer, const FrameGpuTimes* lastTimes, RenderSettings& settings);
+    // (`settings` then holds the new values). `status` lines (camera speed and field of view,
+    // recording state, the last message) are shown above the timings.
+    bool draw(const Renderer& renderer, const FrameGpuTimes* lastTimes, RenderSettings& settings,
+              const std::vector<std::string>& status = {});
     bool wantsInput() const;
 };
 

@@ -13,12 +13,13 @@
 #include <string>
 #include <vector>
 
-#include "fly_camera.h"
-#include "overlay.h"
 #include "gi_quality.h"
+#include "input_actions.h"
 #include "shadow_quality.h"
+#include "window_session.h"
 #include "pnb_player/benchmark.h"
 #include "pnb_player/gl_context.h"
+#include "pnb_player/path_json.h"
 #include "pnb_player/renderer.h"
 
 using namespace pnb::player;
@@ -33,11 +34,13 @@ Modes (default: an interactive window):
   --ui                    Dear ImGui overlay with timings and setting toggles (window mode)
 
 Run:
-  --path NAME             camera path (default: the container's first)
+  --path NAME|FILE        camera path: a name in the container (default: its first), or a
+                          keyframe JSON file (what pnb-convert --path reads and F9 records)
   --camera N              stand still at the container's camera N (no path)
   --frames N              number of frames (window mode: quit after N)
   --seconds S             stop after S seconds of path time
-  --fixed-dt [DT]         frame k at path time k*DT (default: path duration / frames, or 1/60 s)
+  --fixed-dt [DT]         frame k at path time k*DT (default: path duration / frames, or 1/60 s);
+                          in the window, every frame moves the camera by DT of time
   --size WxH              render size (default 512x288 headless, 1280x720 window)
   --out DIR               output directory for --bench and --dump
   --screenshot FILE       save the output image (PNG) of frame --frame
@@ -61,6 +64,19 @@ Run:
   --gi-lights sun|all     light the truth's bounce with the sun alone (default: what GI models)
                           or every light
 
+Window (see docs/PLAYER.md):
+  WASD move, Q/E down/up, Shift faster, right-drag look, O orbit (left-drag, W/S in/out)
+  wheel: fly speed (x1.25 a notch); Ctrl+wheel or right button+wheel: field of view (5..120 deg)
+  F9 start/stop recording a camera path, K add a key now, F12 screenshot, Esc or close: quit
+  drop a .pnb to open it, or a .gltf/.glb/.obj to convert it first (child pnb-convert:
+  $PNB_CONVERT, else beside pnb-play, else on PATH); a file that fails to open changes nothing
+  --record-path FILE      where F9 saves the path (default recorded_path.json; an existing file
+                          is kept and NAME-2.json, NAME-3.json, ... used instead)
+  --record-every S        while recording, also add a key every S seconds
+  --screenshot-dir DIR    where F12 saves pnb-play-DATE-TIME-NNN.png (default: current directory)
+  --script-input FILE     replay timed input events (keys, mouse, wheel, drops, close, iconify;
+                          format in player/tools/input_actions.h); real input is then ignored
+
 Settings (container RSET < command line):
   --set KEY=VALUE         e.g. --set lighting.exposure=1.5 (repeatable)
   --list-settings         print every key, its type and meaning
@@ -74,7 +90,9 @@ Exit codes: 0 ok, 1 usage, 2 bad input, 3 GL or output failure.
 )";
 
 struct Args {
-    std::string scene, pathName, outDir, screenshot;
+    std::string scene, pathName, outDir, screenshot, recordPath = "recorded_path.json", screenshotDir = ".",
+        scriptInput;
+    double recordEvery = 0;
     std::vector<std::string> sets, dumps;
     bool headless = false, bench = false, ui = false, fixedDt = false, plot = true,
          checksums = true, glDebug = false, quiet = false;
@@ -129,6 +147,10 @@ Args parseArgs(int argc, char** argv) {
         else if (s == "--gi-metrics") a.giMetrics = parseCount("--gi-metrics", next(i));
         else if (s == "--gi-samples") a.giSamples = parseCount("--gi-samples", next(i));
         else if (s == "--gi-lights") a.giAllLights = std::string(next(i)) == "all";
+        else if (s == "--record-path") a.recordPath = next(i);
+        else if (s == "--record-every") a.recordEvery = parsePositive("--record-every", next(i));
+        else if (s == "--screenshot-dir") a.screenshotDir = next(i);
+        else if (s == "--script-input") a.scriptInput = next(i);
         else if (s == "--seconds") a.seconds = parsePositive("--seconds", next(i));
         else if (s == "--fixed-dt") {
             a.fixedDt = true;
@@ -164,6 +186,8 @@ Args parseArgs(int argc, char** argv) {
     if (a.scene.empty()) usageError("no scene given");
     if (a.bench && a.outDir.empty()) usageError("--bench needs --out DIR");
     if (!a.dumps.empty() && a.outDir.empty()) usageError("--dump needs --out DIR");
+    if (!a.scriptInput.empty() && (a.headless || a.bench))
+        usageError("--script-input drives the window (not --headless or --bench)");
     return a;
 }
 
@@ -207,6 +231,13 @@ int main(int argc, char** argv) {
     std::string commandLine;
     for (int i = 0; i < argc; ++i) commandLine += (i ? " " : "") + std::string(argv[i]);
 
+    // Before the window: a script that does not parse is a usage error, display or not.
+    std::vector<ScriptedEvent> script;
+    if (!args.scriptInput.empty()) {
+        auto sc = readInputScript(args.scriptInput);
+        if (!sc) return fail(sc.error());
+        script = std::move(*sc);
+    }
     bool window = !args.headless;
     std::unique_ptr<GlContext> context;
     if (window) {
@@ -231,6 +262,15 @@ int main(int argc, char** argv) {
     LoadStats load;
     auto scene = loadScene(args.scene, lo, &load);
     if (!scene) return fail(scene.error());
+    // --path FILE: a keyframe file rather than a name in the container. It goes first, so its
+    // name wins over a container path of the same name.
+    if (std::error_code ec; !args.pathName.empty() && (args.pathName.ends_with(".json") ||
+                                                       std::filesystem::is_regular_file(args.pathName, ec))) {
+        auto p = readPathJson(args.pathName);
+        if (!p) return fail(p.error());
+        args.pathName = p->name;
+        (*scene)->paths.insert((*scene)->paths.begin(), std::move(*p));
+    }
 
     std::vector<std::string> warnings;
     auto defaults = driverDefaults(gl.renderer);
@@ -369,36 +409,22 @@ int main(int argc, char** argv) {
     }
 
     // Interactive window.
-    std::unique_ptr<Overlay> overlay;
-    if (args.ui) overlay = std::make_unique<Overlay>(context->glfwWindow());
-    FlyCamera fly(first, (*scene)->bounds);
-    FrameGpuTimes lastTimes;
-    auto last = std::chrono::steady_clock::now();
-    for (uint32_t k = 0; !context->shouldClose() && (args.frames == 0 || k < args.frames); ++k) {
-        context->pollEvents();
-        auto now = std::chrono::steady_clock::now();
-        double dt = std::chrono::duration<double>(now - last).count();
-        last = now;
-        fly.update(context->glfwWindow(), dt, overlay && overlay->wantsInput());
-        int w = 0, h = 0;
-        context->framebufferSize(w, h);
-        if (w <= 0 || h <= 0) continue; // minimised
-        uint32_t rw = args.width ? args.width : uint32_t(w), rh = args.height ? args.height : uint32_t(h);
-        if (auto r = (*renderer)->render(fly.camera(), rw, rh); !r) return fail(r.error());
-        for (const CaptureRequest& c : bo.captures) {
-            if (c.frame != k) continue;
-            auto img = (*renderer)->capture(c.buffer);
-            if (!img) return fail(img.error());
-            if (auto sv = saveCapture(c.path, *img); !sv) return fail(sv.error());
-            if (!args.quiet) std::printf("wrote %s\n", c.path.c_str());
-        }
-        auto& done = (*renderer)->timer().completed();
-        if (!done.empty()) lastTimes = done.back();
-        done.clear();
-        (*renderer)->presentToWindow(w, h);
-        if (overlay && overlay->draw(**renderer, lastTimes.passes.empty() ? nullptr : &lastTimes, settings))
-            (*renderer)->setSettings(settings);
-        context->swapBuffers();
-    }
-    return 0;
+    WindowRunOptions wo;
+    wo.sceneFile = args.scene;
+    wo.glRenderer = gl.renderer;
+    wo.sets = args.sets;
+    wo.verifyChecksums = args.checksums;
+    wo.quiet = args.quiet;
+    wo.ui = args.ui;
+    wo.frames = args.frames;
+    wo.width = args.width;
+    wo.height = args.height;
+    wo.fixedDt = args.fixedDt ? (args.dt > 0 ? args.dt : 1.0 / 60.0) : 0.0;
+    wo.captures = bo.captures;
+    wo.screenshotDir = args.screenshotDir;
+    wo.recordPath = args.recordPath;
+    wo.recordEvery = args.recordEvery;
+    wo.scripted = !args.scriptInput.empty();
+    wo.script = std::move(script);
+    return runWindow(*context, std::move(*scene), std::move(*renderer), settings, first, wo);
 }

@@ -6,7 +6,8 @@
 //
 // Output directory:
 //   frames.csv     one row per frame: path time, CPU ms, GPU ms per pass and total, draw calls,
-//                  triangles, visible/culled items, deferred layers drawn
+//                  triangles, visible/culled items, deferred layers drawn, camera position and
+//                  vertical field of view (camera_x/y/z, camera_yfov_deg)
 //   summary.json   min/median/p95/max per pass and for CPU time; load-time split; GPU memory by
 //                  category; machine, GL vendor/renderer/version; resolution; every setting
 //   frame_times.png  per-pass stacked GPU time and CPU time along the path (player/tools/

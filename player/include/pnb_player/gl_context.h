@@ -29,6 +29,9 @@ public:
     virtual bool shouldClose() const { return false; }
     virtual void swapBuffers() {}
     virtual void pollEvents() {}
+    // Window only: sleeps until an event arrives (or `timeoutSeconds` pass, if >= 0), then
+    // handles it. What a minimised window does instead of rendering.
+    virtual void waitEvents(double timeoutSeconds = -1) { (void)timeoutSeconds; }
     // Drawable size in pixels (window) or the size asked for (headless).
     virtual void framebufferSize(int& width, int& height) const = 0;
     virtual GLFWwindow* glfwWindow() const { return nullptr; }
