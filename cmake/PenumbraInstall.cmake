@@ -64,49 +64,56 @@ install(FILES ${PROJECT_BINARY_DIR}/PenumbraConfig.cmake
 install(FILES ${PROJECT_SOURCE_DIR}/README.md DESTINATION ${PNB_INSTALL_DOCDIR})
 file(GLOB pnb_docs CONFIGURE_DEPENDS ${PROJECT_SOURCE_DIR}/docs/*.md)
 install(FILES ${pnb_docs} DESTINATION ${PNB_INSTALL_DOCDIR}/docs)
-install(PROGRAMS ${PROJECT_SOURCE_DIR}/player/tools/plot_frames.py DESTINATION ${PNB_INSTALL_DATADIR})
+install(PROGRAMS ${PROJECT_SOURCE_DIR}/player/tools/plot_frames.py
+    DESTINATION ${PNB_INSTALL_DATADIR})
 
 # --- CPack: the Debian package "penumbra".
 # Depends = the shared libraries the tools load (dpkg-shlibdeps, from dpkg-dev) + the -dev
 # packages PenumbraConfig.cmake's find_dependency() calls need + libEGL, each looked up with
 # dpkg-query from a file the build itself found (so the list follows what the build uses).
-# pnb_debian_package_of(VAR FILE): the Debian package that owns FILE, appended to VAR.
-function(pnb_debian_package_of var file)
-    find_program(PNB_DPKG_QUERY dpkg-query)
-    set(package)
-    if(PNB_DPKG_QUERY AND EXISTS "${file}")
-        execute_process(COMMAND ${PNB_DPKG_QUERY} -S "${file}" OUTPUT_VARIABLE out
-            RESULT_VARIABLE rc ERROR_QUIET OUTPUT_STRIP_TRAILING_WHITESPACE)
-        # "libzstd-dev:amd64: /usr/lib/.../libzstd.pc" (or "a, b: path" when shared)
-        if(rc EQUAL 0 AND out MATCHES "^([a-z0-9][a-z0-9.+-]*)")
-            set(package ${CMAKE_MATCH_1})
-        endif()
-    endif()
-    if(NOT package)
-        message(STATUS "penumbra .deb: no Debian package owns ${file}; not in Depends")
-        return()
-    endif()
-    set(${var} ${${var}} ${package} PARENT_SCOPE)
-endfunction()
-
-set(pnb_dev_depends)
-pnb_debian_package_of(pnb_dev_depends ${PKG_CONFIG_EXECUTABLE})
+set(pnb_dev_files ${PKG_CONFIG_EXECUTABLE})
 foreach(module libzstd libxxhash epoxy glfw3)
     pkg_get_variable(pcdir ${module} pcfiledir)
-    pnb_debian_package_of(pnb_dev_depends ${pcdir}/${module}.pc)
+    list(APPEND pnb_dev_files ${pcdir}/${module}.pc)
 endforeach()
-pnb_debian_package_of(pnb_dev_depends ${glm_DIR}/glmConfig.cmake)
-pnb_debian_package_of(pnb_dev_depends ${nlohmann_json_DIR}/nlohmann_jsonConfig.cmake)
-pnb_debian_package_of(pnb_dev_depends ${ZLIB_INCLUDE_DIR}/zlib.h)
+list(APPEND pnb_dev_files ${glm_DIR}/glmConfig.cmake
+    ${nlohmann_json_DIR}/nlohmann_jsonConfig.cmake ${ZLIB_INCLUDE_DIR}/zlib.h)
 # libepoxy loads libEGL at run time (dlopen: pnb-play --headless, the editor), which
 # dpkg-shlibdeps cannot see: the package that owns the library the build found.
 find_library(PNB_EGL_LIBRARY EGL)
 if(PNB_EGL_LIBRARY)
     file(REAL_PATH ${PNB_EGL_LIBRARY} egl_library)
-    pnb_debian_package_of(pnb_dev_depends ${egl_library})
+    list(APPEND pnb_dev_files ${egl_library})
 endif()
-list(REMOVE_DUPLICATES pnb_dev_depends)
-list(JOIN pnb_dev_depends ", " pnb_dev_depends)
+# One dpkg-query for all files (about a second), redone only when the files change.
+if(NOT "${pnb_dev_files}" STREQUAL "${PNB_DEB_DEPENDS_FILES}")
+    find_program(PNB_DPKG_QUERY dpkg-query)
+    set(packages)
+    if(PNB_DPKG_QUERY)
+        # "libzstd-dev:amd64: /usr/lib/.../libzstd.pc" per file ("a, b: path" when shared)
+        execute_process(COMMAND ${PNB_DPKG_QUERY} -S ${pnb_dev_files} OUTPUT_VARIABLE out
+            ERROR_QUIET OUTPUT_STRIP_TRAILING_WHITESPACE)
+        string(REPLACE "\n" ";" lines "${out}")
+        foreach(file IN LISTS pnb_dev_files)
+            set(package)
+            foreach(line IN LISTS lines)
+                if(line MATCHES "^([a-z0-9][a-z0-9.+-]*)[^ ]*: (.*)$"
+                   AND CMAKE_MATCH_2 STREQUAL file)
+                    set(package ${CMAKE_MATCH_1})
+                endif()
+            endforeach()
+            if(package)
+                list(APPEND packages ${package})
+            else()
+                message(STATUS "penumbra .deb: no Debian package owns ${file}; not in Depends")
+            endif()
+        endforeach()
+    endif()
+    list(REMOVE_DUPLICATES packages)
+    list(JOIN packages ", " packages)
+    set(PNB_DEB_DEPENDS "${packages}" CACHE INTERNAL "the .deb's Depends besides shlibdeps")
+    set(PNB_DEB_DEPENDS_FILES "${pnb_dev_files}" CACHE INTERNAL "files PNB_DEB_DEPENDS is from")
+endif()
 
 set(CPACK_PACKAGE_NAME penumbra)
 set(CPACK_PACKAGE_VENDOR "Penumbra")
@@ -119,7 +126,7 @@ set(CPACK_PACKAGING_INSTALL_PREFIX /usr)
 set(CPACK_DEBIAN_FILE_NAME DEB-DEFAULT)
 set(CPACK_DEBIAN_PACKAGE_SECTION devel)
 set(CPACK_DEBIAN_PACKAGE_SHLIBDEPS ON)
-set(CPACK_DEBIAN_PACKAGE_DEPENDS "${pnb_dev_depends}")
+set(CPACK_DEBIAN_PACKAGE_DEPENDS "${PNB_DEB_DEPENDS}")
 # Mesa's drivers (llvmpipe when there is no GPU) and pnb-play's benchmark plots (optional: it
 # warns and goes on without them).
 set(CPACK_DEBIAN_PACKAGE_RECOMMENDS "libgl1-mesa-dri")

@@ -27,7 +27,7 @@ info=$(dpkg-deb -I "$deb")
 echo "$info" | grep -E '^ (Package|Version|Depends):'
 [ "$(dpkg-deb -f "$deb" Package)" = penumbra ] || fail "package name is not penumbra"
 depends=$(dpkg-deb -f "$deb" Depends)
-names=$(echo "$depends" | tr ',|' '\n\n' | sed 's/^ *//; s/[ (].*//')
+names=$(echo "$depends" | tr ',|' '\n' | sed 's/^ *//; s/[ (].*//')
 # From dpkg-shlibdeps: the C++ runtime every tool loads, and two of the libraries they use;
 # libegl1 (dlopened by epoxy) by hand; the -dev packages of the exported link interfaces, for
 # find_package(Penumbra).
