@@ -15,6 +15,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "player_tools.h"
 #include "pnb_player/camera_path.h"
 #include "pnb_player/image_write.h"
 
@@ -75,9 +76,33 @@ std::string python() {
     return std::filesystem::exists("/usr/bin/python3") ? "/usr/bin/python3" : "python3";
 }
 
-std::string plotScript() {
-    if (const char* env = std::getenv("PNB_PLOT_SCRIPT")) return env;
-    return PNB_PLOT_SCRIPT; // the source tree's player/tools/plot_frames.py
+// Runs player/tools/plot_frames.py with ARGS (already shell-quoted); true on exit status 0. The
+// script is embedded in the library (player_tools.h), so an installed pnb-play plots from any
+// directory: it is written next to the outputs in OUT_DIR for the run and removed afterwards.
+// $PNB_PLOT_SCRIPT names a script file to run instead.
+bool runPlotScript(const std::string& outDir, const std::string& args) {
+    std::string script;
+    bool temporary = false;
+    if (const char* env = std::getenv("PNB_PLOT_SCRIPT")) {
+        script = env;
+    } else {
+        script = outDir + "/.plot_frames.py";
+        for (const EmbeddedFile& f : kPlayerTools) {
+            if (f.name != "plot_frames.py") continue;
+            std::ofstream out(script, std::ios::binary | std::ios::trunc);
+            out.write(f.text.data(), std::streamsize(f.text.size()));
+            if (!out) return false;
+            temporary = true;
+        }
+        if (!temporary) return false;
+    }
+    std::string cmd = python() + " '" + script + "' " + args;
+    bool ok = std::system(cmd.c_str()) == 0;
+    if (temporary) {
+        std::error_code ec;
+        std::filesystem::remove(script, ec);
+    }
+    return ok;
 }
 
 } // namespace
@@ -360,9 +385,8 @@ PlayResult<BenchResult> runBenchmark(const GpuScene& scene, Renderer& renderer,
         std::string title = scene.name + " " + std::to_string(options.width) + "x" +
                             std::to_string(options.height);
         std::replace(title.begin(), title.end(), '\'', ' ');
-        std::string cmd = python() + " '" + plotScript() + "' '" + csvPath + "' '" + png +
-                          "' --title '" + title + "' 2>&1";
-        if (std::system(cmd.c_str()) == 0) result.written.push_back(png);
+        std::string args = "'" + csvPath + "' '" + png + "' --title '" + title + "' 2>&1";
+        if (runPlotScript(options.outDir, args)) result.written.push_back(png);
         else std::fprintf(stderr, "pnb-play: warning: plot not written (needs python3-matplotlib)\n");
     }
     return result;

@@ -23,7 +23,8 @@ fail() {
     status=1
 }
 
-allowed_format="PkgConfig::ZSTD PkgConfig::XXHASH pnb_warnings"
+# pnb_warnings may be wrapped in $<BUILD_INTERFACE:...> (kept out of the installed export).
+allowed_format="PkgConfig::ZSTD PkgConfig::XXHASH pnb_warnings \$<BUILD_INTERFACE:pnb_warnings>"
 allowed_other="$allowed_format pnb_format pnb::format pnb_inspect_lib"
 
 # 1. No mention of a forbidden library anywhere in format/.
