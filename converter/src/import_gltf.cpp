@@ -13,6 +13,12 @@
 //    bufferViews, buffers and accessors straight from the JSON, dereferences a null attribute
 //    for an unknown Draco id, and ignores decode failures. We decode KHR_draco_mesh_compression
 //    here with draco's Decoder.
+//  - EXT_meshopt_compression is decoded by gltf_meshopt.cpp around tinygltf's load: its
+//    fallback buffers are stubbed in the JSON (tinygltf rejects them), and the compressed
+//    bufferViews are decoded into the loaded buffers before any accessor is read.
+//  - KHR_texture_basisu and EXT_texture_webp textures use their fallback `source` image; one
+//    without it is an Unsupported error when a material uses it (even when the file requires the
+//    extension, a scene that never uses such a texture converts).
 //  - tinygltf 2.7 does not check two offsets: the GLB BIN chunk end, and image bufferView ranges.
 //    We validate both before handing the bytes over (checkGlb, prescanJson).
 //  - Only what the chosen scene uses is imported (meshes, materials, images, lights, cameras),
@@ -1660,7 +1666,8 @@ Result<IrScene, ConvertError> importGltfUnguarded(const std::string& path,
     }
     if (auto e = checkExtensions(ctx)) return *e;
 
-    // The input's size as stored: meshopt's decoded buffers are part of what is budgeted.
+    // The budget scales with what the file stores, measured before meshopt decoding: the
+    // decoded fallback buffers must fit in it too.
     uint64_t inputBytes = data.size();
     for (const tinygltf::Buffer& b : model.buffers) inputBytes += b.data.size();
     ctx.budgetBytes = std::max(kMinOutputBudgetBytes, inputBytes * kOutputBudgetFactor);
