@@ -17,6 +17,7 @@
 #include <string>
 #include <vector>
 
+#include <meshoptimizer.h>
 #include <nlohmann/json.hpp>
 
 #include "pnb_assets/gltf_writer.h"
@@ -521,6 +522,97 @@ TEST_F(Meshopt, CompressedFileConvertsEndToEnd) {
     auto r = convertScene(s);
     ASSERT_TRUE(r.ok()) << r.error().message;
     EXPECT_TRUE(fs::file_size(s.output) > 0);
+}
+
+// gltfpack uses INDICES mode and the QUATERNION and EXPONENTIAL filters only for animation
+// data, so this file is written here with meshoptimizer's encoders: positions as EXPONENTIAL
+// floats, a QUATERNION-filtered VEC4 (as TANGENT, which takes normalized SHORT), indices as an
+// INDICES sequence. Everything sits in a fallback buffer with no data.
+TEST_F(Meshopt, IndexSequencesAndQuaternionAndExponentialFiltersDecode) {
+    const std::vector<float> positions = {-1.5f, 0, 0.25f, 1, 0, 0.25f, 1, 2.75f, -3, -1.5f, 2.75f, -3};
+    const float h = std::sqrt(0.5f);
+    const std::vector<float> quats = {0, 0, 0, 1, h, 0, 0, h, 0, h, 0, -h, 0.5f, 0.5f, 0.5f, 0.5f};
+    const std::vector<unsigned> indices = {0, 1, 2, 0, 2, 3};
+    const size_t n = 4;
+
+    Glb g;
+    nlohmann::json views = nlohmann::json::array();
+    size_t fallbackSize = 0;
+    // Appends a compressed stream to the BIN chunk and a bufferView decoding to the fallback.
+    auto addView = [&](const std::vector<uint8_t>& encoded, size_t count, size_t stride,
+                       const char* mode, const char* filter) {
+        while (g.bin.size() % 4) g.bin.push_back(0);
+        nlohmann::json ext = {{"buffer", 0},        {"byteOffset", g.bin.size()},
+                              {"byteLength", encoded.size()}, {"byteStride", stride},
+                              {"count", count},      {"mode", mode}};
+        if (filter) ext["filter"] = filter;
+        g.bin.insert(g.bin.end(), encoded.begin(), encoded.end());
+        views.push_back({{"buffer", 1},
+                         {"byteOffset", fallbackSize},
+                         {"byteLength", count * stride},
+                         {"extensions", {{"EXT_meshopt_compression", ext}}}});
+        fallbackSize += (count * stride + 3) / 4 * 4;
+        return views.size() - 1;
+    };
+    auto encodeVertices = [](const void* data, size_t count, size_t stride) {
+        std::vector<uint8_t> out(meshopt_encodeVertexBufferBound(count, stride));
+        out.resize(meshopt_encodeVertexBuffer(out.data(), out.size(), data, count, stride));
+        return out;
+    };
+    std::vector<uint8_t> expPositions(n * 12);
+    meshopt_encodeFilterExp(expPositions.data(), n, 12, 16, positions.data());
+    const size_t positionView =
+        addView(encodeVertices(expPositions.data(), n, 12), n, 12, "ATTRIBUTES", "EXPONENTIAL");
+    std::vector<uint8_t> quatData(n * 8);
+    meshopt_encodeFilterQuat(quatData.data(), n, 8, 12, quats.data());
+    const size_t quatView =
+        addView(encodeVertices(quatData.data(), n, 8), n, 8, "ATTRIBUTES", "QUATERNION");
+    std::vector<uint8_t> sequence(meshopt_encodeIndexSequenceBound(indices.size(), n));
+    sequence.resize(meshopt_encodeIndexSequence(sequence.data(), sequence.size(), indices.data(),
+                                                indices.size()));
+    const size_t indexView = addView(sequence, indices.size(), 4, "INDICES", nullptr);
+    while (g.bin.size() % 4) g.bin.push_back(0);
+
+    g.json = {
+        {"asset", {{"version", "2.0"}}},
+        {"extensionsUsed", {"EXT_meshopt_compression"}},
+        {"extensionsRequired", {"EXT_meshopt_compression"}},
+        {"buffers",
+         {{{"byteLength", g.bin.size()}},
+          {{"byteLength", fallbackSize},
+           {"extensions", {{"EXT_meshopt_compression", {{"fallback", true}}}}}}}},
+        {"bufferViews", views},
+        {"accessors",
+         {{{"bufferView", positionView}, {"componentType", 5126}, {"count", n}, {"type", "VEC3"}},
+          {{"bufferView", quatView},
+           {"componentType", 5122},
+           {"normalized", true},
+           {"count", n},
+           {"type", "VEC4"}},
+          {{"bufferView", indexView}, {"componentType", 5125}, {"count", 6}, {"type", "SCALAR"}}}},
+        {"meshes",
+         {{{"primitives", {{{"attributes", {{"POSITION", 0}, {"TANGENT", 1}}}, {"indices", 2}}}}}}},
+        {"nodes", {{{"mesh", 0}}}},
+        {"scenes", {{{"nodes", {0}}}}},
+        {"scene", 0}};
+    writeGlb(dir / "filters.glb", g);
+    auto r = importGltf((dir / "filters.glb").string());
+    ASSERT_TRUE(r.ok()) << r.error().message;
+    ASSERT_EQ(r->meshes.size(), 1u);
+    ASSERT_EQ(r->meshes[0].primitives.size(), 1u);
+    const IrPrimitive& p = r->meshes[0].primitives[0];
+    EXPECT_EQ(p.indices, std::vector<uint32_t>(indices.begin(), indices.end()));
+    ASSERT_EQ(p.positions.size(), positions.size());
+    // 16-bit mantissas shared per vector: relative error 2^-15 of the vector's largest value.
+    for (size_t i = 0; i < positions.size(); ++i)
+        EXPECT_NEAR(p.positions[i], positions[i], 3.0 / 32768) << i;
+    ASSERT_EQ(p.tangents.size(), quats.size());
+    // 12-bit components, then stored as normalized SHORT: q or -q (the same rotation).
+    for (size_t v = 0; v < n; ++v) {
+        double dot = 0;
+        for (size_t c = 0; c < 4; ++c) dot += double(p.tangents[v * 4 + c]) * quats[v * 4 + c];
+        EXPECT_NEAR(std::abs(dot), 1.0, 1e-3) << "quaternion " << v;
+    }
 }
 
 // [SECTION] errors
