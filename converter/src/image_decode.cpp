@@ -180,6 +180,8 @@ Result<DecodedImage, ConvertError> decodeImage(const IrImage& image, uint64_t ma
     // are only touched as rows arrive, so a file that declares a huge size but lacks the data
     // fails without ever committing the memory (a zero-filled vector would touch all of it).
     const OIIO::TypeDesc native = spec.format;
+    if (native.size() == 0)
+        return fail(std::string("unknown pixel data type '") + native.c_str() + "'");
     const OIIO::stride_t texelBytes = OIIO::stride_t(kept) * OIIO::stride_t(native.size());
     std::unique_ptr<std::byte[]> pixels(new std::byte[size_t(texels) * size_t(texelBytes)]);
     bool ok = in->read_image(0, 0, 0, std::min(nch, alpha == 3 ? 4 : 3), native, pixels.get(),
