@@ -30,9 +30,12 @@ const nlohmann::json* extensionOf(const nlohmann::json& o) {
 
 const char* modeName(Mode m) {
     switch (m) {
-    case Mode::Attributes: return "ATTRIBUTES";
-    case Mode::Triangles: return "TRIANGLES";
-    case Mode::Indices: return "INDICES";
+    case Mode::Attributes:
+        return "ATTRIBUTES";
+    case Mode::Triangles:
+        return "TRIANGLES";
+    case Mode::Indices:
+        return "INDICES";
     }
     return "?";
 }
@@ -119,7 +122,8 @@ std::optional<CompressedView> parseView(size_t index, const nlohmann::json& bv,
         return std::nullopt;
     }
     if (*target < 0 || *source < 0) {
-        error = strf("%s: buffer index %d is negative", who.c_str(), *target < 0 ? *target : *source);
+        error =
+            strf("%s: buffer index %d is negative", who.c_str(), *target < 0 ? *target : *source);
         return std::nullopt;
     }
     c.targetBuffer = size_t(*target);
@@ -175,24 +179,38 @@ std::optional<std::string> decodeView(const CompressedView& c,
 
     unsigned char* dst = target.data() + c.targetOffset;
     const unsigned char* src = source.data() + c.sourceOffset;
-    const size_t n = size_t(c.count), stride = size_t(c.byteStride), srcSize = size_t(c.sourceLength);
+    const size_t n = size_t(c.count), stride = size_t(c.byteStride),
+                 srcSize = size_t(c.sourceLength);
     int rc = 0;
     switch (c.mode) {
-    case Mode::Attributes: rc = meshopt_decodeVertexBuffer(dst, n, stride, src, srcSize); break;
-    case Mode::Triangles: rc = meshopt_decodeIndexBuffer(dst, n, stride, src, srcSize); break;
-    case Mode::Indices: rc = meshopt_decodeIndexSequence(dst, n, stride, src, srcSize); break;
+    case Mode::Attributes:
+        rc = meshopt_decodeVertexBuffer(dst, n, stride, src, srcSize);
+        break;
+    case Mode::Triangles:
+        rc = meshopt_decodeIndexBuffer(dst, n, stride, src, srcSize);
+        break;
+    case Mode::Indices:
+        rc = meshopt_decodeIndexSequence(dst, n, stride, src, srcSize);
+        break;
     }
     if (rc != 0) {
         return strf("%s: %s data (buffer %zu, byteOffset %" PRIu64 ", byteLength %" PRIu64
                     ") is truncated or corrupt (meshoptimizer error %d)",
-                    who.c_str(), modeName(c.mode), c.sourceBuffer, c.sourceOffset,
-                    c.sourceLength, rc);
+                    who.c_str(), modeName(c.mode), c.sourceBuffer, c.sourceOffset, c.sourceLength,
+                    rc);
     }
     switch (c.filter) {
-    case Filter::None: break;
-    case Filter::Octahedral: meshopt_decodeFilterOct(dst, n, stride); break;
-    case Filter::Quaternion: meshopt_decodeFilterQuat(dst, n, stride); break;
-    case Filter::Exponential: meshopt_decodeFilterExp(dst, n, stride); break;
+    case Filter::None:
+        break;
+    case Filter::Octahedral:
+        meshopt_decodeFilterOct(dst, n, stride);
+        break;
+    case Filter::Quaternion:
+        meshopt_decodeFilterQuat(dst, n, stride);
+        break;
+    case Filter::Exponential:
+        meshopt_decodeFilterExp(dst, n, stride);
+        break;
     }
     return std::nullopt;
 }

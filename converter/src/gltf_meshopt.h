@@ -31,12 +31,12 @@ enum class Filter : uint8_t { None, Octahedral, Quaternion, Exponential };
 
 // One bufferView's EXT_meshopt_compression object, and where its decoded bytes go.
 struct CompressedView {
-    size_t view = 0;                                  // the bufferView the decoded bytes fill
-    size_t targetBuffer = 0;                          // bufferView.buffer
-    uint64_t targetOffset = 0, targetLength = 0;      // bufferView.byteOffset/byteLength
-    size_t sourceBuffer = 0;                          // the extension's buffer ...
-    uint64_t sourceOffset = 0, sourceLength = 0;      // ... byteOffset and byteLength
-    uint64_t byteStride = 0, count = 0;               // decoded element size and count
+    size_t view = 0;                             // the bufferView the decoded bytes fill
+    size_t targetBuffer = 0;                     // bufferView.buffer
+    uint64_t targetOffset = 0, targetLength = 0; // bufferView.byteOffset/byteLength
+    size_t sourceBuffer = 0;                     // the extension's buffer ...
+    uint64_t sourceOffset = 0, sourceLength = 0; // ... byteOffset and byteLength
+    uint64_t byteStride = 0, count = 0;          // decoded element size and count
     Mode mode = Mode::Attributes;
     Filter filter = Filter::None;
 };

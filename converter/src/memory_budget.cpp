@@ -115,8 +115,10 @@ std::string formatBytes(uint64_t bytes) {
         ++unit;
     }
     char buf[32];
-    if (unit == 0) std::snprintf(buf, sizeof(buf), "%llu B", (unsigned long long)bytes);
-    else std::snprintf(buf, sizeof(buf), "%.2f %s", v, kUnits[unit]);
+    if (unit == 0)
+        std::snprintf(buf, sizeof(buf), "%llu B", (unsigned long long)bytes);
+    else
+        std::snprintf(buf, sizeof(buf), "%.2f %s", v, kUnits[unit]);
     return buf;
 }
 

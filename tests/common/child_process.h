@@ -20,7 +20,7 @@
 namespace pnb::test {
 
 struct ChildResult {
-    int exitCode = -1; // -1: did not exit normally
+    int exitCode = -1;  // -1: did not exit normally
     std::string output; // stdout and stderr, interleaved
     double seconds = 0;
     uint64_t maxRssBytes = 0;
@@ -42,7 +42,8 @@ inline ChildResult runChild(const std::vector<std::string>& argv, const std::str
                             uint64_t addressSpaceLimit = 0) {
     ChildResult r;
     std::vector<char*> args;
-    for (const std::string& a : argv) args.push_back(const_cast<char*>(a.c_str()));
+    for (const std::string& a : argv)
+        args.push_back(const_cast<char*>(a.c_str()));
     args.push_back(nullptr);
     const auto start = std::chrono::steady_clock::now();
     const pid_t pid = fork();

@@ -18,7 +18,8 @@ inline std::vector<uint8_t> pngDeclaringOnly(uint32_t width, uint32_t height,
                                              uint8_t colourType = 6 /* RGBA */) {
     std::vector<uint8_t> png = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1A, '\n'};
     auto u32 = [](std::vector<uint8_t>& out, uint32_t v) {
-        for (int shift = 24; shift >= 0; shift -= 8) out.push_back(uint8_t(v >> shift));
+        for (int shift = 24; shift >= 0; shift -= 8)
+            out.push_back(uint8_t(v >> shift));
     };
     auto chunk = [&](const char* type, const std::vector<uint8_t>& data) {
         u32(png, uint32_t(data.size()));

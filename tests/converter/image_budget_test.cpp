@@ -65,7 +65,8 @@ protected:
     fs::path writeNormalPng(const std::string& name) {
         std::vector<uint8_t> pixels;
         for (uint32_t y = 0; y < 256; ++y)
-            for (uint32_t x = 0; x < 256; ++x) pixels.insert(pixels.end(), {uint8_t(x), uint8_t(y), 90});
+            for (uint32_t x = 0; x < 256; ++x)
+                pixels.insert(pixels.end(), {uint8_t(x), uint8_t(y), 90});
         return writeBytes(name, assets::encodePng(256, 256, 3, pixels));
     }
 
@@ -134,11 +135,13 @@ TEST(MemoryBudget, EstimateCountsEveryBuffer) {
     TextureSettings s;
     const uint64_t texels = uint64_t(kHuge) * kHuge;
     // RGBA8: decoder copy 4 + native 4 + float 16 + next level 4 + packed 8 x 4/3.
-    EXPECT_EQ(estimateTextureBytes(kHuge, kHuge, 4, 1, s), texels * 28 + texels * 8 + texels * 8 / 3);
+    EXPECT_EQ(estimateTextureBytes(kHuge, kHuge, 4, 1, s),
+              texels * 28 + texels * 8 + texels * 8 / 3);
     // 6-channel half EXR: decoder copy 12 + native 4 channels 8, the rest as above.
     EXPECT_EQ(estimateTextureBytes(100, 100, 6, 2, s), 10000u * 40 + 80000 + 80000 / 3);
     s.maxSize = 1024; // downscaling adds the resized copy
-    EXPECT_EQ(estimateTextureBytes(kHuge, kHuge, 4, 1, s), texels * 44 + texels * 8 + texels * 8 / 3);
+    EXPECT_EQ(estimateTextureBytes(kHuge, kHuge, 4, 1, s),
+              texels * 44 + texels * 8 + texels * 8 / 3);
     EXPECT_EQ(estimateTextureBytes(1024, 1024, 4, 1, s), (1u << 20) * 36 + (1u << 20) * 8 / 3);
     // A header claiming 2^31 a side and thousands of channels does not overflow.
     EXPECT_EQ(estimateTextureBytes(1u << 31, 1u << 31, 4096, 4, s), UINT64_MAX);
@@ -189,8 +192,8 @@ TEST_F(ImageBudget, ExplicitBudgetRefusesAnOrdinaryImageFromItsHeader) {
     ASSERT_FALSE(refused.ok());
     const std::string& msg = refused.error().message;
     EXPECT_EQ(refused.error().kind, ConvertErrorKind::Input);
-    for (const char* needle : {"'gradient'", "gradient.png", "256x256", "memory budget",
-                               "--max-memory 1.00 MiB"})
+    for (const char* needle :
+         {"'gradient'", "gradient.png", "256x256", "memory budget", "--max-memory 1.00 MiB"})
         EXPECT_TRUE(contains(msg, needle)) << needle << " not in: " << msg;
 
     // Two textures in flight share the budget: each gets half.

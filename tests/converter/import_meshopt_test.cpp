@@ -91,9 +91,11 @@ gltf::Primitive box(float sx, float sy, float sz, uint32_t material) {
                 p.normals.push_back(normal);
             }
             if (sign > 0)
-                p.indices.insert(p.indices.end(), {base, base + 1, base + 2, base, base + 2, base + 3});
+                p.indices.insert(p.indices.end(),
+                                 {base, base + 1, base + 2, base, base + 2, base + 3});
             else
-                p.indices.insert(p.indices.end(), {base, base + 2, base + 1, base, base + 3, base + 2});
+                p.indices.insert(p.indices.end(),
+                                 {base, base + 2, base + 1, base, base + 3, base + 2});
         }
     return p;
 }
@@ -147,7 +149,7 @@ struct Vertex {
 };
 using Triangle = std::array<Vertex, 3>;
 
-struct Affine { // column-major 3x3 plus translation
+struct Affine {                                         // column-major 3x3 plus translation
     double m[3][3] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}}; // m[column][row]
     double t[3] = {0, 0, 0};
 
@@ -161,8 +163,8 @@ struct Affine { // column-major 3x3 plus translation
         Affine r;
         for (int col = 0; col < 3; ++col)
             for (int row = 0; row < 3; ++row)
-                r.m[col][row] = m[0][row] * b.m[col][0] + m[1][row] * b.m[col][1] +
-                                m[2][row] * b.m[col][2];
+                r.m[col][row] =
+                    m[0][row] * b.m[col][0] + m[1][row] * b.m[col][1] + m[2][row] * b.m[col][2];
         for (int row = 0; row < 3; ++row)
             r.t[row] = m[0][row] * b.t[0] + m[1][row] * b.t[1] + m[2][row] * b.t[2] + t[row];
         return r;
@@ -177,7 +179,8 @@ Affine trs(const IrNode& n) {
     const double s[3] = {n.scale.x, n.scale.y, n.scale.z};
     Affine a;
     for (int col = 0; col < 3; ++col)
-        for (int row = 0; row < 3; ++row) a.m[col][row] = r[col][row] * s[col];
+        for (int row = 0; row < 3; ++row)
+            a.m[col][row] = r[col][row] * s[col];
     a.t[0] = n.translation.x;
     a.t[1] = n.translation.y;
     a.t[2] = n.translation.z;
@@ -191,16 +194,18 @@ std::array<double, 3> transformNormal(const Affine& a, const float* n) {
     double cof[3][3];
     for (int row = 0; row < 3; ++row)
         for (int col = 0; col < 3; ++col) {
-            const int r1 = (row + 1) % 3, r2 = (row + 2) % 3, c1 = (col + 1) % 3, c2 = (col + 2) % 3;
+            const int r1 = (row + 1) % 3, r2 = (row + 2) % 3, c1 = (col + 1) % 3,
+                      c2 = (col + 2) % 3;
             cof[row][col] = at(r1, c1) * at(r2, c2) - at(r1, c2) * at(r2, c1);
         }
     const double det = at(0, 0) * cof[0][0] + at(0, 1) * cof[0][1] + at(0, 2) * cof[0][2];
     std::array<double, 3> r{};
     for (int row = 0; row < 3; ++row)
-        r[size_t(row)] = (cof[row][0] * n[0] + cof[row][1] * n[1] + cof[row][2] * n[2]) *
-                         (det < 0 ? -1 : 1);
+        r[size_t(row)] =
+            (cof[row][0] * n[0] + cof[row][1] * n[1] + cof[row][2] * n[2]) * (det < 0 ? -1 : 1);
     const double len = std::sqrt(r[0] * r[0] + r[1] * r[1] + r[2] * r[2]);
-    for (double& v : r) v /= len > 0 ? len : 1;
+    for (double& v : r)
+        v /= len > 0 ? len : 1;
     return r;
 }
 
@@ -233,7 +238,7 @@ std::vector<Triangle> worldTriangles(const IrScene& s) {
                     }
                     if (tex && !p.uv0.empty()) {
                         vertex.uv = {tex->offset.x + tex->scale.x * p.uv0[v * 2],
-                                  tex->offset.y + tex->scale.y * p.uv0[v * 2 + 1]};
+                                     tex->offset.y + tex->scale.y * p.uv0[v * 2 + 1]};
                         vertex.hasUv = true;
                     }
                 }
@@ -250,7 +255,7 @@ double distance(const std::array<double, 3>& a, const std::array<double, 3>& b) 
 }
 
 struct Tolerance {
-    double position = 0; // world units, Euclidean
+    double position = 0;  // world units, Euclidean
     double normalCos = 1; // minimum dot product of unit normals
     double uv = 0;        // per component
 };
@@ -293,8 +298,8 @@ Comparison compare(const std::vector<Triangle>& source, const std::vector<Triang
                         r.worstNormalCos = -2; // lost or invented normals
                     }
                     if (a.hasUv && b.hasUv) {
-                        r.worstUv = std::max({r.worstUv, std::abs(a.uv[0] - b.uv[0]),
-                                              std::abs(a.uv[1] - b.uv[1])});
+                        r.worstUv = std::max(
+                            {r.worstUv, std::abs(a.uv[0] - b.uv[0]), std::abs(a.uv[1] - b.uv[1])});
                     } else if (a.hasUv != b.hasUv) {
                         r.worstUv = 1e9; // lost or invented UVs
                     }
@@ -357,12 +362,15 @@ Glb readGlb(const fs::path& p) {
 
 void writeGlb(const fs::path& p, const Glb& g) {
     std::string json = g.json.dump();
-    while (json.size() % 4) json.push_back(' ');
+    while (json.size() % 4)
+        json.push_back(' ');
     std::vector<uint8_t> bin = g.bin;
-    while (bin.size() % 4) bin.push_back(0);
+    while (bin.size() % 4)
+        bin.push_back(0);
     std::vector<uint8_t> out;
     auto put = [&](uint32_t v) {
-        for (int i = 0; i < 4; ++i) out.push_back(uint8_t(v >> (8 * i)));
+        for (int i = 0; i < 4; ++i)
+            out.push_back(uint8_t(v >> (8 * i)));
     };
     out.insert(out.end(), {'g', 'l', 'T', 'F'});
     put(2);
@@ -415,7 +423,8 @@ protected:
 double quantisationExtent(const IrScene& s, const std::vector<Triangle>& world) {
     double lo[2][3], hi[2][3];
     for (int k = 0; k < 2; ++k)
-        for (int c = 0; c < 3; ++c) lo[k][c] = 1e30, hi[k][c] = -1e30;
+        for (int c = 0; c < 3; ++c)
+            lo[k][c] = 1e30, hi[k][c] = -1e30;
     for (const IrMesh& m : s.meshes)
         for (const IrPrimitive& p : m.primitives)
             for (size_t i = 0; i < p.positions.size(); ++i) {
@@ -430,7 +439,8 @@ double quantisationExtent(const IrScene& s, const std::vector<Triangle>& world) 
             }
     double extent = 0;
     for (int k = 0; k < 2; ++k)
-        for (int c = 0; c < 3; ++c) extent = std::max(extent, hi[k][c] - lo[k][c]);
+        for (int c = 0; c < 3; ++c)
+            extent = std::max(extent, hi[k][c] - lo[k][c]);
     return extent;
 }
 
@@ -451,13 +461,13 @@ TEST_F(Meshopt, GltfpackVariantsImportAsTheSourceWithinTheQuantisationStep) {
     const double extent = quantisationExtent(*src, expected);
 
     const Variant variants[] = {
-        {"-c", "c.glb", 14, 8, 12},             // meshopt + quantisation (gltfpack's defaults)
-        {"-cc", "cc.glb", 14, 8, 12},           // + filters (octahedral normals, ...)
-        {"-cf", "cf.glb", 14, 8, 12},           // compressed with an uncompressed fallback
-        {"-c -kn", "kn.glb", 14, 8, 12},        // named nodes kept: per-node dequantisation
-        {"-cc -vpn", "vpn.glb", 14, 8, 12},     // normalized positions
+        {"-c", "c.glb", 14, 8, 12},         // meshopt + quantisation (gltfpack's defaults)
+        {"-cc", "cc.glb", 14, 8, 12},       // + filters (octahedral normals, ...)
+        {"-cf", "cf.glb", 14, 8, 12},       // compressed with an uncompressed fallback
+        {"-c -kn", "kn.glb", 14, 8, 12},    // named nodes kept: per-node dequantisation
+        {"-cc -vpn", "vpn.glb", 14, 8, 12}, // normalized positions
         {"-cc -vp 16 -vn 12 -vt 16", "hi.glb", 16, 12, 16}, // 16-bit streams, 16-bit oct normals
-        {"-c", "c.gltf", 14, 8, 12},            // .gltf + .bin: a fallback buffer with no uri
+        {"-c", "c.gltf", 14, 8, 12}, // .gltf + .bin: a fallback buffer with no uri
     };
     for (const Variant& v : variants) {
         SCOPED_TRACE(std::string("gltfpack ") + v.options + " -> " + v.file);
@@ -478,7 +488,8 @@ TEST_F(Meshopt, GltfpackVariantsImportAsTheSourceWithinTheQuantisationStep) {
         auto r = importGltf(out.string());
         ASSERT_TRUE(r.ok()) << r.error().message;
         EXPECT_EQ(r->images.size(), 2u); // the PNGs are carried through as they were
-        for (const IrImage& image : r->images) EXPECT_EQ(image.mimeType, "image/png");
+        for (const IrImage& image : r->images)
+            EXPECT_EQ(image.mimeType, "image/png");
         const std::vector<Triangle> decoded = worldTriangles(*r);
         ASSERT_EQ(decoded.size(), expected.size());
 
@@ -494,15 +505,15 @@ TEST_F(Meshopt, GltfpackVariantsImportAsTheSourceWithinTheQuantisationStep) {
         // UVs span [0, 1] per material, quantised to `uvBits` over that range.
         tol.uv = 0.5 / double((1 << v.uvBits) - 1) + 1e-6;
         const Comparison c = compare(expected, decoded, tol);
-        EXPECT_EQ(c.matched, expected.size()) << "first unmatched source triangle at "
-                                              << c.firstMiss << " (tolerance " << tol.position
-                                              << ")";
+        EXPECT_EQ(c.matched, expected.size())
+            << "first unmatched source triangle at " << c.firstMiss << " (tolerance "
+            << tol.position << ")";
         EXPECT_LE(c.worstPosition, tol.position);
         EXPECT_GE(c.worstNormalCos, tol.normalCos);
         EXPECT_LE(c.worstUv, tol.uv);
-        std::cout << "[ meshopt ] " << v.options << " " << v.file << ": "
-                  << decoded.size() << " triangles, worst position error "
-                  << c.worstPosition << " (bound " << tol.position << "), worst normal angle "
+        std::cout << "[ meshopt ] " << v.options << " " << v.file << ": " << decoded.size()
+                  << " triangles, worst position error " << c.worstPosition << " (bound "
+                  << tol.position << "), worst normal angle "
                   << std::acos(std::min(1.0, c.worstNormalCos)) * 180 / M_PI << " deg (bound "
                   << std::acos(tol.normalCos) * 180 / M_PI << "), worst uv error " << c.worstUv
                   << " (bound " << tol.uv << ")\n";
@@ -529,7 +540,8 @@ TEST_F(Meshopt, CompressedFileConvertsEndToEnd) {
 // floats, a QUATERNION-filtered VEC4 (as TANGENT, which takes normalized SHORT), indices as an
 // INDICES sequence. Everything sits in a fallback buffer with no data.
 TEST_F(Meshopt, IndexSequencesAndQuaternionAndExponentialFiltersDecode) {
-    const std::vector<float> positions = {-1.5f, 0, 0.25f, 1, 0, 0.25f, 1, 2.75f, -3, -1.5f, 2.75f, -3};
+    const std::vector<float> positions = {-1.5f, 0,     0.25f, 1,     0,     0.25f,
+                                          1,     2.75f, -3,    -1.5f, 2.75f, -3};
     const float h = std::sqrt(0.5f);
     const std::vector<float> quats = {0, 0, 0, 1, h, 0, 0, h, 0, h, 0, -h, 0.5f, 0.5f, 0.5f, 0.5f};
     const std::vector<unsigned> indices = {0, 1, 2, 0, 2, 3};
@@ -541,10 +553,14 @@ TEST_F(Meshopt, IndexSequencesAndQuaternionAndExponentialFiltersDecode) {
     // Appends a compressed stream to the BIN chunk and a bufferView decoding to the fallback.
     auto addView = [&](const std::vector<uint8_t>& encoded, size_t count, size_t stride,
                        const char* mode, const char* filter) {
-        while (g.bin.size() % 4) g.bin.push_back(0);
-        nlohmann::json ext = {{"buffer", 0},        {"byteOffset", g.bin.size()},
-                              {"byteLength", encoded.size()}, {"byteStride", stride},
-                              {"count", count},      {"mode", mode}};
+        while (g.bin.size() % 4)
+            g.bin.push_back(0);
+        nlohmann::json ext = {{"buffer", 0},
+                              {"byteOffset", g.bin.size()},
+                              {"byteLength", encoded.size()},
+                              {"byteStride", stride},
+                              {"count", count},
+                              {"mode", mode}};
         if (filter) ext["filter"] = filter;
         g.bin.insert(g.bin.end(), encoded.begin(), encoded.end());
         views.push_back({{"buffer", 1},
@@ -571,7 +587,8 @@ TEST_F(Meshopt, IndexSequencesAndQuaternionAndExponentialFiltersDecode) {
     sequence.resize(meshopt_encodeIndexSequence(sequence.data(), sequence.size(), indices.data(),
                                                 indices.size()));
     const size_t indexView = addView(sequence, indices.size(), 4, "INDICES", nullptr);
-    while (g.bin.size() % 4) g.bin.push_back(0);
+    while (g.bin.size() % 4)
+        g.bin.push_back(0);
 
     g.json = {
         {"asset", {{"version", "2.0"}}},
@@ -610,7 +627,8 @@ TEST_F(Meshopt, IndexSequencesAndQuaternionAndExponentialFiltersDecode) {
     // 12-bit components, then stored as normalized SHORT: q or -q (the same rotation).
     for (size_t v = 0; v < n; ++v) {
         double dot = 0;
-        for (size_t c = 0; c < 4; ++c) dot += double(p.tangents[v * 4 + c]) * quats[v * 4 + c];
+        for (size_t c = 0; c < 4; ++c)
+            dot += double(p.tangents[v * 4 + c]) * quats[v * 4 + c];
         EXPECT_NEAR(std::abs(dot), 1.0, 1e-3) << "quaternion " << v;
     }
 }
@@ -651,7 +669,8 @@ TEST_F(Meshopt, CorruptOrTruncatedStreamsAreErrorsNamingTheBufferView) {
          [](Glb& g, const nlohmann::json& ext, size_t) {
              const size_t at = ext.value("byteOffset", size_t(0));
              const size_t n = ext["byteLength"].get<size_t>();
-             for (size_t i = 0; i < n; ++i) g.bin[at + i] = uint8_t(0xFF - i);
+             for (size_t i = 0; i < n; ++i)
+                 g.bin[at + i] = uint8_t(0xFF - i);
          },
          "truncated or corrupt"},
         {"vertex stream truncated", "ATTRIBUTES",
@@ -674,8 +693,7 @@ TEST_F(Meshopt, CorruptOrTruncatedStreamsAreErrorsNamingTheBufferView) {
          "exceeds the bufferView"},
         {"stride the decoder cannot take", "ATTRIBUTES",
          [](Glb& g, const nlohmann::json&, size_t view) {
-             g.json["bufferViews"][view]["extensions"]["EXT_meshopt_compression"]["byteStride"] =
-                 6;
+             g.json["bufferViews"][view]["extensions"]["EXT_meshopt_compression"]["byteStride"] = 6;
          },
          "byteStride 6"},
         {"unknown filter", "ATTRIBUTES",
