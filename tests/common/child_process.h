@@ -35,6 +35,13 @@ constexpr bool kAddressSanitizer =
     false;
 #endif
 
+// The time a run that should cost no more than the tool's start-up may take: twice a baseline
+// run of the same tool on an ordinary input, plus a second. An absolute bound fails on a loaded
+// machine; what it guards against (zero-filling a 4 GiB buffer) takes 15 s on an idle one.
+inline double startupBound(const ChildResult& baseline) {
+    return 2 * baseline.seconds + 1.0;
+}
+
 // Runs argv[0] with the arguments; `outputFile` receives its output. `addressSpaceLimit` > 0
 // sets RLIMIT_AS in the child. LeakSanitizer is off in the child: OIIO's PNG reader leaks a
 // string on every corrupt PNG (see texture_processing_test.cpp), which is not what is tested.
