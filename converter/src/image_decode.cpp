@@ -116,7 +116,8 @@ std::string describeImage(const IrImage& image) {
     return s + ")";
 }
 
-Result<DecodedImage, ConvertError> decodeImage(const IrImage& image, uint64_t maxSourceTexels) {
+Result<DecodedImage, ConvertError> decodeImage(const IrImage& image, uint64_t maxSourceTexels,
+                                               const AdmitImage& admit) {
     auto fail = [&](const std::string& what) {
         return ConvertError{ConvertErrorKind::Input, describeImage(image) + ": " + what};
     };
@@ -153,32 +154,59 @@ Result<DecodedImage, ConvertError> decodeImage(const IrImage& image, uint64_t ma
     if (spec.depth > 1)
         return ConvertError{ConvertErrorKind::Unsupported,
                             describeImage(image) + ": volume images are not supported"};
-    uint64_t texels = uint64_t(spec.width) * uint64_t(spec.height);
+    ImageHeader header;
+    header.width = uint32_t(spec.width);
+    header.height = uint32_t(spec.height);
+    header.channels = uint32_t(spec.nchannels);
+    header.bytesPerChannel = uint32_t(spec.format.size());
+    header.floatSource = spec.format.is_floating_point();
+    uint64_t texels = header.texels();
     if (texels > maxSourceTexels)
         return fail(std::to_string(spec.width) + "x" + std::to_string(spec.height) + " = " +
                     std::to_string(texels) + " texels exceeds the limit of " +
                     std::to_string(maxSourceTexels));
-
-    DecodedImage out;
-    out.sourceChannels = uint32_t(spec.nchannels);
-    out.floatSource = spec.format.is_floating_point();
-    out.image.width = uint32_t(spec.width);
-    out.image.height = uint32_t(spec.height);
-    out.image.texels.assign(size_t(texels) * 4, 0.0f);
+    if (admit) {
+        if (std::optional<std::string> refusal = admit(header)) return fail(*refusal);
+    }
 
     // Channel meaning: 1 grey, 2 grey+alpha (or RG without an alpha channel), 3 RGB, 4+ RGB and
     // alpha (OIIO's alpha channel if it names one, else the fourth).
     int nch = spec.nchannels;
     bool secondIsAlpha = nch == 2 && (spec.alpha_channel == 1 || spec.channel_name(1) == "A");
     int alpha = nch >= 4 ? (spec.alpha_channel >= 3 ? spec.alpha_channel : 3) : -1;
-    constexpr OIIO::stride_t kStride = 4 * sizeof(float);
-    float* dst = out.image.texels.data();
-    bool ok = in->read_image(0, 0, 0, std::min(nch, alpha == 3 ? 4 : 3), OIIO::TypeDesc::FLOAT, dst,
-                             kStride);
+    int kept = std::min(nch, 4);
+
+    // The native pixels, `kept` channels per texel. `new[]` without value-initialisation: pages
+    // are only touched as rows arrive, so a file that declares a huge size but lacks the data
+    // fails without ever committing the memory (a zero-filled vector would touch all of it).
+    const OIIO::TypeDesc native = spec.format;
+    if (native.size() == 0)
+        return fail(std::string("unknown pixel data type '") + native.c_str() + "'");
+    const OIIO::stride_t texelBytes = OIIO::stride_t(kept) * OIIO::stride_t(native.size());
+    std::unique_ptr<std::byte[]> pixels(new std::byte[size_t(texels) * size_t(texelBytes)]);
+    bool ok = in->read_image(0, 0, 0, std::min(nch, alpha == 3 ? 4 : 3), native, pixels.get(),
+                             texelBytes);
     if (ok && alpha > 3)
-        ok = in->read_image(0, 0, alpha, alpha + 1, OIIO::TypeDesc::FLOAT, dst + 3, kStride);
-    if (!ok) return fail("cannot read pixels: " + trimmed(in->geterror()));
-    expandToRgba(out.image.texels, std::min(nch, 4), secondIsAlpha);
+        ok = in->read_image(0, 0, alpha, alpha + 1, native, pixels.get() + 3 * native.size(),
+                            texelBytes);
+    if (!ok)
+        return fail("cannot read the pixels of its declared " + std::to_string(spec.width) + "x" +
+                    std::to_string(spec.height) + ": " + trimmed(in->geterror()));
+    in.reset(); // the decoder's own buffers go before the float image is allocated
+
+    DecodedImage out;
+    out.sourceChannels = header.channels;
+    out.floatSource = header.floatSource;
+    out.image.width = header.width;
+    out.image.height = header.height;
+    out.image.texels.assign(size_t(texels) * 4, 0.0f);
+    constexpr OIIO::stride_t kStride = 4 * sizeof(float);
+    const int width = int(header.width), height = int(header.height); // `spec` died with `in`
+    ok = OIIO::convert_image(kept, width, height, 1, pixels.get(), native, texelBytes,
+                             OIIO::AutoStride, OIIO::AutoStride, out.image.texels.data(),
+                             OIIO::TypeDesc::FLOAT, kStride, kStride * width, OIIO::AutoStride);
+    if (!ok) return fail("cannot convert pixels to float: " + trimmed(OIIO::geterror()));
+    expandToRgba(out.image.texels, kept, secondIsAlpha);
     return out;
 }
 

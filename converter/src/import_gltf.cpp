@@ -13,6 +13,12 @@
 //    bufferViews, buffers and accessors straight from the JSON, dereferences a null attribute
 //    for an unknown Draco id, and ignores decode failures. We decode KHR_draco_mesh_compression
 //    here with draco's Decoder.
+//  - EXT_meshopt_compression is decoded by gltf_meshopt.cpp around tinygltf's load: its
+//    fallback buffers are stubbed in the JSON (tinygltf rejects them), and the compressed
+//    bufferViews are decoded into the loaded buffers before any accessor is read.
+//  - KHR_texture_basisu and EXT_texture_webp textures use their fallback `source` image; one
+//    without it is an Unsupported error when a material uses it (even when the file requires the
+//    extension, a scene that never uses such a texture converts).
 //  - tinygltf 2.7 does not check two offsets: the GLB BIN chunk end, and image bufferView ranges.
 //    We validate both before handing the bytes over (checkGlb, prescanJson).
 //  - Only what the chosen scene uses is imported (meshes, materials, images, lights, cameras),
@@ -35,7 +41,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdarg>
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
@@ -52,6 +57,9 @@
 #include <draco/mesh/mesh.h>
 #include <nlohmann/json.hpp>
 
+#include "gltf_internal.h"
+#include "gltf_meshopt.h"
+
 // The tinygltf implementation is compiled here and only here. We don't need stb: images are
 // never decoded here. External images are not read, because we keep their URI. The built-in
 // Draco path is not used (see above).
@@ -65,6 +73,8 @@ namespace pnb::converter {
 
 namespace {
 
+using namespace gltf_internal;
+
 // [SECTION] messages and limits
 
 // Decoded data the importer may keep, as a multiple of the input bytes (file plus buffers), with
@@ -76,20 +86,6 @@ constexpr uint64_t kMinOutputBudgetBytes = 512ull << 20;
 // tinygltf turns extensions and extras into Values recursively, so deep JSON would overflow the
 // stack. No valid glTF nests anywhere near this deep.
 constexpr int kMaxJsonDepth = 64;
-
-std::string strf(const char* fmt, ...) __attribute__((format(printf, 1, 2)));
-std::string strf(const char* fmt, ...) {
-    va_list args;
-    va_start(args, fmt);
-    va_list copy;
-    va_copy(copy, args);
-    const int n = std::vsnprintf(nullptr, 0, fmt, copy);
-    va_end(copy);
-    std::string s(n > 0 ? size_t(n) : 0, '\0');
-    if (n > 0) std::vsnprintf(s.data(), s.size() + 1, fmt, args);
-    va_end(args);
-    return s;
-}
 
 // "mesh 'Wheel'" when named, "mesh 3" when not. Precondition: index is valid.
 template <class T>
@@ -223,25 +219,6 @@ std::vector<uint8_t> replaceGlbJson(std::span<const uint8_t> glb, size_t glbLeng
     return out;
 }
 
-const nlohmann::json* jsonMember(const nlohmann::json& o, const char* key) {
-    if (!o.is_object()) return nullptr;
-    auto it = o.find(key);
-    return it == o.end() ? nullptr : &*it;
-}
-
-// Same reading as tinygltf's GetInt (including its truncation to int), so both agree on which
-// object an index names.
-std::optional<int> jsonInt(const nlohmann::json* v) {
-    if (!v || !(v->is_number_integer() || v->is_number_unsigned())) return std::nullopt;
-    return static_cast<int>(v->get<int64_t>());
-}
-
-// Same as tinygltf's ParseUnsignedProperty: anything but a non-negative integer is "absent".
-std::optional<uint64_t> jsonUnsigned(const nlohmann::json* v) {
-    if (!v || !v->is_number_unsigned()) return std::nullopt;
-    return v->get<uint64_t>();
-}
-
 // Whether arrays and objects nest deeper than kMaxJsonDepth, from the text alone. Not with
 // nlohmann's parser callback: its DOM builder rescans the enclosing container at every
 // end_object, which is quadratic in the length of arrays such as "nodes".
@@ -272,9 +249,11 @@ bool jsonTooDeep(std::string_view text) {
 // tinygltf 2.7 also demands that every primitive's indices accessor has a bufferView. A Draco
 // primitive's indices accessor has none: its indices are the decoded faces. So without
 // tinygltf's own Draco path, every Draco file would be rejected. We drop "indices" from Draco
-// primitives (we take the decoded faces anyway), and `patched` receives the rewritten JSON;
-// it stays empty when nothing changed.
-std::optional<std::string> prescanJson(std::string_view text, std::string& patched) {
+// primitives (we take the decoded faces anyway). EXT_meshopt_compression fallback buffers are
+// stubbed and the compressed bufferViews recorded in `meshopt` (gltf_meshopt.h). `patched`
+// receives the rewritten JSON; it stays empty when nothing changed.
+std::optional<std::string> prescanJson(std::string_view text, std::string& patched,
+                                       gltf_meshopt::MeshoptPlan& meshopt) {
     if (jsonTooDeep(text)) return strf("JSON nests deeper than %d levels", kMaxJsonDepth);
     nlohmann::json doc = nlohmann::json::parse(text.begin(), text.end(), nullptr, false);
     if (doc.is_discarded()) return std::nullopt;
@@ -294,6 +273,7 @@ std::optional<std::string> prescanJson(std::string_view text, std::string& patch
             }
         }
     }
+    if (auto e = gltf_meshopt::planMeshopt(doc, meshopt, changed)) return e;
     if (changed) patched = doc.dump();
 
     const nlohmann::json* images = jsonMember(doc, "images");
@@ -369,17 +349,31 @@ Result<std::vector<uint8_t>, ConvertError> readFile(const std::string& path,
 constexpr std::string_view kSupportedExtensions[] = {
     "KHR_draco_mesh_compression", "KHR_texture_transform", "KHR_materials_emissive_strength",
     "KHR_lights_punctual", "KHR_mesh_quantization", "KHR_materials_pbrSpecularGlossiness",
+    "EXT_meshopt_compression",
 };
+
+// Texture extensions for image formats we do not decode (KTX2/Basis Universal, WebP). A texture
+// using one may name a fallback image in its ordinary `source`, which we use; a texture without
+// one is an Unsupported error when a material uses it (importTextureRef), so a file that
+// requires them fails only if the scene actually needs such an image.
+constexpr const char* kImageFormatExtensions[] = {"KHR_texture_basisu", "EXT_texture_webp"};
 
 bool isSupported(const std::string& extension) {
     return std::find(std::begin(kSupportedExtensions), std::end(kSupportedExtensions),
                      extension) != std::end(kSupportedExtensions);
 }
 
+bool isImageFormatExtension(const std::string& extension) {
+    return std::find(std::begin(kImageFormatExtensions), std::end(kImageFormatExtensions),
+                     extension) != std::end(kImageFormatExtensions);
+}
+
 Check checkExtensions(Ctx& ctx) {
     std::string missing;
     for (const std::string& ext : ctx.model.extensionsRequired) {
-        if (!isSupported(ext)) missing += (missing.empty() ? "" : ", ") + ext;
+        if (!isSupported(ext) && !isImageFormatExtension(ext)) {
+            missing += (missing.empty() ? "" : ", ") + ext;
+        }
     }
     if (!missing.empty()) {
         return ctx.fail("required extension(s) not supported: " + missing,
@@ -1173,6 +1167,19 @@ Result<IrTextureRef, ConvertError> importTextureRef(Ctx& ctx, const TexInfo& inf
     }
     ref.texCoord = uint8_t(texCoord);
     if (tex.source < 0) {
+        for (const char* name : kImageFormatExtensions) {
+            const tinygltf::Value* ext = extensionObject(tex.extensions, name);
+            if (!ext) continue;
+            const std::optional<int> image = intOf(member(ext, "source"));
+            const std::string imageWho =
+                image && *image >= 0 && size_t(*image) < m.images.size()
+                    ? label("image", *image, m.images)
+                    : std::string("its image");
+            return ctx.fail(strf("%s: texture %d: %s needs %s, which is not supported, and the "
+                                 "texture has no fallback source image",
+                                 who.c_str(), info.index, imageWho.c_str(), name),
+                            ConvertErrorKind::Unsupported);
+        }
         ctx.warn(strf("%s: texture %d has no image in a format we read; dropped", who.c_str(),
                       info.index));
         return ref;
@@ -1607,7 +1614,8 @@ Result<IrScene, ConvertError> importGltfUnguarded(const std::string& path,
         if (auto e = checkGlb(data, json, glbLength)) return fail(*e);
     }
     std::string patched;
-    if (auto e = prescanJson(json, patched)) return fail(*e);
+    gltf_meshopt::MeshoptPlan meshopt;
+    if (auto e = prescanJson(json, patched, meshopt)) return fail(*e);
     std::vector<uint8_t> patchedGlb;
     if (!patched.empty() && binary) {
         patchedGlb = replaceGlbJson(data, glbLength, json, std::move(patched));
@@ -1658,9 +1666,19 @@ Result<IrScene, ConvertError> importGltfUnguarded(const std::string& path,
     }
     if (auto e = checkExtensions(ctx)) return *e;
 
+    // The budget scales with what the file stores, measured before meshopt decoding: the
+    // decoded fallback buffers must fit in it too.
     uint64_t inputBytes = data.size();
+    for (const tinygltf::Buffer& b : model.buffers) inputBytes += b.data.size();
+    ctx.budgetBytes = std::max(kMinOutputBudgetBytes, inputBytes * kOutputBudgetFactor);
+    if (!meshopt.empty()) {
+        std::vector<std::vector<unsigned char>*> buffers;
+        for (tinygltf::Buffer& b : model.buffers) buffers.push_back(&b.data);
+        if (auto e = gltf_meshopt::decodeMeshopt(meshopt, buffers, ctx.budgetBytes)) {
+            return fail(*e);
+        }
+    }
     for (const tinygltf::Buffer& b : model.buffers) {
-        inputBytes += b.data.size();
         if (!b.uri.empty() && !tinygltf::IsDataURI(b.uri)) {
             // Where tinygltf found it: only the source's directory (fileExistsInBaseDir).
             const std::filesystem::path uri(percentDecode(b.uri));
@@ -1670,7 +1688,6 @@ Result<IrScene, ConvertError> importGltfUnguarded(const std::string& path,
                     .string());
         }
     }
-    ctx.budgetBytes = std::max(kMinOutputBudgetBytes, inputBytes * kOutputBudgetFactor);
     ctx.meshMap.assign(model.meshes.size(), -1);
     ctx.materialMap.assign(model.materials.size(), -1);
     ctx.imageMap.assign(model.images.size(), -1);

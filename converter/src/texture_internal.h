@@ -16,6 +16,8 @@
 #include <array>
 #include <cstddef>
 #include <cstdint>
+#include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -41,13 +43,30 @@ struct DecodedImage {
     bool floatSource = false; // EXR, HDR, float TIFF...: linear light, values may leave [0, 1]
 };
 
+// What an image file declares, before any pixel is read.
+struct ImageHeader {
+    uint32_t width = 0, height = 0, channels = 0;
+    uint32_t bytesPerChannel = 0; // of the file's native type (1 for 8-bit PNG, 4 for float EXR)
+    bool floatSource = false;
+
+    uint64_t texels() const { return uint64_t(width) * height; }
+};
+
+// Decides from the header whether the image may be decoded: nullopt admits it, a message
+// refuses it (the decode fails with that message after describeImage(image)).
+using AdmitImage = std::function<std::optional<std::string>(const ImageHeader&)>;
+
 // "image 'wood' (textures/wood.png)" or "image 'wood' (embedded, 1234 bytes)", for messages.
 std::string describeImage(const IrImage& image);
 
 // Decodes the first subimage's full-resolution level to float RGBA with straight (not
-// premultiplied) alpha. The header is checked before any pixel is read: zero size or more than
-// `maxSourceTexels` texels fail. Errors (Input) start with describeImage(image).
-Result<DecodedImage, ConvertError> decodeImage(const IrImage& image, uint64_t maxSourceTexels);
+// premultiplied) alpha. The header is read and checked before any pixel buffer is allocated:
+// zero size, more than `maxSourceTexels` texels, or a refusal by `admit` fail. Pixels are read
+// in the file's native type into an uninitialised buffer and widened to float only once the read
+// succeeded, so a file whose data is missing fails before the float image exists. Errors (Input)
+// start with describeImage(image).
+Result<DecodedImage, ConvertError> decodeImage(const IrImage& image, uint64_t maxSourceTexels,
+                                               const AdmitImage& admit);
 
 // Resamples to width × height (each ≥ 1) with a Lanczos-3 filter (OIIO resize), on the calling
 // thread only, so results do not depend on OIIO's thread pool. Values are not clamped.

@@ -27,11 +27,13 @@
 #include <atomic>
 #include <cassert>
 #include <cmath>
+#include <limits>
 #include <new>
 #include <optional>
 #include <system_error>
 #include <thread>
 
+#include "pnb_converter/memory_budget.h"
 #include "texture_internal.h"
 
 namespace pnb::converter {
@@ -70,11 +72,37 @@ ValueRange sanitize(ImageF& image) {
     return r;
 }
 
+// The memory one texture may plan to hold: its job's share of the budget.
+struct MemoryShare {
+    uint64_t bytes = 0, budget = 0;
+    size_t jobs = 1;
+};
+
+// Refuses, from the header alone, an image whose processing would need more than `share`.
+AdmitImage admitWithin(const MemoryShare& share, const TextureSettings& settings) {
+    return [share, &settings](const ImageHeader& h) -> std::optional<std::string> {
+        uint64_t need =
+            estimateTextureBytes(h.width, h.height, h.channels, h.bytesPerChannel, settings);
+        if (need <= share.bytes) return std::nullopt;
+        std::string budget = share.jobs > 1
+            ? "its share of the memory budget (" + formatBytes(share.bytes) + " = --max-memory " +
+                  formatBytes(share.budget) + " / " + std::to_string(share.jobs) +
+                  " parallel jobs)"
+            : "the memory budget (--max-memory " + formatBytes(share.budget) + ")";
+        return "declared " + std::to_string(h.width) + "x" + std::to_string(h.height) + " with " +
+               std::to_string(h.channels) + " channel(s) of " + std::to_string(h.bytesPerChannel) +
+               " byte(s): processing it needs about " + formatBytes(need) + ", more than " +
+               budget;
+    };
+}
+
 Result<ProcessedTexture, ConvertError> processOne(const TextureRequest& request,
-                                                  const TextureSettings& settings) {
+                                                  const TextureSettings& settings,
+                                                  const MemoryShare& share) {
     if (!request.image)
         return ConvertError{ConvertErrorKind::Input, "texture '" + request.name + "': no image"};
-    auto decoded = decodeImage(*request.image, settings.maxSourceTexels);
+    auto decoded =
+        decodeImage(*request.image, settings.maxSourceTexels, admitWithin(share, settings));
     if (!decoded) return decoded.error();
 
     ProcessedTexture out;
@@ -161,14 +189,15 @@ Result<ProcessedTexture, ConvertError> processOne(const TextureRequest& request,
 // Keeps exceptions (allocation failure on a huge image, anything OIIO lets escape) from crossing
 // the thread boundary or the module's interface.
 Result<ProcessedTexture, ConvertError> processGuarded(const TextureRequest& request,
-                                                      const TextureSettings& settings) {
+                                                      const TextureSettings& settings,
+                                                      const MemoryShare& share) {
     auto fail = [&](const std::string& what) {
         std::string name =
             request.image ? describeImage(*request.image) : "texture '" + request.name + "'";
         return ConvertError{ConvertErrorKind::Input, name + ": " + what};
     };
     try {
-        return processOne(request, settings);
+        return processOne(request, settings, share);
     } catch (const std::bad_alloc&) {
         return fail("out of memory");
     } catch (const std::exception& e) {
@@ -178,9 +207,38 @@ Result<ProcessedTexture, ConvertError> processGuarded(const TextureRequest& requ
 
 } // namespace
 
+// Every buffer that lives while one texture is processed, summed (they are not all alive at
+// once, so this is an upper bound), per texel of the declared size:
+//   - the decoder's copy of the native pixels (OIIO's PNG reader, for one, holds the whole
+//     image): channels x bytesPerChannel;
+//   - our native read buffer, at most 4 channels: min(channels, 4) x bytesPerChannel;
+//   - level 0 as float RGBA: 16 bytes;
+//   - the resized level 0 when --max-texture-size scales down: at most 16 bytes;
+//   - the next mip level while it is filtered from the current one: at most 16 / 4 = 4 bytes;
+//   - the packed levels kept for the container: at most 8 bytes (RGBA16F) x 4/3 for the chain.
+uint64_t estimateTextureBytes(uint32_t width, uint32_t height, uint32_t channels,
+                              uint32_t bytesPerChannel, const TextureSettings& settings) {
+    const uint64_t texels = uint64_t(width) * height;
+    const bool resized = settings.maxSize > 0 && std::max(width, height) > settings.maxSize;
+    const uint64_t perTexel = uint64_t(channels + std::min(channels, 4u)) * bytesPerChannel +
+                              16 + (resized ? 16 : 0) + 4;
+    const uint64_t packed = texels * 8 + texels * 8 / 3;
+    // Declared sizes are at most 2^31 a side, so only a pathological header could overflow.
+    if (texels > (uint64_t(1) << 62) / std::max<uint64_t>(perTexel + 11, 1))
+        return std::numeric_limits<uint64_t>::max();
+    return texels * perTexel + packed;
+}
+
 Result<std::vector<ProcessedTexture>, ConvertError>
 processTextures(const std::vector<TextureRequest>& requests, const TextureSettings& settings) {
     size_t count = requests.size();
+    size_t jobs = settings.jobs ? settings.jobs : std::max(1u, std::thread::hardware_concurrency());
+    jobs = std::min(jobs, count);
+    // Up to `jobs` textures are in flight at once, each within an equal share of the budget.
+    MemoryShare share;
+    share.budget = settings.maxMemoryBytes ? settings.maxMemoryBytes : defaultMemoryBudget();
+    share.jobs = std::max<size_t>(jobs, 1);
+    share.bytes = share.budget / share.jobs;
     std::vector<std::optional<Result<ProcessedTexture, ConvertError>>> results(count);
     std::atomic<size_t> next{0};
     std::atomic<bool> failed{false};
@@ -188,13 +246,11 @@ processTextures(const std::vector<TextureRequest>& requests, const TextureSettin
         while (!failed.load(std::memory_order_relaxed)) {
             size_t i = next.fetch_add(1);
             if (i >= count) break;
-            results[i] = processGuarded(requests[i], settings);
+            results[i] = processGuarded(requests[i], settings, share);
             if (!results[i]->ok()) failed = true;
         }
     };
 
-    size_t jobs = settings.jobs ? settings.jobs : std::max(1u, std::thread::hardware_concurrency());
-    jobs = std::min(jobs, count);
     std::vector<std::thread> threads;
     for (size_t j = 1; j < jobs; ++j) {
         try {

@@ -10,12 +10,14 @@
 #include <filesystem>
 #include <functional>
 #include <map>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "pnb/reader.h"
 #include "pnb/scene.h"
 #include "pnb_converter/convert.h"
+#include "pnb_converter/memory_budget.h"
 
 namespace {
 
@@ -85,6 +87,15 @@ const std::vector<Option>& options() {
          [](CliState& c, const char* a) {
              return parseUnsigned(a, 1, 65536, c.settings.texture.maxSize);
          }},
+        {"Textures", "--max-memory", "SIZE",
+         "memory textures may use while they are decoded and mip-mapped, e.g. 512M or 2G, "
+         "shared by the parallel jobs; an image whose header declares more is refused before "
+         "it is read (default: see below)",
+         [](CliState& c, const char* a) {
+             std::optional<uint64_t> bytes = pnb::converter::parseByteSize(a);
+             c.settings.texture.maxMemoryBytes = bytes.value_or(0);
+             return bytes.has_value();
+         }},
         {"Container", "--compress", nullptr,
          "zstd-compress meshes and texels too (smaller file; loads can no longer be zero-copy)",
          [](CliState& c, const char*) { c.settings.compressBulk = true; return true; }},
@@ -147,6 +158,9 @@ void printHelp() {
         std::printf("  %-26s %s\n", left.c_str(), o.help);
     }
     std::printf("  %-26s %s\n", "-h, --help", "print this help");
+    std::printf("\n--max-memory defaults to half of the memory this process may use (physical "
+                "RAM,\nulimit -v and the cgroup limit, whichever is least): %s here.\n",
+                pnb::converter::formatBytes(pnb::converter::defaultMemoryBudget()).c_str());
     std::printf("\nExit codes:\n  0  ok\n  1  usage error\n"
                 "  2  input error (missing, malformed or inconsistent source; the message names "
                 "the file and item)\n"

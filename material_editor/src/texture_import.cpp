@@ -10,7 +10,7 @@
 namespace pnb::editor {
 
 Result<uint32_t> Document::importTexture(const std::string& imagePath, bool srgb,
-                                         std::string_view name) {
+                                         std::string_view name, uint64_t maxMemoryBytes) {
     Impl& d = *mImpl;
     const size_t count = d.base.textures + d.current.imported.size();
     auto taken = [&](std::string_view n) {
@@ -40,6 +40,7 @@ Result<uint32_t> Document::importTexture(const std::string& imagePath, bool srgb
     // Every channel may be read by some slot; constant ones become a swizzle anyway.
     converter::TextureSettings settings;
     settings.jobs = 1;
+    settings.maxMemoryBytes = maxMemoryBytes;
     auto processed = converter::processTextures({request}, settings);
     if (!processed)
         return makeError(FormatError::IoError, 0, "cannot import '%s': %s", imagePath.c_str(),

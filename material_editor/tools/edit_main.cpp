@@ -11,12 +11,14 @@
 #include <cstring>
 #include <functional>
 #include <map>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
 
 #include "gui.h"
 #include "pnb/material_fields.h"
+#include "pnb_converter/memory_budget.h"
 #include "pnb_editor/document.h"
 #include "pnb_editor/set_expression.h"
 
@@ -38,6 +40,7 @@ struct Settings {
     bool list = false, json = false, quiet = false;
     std::vector<std::string> sets;
     std::vector<Import> imports;
+    uint64_t maxMemory = 0; // 0 = the converter's default
 
     bool batch() const { return list || !sets.empty() || !imports.empty() || !output.empty(); }
 };
@@ -84,6 +87,15 @@ const std::vector<Option>& options() {
              if (!parseImport(a, i)) return false;
              s.imports.push_back(i);
              return true;
+         }},
+        {"Batch edits", "--max-memory", "SIZE",
+         "memory an imported texture may use while it is decoded and mip-mapped, e.g. 512M or "
+         "2G; an image whose header declares more is refused before it is read (default: half "
+         "of the memory this process may use)",
+         [](Settings& s, const char* a) {
+             std::optional<uint64_t> bytes = pnb::converter::parseByteSize(a);
+             s.maxMemory = bytes.value_or(0);
+             return bytes.has_value();
          }},
         {"Batch edits", "-o, --output", "FILE",
          "write the result here (default: replace SCENE.pnb in place, atomically)",
@@ -414,7 +426,7 @@ int runBatch(const Settings& s) {
     Document& doc = **opened;
 
     for (const Import& i : s.imports) {
-        auto index = doc.importTexture(i.image, i.srgb, i.name);
+        auto index = doc.importTexture(i.image, i.srgb, i.name, s.maxMemory);
         if (!index) return inputError(index.error());
         if (!s.quiet)
             std::fprintf(info, "imported '%s' as texture %u '%s' (%s)\n",

@@ -859,11 +859,11 @@ TEST_F(GltfCrafted, UnsupportedExtensionsWarnOrFail) {
     ASSERT_TRUE(used.ok()) << used.error().message;
     EXPECT_TRUE(hasWarning(*used, "t.gltf: ignored extension KHR_materials_sheen"));
     auto required = import(trianglePositions(),
-                           R"("extensionsUsed":["KHR_materials_sheen","EXT_meshopt_compression"],)"
-                           R"("extensionsRequired":["EXT_meshopt_compression"])");
+                           R"("extensionsUsed":["KHR_materials_sheen","EXT_mesh_gpu_instancing"],)"
+                           R"("extensionsRequired":["EXT_mesh_gpu_instancing"])");
     ASSERT_FALSE(required.ok());
     EXPECT_EQ(required.error().kind, ConvertErrorKind::Unsupported);
-    EXPECT_TRUE(contains(required.error().message, "EXT_meshopt_compression"));
+    EXPECT_TRUE(contains(required.error().message, "EXT_mesh_gpu_instancing"));
 }
 
 TEST_F(GltfCrafted, MissingImageFileDropsTheTextureWithAWarning) {

@@ -4,6 +4,8 @@
 
 #include <gtest/gtest.h>
 
+#include "child_process.h"
+#include "crafted_png.h"
 #include "editor_test_util.h"
 #include "pnb/material_fields.h"
 
@@ -200,6 +202,40 @@ TEST(EditCli, ImportedTextureByName) {
     EXPECT_EQ(s.textures[2].colorSpace, ColorSpace::Linear);
     std::string verify;
     EXPECT_EQ(run(quote(PNB_INSPECT_EXE) + " --verify " + quote(path), &verify), 0) << verify;
+}
+
+// --import-texture decodes through the converter's budgeted path: a PNG that declares 16384 x
+// 16384 but holds 70 bytes fails at once and small, naming the file and its declared size, and
+// --max-memory refuses an ordinary image from its header. The scene is left untouched.
+TEST(EditCli, ImportTextureIsBudgetedLikeTheConverter) {
+    TempDir dir;
+    const std::string path = copyScene(dir, "grazing-plane");
+    std::filesystem::copy_file(path, dir.file("original.pnb"));
+    writeBytes(dir.file("huge.png"), test::pngDeclaringOnly(16384, 16384));
+    writeBytes(dir.file("tiles.png"), checkerPng(64, {230, 230, 230}, {30, 60, 90}));
+    const std::string log = dir.file("log.txt");
+    const std::string out = dir.file("out.pnb");
+
+    const test::ChildResult baseline =
+        test::runChild({PNB_EDIT_EXE, path, "--max-memory", "64M", "--import-texture",
+                        "tiles=" + dir.file("tiles.png"), "-o", out},
+                       log);
+    EXPECT_EQ(baseline.exitCode, 0) << baseline.output;
+    test::ChildResult r =
+        test::runChild({PNB_EDIT_EXE, path, "--import-texture", "huge=" + dir.file("huge.png")}, log);
+    EXPECT_EQ(r.exitCode, 2) << r.output;
+    EXPECT_NE(r.output.find("huge.png"), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find("16384x16384"), std::string::npos) << r.output;
+    EXPECT_LT(r.seconds, test::startupBound(baseline));
+    EXPECT_LT(r.maxRssBytes, test::kAddressSanitizer ? (1024ull << 20) : (512ull << 20));
+
+    r = test::runChild({PNB_EDIT_EXE, path, "--max-memory", "64K", "--import-texture",
+                        "tiles=" + dir.file("tiles.png")},
+                       log);
+    EXPECT_EQ(r.exitCode, 2) << r.output;
+    EXPECT_NE(r.output.find("declared 64x64"), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find("--max-memory 64.00 KiB"), std::string::npos) << r.output;
+    EXPECT_EQ(readBytes(path), readBytes(dir.file("original.pnb")));
 }
 
 } // namespace

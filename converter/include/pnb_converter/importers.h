@@ -16,10 +16,12 @@
 namespace pnb::converter {
 
 // glTF 2.0 (.gltf with external or data-URI buffers, .glb) through tinygltf, with
-// KHR_draco_mesh_compression (Draco), KHR_texture_transform, KHR_materials_emissive_strength,
-// KHR_lights_punctual, KHR_mesh_quantization, sparse accessors, normalized integer attributes,
-// cameras, node TRS or matrices. Unsupported extensions: a warning naming each; an
-// Unsupported error if one is in extensionsRequired.
+// KHR_draco_mesh_compression (Draco), EXT_meshopt_compression (meshoptimizer, as gltfpack -c
+// writes), KHR_texture_transform, KHR_materials_emissive_strength, KHR_lights_punctual,
+// KHR_mesh_quantization, sparse accessors, normalized integer attributes, cameras, node TRS or
+// matrices. Unsupported extensions: a warning naming each; an Unsupported error if one is in
+// extensionsRequired. KHR_texture_basisu/EXT_texture_webp textures use their fallback image; an
+// Unsupported error names the texture and image when there is none.
 Result<IrScene, ConvertError> importGltf(const std::string& path);
 
 // OBJ/MTL (and the other formats assimp reads) through assimp. MTL parameters map onto PBR as

@@ -43,7 +43,18 @@ struct TextureSettings {
     uint32_t jobs = 0;         // worker threads; 0 = hardware concurrency. Default: 0.
     uint32_t maxSourceTexels = 1u << 28; // refuse larger decoded images (a clear error, not an
                                          // out-of-memory). Default: 268 M texels.
+    // Memory the textures being processed at once may hold together (--max-memory); each of the
+    // parallel jobs gets an equal share. A texture whose header says it needs more than its
+    // share is refused before any pixel buffer is allocated. 0 = defaultMemoryBudget()
+    // (memory_budget.h). Default: 0.
+    uint64_t maxMemoryBytes = 0;
 };
+
+// An upper bound of the bytes processing one texture holds, from its declared size alone
+// (texture_processing.cpp lists the buffers it counts). `channels` and `bytesPerChannel` are the
+// file's; `settings` decides resizing.
+uint64_t estimateTextureBytes(uint32_t width, uint32_t height, uint32_t channels,
+                              uint32_t bytesPerChannel, const TextureSettings& settings);
 
 struct ProcessedTexture {
     TextureDesc desc;                            // name left kNone: the writer interns it
@@ -53,7 +64,8 @@ struct ProcessedTexture {
 };
 
 // Processes every request. Errors (Input) name the image: missing file, undecodable data, zero
-// size, over maxSourceTexels; with several failures, the lowest-indexed request's error is
+// size, over maxSourceTexels, over its share of maxMemoryBytes (the message gives the declared
+// size, the estimate and the budget); with several failures, the lowest-indexed request's error is
 // returned. Deterministic for any `jobs`.
 //
 // Results, per request (texture_processing.cpp and channel_packing.cpp give the reasons):

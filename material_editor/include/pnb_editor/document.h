@@ -90,10 +90,13 @@ public:
     // as a new texture; returns its TEXR index. `srgb`: colour data (base colour, emissive) vs
     // linear (normal, metallic-roughness, occlusion). `name`: the texture's name, by which
     // setField's texture slots can refer to it; "" = the image file's stem, made unique with a
-    // "-2", "-3", ... suffix. One undo step. Errors: an unreadable image (naming it), a name
-    // another texture already has.
+    // "-2", "-3", ... suffix. `maxMemoryBytes`: the memory the import may plan to hold
+    // (pnb-edit --max-memory); an image whose declared size needs more is refused from its
+    // header; 0 = the converter's default (pnb_converter/memory_budget.h). One undo step.
+    // Errors: an unreadable image or one over the memory budget (naming it), a name another
+    // texture already has.
     Result<uint32_t> importTexture(const std::string& imagePath, bool srgb,
-                                   std::string_view name = {});
+                                   std::string_view name = {}, uint64_t maxMemoryBytes = 0);
 
     bool canUndo() const;
     bool canRedo() const;
