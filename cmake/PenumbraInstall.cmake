@@ -24,6 +24,7 @@ set_target_properties(pnb_format PROPERTIES EXPORT_NAME format)
 set_target_properties(pnb_player PROPERTIES EXPORT_NAME player)
 set_target_properties(pnb_player_math PROPERTIES EXPORT_NAME player_math)
 set_target_properties(pnb_image_write PROPERTIES EXPORT_NAME image_write)
+set_target_properties(pnb_path_json PROPERTIES EXPORT_NAME path_json)
 
 # A sanitized build installs sanitized libraries: whoever links them needs the sanitizer
 # runtime, so the installed interface carries the flag (the build tree has add_link_options).
@@ -37,7 +38,8 @@ install(TARGETS pnb_format EXPORT PenumbraTargets
     ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR}
     LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR}
     INCLUDES DESTINATION ${CMAKE_INSTALL_INCLUDEDIR})
-install(TARGETS pnb_player pnb_player_math pnb_image_write EXPORT PenumbraPlayerTargets
+install(TARGETS pnb_player pnb_player_math pnb_image_write pnb_path_json
+    EXPORT PenumbraPlayerTargets
     ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR}
     LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR}
     INCLUDES DESTINATION ${CMAKE_INSTALL_INCLUDEDIR})

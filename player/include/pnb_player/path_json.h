@@ -1,18 +1,9 @@
-// pnb_player/path_json.h — camera paths as the keyframe JSON that `pnb-convert --path FILE` reads
-// (converter/include/pnb_converter/camera_path.h has the schema), so `pnb-play --path FILE` can
-// replay a file without converting, and a path recorded in the window can be packed into a
-// container unchanged.
+// pnb_player/path_json.h — camera paths as the keyframe JSON that `pnb-convert --path FILE` reads,
+// in the player's types, so `pnb-play --path FILE` can replay a file without converting, and a
+// path recorded in the window can be packed into a container unchanged. The schema, its rules,
+// the reader and the writer are pnb/path_json.h (pnb_path_json, shared with the converter).
 //
-//   { "name": "flythrough", "interpolation": "catmull-rom" | "linear", "loop": false,
-//     "keys": [ { "time": 0.0, "position": [x, y, z],
-//                 "target": [x, y, z]  (or "rotation": [x, y, z, w]),
-//                 "yfov_degrees": 50 }, ... ] }
-//
-// Reading applies the converter's rules (at least two keys, strictly increasing finite times,
-// yfov_degrees in (1, 179), default 45.8) and the converter's look-at convention for "target".
-// Writing stores "rotation" (exact, no look-at round trip) and full double precision.
-//
-// Does NOT do: reading or writing containers; any schema field beyond the above.
+// Does NOT do: reading or writing containers; any schema field beyond pnb/path_json.h's.
 #pragma once
 
 #include <string>
