@@ -22,13 +22,7 @@
 #include "pnb_converter/memory_budget.h"
 #include "pnb_converter/texture_processing.h"
 
-#if defined(__SANITIZE_ADDRESS__)
-#include <sanitizer/lsan_interface.h>
-// OIIO's PNG reader leaks a string on a corrupt PNG (see texture_processing_test.cpp).
-#define PNB_IGNORE_OIIO_LEAKS __lsan::ScopedDisabler lsanDisabler
-#else
-#define PNB_IGNORE_OIIO_LEAKS
-#endif
+#include "oiio_leak_guard.h"
 
 namespace {
 

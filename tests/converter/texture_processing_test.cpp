@@ -19,15 +19,7 @@
 #include "pnb_converter/texture_processing.h"
 #include "texture_internal.h"
 
-#if defined(__SANITIZE_ADDRESS__)
-#include <sanitizer/lsan_interface.h>
-// OIIO 2.4's PNG reader longjmps out of libpng's error callback past a std::string of its own,
-// leaking it (31 bytes per corrupt PNG). Tests that decode corrupt PNGs on purpose ignore the
-// allocations of that one call, on that thread; leak checking stays on everywhere else.
-#define PNB_IGNORE_OIIO_LEAKS __lsan::ScopedDisabler lsanDisabler
-#else
-#define PNB_IGNORE_OIIO_LEAKS
-#endif
+#include "oiio_leak_guard.h"
 
 namespace {
 
