@@ -12,6 +12,7 @@
 #include "pnb/scene.h"
 #include "program_compile.h"
 #include "upload.h"
+#include "upload_heap.h"
 
 namespace pnb::player {
 
@@ -268,6 +269,8 @@ PlayResult<std::unique_ptr<GpuScene>> uploadScene(const Scene& scene, LoadStats*
     for (const Setting& s : scene.settings.entries)
         gpu->settings.emplace_back(std::string(scene.str(s.key)), std::string(scene.str(s.value)));
     glPixelStorei(GL_UNPACK_ALIGNMENT, 1); // RGB8 and R8 rows are tightly packed
+    UploadHeap heap(estimateUploadBytes(scene));
+    stats.hugePageBytes = heap.hugePageBytes();
     for (uint32_t i = 0; i < scene.textures.size(); ++i) {
         auto t = createTexture(scene.textures[i], i);
         if (!t) return t.error();

@@ -104,6 +104,7 @@ struct LoadStats {
     double totalMs = 0;      // open to GPU-ready
     double firstFrameMs = 0; // process start to the first finished frame (set by pnb-play)
     uint64_t fileBytes = 0, zeroCopyBytes = 0, decompressedBytes = 0;
+    uint64_t hugePageBytes = 0; // heap reserved in 2 MiB pages for the driver's copy (upload_heap.h)
     uint32_t chunks = 0, unknownChunks = 0;
 };
 

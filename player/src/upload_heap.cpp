@@ -1,0 +1,78 @@
+#include "upload_heap.h"
+
+#include <algorithm>
+#include <cstdlib>
+
+#if defined(__GLIBC__) && defined(__linux__)
+#include <malloc.h>
+#include <sys/mman.h>
+#include <unistd.h>
+#define PNB_UPLOAD_HEAP 1
+#endif
+
+namespace pnb::player {
+
+uint64_t estimateUploadBytes(const Scene& scene) {
+    uint64_t bytes = 0;
+    for (const TextureMip& mip : scene.textureMips) {
+        const TextureDesc& desc = scene.textures[mip.texture];
+        uint64_t level = textureLevelSizeBytes(desc.format, mip.width, mip.height, desc.layers);
+        bytes += desc.format == TextureFormat::RGB8 ? level / 3 * 4 : level;
+    }
+    for (const Mesh& mesh : scene.meshes) {
+        for (const VertexStream& s : mesh.streams) bytes += s.data.size() + 16;
+        bytes += mesh.indices.size();
+    }
+    return bytes;
+}
+
+#ifdef PNB_UPLOAD_HEAP
+
+namespace {
+constexpr uint64_t kMinBytes = 4u << 20;
+constexpr uintptr_t kHugePage = 2u << 20;
+constexpr int kLargestHeapAllocation = 32 << 20; // glibc's ceiling for M_MMAP_THRESHOLD
+constexpr int kGlibcDefault = 128 << 10;         // M_MMAP_THRESHOLD, M_TRIM_THRESHOLD, M_TOP_PAD
+} // namespace
+
+UploadHeap::UploadHeap(uint64_t bytes) {
+    if (bytes < kMinBytes || bytes > (uint64_t(1) << 40)) return;
+    // Keep the driver's allocations (up to 32 MiB each: a 2048² RGBA8 texture with its mips is
+    // 21 MiB) in the heap instead of separate mmaps, and do not give freed memory back until the
+    // upload is over.
+    if (!mallopt(M_MMAP_THRESHOLD, kLargestHeapAllocation)) return;
+    mActive = true;
+    mallopt(M_TRIM_THRESHOLD, 1 << 30);
+    // The next time the heap grows, it grows by the whole upload at once: one brk, one range to
+    // advise. A 16 MiB allocation is larger than the free top of a fresh process's heap, so it
+    // forces that growth; freeing it leaves the grown range free for the driver.
+    const int pad = int(std::min<uint64_t>(bytes, uint64_t(1) << 30));
+    mallopt(M_TOP_PAD, pad);
+    auto* before = static_cast<char*>(sbrk(0));
+    void* probe = std::malloc(16u << 20);
+    auto* after = static_cast<char*>(sbrk(0));
+    mallopt(M_TOP_PAD, kGlibcDefault);
+    if (probe && after > before) {
+        uintptr_t begin = (uintptr_t(before) + kHugePage - 1) & ~(kHugePage - 1);
+        if (uintptr_t(after) > begin &&
+            madvise(reinterpret_cast<void*>(begin), uintptr_t(after) - begin, MADV_HUGEPAGE) == 0)
+            mAdvised = uintptr_t(after) - begin;
+    }
+    std::free(probe);
+}
+
+UploadHeap::~UploadHeap() {
+    if (!mActive) return;
+    mallopt(M_MMAP_THRESHOLD, kGlibcDefault);
+    mallopt(M_TRIM_THRESHOLD, kGlibcDefault);
+    malloc_trim(0); // what the driver did not use goes back to the system
+}
+
+#else
+
+UploadHeap::UploadHeap(uint64_t) {}
+UploadHeap::~UploadHeap() = default;
+
+#endif
+
+} // namespace pnb::player
