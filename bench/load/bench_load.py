@@ -69,8 +69,8 @@ class Runner:
     def __init__(self, args):
         self.bin = Path(args.bin).resolve()
         self.out = Path(args.out).resolve()
-        self.probe = self.bin / "bench" / "pnb_load_probe"
-        self.inputs_tool = self.bin / "bench" / "pnb_load_inputs"
+        self.probe = self.bin / "bench" / "load" / "pnb_load_probe"
+        self.inputs_tool = self.bin / "bench" / "load" / "pnb_load_inputs"
         self.make_scene = self.bin / "assets_src" / "pnb-make-scene"
         self.convert = self.bin / "converter" / "pnb-convert"
         self.env = dict(os.environ, EGL_LOG_LEVEL="fatal")
@@ -278,16 +278,17 @@ def main():
             continue
         c["files"] = tuple(sorted(f["path"] for f in d["files"]))
         c["bytes"] = sum(f["bytes"] for f in d["files"])
-        c["triangles"], c["textures"] = d.get("triangles", 0), d.get("textures", 0)
+        for k in ("triangles", "textures", "mip_levels", "programs"):
+            c[k] = d.get(k, 0)
         kept.append(c)
     configs = kept
     floors = {}
     for c in configs:
         key = (c["scene"], c["files"])
         if key not in floors:
-            names = ", ".join(Path(f).name for f in c["files"][:3])
-            more = f" +{len(c['files']) - 3}" if len(c["files"]) > 3 else ""
-            floors[key] = dict(scene=c["scene"], label=f"floor {names}{more}", loader="floor",
+            n = len(c["files"])
+            what = Path(c["file"]).name + (f" + {n - 1} files it names" if n > 1 else "")
+            floors[key] = dict(scene=c["scene"], label=f"floor {what}", loader="floor",
                                files=c["files"], bytes=c["bytes"], model=c.get("model"))
         c["floor"] = floors[key]
     everything = configs + list(floors.values())
@@ -323,6 +324,8 @@ def main():
             row = dict(scene=c["scene"], model=c.get("model") or "", label=c["label"],
                        loader=c["loader"], cache=cache, runs=len(ss), input_bytes=c["bytes"],
                        files=len(c["files"]))
+            for k in ("triangles", "textures", "mip_levels", "programs"):
+                row[k] = c.get(k, 0)
             for key in ("gpu_ready_ms", "outer_ms", "start_exit_ms", "exec_to_main_ms",
                         "context_ms", "teardown_ms"):
                 st = summarise(ss, key)
