@@ -154,8 +154,7 @@ bool usable(const std::string& path, uint32_t chunks) {
 }
 
 void generate(const std::string& path, uint32_t chunks, Compression compression) {
-    std::fprintf(stderr, "pnb_format_bench: generating %s
-", path.c_str());
+    std::fprintf(stderr, "pnb_format_bench: generating %s\n", path.c_str());
     auto writer = Writer::create(path);
     if (!writer) fatal(writer.error().describe());
     MeshData d;

@@ -173,7 +173,7 @@ def loads_everywhere(r, configs):
         if not d.get("ok"):
             return f"{c['loader']}: {d.get('error', '?')}"
         if d.get("triangles", 0) == 0:
-            return f"{c['loader']}: no triangles (points or lines only)"
+            return f"{c['loader']}: loads no triangles"
     return None
 
 
@@ -405,15 +405,16 @@ def write_outputs(out, args, rows, skipped, configs):
         p(f"## {scene}")
         p("")
         p("| loader and input | MiB read | cache | **GPU-ready** | × floor | floor | phases (median) "
-          "| process (spawn to exit) | start + exit |")
-        p("|---|--:|---|--:|--:|--:|---|--:|--:|")
+          "| process (spawn to exit) | start + exit | of which exec→main | EGL context |")
+        p("|---|--:|---|--:|--:|--:|---|--:|--:|--:|--:|")
         for row in rs:
             if row["loader"] == "floor":
                 continue
             p(f"| {row['label']} | {row['input_bytes'] / 2**20:.1f} | {row['cache']} | "
               f"**{fmt_range(row, 'gpu_ready_ms')}** | {row['x_floor']:.2f} | "
               f"{row['floor_ms']:.1f} | {row['phases']} | {row['outer_ms_median']:.0f} | "
-              f"{row['start_exit_ms_median']:.0f} |")
+              f"{row['start_exit_ms_median']:.0f} | {row.get('exec_to_main_ms_median', 0):.0f} | "
+              f"{row.get('context_ms_median', 0):.0f} |")
         p("")
         p("Floors (mmap + copy of the same files):")
         p("")
@@ -468,11 +469,20 @@ def write_outputs(out, args, rows, skipped, configs):
         if cfg.get("goal_q") and not args.tiny:
             goals.append((row, f"≤ {GOAL_Q_MS:.0f} ms", row["gpu_ready_ms_median"] <= GOAL_Q_MS))
     for row, goal, ok in goals:
-        if row["scene"] == "models" and row["cache"] == "cold":
+        if row["scene"] == "models":
             continue
         p(f"- {row['label']}, {row['cache']}: {goal}: **{'met' if ok else 'MISSED'}** "
           f"({row['gpu_ready_ms_median']:.1f} ms, {row['x_floor']:.2f}× its floor of "
           f"{row['floor_ms']:.1f} ms)")
+    for cache in ("warm", "cold"):
+        m = [(row, ok) for row, goal, ok in goals if row["scene"] == "models"
+             and row["cache"] == cache]
+        if m:
+            ratios = sorted(row["x_floor"] for row, ok in m)
+            p(f"- model set, {cache}: ≤ 2× floor met for **{sum(ok for _, ok in m)} of {len(m)}** "
+              f"models (× floor: median {statistics.median(ratios):.1f}, "
+              f"{ratios[0]:.1f}–{ratios[-1]:.1f}; a small model's floor is a fraction of a "
+              "millisecond, its load mostly program compilation)")
     p("")
     p("The machine is shared and noisy: compare ratios within one run, not absolute times "
       "across runs.")
