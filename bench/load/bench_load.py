@@ -442,14 +442,17 @@ def write_outputs(out, args, rows, skipped, configs):
                                  if m else "–")
                 p(f"| {name} | {cache} | " + " | ".join(cells) + " |")
         p("")
-        for cache in ("warm", "cold"):
-            sums = {}
-            for loader in ("pnb", "assimp", "tinygltf"):
-                m = [r for r in models if r["cache"] == cache and r["loader"] == loader]
-                if m:
-                    sums[loader] = (sum(r["gpu_ready_ms_median"] for r in m), len(m))
-            p(f"Sum of medians, {cache}: " + "; ".join(
-                f"{k} {v:.0f} ms over {n} models" for k, (v, n) in sums.items()) + ".")
+        for subset in ("glTF2", "OBJ"):
+            for cache in ("warm", "cold"):
+                sums = {}
+                for loader in ("pnb", "assimp", "tinygltf"):
+                    m = [r for r in models if r["cache"] == cache and r["loader"] == loader
+                         and r["model"].startswith(subset + "/")]
+                    if m:
+                        sums[loader] = (sum(r["gpu_ready_ms_median"] for r in m), len(m))
+                if sums:
+                    p(f"Sum of medians, {subset} models, {cache}: " + "; ".join(
+                        f"{k} {v:.0f} ms over {n}" for k, (v, n) in sums.items()) + ".")
         p("")
     if skipped:
         p("## Skipped")
@@ -504,14 +507,17 @@ def plot(out, rows):
     groups = []
     for scene in dict.fromkeys(r["scene"] for r in rows):
         rs = [r for r in rows if r["scene"] == scene and r["loader"] != "floor"]
-        if scene == "models":  # one bar per loader: the sum over the set (and of its floors)
+        if scene == "models":  # per subset and loader: the sum over the models (and floors)
             agg = []
-            for loader in ("pnb", "assimp", "tinygltf"):
-                for cache in ("warm", "cold"):
-                    m = [r for r in rs if r["loader"] == loader and r["cache"] == cache]
-                    if m:
+            for subset in ("glTF2", "OBJ"):
+                for loader in ("pnb", "assimp", "tinygltf"):
+                    for cache in ("warm", "cold"):
+                        m = [r for r in rs if r["loader"] == loader and r["cache"] == cache
+                             and r["model"].startswith(subset + "/")]
+                        if not m:
+                            continue
                         agg.append(dict(
-                            label=f"{loader} (sum over {len(m)} models)", cache=cache,
+                            label=f"{loader} (sum over {len(m)} {subset} models)", cache=cache,
                             gpu_ready_ms_median=sum(r["gpu_ready_ms_median"] for r in m),
                             gpu_ready_ms_min=sum(r["gpu_ready_ms_min"] for r in m),
                             gpu_ready_ms_max=sum(r["gpu_ready_ms_max"] for r in m),
