@@ -29,6 +29,7 @@ import json
 import os
 import platform
 import random
+import shutil
 import statistics
 import subprocess
 import sys
@@ -74,7 +75,12 @@ class Runner:
         self.make_scene = self.bin / "assets_src" / "pnb-make-scene"
         self.convert = self.bin / "converter" / "pnb-convert"
         self.env = dict(os.environ, EGL_LOG_LEVEL="fatal")
-        self.samples = open(self.out / "samples.jsonl", "w")
+        # Renamed to samples.jsonl when every run is in (finish_samples).
+        self.samples = open(self.out / "samples.jsonl.tmp", "w")
+
+    def finish_samples(self):
+        self.samples.close()
+        os.replace(self.out / "samples.jsonl.tmp", self.out / "samples.jsonl")
 
     def run_probe(self, argv, cache="warm", files=None):
         """One fresh probe process; returns its JSON line plus the runner's own timings."""
@@ -107,6 +113,13 @@ class Runner:
         return None
 
 
+def replace_atomically(path, write):
+    """write(temporary path), then rename over `path`: a reader never sees half a file."""
+    tmp = path.with_name(path.name + ".tmp")
+    write(tmp)
+    os.replace(tmp, path)
+
+
 def newer(out, *inputs):
     return out.exists() and all(out.stat().st_mtime >= Path(i).stat().st_mtime for i in inputs)
 
@@ -114,7 +127,7 @@ def newer(out, *inputs):
 def make_load_test(r, tiny):
     """The load-test scene and its sources; returns (configs, note)."""
     d = r.out / "load-test"
-    (d / "obj").mkdir(parents=True, exist_ok=True)
+    d.mkdir(parents=True, exist_ok=True)
     glb = d / "load-test.generated.glb"
     args = ["load-test", glb]
     if tiny:
@@ -138,8 +151,16 @@ def make_load_test(r, tiny):
     for out, argv, deps in steps:
         if not newer(out, *deps):
             log(f"making {out.name}")
+            if out == obj:  # OBJ + MTL + PNG files: made in a fresh directory, then renamed
+                tmp = d / "obj.tmp"
+                shutil.rmtree(tmp, ignore_errors=True)
+                tmp.mkdir()
+                argv = argv[:-1] + [tmp / obj.name]
             if err := r.tool(argv, out.name):
                 sys.exit(f"bench-load: making {out} failed: {err}")
+            if out == obj:
+                shutil.rmtree(obj.parent, ignore_errors=True)
+                os.replace(tmp, obj.parent)
     s = "load-test"
     return [
         dict(scene=s, label="pnb load-test.q.pnb (--quantize --compress-textures)", loader="pnb",
@@ -315,7 +336,7 @@ def main():
             done += 1
         log(f"round {run + 1}/{args.runs} done ({done}/{total} runs, "
             f"{time.monotonic() - started:.0f} s)")
-    r.samples.close()
+    r.finish_samples()
 
     rows = []
     for c in everything:
@@ -373,10 +394,12 @@ def write_outputs(out, args, rows, skipped, configs):
         for k in row:
             if k not in fields:
                 fields.append(k)
-    with open(out / "results.csv", "w", newline="") as f:
-        w = csv.DictWriter(f, fieldnames=fields)
-        w.writeheader()
-        w.writerows(rows)
+    def write_csv(path):
+        with open(path, "w", newline="") as f:
+            w = csv.DictWriter(f, fieldnames=fields)
+            w.writeheader()
+            w.writerows(rows)
+    replace_atomically(out / "results.csv", write_csv)
 
     gl = "unknown"
     for line in open(out / "samples.jsonl"):
@@ -490,7 +513,7 @@ def write_outputs(out, args, rows, skipped, configs):
     p("The machine is shared and noisy: compare ratios within one run, not absolute times "
       "across runs.")
     text = "\n".join(md) + "\n"
-    (out / "results.md").write_text(text)
+    replace_atomically(out / "results.md", lambda p: p.write_text(text))
     print(text)
     try:
         plot(out, rows)
@@ -551,7 +574,7 @@ def plot(out, rows):
         ax.set_title(f"{scene}: median of fresh processes, whiskers min–max", fontsize=9)
         ax.legend(fontsize=7)
     fig.tight_layout()
-    fig.savefig(out / "load.png", dpi=110)
+    replace_atomically(out / "load.png", lambda p: fig.savefig(p, dpi=110, format="png"))
 
 
 if __name__ == "__main__":
