@@ -1499,6 +1499,7 @@ std::optional<gltf::Document> buildProceduralScene(std::string_view name,
         LoadTestOptions o;
         o.seed = request.seed;
         if (target) o.targetTriangles = target;
+        if (request.textureSize) o.textureSize = *request.textureSize;
         return buildLoadTest(o);
     }
     if (name == "light-field") {

@@ -1,7 +1,8 @@
 // pnb-make-scene: writes a procedural source scene (procedural_scenes.h) as a glTF binary.
 //
-//   pnb-make-scene NAME OUT.glb [--triangles N] [--seed N] [--lights N] [--unit-scale S]
-//                  [--origin X,Y,Z] [--sun-elevation DEG] [--sun-azimuth DEG] [--camera-near M]
+//   pnb-make-scene NAME OUT.glb [--triangles N] [--seed N] [--lights N] [--texture-size N]
+//                  [--unit-scale S] [--origin X,Y,Z] [--sun-elevation DEG] [--sun-azimuth DEG]
+//                  [--camera-near M]
 //   pnb-make-scene --list
 //
 // Exit codes: 0 ok, 2 usage error, 4 output error. Output is deterministic: the same arguments
@@ -25,13 +26,14 @@ namespace {
 void printUsage(std::FILE* out) {
     std::fprintf(out,
                  "usage: pnb-make-scene NAME OUT.glb [--triangles N] [--seed N] [--lights N]\n"
-                 "                      [--unit-scale S] [--origin X,Y,Z] [--sun-elevation DEG]\n"
-                 "                      [--sun-azimuth DEG] [--camera-near M]\n"
+                 "                      [--texture-size N] [--unit-scale S] [--origin X,Y,Z]\n"
+                 "                      [--sun-elevation DEG] [--sun-azimuth DEG] [--camera-near M]\n"
                  "       pnb-make-scene --list\n"
                  "\n"
                  "  --triangles N      approximate rendered triangle count (default: the scene's)\n"
                  "  --seed N           layout seed, 0..2^64-1 (default 1; box-room ignores it)\n"
                  "  --lights N         point lights, 0..4096 (light-field only; default 8)\n"
+                 "  --texture-size N   texels a side, 4..4096 (load-test only; default 1024)\n"
                  "  --unit-scale S     wrap the scene in a root node scaled by S (cameras' near/far,\n"
                  "                     point-light ranges and intensities follow): the same image\n"
                  "                     in another unit of length\n"
@@ -113,6 +115,14 @@ int main(int argc, char** argv) {
             }
             ++i;
             request.lights = uint32_t(v);
+        } else if (a == "--texture-size") {
+            uint64_t v = 0;
+            if (i + 1 >= argc || !parseU64(argv[i + 1], v) || v < 4 || v > 4096) {
+                std::fprintf(stderr, "Error: --texture-size takes a number from 4 to 4096\n");
+                return 2;
+            }
+            ++i;
+            request.textureSize = uint32_t(v);
         } else if (a == "--unit-scale" || a == "--sun-elevation" || a == "--sun-azimuth" ||
                    a == "--camera-near") {
             double v = 0;
@@ -148,6 +158,10 @@ int main(int argc, char** argv) {
 
     if (request.lights && name != "light-field") {
         std::fprintf(stderr, "Error: --lights applies to light-field only\n");
+        return 2;
+    }
+    if (request.textureSize && name != "load-test") {
+        std::fprintf(stderr, "Error: --texture-size applies to load-test only\n");
         return 2;
     }
 

@@ -49,6 +49,10 @@ expect 2 box-room "$dir/x.glb" --lights 3
 contains err "light-field only"
 expect 2 light-field "$dir/x.glb" --lights 4097
 expect 2 light-field "$dir/x.glb" --lights
+expect 2 box-room "$dir/x.glb" --texture-size 64
+contains err "load-test only"
+expect 2 load-test "$dir/x.glb" --texture-size 3
+expect 2 load-test "$dir/x.glb" --texture-size 4097
 expect 2 street-canyon "$dir/x.glb" --unit-scale 0
 expect 2 street-canyon "$dir/x.glb" --unit-scale nan
 expect 2 street-canyon "$dir/x.glb" --origin 1,2
@@ -70,6 +74,13 @@ contains out "$size bytes"
 expect 0 street-canyon "$dir/canyon2.glb" --triangles 20000 --seed 7
 if ! cmp -s "$dir/canyon.glb" "$dir/canyon2.glb"; then
     echo "FAIL: output differs between runs" >&2
+    status=1
+fi
+# --texture-size: the load test's images shrink with it (64² and 16² PNGs of the same scene).
+expect 0 load-test "$dir/lt64.glb" --triangles 2000 --texture-size 64
+expect 0 load-test "$dir/lt16.glb" --triangles 2000 --texture-size 16
+if [ "$(wc -c <"$dir/lt16.glb")" -ge "$(wc -c <"$dir/lt64.glb")" ]; then
+    echo "FAIL: --texture-size 16 did not make smaller images than 64" >&2
     status=1
 fi
 # The extremes' transforms: a scaled, moved, re-lit scene with a new root node.

@@ -200,6 +200,7 @@ struct SceneRequest {
     uint64_t targetTriangles = 0;   // 0 = the scene's default detail
     uint64_t seed = 1;              // ignored by box-room
     std::optional<uint32_t> lights; // point lights; light-field only (others ignore it)
+    std::optional<uint32_t> textureSize; // texels a side; load-test only (others ignore it)
 };
 // Builds the named scene. targetTriangles maps onto each scene's detail knob (facade cells,
 // grid resolution or subdivisions); the result is as close as that knob allows. Returns nullopt
