@@ -1,4 +1,9 @@
-// converter/src/image_decode.cpp — source images to float RGBA with OpenImageIO, and resizing.
+// converter/src/image_decode_oiio.cpp — source images to float RGBA with OpenImageIO, and
+// resizing. Built as the module libpnb_image_oiio.so, which image_decode.cpp loads with dlopen
+// the first time an image is decoded: OpenImageIO pulls in some 250 shared libraries whose
+// loading and relocation cost every process ~0.2 s, which a conversion without textures (and
+// `pnb-convert --help`) should not pay. The module calls nothing of pnb_converter's (it is
+// linked with --no-undefined), so it only shares the header-only types of texture_internal.h.
 //
 // Does NOT do: colour-space conversion (texture_processing.cpp linearises sRGB data), EXIF
 // orientation (JPEG rotation tags are ignored, like most glTF viewers do), layers or mip levels
@@ -107,16 +112,7 @@ void expandToRgba(std::vector<float>& t, int channels, bool secondIsAlpha) {
 
 } // namespace
 
-std::string describeImage(const IrImage& image) {
-    std::string s = "image '" + image.name + "' (";
-    if (!image.path.empty())
-        s += image.path;
-    else
-        s += "embedded, " + std::to_string(image.encoded.size()) + " bytes";
-    return s + ")";
-}
-
-Result<DecodedImage, ConvertError> decodeImage(const IrImage& image, uint64_t maxSourceTexels,
+Result<DecodedImage, ConvertError> decodeWithOiio(const IrImage& image, uint64_t maxSourceTexels,
                                                const AdmitImage& admit) {
     auto fail = [&](const std::string& what) {
         return ConvertError{ConvertErrorKind::Input, describeImage(image) + ": " + what};
@@ -210,7 +206,7 @@ Result<DecodedImage, ConvertError> decodeImage(const IrImage& image, uint64_t ma
     return out;
 }
 
-ImageF resizeImage(const ImageF& src, uint32_t width, uint32_t height) {
+ImageF resizeWithOiio(const ImageF& src, uint32_t width, uint32_t height) {
     assert(width > 0 && height > 0 && src.texelCount() > 0);
     ImageF dst;
     dst.width = width;
@@ -231,3 +227,10 @@ ImageF resizeImage(const ImageF& src, uint32_t width, uint32_t height) {
 }
 
 } // namespace pnb::converter::texture_detail
+
+extern "C" __attribute__((visibility("default"))) const pnb::converter::texture_detail::ImageCodec*
+pnb_image_codec_v1() {
+    using namespace pnb::converter::texture_detail;
+    static const ImageCodec codec{sizeof(ImageCodec), &decodeWithOiio, &resizeWithOiio};
+    return &codec;
+}
