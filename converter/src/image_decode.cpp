@@ -61,8 +61,10 @@ const LoadedCodec& loadedCodec() {
                 tried += "\n  " + path + ": not found";
                 continue;
             }
+            // Lazy binding, as at program start: RTLD_NOW would resolve every PLT entry of the
+            // ~250 libraries OpenImageIO brings, which doubled the load time (0.4 s vs 0.2 s).
             // Never closed: OpenImageIO keeps plugins and threads for the life of the process.
-            void* handle = dlopen(path.c_str(), RTLD_NOW | RTLD_LOCAL);
+            void* handle = dlopen(path.c_str(), RTLD_LAZY | RTLD_LOCAL);
             if (!handle) {
                 const char* why = dlerror();
                 tried += "\n  " + path + ": " + (why ? why : "cannot load");
