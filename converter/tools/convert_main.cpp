@@ -4,7 +4,10 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <atomic>
 #include <exception>
+#include <mutex>
+#include <thread>
 #include <fstream>
 #include <iostream>
 #include <set>
@@ -454,43 +457,77 @@ int runBatch(CliState& c, std::vector<BatchItem> items) {
         }
     }
 
+    // Inputs are converted concurrently, by as many workers as --jobs allows (each conversion
+    // gets an equal part of the threads and of the memory budget); results are reported in list
+    // order. Outputs do not depend on either (convert.h: identical bytes for any job count).
+    const unsigned threads =
+        c.settings.jobs ? c.settings.jobs : std::max(1u, std::thread::hardware_concurrency());
+    const unsigned workers = unsigned(std::min<size_t>(threads, items.size()));
+    ConvertSettings base = c.settings;
+    base.jobs = std::max(1u, threads / workers);
+    const uint64_t budget = c.settings.texture.maxMemoryBytes
+                                ? c.settings.texture.maxMemoryBytes
+                                : pnb::converter::defaultMemoryBudget();
+    base.texture.maxMemoryBytes = std::max<uint64_t>(1, budget / workers);
+
+    using Outcome = std::optional<pnb::Result<ConvertSummary, pnb::converter::ConvertError>>;
+    std::vector<Outcome> outcomes(items.size());
     std::vector<std::pair<const BatchItem*, int>> failures;
-    for (size_t i = 0; i < items.size(); ++i) {
+    std::mutex reportMutex;
+    size_t nextToReport = 0;
+    auto report = [&](size_t i) { // under reportMutex, in list order
         const BatchItem& it = items[i];
-        ConvertSettings s = c.settings;
-        s.input = it.input;
-        s.output = it.output;
-        std::optional<pnb::Result<ConvertSummary, pnb::converter::ConvertError>> r;
-        // One input's exhausted memory (or any other escape) must not end the others.
-        try {
-            r.emplace(pnb::converter::convertScene(s));
-        } catch (const std::exception& e) {
-            r.emplace(pnb::converter::ConvertError{ConvertErrorKind::Input,
-                                        s.input + ": conversion aborted: " + e.what()});
-        }
-        if (!*r) {
-            int code = exitCodeOf(r->error().kind);
+        const auto& r = *outcomes[i];
+        if (!r) {
+            int code = exitCodeOf(r.error().kind);
             std::fprintf(stderr, "Error: [%zu/%zu] %s: %s\n", i + 1, items.size(),
-                         it.input.c_str(), r->error().message.c_str());
+                         it.input.c_str(), r.error().message.c_str());
             failures.emplace_back(&it, code);
-            continue;
-        }
-        if (c.quiet) continue;
-        for (const std::string& w : (*r)->warnings)
-            std::fprintf(stderr, "Warning: %s: %s\n", it.input.c_str(), w.c_str());
-        if (c.verbose) {
-            printSummary(s, **r);
-            for (const std::string& n : (*r)->notes) std::printf("  note: %s\n", n.c_str());
-            printChunkStats(s.output);
-        } else {
-            double seconds = 0;
-            for (const auto& st : (*r)->stages) seconds += st.seconds;
-            std::printf("[%zu/%zu] %s -> %s (%s, %llu triangles, %.3f s)\n", i + 1, items.size(),
-                        it.input.c_str(), it.output.c_str(), bytesText((*r)->outputBytes).c_str(),
-                        (unsigned long long)(*r)->outputTriangles, seconds);
+        } else if (!c.quiet) {
+            for (const std::string& w : r->warnings)
+                std::fprintf(stderr, "Warning: %s: %s\n", it.input.c_str(), w.c_str());
+            ConvertSettings shown = c.settings;
+            shown.output = it.output;
+            if (c.verbose) {
+                printSummary(shown, *r);
+                for (const std::string& n : r->notes) std::printf("  note: %s\n", n.c_str());
+                printChunkStats(it.output);
+            } else {
+                double seconds = 0;
+                for (const auto& st : r->stages) seconds += st.seconds;
+                std::printf("[%zu/%zu] %s -> %s (%s, %llu triangles, %.3f s)\n", i + 1,
+                            items.size(), it.input.c_str(), it.output.c_str(),
+                            bytesText(r->outputBytes).c_str(),
+                            (unsigned long long)r->outputTriangles, seconds);
+            }
         }
         std::fflush(stdout);
-    }
+        outcomes[i].reset(); // the summary is no longer needed
+    };
+    std::atomic<size_t> next{0};
+    auto work = [&] {
+        for (size_t i = next++; i < items.size(); i = next++) {
+            ConvertSettings s = base;
+            s.input = items[i].input;
+            s.output = items[i].output;
+            Outcome r;
+            // One input's exhausted memory (or any other escape) must not end the others.
+            try {
+                r.emplace(pnb::converter::convertScene(s));
+            } catch (const std::exception& e) {
+                r.emplace(pnb::converter::ConvertError{
+                    ConvertErrorKind::Input, s.input + ": conversion aborted: " + e.what()});
+            }
+            std::lock_guard lock(reportMutex);
+            outcomes[i] = std::move(r);
+            while (nextToReport < items.size() && outcomes[nextToReport])
+                report(nextToReport++);
+        }
+    };
+    std::vector<std::thread> pool;
+    for (unsigned w = 1; w < workers; ++w) pool.emplace_back(work);
+    work();
+    for (std::thread& t : pool) t.join();
     if (!c.quiet)
         std::printf("batch: %zu converted, %zu failed\n", items.size() - failures.size(),
                     failures.size());
