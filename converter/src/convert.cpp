@@ -9,6 +9,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <future>
 #include <optional>
 #include <set>
 
@@ -203,6 +204,11 @@ Result<ConvertSummary, ConvertError> convertScene(const ConvertSettings& s,
     sum.dependencies.push_back(s.input);
     for (const std::string& d : scene.dependencies) sum.dependencies.push_back(d);
     clock.stop();
+
+    // The image decoder's load (dynamic linking of OpenImageIO) overlaps materials and meshes;
+    // processTextures waits for it if it is not done by then. The future joins at return.
+    std::future<void> decoderLoad;
+    if (!scene.images.empty()) decoderLoad = std::async(std::launch::async, loadImageDecoder);
 
     // [SECTION] materials
     clock.start("materials");

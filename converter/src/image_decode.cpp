@@ -104,3 +104,9 @@ ImageF resizeImage(const ImageF& src, uint32_t width, uint32_t height) {
 }
 
 } // namespace pnb::converter::texture_detail
+
+namespace pnb::converter {
+
+void loadImageDecoder() { (void)texture_detail::loadedCodec(); }
+
+} // namespace pnb::converter
