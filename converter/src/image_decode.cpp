@@ -5,7 +5,7 @@
 // "Start-up"). Conversions without images, and --help, no longer load it.
 //
 // Where the module is looked for, first found wins:
-//   1. $PNB_IMAGE_CODEC (a path to the module; for relocated installs and tests);
+//   1. $PNB_IMAGE_CODEC (a path to the module; for relocated installs and tests), alone when set;
 //   2. beside the executable (the build tree keeps pnb-convert and the module together);
 //   3. the installed location relative to the executable (<bindir>/PNB_IMAGE_CODEC_FROM_BINDIR);
 //   4. where this build tree wrote it (tests live in other directories of the tree).
@@ -33,7 +33,8 @@ constexpr const char* kModuleName = PNB_IMAGE_CODEC_NAME;
 
 std::vector<std::string> candidatePaths() {
     std::vector<std::string> paths;
-    if (const char* env = std::getenv("PNB_IMAGE_CODEC"); env && *env) paths.push_back(env);
+    // An explicit choice is the only candidate: a wrong path is an error, not a silent fallback.
+    if (const char* env = std::getenv("PNB_IMAGE_CODEC"); env && *env) return {env};
     std::error_code ec;
     fs::path exe = fs::read_symlink("/proc/self/exe", ec);
     if (!ec) {
