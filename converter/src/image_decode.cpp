@@ -39,8 +39,9 @@ std::vector<std::string> candidatePaths() {
     fs::path exe = fs::read_symlink("/proc/self/exe", ec);
     if (!ec) {
         paths.push_back((exe.parent_path() / kModuleName).string());
-        paths.push_back(
-            (exe.parent_path() / PNB_IMAGE_CODEC_FROM_BINDIR / kModuleName).lexically_normal().string());
+        paths.push_back((exe.parent_path() / PNB_IMAGE_CODEC_FROM_BINDIR / kModuleName)
+                            .lexically_normal()
+                            .string());
     }
     paths.push_back(PNB_IMAGE_CODEC_BUILD_PATH);
     return paths;
@@ -108,6 +109,8 @@ ImageF resizeImage(const ImageF& src, uint32_t width, uint32_t height) {
 
 namespace pnb::converter {
 
-void loadImageDecoder() { (void)texture_detail::loadedCodec(); }
+void loadImageDecoder() {
+    (void)texture_detail::loadedCodec();
+}
 
 } // namespace pnb::converter

@@ -113,7 +113,7 @@ void expandToRgba(std::vector<float>& t, int channels, bool secondIsAlpha) {
 } // namespace
 
 Result<DecodedImage, ConvertError> decodeWithOiio(const IrImage& image, uint64_t maxSourceTexels,
-                                               const AdmitImage& admit) {
+                                                  const AdmitImage& admit) {
     auto fail = [&](const std::string& what) {
         return ConvertError{ConvertErrorKind::Input, describeImage(image) + ": " + what};
     };

@@ -73,8 +73,9 @@ TEST_F(BatchConvert, OutputIsByteIdenticalToOneProcessPerInput) {
     args.insert(args.end(), {"-o", (dir / "batch").string()});
     auto batch = convert(args);
     ASSERT_EQ(batch.exitCode, 0) << batch.output;
-    EXPECT_NE(batch.output.find("batch: " + std::to_string(kInputs.size()) + " converted, 0 failed"),
-              std::string::npos)
+    EXPECT_NE(
+        batch.output.find("batch: " + std::to_string(kInputs.size()) + " converted, 0 failed"),
+        std::string::npos)
         << batch.output;
 
     // --batch LIST with a comment, a blank line and per-line outputs (tab-separated), converted

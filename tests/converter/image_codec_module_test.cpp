@@ -37,8 +37,8 @@ TEST(ImageCodecModule, AMissingModuleFailsOnlyTexturedInputsWithAClearError) {
               std::string::npos)
         << textured.output;
     EXPECT_NE(textured.output.find(bogus + ": not found"), std::string::npos) << textured.output;
-    EXPECT_NE(textured.output.find("CesiumLogoFlat.png"), std::string::npos)
-        << "names the image\n" << textured.output;
+    EXPECT_NE(textured.output.find("CesiumLogoFlat.png"), std::string::npos) << "names the image\n"
+                                                                             << textured.output;
     EXPECT_FALSE(fs::exists(dir / "t.pnb"));
     EXPECT_EQ(plain.exitCode, 0) << plain.output;
     EXPECT_TRUE(fs::exists(dir / "p.pnb"));

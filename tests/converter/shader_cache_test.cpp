@@ -167,8 +167,8 @@ TEST_F(ShaderCache, AnUnwritableCacheNeverFailsAValidation) {
 
     // A read-only directory (only enforced for users other than root).
     fs::create_directories(dir / "ro" / "shader-validation");
-    fs::permissions(dir / "ro" / "shader-validation",
-                    fs::perms::owner_read | fs::perms::owner_exec, fs::perm_options::replace);
+    fs::permissions(dir / "ro" / "shader-validation", fs::perms::owner_read | fs::perms::owner_exec,
+                    fs::perm_options::replace);
     ShaderValidationCache readOnly((dir / "ro").string());
     EXPECT_EQ(validate(readOnly).compiled, plan().programs.size());
     if (geteuid() != 0) {
@@ -205,8 +205,10 @@ TEST(CacheDirectory, FollowsPnbCacheDirThenXdgThenHome) {
         return v ? std::optional<std::string>(v) : std::nullopt;
     };
     auto restore = [](const char* name, const std::optional<std::string>& v) {
-        if (v) setenv(name, v->c_str(), 1);
-        else unsetenv(name);
+        if (v)
+            setenv(name, v->c_str(), 1);
+        else
+            unsetenv(name);
     };
     auto pnbDir = saved("PNB_CACHE_DIR"), xdg = saved("XDG_CACHE_HOME"), home = saved("HOME");
     setenv("PNB_CACHE_DIR", "/tmp/pnb-cache", 1);
