@@ -137,6 +137,13 @@ TEST_F(BatchConvert, CollidingOutputsAndMissingOutputsAreRefusedBeforeConverting
     EXPECT_NE(noDir.output.find((dir / "list.txt").string() + ":1: no output"), std::string::npos)
         << noDir.output;
 
+    // --depfile names one file: refused with several inputs.
+    auto depfile = convert({kInputs[0], kInputs[2], "-o", (dir / "out").string(), "--depfile",
+                            (dir / "deps.d").string()});
+    EXPECT_EQ(depfile.exitCode, 1) << depfile.output;
+    EXPECT_NE(depfile.output.find("--depfile"), std::string::npos) << depfile.output;
+    EXPECT_FALSE(fs::exists(dir / "out"));
+
     auto unreadable = convert({"--batch", (dir / "no-such-list.txt").string(), "-o", "x"});
     EXPECT_EQ(unreadable.exitCode, 1) << unreadable.output;
     EXPECT_NE(unreadable.output.find("cannot read the batch list"), std::string::npos);
