@@ -9,16 +9,19 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <future>
 #include <optional>
 #include <set>
 
 #include "parallel_for.h"
 #include "pnb/scene_builder.h"
 #include "pnb/writer.h"
+#include "pnb_converter/cache_directory.h"
 #include "pnb_converter/camera_path.h"
 #include "pnb_converter/importers.h"
 #include "pnb_converter/material_resolve.h"
 #include "pnb_converter/shader_permutations.h"
+#include "pnb_converter/shader_validation_cache.h"
 
 namespace pnb::converter {
 
@@ -201,6 +204,11 @@ Result<ConvertSummary, ConvertError> convertScene(const ConvertSettings& s,
     sum.dependencies.push_back(s.input);
     for (const std::string& d : scene.dependencies) sum.dependencies.push_back(d);
     clock.stop();
+
+    // The image decoder's load (dynamic linking of OpenImageIO) overlaps materials and meshes;
+    // processTextures waits for it if it is not done by then. The future joins at return.
+    std::future<void> decoderLoad;
+    if (!scene.images.empty()) decoderLoad = std::async(std::launch::async, loadImageDecoder);
 
     // [SECTION] materials
     clock.start("materials");
@@ -397,8 +405,17 @@ Result<ConvertSummary, ConvertError> convertScene(const ConvertSettings& s,
     ShaderPlan plan = planShaders(materials.materials, materials.features, needs);
     if (s.validateShaders) {
         report("shaders", 0, plan.programs.size());
-        auto validated = validateShaders(plan, builtinShaderFiles());
+        ShaderValidationCache* cache = nullptr;
+        if (s.shaderCache)
+            cache = &processShaderValidationCache(s.cacheDir.empty() ? userCacheDirectory()
+                                                                     : s.cacheDir);
+        ShaderValidationStats stats;
+        auto validated = validateShaders(plan, builtinShaderFiles(), cache, &stats);
+        if (cache)
+            for (std::string& n : cache->takeNotes()) sum.notes.push_back(std::move(n));
         if (!validated) return validated.error();
+        sum.programsValidated = stats.compiled;
+        sum.programsFromCache = stats.fromCache;
     }
     for (const ProgramVariant& v : plan.programs) sum.programs.push_back(describeVariant(v));
     describeOmissions(materials, plan, needs, sum);

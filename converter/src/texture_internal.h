@@ -1,6 +1,6 @@
 // converter/src/texture_internal.h — private interfaces between the texture processing files
-// (texture_processing.cpp drives one request and runs the worker pool; image_decode.cpp decodes
-// and resizes with OpenImageIO; mip_chain.cpp filters mip levels and preserves alpha coverage;
+// (texture_processing.cpp drives one request and runs the worker pool; image_decode_oiio.cpp
+// decodes and resizes with OpenImageIO, in a module image_decode.cpp loads on first use; mip_chain.cpp filters mip levels and preserves alpha coverage;
 // channel_packing.cpp chooses what is stored where and quantises; block_compress.cpp wraps
 // libsquish). Not installed, not used outside converter/src.
 //
@@ -57,7 +57,15 @@ struct ImageHeader {
 using AdmitImage = std::function<std::optional<std::string>(const ImageHeader&)>;
 
 // "image 'wood' (textures/wood.png)" or "image 'wood' (embedded, 1234 bytes)", for messages.
-std::string describeImage(const IrImage& image);
+// Inline: the image codec module (image_decode_oiio.cpp) uses it too and links nothing of ours.
+inline std::string describeImage(const IrImage& image) {
+    std::string s = "image '" + image.name + "' (";
+    if (!image.path.empty())
+        s += image.path;
+    else
+        s += "embedded, " + std::to_string(image.encoded.size()) + " bytes";
+    return s + ")";
+}
 
 // Decodes the first subimage's full-resolution level to float RGBA with straight (not
 // premultiplied) alpha. The header is read and checked before any pixel buffer is allocated:
@@ -70,7 +78,18 @@ Result<DecodedImage, ConvertError> decodeImage(const IrImage& image, uint64_t ma
 
 // Resamples to width × height (each ≥ 1) with a Lanczos-3 filter (OIIO resize), on the calling
 // thread only, so results do not depend on OIIO's thread pool. Values are not clamped.
+// Precondition: an image was decoded before (the codec module is loaded).
 ImageF resizeImage(const ImageF& src, uint32_t width, uint32_t height);
+
+// The OpenImageIO codec behind decodeImage and resizeImage, in the module libpnb_image_oiio.so
+// (image_decode_oiio.cpp), loaded by image_decode.cpp on first use. The module and the converter
+// come from one build, so C++ types may cross; `size` catches a stale module from another one.
+struct ImageCodec {
+    size_t size; // sizeof(ImageCodec) where the module was built
+    Result<DecodedImage, ConvertError> (*decode)(const IrImage& image, uint64_t maxSourceTexels,
+                                                 const AdmitImage& admit);
+    ImageF (*resize)(const ImageF& src, uint32_t width, uint32_t height);
+};
 
 // [SECTION] mip chain — mip_chain.cpp
 

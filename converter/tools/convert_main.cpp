@@ -4,6 +4,13 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <atomic>
+#include <exception>
+#include <mutex>
+#include <thread>
+#include <fstream>
+#include <iostream>
+#include <set>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -16,6 +23,7 @@
 
 #include "pnb/reader.h"
 #include "pnb/scene.h"
+#include "pnb_converter/cache_directory.h"
 #include "pnb_converter/convert.h"
 #include "pnb_converter/memory_budget.h"
 
@@ -32,6 +40,7 @@ struct CliState {
     ConvertSettings settings;
     bool verbose = false, quiet = false;
     std::string testDir;
+    std::string batchList; // --batch LIST ("-" = standard input)
 };
 
 // Declarative option table: it parses the command line and prints --help (STYLE.md §16).
@@ -53,8 +62,14 @@ bool parseUnsigned(const char* text, uint32_t lo, uint32_t hi, uint32_t& out) {
 
 const std::vector<Option>& options() {
     static const std::vector<Option> table = {
-        {"Input and output", "-o, --output", "FILE", "the .pnb file to write (required)",
+        {"Input and output", "-o, --output", "FILE|DIR",
+         "the .pnb file to write; with several inputs or --batch, the directory to write "
+         "<input stem>.pnb files into (created if missing)",
          [](CliState& c, const char* a) { c.settings.output = a; return true; }},
+        {"Input and output", "--batch", "LIST",
+         "convert every input listed in LIST (one per line: INPUT, or INPUT<tab>OUTPUT; '#' "
+         "comments; '-' reads standard input) in this one process",
+         [](CliState& c, const char* a) { c.batchList = a; return true; }},
         {"Input and output", "--sidecar", "FILE",
          "material overrides (default: <input stem>.pnb.json next to the input, if present)",
          [](CliState& c, const char* a) { c.settings.sidecar = a; return true; }},
@@ -119,6 +134,10 @@ const std::vector<Option>& options() {
          [](CliState& c, const char* a) { return parseUnsigned(a, 1, 256, c.settings.jobs); }},
         {"General", "--no-validate-shaders", nullptr, "skip the glslang check of packed shaders",
          [](CliState& c, const char*) { c.settings.validateShaders = false; return true; }},
+        {"General", "--no-shader-cache", nullptr,
+         "validate every shader program again instead of trusting the cache of programs "
+         "validated before (see below)",
+         [](CliState& c, const char*) { c.settings.shaderCache = false; return true; }},
         {"General", "-v, --verbose", nullptr, "also print per-chunk-kind size statistics",
          [](CliState& c, const char*) { c.verbose = true; return true; }},
         {"General", "-q, --quiet", nullptr, "print errors only",
@@ -145,6 +164,8 @@ bool optionMatches(const Option& o, const std::string& arg) {
 
 void printHelp() {
     std::printf("usage: pnb-convert INPUT -o OUTPUT.pnb [options]\n"
+                "       pnb-convert INPUT... -o DIR [options]      (batch: one process)\n"
+                "       pnb-convert --batch LIST [-o DIR] [options]\n"
                 "       pnb-convert --test DIR [options]\n\n"
                 "Converts OBJ/MTL and glTF 2.0 (.gltf, .glb, Draco) scenes, and the other formats\n"
                 "assimp reads, into a Penumbra container.\n");
@@ -161,6 +182,18 @@ void printHelp() {
     std::printf("\n--max-memory defaults to half of the memory this process may use (physical "
                 "RAM,\nulimit -v and the cgroup limit, whichever is least): %s here.\n",
                 pnb::converter::formatBytes(pnb::converter::defaultMemoryBudget()).c_str());
+    std::printf("\nShader programs glslang accepted are remembered by a hash of their text and the\n"
+                "glslang version, in memory and in %s/shader-validation\n"
+                "($PNB_CACHE_DIR, else $XDG_CACHE_HOME/penumbra, else ~/.cache/penumbra); a\n"
+                "damaged or unwritable cache only means validating again.\n",
+                [] {
+                    std::string d = pnb::converter::userCacheDirectory();
+                    return d.empty() ? std::string("(no cache directory here)") : d;
+                }()
+                    .c_str());
+    std::printf("\nBatch mode (several inputs, or --batch) converts each input as a separate run\n"
+                "would, byte for byte, and goes on after a failed input; it exits 0 if all\n"
+                "converted, else with the code of the first failure, and names every failure.\n");
     std::printf("\nExit codes:\n  0  ok\n  1  usage error\n"
                 "  2  input error (missing, malformed or inconsistent source; the message names "
                 "the file and item)\n"
@@ -230,7 +263,11 @@ void printSummary(const ConvertSettings& s, const ConvertSummary& r) {
     std::printf("  mesh data %s, texture data %s", bytesText(r.meshBytes).c_str(),
                 bytesText(r.textureBytes).c_str());
     if (r.minTexturePsnrDb > 0) std::printf(" (block compressed, worst PSNR %.1f dB)", r.minTexturePsnrDb);
-    std::printf("\n  programs (%zu):", r.programs.size());
+    std::printf("\n  programs (%zu", r.programs.size());
+    if (r.programsValidated + r.programsFromCache > 0)
+        std::printf("; %zu validated, %zu known valid from the cache", r.programsValidated,
+                    r.programsFromCache);
+    std::printf("):");
     for (const std::string& p : r.programs) std::printf(" %s", p.c_str());
     std::printf("\n");
     for (const std::string& o : r.omitted) std::printf("  not written: %s\n", o.c_str());
@@ -326,6 +363,182 @@ int runTest(CliState& c) {
     return kExitOk;
 }
 
+// [SECTION] batch mode
+
+struct BatchItem {
+    std::string input, output;
+    std::string origin; // "LIST:12" or "argument 3", for messages
+};
+
+std::string trimmedCopy(const std::string& s) {
+    size_t b = s.find_first_not_of(" \t\r"), e = s.find_last_not_of(" \t\r");
+    return b == std::string::npos ? std::string() : s.substr(b, e - b + 1);
+}
+
+// Reads LIST: one input per line, optionally a tab and its output; blank lines and lines whose
+// first non-blank character is '#' are skipped. Relative paths are taken from the current
+// directory, as on the command line.
+bool readBatchList(const std::string& list, std::vector<BatchItem>& items) {
+    std::ifstream file;
+    std::istream* in = &std::cin;
+    if (list != "-") {
+        file.open(list);
+        if (!file) {
+            std::fprintf(stderr, "Error: cannot read the batch list %s\n", list.c_str());
+            return false;
+        }
+        in = &file;
+    }
+    std::string line;
+    for (size_t n = 1; std::getline(*in, line); ++n) {
+        std::string origin = (list == "-" ? std::string("stdin") : list) + ":" + std::to_string(n);
+        size_t tab = line.find('\t');
+        std::string input = trimmedCopy(line.substr(0, tab));
+        std::string output = tab == std::string::npos ? "" : trimmedCopy(line.substr(tab + 1));
+        if (input.empty() && output.empty()) continue;
+        if (!input.empty() && input[0] == '#') continue;
+        if (input.empty()) {
+            std::fprintf(stderr, "Error: %s: an output without an input\n", origin.c_str());
+            return false;
+        }
+        items.push_back({input, output, origin});
+    }
+    if (file.bad() || (list == "-" && std::cin.bad())) {
+        std::fprintf(stderr, "Error: cannot read the batch list %s\n", list.c_str());
+        return false;
+    }
+    return true;
+}
+
+// Converts every item in this process, in list order, each exactly as `pnb-convert INPUT -o
+// OUTPUT` with the same options would. A failure is reported and the batch goes on.
+int runBatch(CliState& c, std::vector<BatchItem> items) {
+    if (items.empty()) {
+        std::fprintf(stderr, "Error: no inputs to convert\n");
+        return kExitUsage;
+    }
+    if (!c.settings.depfile.empty() || !c.settings.sidecar.empty()) {
+        std::fprintf(stderr, "Error: --depfile and --sidecar name one file each and cannot be "
+                             "used with several inputs (each input's <stem>.pnb.json sidecar "
+                             "still applies)\n");
+        return kExitUsage;
+    }
+    const std::string dir = c.settings.output;
+    bool dirNeeded = false;
+    for (BatchItem& it : items) {
+        if (!it.output.empty()) continue;
+        if (dir.empty()) {
+            std::fprintf(stderr, "Error: %s: no output for %s: give one after a tab, or -o DIR\n",
+                         it.origin.c_str(), it.input.c_str());
+            return kExitUsage;
+        }
+        it.output = (fs::path(dir) / (fs::path(it.input).stem().string() + ".pnb")).string();
+        dirNeeded = true;
+    }
+    // Two inputs writing one file would silently keep only the last: refuse before converting.
+    std::map<std::string, const BatchItem*> byOutput;
+    for (const BatchItem& it : items) {
+        std::string key = fs::absolute(it.output).lexically_normal().string();
+        auto [pos, fresh] = byOutput.emplace(key, &it);
+        if (!fresh) {
+            std::fprintf(stderr, "Error: %s (%s) and %s (%s) would both write %s\n",
+                         pos->second->input.c_str(), pos->second->origin.c_str(),
+                         it.input.c_str(), it.origin.c_str(), it.output.c_str());
+            return kExitUsage;
+        }
+    }
+    if (dirNeeded) {
+        std::error_code ec;
+        fs::create_directories(dir, ec);
+        if (ec) {
+            std::fprintf(stderr, "Error: cannot create the output directory %s: %s\n",
+                         dir.c_str(), ec.message().c_str());
+            return kExitOutput;
+        }
+    }
+
+    // Inputs are converted concurrently, by as many workers as --jobs allows (each conversion
+    // gets an equal part of the threads and of the memory budget); results are reported in list
+    // order. Outputs do not depend on either (convert.h: identical bytes for any job count).
+    const unsigned threads =
+        c.settings.jobs ? c.settings.jobs : std::max(1u, std::thread::hardware_concurrency());
+    const unsigned workers = unsigned(std::min<size_t>(threads, items.size()));
+    ConvertSettings base = c.settings;
+    base.jobs = std::max(1u, threads / workers);
+    const uint64_t budget = c.settings.texture.maxMemoryBytes
+                                ? c.settings.texture.maxMemoryBytes
+                                : pnb::converter::defaultMemoryBudget();
+    base.texture.maxMemoryBytes = std::max<uint64_t>(1, budget / workers);
+
+    using Outcome = std::optional<pnb::Result<ConvertSummary, pnb::converter::ConvertError>>;
+    std::vector<Outcome> outcomes(items.size());
+    std::vector<std::pair<const BatchItem*, int>> failures;
+    std::mutex reportMutex;
+    size_t nextToReport = 0;
+    auto report = [&](size_t i) { // under reportMutex, in list order
+        const BatchItem& it = items[i];
+        const auto& r = *outcomes[i];
+        if (!r) {
+            int code = exitCodeOf(r.error().kind);
+            std::fprintf(stderr, "Error: [%zu/%zu] %s: %s\n", i + 1, items.size(),
+                         it.input.c_str(), r.error().message.c_str());
+            failures.emplace_back(&it, code);
+        } else if (!c.quiet) {
+            for (const std::string& w : r->warnings)
+                std::fprintf(stderr, "Warning: %s: %s\n", it.input.c_str(), w.c_str());
+            ConvertSettings shown = c.settings;
+            shown.output = it.output;
+            if (c.verbose) {
+                printSummary(shown, *r);
+                for (const std::string& n : r->notes) std::printf("  note: %s\n", n.c_str());
+                printChunkStats(it.output);
+            } else {
+                double seconds = 0;
+                for (const auto& st : r->stages) seconds += st.seconds;
+                std::printf("[%zu/%zu] %s -> %s (%s, %llu triangles, %.3f s)\n", i + 1,
+                            items.size(), it.input.c_str(), it.output.c_str(),
+                            bytesText(r->outputBytes).c_str(),
+                            (unsigned long long)r->outputTriangles, seconds);
+            }
+        }
+        std::fflush(stdout);
+        outcomes[i].reset(); // the summary is no longer needed
+    };
+    std::atomic<size_t> next{0};
+    auto work = [&] {
+        for (size_t i = next++; i < items.size(); i = next++) {
+            ConvertSettings s = base;
+            s.input = items[i].input;
+            s.output = items[i].output;
+            Outcome r;
+            // One input's exhausted memory (or any other escape) must not end the others.
+            try {
+                r.emplace(pnb::converter::convertScene(s));
+            } catch (const std::exception& e) {
+                r.emplace(pnb::converter::ConvertError{
+                    ConvertErrorKind::Input, s.input + ": conversion aborted: " + e.what()});
+            }
+            std::lock_guard lock(reportMutex);
+            outcomes[i] = std::move(r);
+            while (nextToReport < items.size() && outcomes[nextToReport])
+                report(nextToReport++);
+        }
+    };
+    std::vector<std::thread> pool;
+    for (unsigned w = 1; w < workers; ++w) pool.emplace_back(work);
+    work();
+    for (std::thread& t : pool) t.join();
+    if (!c.quiet)
+        std::printf("batch: %zu converted, %zu failed\n", items.size() - failures.size(),
+                    failures.size());
+    if (failures.empty()) return kExitOk;
+    std::fprintf(stderr, "batch: %zu of %zu input(s) failed:\n", failures.size(), items.size());
+    for (const auto& [it, code] : failures)
+        std::fprintf(stderr, "  %s (%s, exit code %d)\n", it->input.c_str(), it->origin.c_str(),
+                     code);
+    return failures.front().second;
+}
+
 } // namespace
 
 int main(int argc, char** argv) {
@@ -363,6 +576,17 @@ int main(int argc, char** argv) {
         }
     }
     if (!c.testDir.empty()) return runTest(c);
+    if (!c.batchList.empty() || positional.size() > 1) {
+        std::vector<BatchItem> items;
+        if (!c.batchList.empty() && !readBatchList(c.batchList, items)) return kExitUsage;
+        for (size_t k = 0; k < positional.size(); ++k)
+            items.push_back({positional[k], "", "argument " + std::to_string(k + 1)});
+        if (c.settings.output.empty() && positional.size() > 1) {
+            std::fprintf(stderr, "Error: several inputs need -o DIR (see --help)\n");
+            return kExitUsage;
+        }
+        return runBatch(c, std::move(items));
+    }
     if (positional.size() != 1 || c.settings.output.empty()) {
         std::fprintf(stderr, "Error: expected one INPUT and -o OUTPUT (see --help)\n");
         return kExitUsage;
@@ -381,7 +605,10 @@ int main(int argc, char** argv) {
         for (const std::string& w : result->warnings)
             std::fprintf(stderr, "Warning: %s\n", w.c_str());
         printSummary(c.settings, *result);
-        if (c.verbose) printChunkStats(c.settings.output);
+        if (c.verbose) {
+            for (const std::string& n : result->notes) std::printf("  note: %s\n", n.c_str());
+            printChunkStats(c.settings.output);
+        }
     }
     return kExitOk;
 }

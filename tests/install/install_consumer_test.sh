@@ -32,6 +32,17 @@ for f in bin/pnb-convert bin/pnb-play bin/pnb-edit bin/pnb-inspect bin/pnb-refer
     share/doc/penumbra/README.md share/doc/penumbra/docs/FORMAT.md share/penumbra/plot_frames.py; do
     [ -e "$prefix/$f" ] || fail "$f not installed"
 done
+codec=$(find "$prefix" -path '*/penumbra/libpnb_image_oiio.so')
+[ -n "$codec" ] || fail "the image codec module libpnb_image_oiio.so is not installed"
+# The installed converter loads its image codec from the prefix, not from the build tree (it
+# would find that one last): a textured model, with the dynamic loader reporting what it loads.
+textured=/usr/share/assimp/models/glTF2/BoxTextured-glTF/BoxTextured.gltf
+if [ -f "$textured" ]; then
+    LD_DEBUG=files "$prefix/bin/pnb-convert" "$textured" -o "$tmp/textured.pnb" -q \
+        >"$tmp/codec.log" 2>&1 || { cat "$tmp/codec.log" >&2; fail "installed pnb-convert on $textured"; }
+    grep -q "file=$codec .*dynamically loaded" "$tmp/codec.log" ||
+        fail "the installed pnb-convert did not load $codec: $(grep libpnb_image_oiio "$tmp/codec.log")"
+fi
 
 # The consumer, configured from a directory outside the source and build trees. The package
 # registries are off, so only CMAKE_PREFIX_PATH (or the system) can provide Penumbra.

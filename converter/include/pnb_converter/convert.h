@@ -31,6 +31,10 @@ struct ConvertSettings {
     TextureSettings texture;    // see texture_processing.h for defaults
     uint32_t jobs = 0;          // worker threads for meshes and textures; 0 = all cores
     bool validateShaders = true; // glslang-check every packed program. Default: true.
+    // Remember programs glslang accepted (shader_validation_cache.h): in memory for the process
+    // and on disk under `cacheDir`, so a program text is validated once. Default: true.
+    bool shaderCache = true;
+    std::string cacheDir;       // "" = userCacheDirectory() (cache_directory.h)
     bool checksums = true;      // payload checksums. Default: true.
     bool compressBulk = false;  // zstd also for meshes and texels (smaller file, no zero-copy
                                 // load). Default: false.
@@ -53,8 +57,10 @@ struct ConvertSummary {
     size_t deferredMaterials = 0, forwardMaterials = 0;
     std::vector<uint16_t> deferredLayers;                  // distinct priorities, ascending
     std::vector<std::string> programs;                     // "gbuffer[HAS_UV0 ...]"
+    size_t programsValidated = 0, programsFromCache = 0;   // glslang runs vs cache hits
     std::vector<std::string> omitted;  // what the scene does not need and so was not written
     std::vector<std::string> warnings; // dropped or repaired input, each naming the item
+    std::vector<std::string> notes;    // harmless trouble worth a verbose line (cache not saved)
     bool defaultSun = false, defaultCamera = false, defaultPath = false;
     double minTexturePsnrDb = 0;       // worst PSNR of compressed textures (0 = none compressed)
     uint64_t outputBytes = 0, meshBytes = 0, textureBytes = 0;

@@ -75,11 +75,22 @@ struct ShaderPlan {
 ShaderPlan planShaders(std::span<const Material> materials,
                        std::span<const MaterialFeatures> features, const SceneShaderNeeds& needs);
 
+class ShaderValidationCache; // shader_validation_cache.h
+
+// How validateShaders reached its verdicts.
+struct ShaderValidationStats {
+    size_t compiled = 0;  // variants compiled and linked by glslang
+    size_t fromCache = 0; // variants the cache already knew to be valid
+};
+
 // Compiles and links every variant of `plan` with glslang (GLSL 4.50 core, OpenGL rules) and
-// returns how many variants passed. Errors (Input): the program, its defines, and the
-// compiler's message with file:line.
+// returns how many variants passed. With a `cache`, a variant whose exact texts, stages and
+// glslang version passed before is not compiled again, and each one that passes is remembered.
+// Errors (Input): the program, its defines, and the compiler's message with file:line.
 Result<size_t, ConvertError> validateShaders(const ShaderPlan& plan,
-                                             std::span<const ShaderFile> library);
+                                             std::span<const ShaderFile> library,
+                                             ShaderValidationCache* cache = nullptr,
+                                             ShaderValidationStats* stats = nullptr);
 
 // Text form of a define list for messages and summaries: "gbuffer[HAS_UV0 HAS_NORMAL_MAP]".
 std::string describeVariant(const ProgramVariant& v);
