@@ -354,6 +354,19 @@ PlayResult<BenchResult> runBenchmark(const GpuScene& scene, Renderer& renderer,
                     {"upload", load.uploadMs}, {"compile", load.compileMs}, {"total", load.totalMs},
                     {"file_bytes", load.fileBytes}, {"zero_copy_bytes", load.zeroCopyBytes},
                     {"decompressed_bytes", load.decompressedBytes}};
+    if (options.startup) {
+        const StartupTimes& t = *options.startup;
+        const ProgramCacheStats& p = t.programs;
+        j["time_to_first_frame_ms"] = {
+            {"total", t.totalMs}, {"process_start", t.processStartMs},
+            {"process_start_source", t.processStartSource}, {"context", t.contextMs}, {"load", t.loadMs},
+            {"programs", t.programsMs}, {"warmup", t.warmUpMs}, {"first_frame", t.firstFrameMs},
+            {"other", t.otherMs}, {"warmup_enabled", t.warmUp},
+            {"program_cache", {{"enabled", p.enabled}, {"binaries_offered", p.binariesOffered},
+                               {"directory", p.directory}, {"hits", p.hits}, {"misses", p.misses},
+                               {"rejected", p.rejected}, {"uncached", p.uncached}, {"written", p.written},
+                               {"write_failures", p.writeFailures}}}};
+    }
     TargetMemory tm = renderer.targetMemory();
     j["gpu_memory_bytes"] = {{"meshes", scene.memory.meshBytes}, {"textures", scene.memory.textureBytes},
                              {"material_uniforms", scene.memory.uniformBytes},
