@@ -307,7 +307,7 @@ PlayResult<BenchResult> runBenchmark(const GpuScene& scene, Renderer& renderer,
     csv << "frame,time_s,cpu_ms,gpu_total_ms";
     for (const std::string& n : passNames) csv << ",gpu_" << n << "_ms";
     csv << ",draw_calls,triangles,visible_items,culled_items,deferred_layers,shadow_draws,"
-           "shadow_triangles,shadow_casters,camera_x,camera_y,camera_z,camera_yfov_deg\n";
+           "shadow_triangles,shadow_casters,camera_x,camera_y,camera_z,camera_yfov_deg,thread_cpu_ms\n";
     for (size_t k = 0; k < records.size(); ++k) {
         const FrameRecord& r = records[k];
         csv << k << ',' << r.pathTime << ',' << r.stats.cpuMs << ',';
@@ -320,7 +320,8 @@ PlayResult<BenchResult> runBenchmark(const GpuScene& scene, Renderer& renderer,
             << ',' << r.stats.culledItems << ',' << r.stats.deferredLayersDrawn << ','
             << r.stats.shadowDraws << ',' << r.stats.shadowTriangles << ',' << r.stats.shadowCasters << ','
             << std::setprecision(9) << r.cameraPosition.x << ',' << r.cameraPosition.y << ','
-            << r.cameraPosition.z << ',' << r.cameraYfovDegrees << std::setprecision(6) << '\n';
+            << r.cameraPosition.z << ',' << r.cameraYfovDegrees << std::setprecision(6) << ','
+            << r.stats.threadCpuMs << '\n';
     }
     std::string csvPath = options.outDir + "/frames.csv";
     if (auto w = writeText(csvPath, csv.str()); !w) return w.error();

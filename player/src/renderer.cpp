@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <ctime>
 
 #include <glm/gtc/type_ptr.hpp>
 
@@ -22,6 +23,12 @@ struct GpuLight {
 };
 
 constexpr size_t kObjectBlockBytes = 176;
+
+double threadCpuMs() {
+    timespec ts{};
+    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+    return double(ts.tv_sec) * 1e3 + double(ts.tv_nsec) * 1e-6;
+}
 
 } // namespace
 
@@ -105,6 +112,7 @@ GLuint Renderer::outputTexture() const { return mImpl->targets.output.id(); }
 
 PlayResult<Done> Renderer::render(const CameraState& camera, uint32_t width, uint32_t height) {
     auto cpuStart = std::chrono::steady_clock::now();
+    const double threadStart = threadCpuMs();
     Impl& impl = *mImpl;
     const GpuScene& scene = *impl.scene;
     if (width == 0 || height == 0)
@@ -218,6 +226,7 @@ PlayResult<Done> Renderer::render(const CameraState& camera, uint32_t width, uin
     impl.ring.endFrame();
     glBindFramebuffer(GL_FRAMEBUFFER, 0);
     mStats.cpuMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - cpuStart).count();
+    mStats.threadCpuMs = threadCpuMs() - threadStart;
     return Done{};
 }
 

@@ -7,7 +7,8 @@
 // Output directory:
 //   frames.csv     one row per frame: path time, CPU ms, GPU ms per pass and total, draw calls,
 //                  triangles, visible/culled items, deferred layers drawn, camera position and
-//                  vertical field of view (camera_x/y/z, camera_yfov_deg)
+//                  vertical field of view (camera_x/y/z, camera_yfov_deg), the render thread's
+//                  CPU time (thread_cpu_ms: where shader code generation shows, FrameStats)
 //   summary.json   min/median/p95/max per pass and for CPU time; load-time split; time to first
 //                  frame and its split (startup_times.h, when given); GPU memory by category;
 //                  machine, GL vendor/renderer/version; resolution; every setting

@@ -31,6 +31,11 @@ namespace pnb::player {
 struct FrameStats {
     uint64_t frame = 0;
     double cpuMs = 0;          // CPU time to record and submit the frame
+    // CPU time of the calling thread inside render(): the driver's work on this thread (state
+    // validation, shader code generation at a state's first draw; on llvmpipe also vertex
+    // processing) but not rasterisation, which runs on the driver's own threads. Unlike cpuMs it
+    // barely moves when other processes compete for the cores, so code-generation spikes stand out.
+    double threadCpuMs = 0;
     uint32_t drawCalls = 0;
     uint64_t triangles = 0;    // submitted
     uint32_t visibleItems = 0, culledItems = 0;
