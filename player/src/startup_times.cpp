@@ -52,9 +52,11 @@ std::string startupSummary(const StartupTimes& t) {
     char buf[512];
     std::snprintf(buf, sizeof buf,
                   "time to first frame: %.1f ms = process start %.1f + context %.1f + load %.1f + "
-                  "programs %.1f (%u from cache, %u compiled) + warm-up %.1f%s + first frame %.1f + other %.1f",
+                  "programs %.1f (%u from cache, %u compiled) + warm-up %.1f%s + first frame %.1f (render thread "
+                  "%.1f CPU) + other %.1f",
                   t.totalMs, t.processStartMs, t.contextMs, t.loadMs, t.programsMs, t.programs.hits,
-                  t.programs.compiled(), t.warmUpMs, t.warmUp ? "" : " (off)", t.firstFrameMs, t.otherMs);
+                  t.programs.compiled(), t.warmUpMs, t.warmUp ? "" : " (off)", t.firstFrameMs,
+                  t.firstFrameThreadCpuMs, t.otherMs);
     return buf;
 }
 

@@ -367,6 +367,7 @@ int main(int argc, char** argv) {
     if (auto r = (*renderer)->render(first, bo.width, bo.height); !r) return fail(r.error());
     glFinish();
     startup.firstFrameMs = msSince(phase);
+    startup.firstFrameThreadCpuMs = (*renderer)->lastFrame().threadCpuMs;
     startup.programs = programCacheStats();
     startup.programsMs = startup.programs.ms;
     startup.totalMs = startup.processStartMs + msSince(processStart);

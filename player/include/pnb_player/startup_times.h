@@ -27,6 +27,9 @@ struct StartupTimes {
     std::string processStartSource; // "PNB_LAUNCH_TIME_NS" or "/proc/self/stat"
     double contextMs = 0, loadMs = 0, programsMs = 0, warmUpMs = 0, firstFrameMs = 0, otherMs = 0;
     double totalMs = 0;
+    // The first frame's render-thread CPU time (FrameStats::threadCpuMs): about a steady frame's
+    // when the warm-up did its job, tens to thousands of ms of code generation when it did not.
+    double firstFrameThreadCpuMs = 0;
     bool warmUp = false;            // startup.warmup was on
     ProgramCacheStats programs;     // hits, misses, ... of the programs made before the first frame
 };
