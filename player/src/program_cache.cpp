@@ -54,7 +54,7 @@ State& state() {
 
 void note(const char* fmt, ...) {
     if (!state().options.notes) return;
-    char buf[1024];
+    char buf[2048];
     va_list args;
     va_start(args, fmt);
     std::vsnprintf(buf, sizeof buf, fmt, args);
@@ -102,7 +102,7 @@ bool readWholeFile(const std::string& path, std::vector<uint8_t>& out, int& erro
     }
     struct stat st {};
     if (::fstat(fd, &st) != 0 || !S_ISREG(st.st_mode)) {
-        error = S_ISREG(st.st_mode) ? errno : EISDIR;
+        error = S_ISREG(st.st_mode) || st.st_mode == 0 ? errno : EISDIR;
         ::close(fd);
         return false;
     }
@@ -117,6 +117,13 @@ bool readWholeFile(const std::string& path, std::vector<uint8_t>& out, int& erro
     out.resize(done);
     ::close(fd);
     return true;
+}
+
+// XXH3-64 of the header's first 64 bytes and the driver strings that follow the header.
+uint64_t headerChecksum(const std::vector<uint8_t>& entry, size_t stringBytes) {
+    std::vector<uint8_t> covered(entry.begin(), entry.begin() + 64);
+    covered.insert(covered.end(), entry.begin() + kHeaderBytes, entry.begin() + static_cast<std::ptrdiff_t>(kHeaderBytes + stringBytes));
+    return XXH3_64bits(covered.data(), covered.size());
 }
 
 std::string shortDriver(const Driver& d) { return d.strings[0] + " | " + d.strings[1] + " | " + d.strings[2]; }
@@ -149,13 +156,7 @@ std::string validate(const std::vector<uint8_t>& e, const ProgramCacheLookup& lo
     }
     for (int i = 0; i < 4; ++i)
         if (stored.strings[i] != driver.strings[i]) return "written by another driver (" + shortDriver(stored) + ")";
-    XXH3_state_t* h = XXH3_createState();
-    XXH3_64bits_reset(h);
-    XXH3_64bits_update(h, e.data(), 64);
-    XXH3_64bits_update(h, e.data() + kHeaderBytes, stringBytes);
-    uint64_t headerSum = XXH3_64bits_digest(h);
-    XXH3_freeState(h);
-    if (headerSum != get<uint64_t>(e, 64)) return "damaged header (checksum mismatch)";
+    if (headerChecksum(e, size_t(stringBytes)) != get<uint64_t>(e, 64)) return "damaged header (checksum mismatch)";
     if (get<uint64_t>(e, 16) != lookup.keyLow || get<uint64_t>(e, 24) != lookup.keyHigh)
         return "holds another program than its name says";
     binaryAt = at;
@@ -229,21 +230,16 @@ ProgramCacheLookup programCacheLookup(std::span<const ProgramStageText> stages) 
         s.noBinaryNoted = true;
         return lookup;
     }
-    Driver driver = currentDriver();
-    XXH3_state_t* h = XXH3_createState();
-    XXH3_128bits_reset(h);
-    for (const std::string& str : driver.strings) {
-        uint64_t n = str.size();
-        XXH3_128bits_update(h, &n, sizeof n); // lengths keep "ab"+"c" apart from "a"+"bc"
-        XXH3_128bits_update(h, str.data(), str.size());
-    }
-    for (const ProgramStageText& st : stages) {
-        uint64_t header[2] = {uint64_t(st.stage), uint64_t(st.text.size())};
-        XXH3_128bits_update(h, header, sizeof header);
-        XXH3_128bits_update(h, st.text.data(), st.text.size());
-    }
-    XXH128_hash_t key = XXH3_128bits_digest(h);
-    XXH3_freeState(h);
+    // Every field with its length first, so "ab"+"c" and "a"+"bc" are different keys.
+    std::string keyed;
+    auto field = [&](uint64_t tag, std::string_view text) {
+        uint64_t header[2] = {tag, uint64_t(text.size())};
+        keyed.append(reinterpret_cast<const char*>(header), sizeof header);
+        keyed.append(text);
+    };
+    for (const std::string& str : currentDriver().strings) field(0, str);
+    for (const ProgramStageText& st : stages) field(uint64_t(st.stage), st.text);
+    XXH128_hash_t key = XXH3_128bits(keyed.data(), keyed.size());
     char name[40];
     std::snprintf(name, sizeof name, "%016llx%016llx.bin", (unsigned long long)key.high64,
                   (unsigned long long)key.low64);
@@ -320,12 +316,7 @@ void storeCachedProgram(const ProgramCacheLookup& lookup, GLuint program) {
     }
     put<uint64_t>(entry, 48, uint64_t(written));
     put<uint64_t>(entry, 56, XXH3_64bits(entry.data() + at, size_t(written)));
-    XXH3_state_t* h = XXH3_createState();
-    XXH3_64bits_reset(h);
-    XXH3_64bits_update(h, entry.data(), 64);
-    XXH3_64bits_update(h, entry.data() + kHeaderBytes, stringBytes);
-    put<uint64_t>(entry, 64, XXH3_64bits_digest(h));
-    XXH3_freeState(h);
+    put<uint64_t>(entry, 64, headerChecksum(entry, stringBytes));
 
     std::error_code ec;
     std::filesystem::create_directories(s.directory, ec);
