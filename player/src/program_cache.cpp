@@ -38,6 +38,8 @@ constexpr char kMagic[8] = {'P', 'N', 'B', 'P', 'R', 'O', 'G', '\n'};
 constexpr uint32_t kEntryVersion = 1;
 constexpr size_t kHeaderBytes = 72;
 constexpr uint32_t kMaxDriverString = 4096;
+// Larger files are not read: no linked program comes near it, and GLsizei must hold the binary.
+constexpr uint64_t kMaxEntryBytes = 256ull << 20;
 
 struct State {
     ProgramCacheOptions options;
@@ -105,6 +107,11 @@ bool readWholeFile(const std::string& path, std::vector<uint8_t>& out, int& erro
         error = S_ISREG(st.st_mode) || st.st_mode == 0 ? errno : EISDIR;
         ::close(fd);
         return false;
+    }
+    if (uint64_t(st.st_size) > kMaxEntryBytes) { // judged "damaged" by its size below
+        ::close(fd);
+        out.assign(kHeaderBytes - 1, 0);
+        return true;
     }
     out.resize(size_t(st.st_size));
     size_t done = 0;

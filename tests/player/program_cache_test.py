@@ -98,6 +98,13 @@ def expect_one_rejection(name, cache, victim, reason, reference, programs):
 
 
 def main():
+    # 0. The options and the setting are where a user looks for them.
+    usage = subprocess.run([PLAY, "--help"], capture_output=True, text=True).stdout
+    check("--program-cache DIR" in usage and "--no-program-cache" in usage and "startup.warmup" in usage,
+          "--help does not describe --program-cache, --no-program-cache and startup.warmup")
+    listed = subprocess.run([PLAY, "--list-settings"], capture_output=True, text=True).stdout
+    check("startup.warmup" in listed, "--list-settings does not list startup.warmup")
+
     # 1. A first run compiles and writes; a second loads every program; no cache renders the same.
     cold = fresh("cold")
     rc, notes, pc, reference, _ = run("first", cold)
