@@ -44,7 +44,8 @@ constexpr uint64_t kMaxEntryBytes = 256ull << 20;
 struct State {
     ProgramCacheOptions options;
     std::string directory; // resolved; "" = off
-    bool writable = true;  // false after a failed write (one note per process)
+    bool writable = true;  // false after a failed write
+    bool directoryNoted = false; // one note per process about the directory (read or write)
     bool noBinaryNoted = false;
     ProgramCacheStats stats;
 };
@@ -180,10 +181,17 @@ std::string validate(const std::vector<uint8_t>& e, const ProgramCacheLookup& lo
     return "";
 }
 
+// Problems with the directory itself (not with one entry) are noted once per process.
+void directoryNote(const std::string& what) {
+    State& s = state();
+    if (!s.directoryNoted) note("%s", what.c_str());
+    s.directoryNoted = true;
+}
+
 void writeFailed(const std::string& what) {
     State& s = state();
     ++s.stats.writeFailures;
-    if (s.writable) note("%s; not writing entries in this run", what.c_str());
+    if (s.writable) directoryNote(what + "; not writing entries in this run");
     s.writable = false;
 }
 
@@ -204,6 +212,7 @@ void configureProgramCache(const ProgramCacheOptions& options) {
     State& s = state();
     s.options = options;
     s.writable = true;
+    s.directoryNoted = false;
     s.directory = options.enabled ? (options.directory.empty() ? defaultProgramCacheDirectory() : options.directory)
                                   : "";
     while (s.directory.size() > 1 && s.directory.back() == '/') s.directory.pop_back();
@@ -264,7 +273,7 @@ GLuint loadCachedProgram(const ProgramCacheLookup& lookup, std::string_view labe
     int error = 0;
     if (!readWholeFile(lookup.path, entry, error)) {
         ++s.stats.misses;
-        if (error != ENOENT) note("cannot read %s: %s", lookup.path.c_str(), std::strerror(error));
+        if (error != ENOENT) directoryNote("cannot read " + lookup.path + ": " + std::strerror(error));
         return 0;
     }
     size_t binaryAt = 0;

@@ -215,6 +215,12 @@ def main():
     check(rc == 0 and not notes and pc.get("hits") == kept and pc.get("rejected") == 0,
           f"full: the {kept} entries written before the limit are not all valid: {pc} {notes}")
 
+    not_a_directory = os.path.join(ROOT, "a-file")
+    open(not_a_directory, "w").close()
+    rc, notes, pc, image, _ = run("under-a-file", os.path.join(not_a_directory, "cache"))
+    check(rc == 0 and len(notes) == 1 and pc.get("hits") == 0, f"cache directory under a file: exit {rc}, notes {notes}, {pc}")
+    check(image == reference, "cache directory under a file: image differs")
+
     rc, notes, pc, image, _ = run("nohome", None, env_drop=("HOME", "XDG_CACHE_HOME", "PNB_PROGRAM_CACHE_DIR"))
     check(rc == 0 and len(notes) <= 1 and pc.get("enabled") is False,
           f"no HOME: exit {rc}, notes {notes}, {pc}")

@@ -12,7 +12,9 @@
 // temporary file and a rename (readers never see a part); they are not fsync'ed, because a lost
 // or torn entry is detected and rebuilt like a damaged one. A directory that cannot be created
 // or written (read-only, disk full, file-size limit) turns writing off for the rest of the
-// process after one note; loading entries already there goes on. Nothing here ever fails a run.
+// process after one note; loading entries already there goes on. Problems with the directory
+// (unreadable, not a directory) are noted once per process, damaged entries once each. Nothing
+// here ever fails a run.
 //
 // The library's default is off: pnb-play turns it on (tests and embedders opt in). Single
 // thread, like the GL context it serves.
