@@ -10,10 +10,12 @@ temporary root, so the user's cache is never touched. Checked:
     entry is then loaded; with -q there is no note;
   - a read-only cache directory, a full one (RLIMIT_FSIZE) and no HOME never fail a run, and
     cost at most one note;
-  - warm-up on and off render the same image.
+  - warm-up on and off render the same image; along a path that first shows the scene late, no
+    frame generates shader code with the warm-up, and some frame does without it.
 Usage: program_cache_test.py PNB_PLAY SCENE.pnb
 Exit status 77 (skipped) when the driver offers no program binary format.
 """
+import csv
 import json
 import os
 import resource
@@ -229,6 +231,29 @@ def main():
     # 4. Warm-up changes no pixel.
     rc, notes, pc, image, _ = run("warmup-off", cold, ["--set", "startup.warmup=false"])
     check(rc == 0 and image == reference, "startup.warmup=false: image differs from the warmed-up run's")
+
+    # 5. Along a path that first shows the scene at frame ~21, no frame generates code with the
+    # warm-up; without it some frame does (Mesa's shader cache off, so every launch generates).
+    # Measured on the render thread's CPU time (frames.csv thread_cpu_ms), which rasterisation and
+    # other processes hardly move; the margins are tens of times the usual values.
+    turn = os.path.join(os.path.dirname(os.path.abspath(__file__)), "data", "box-room-turn-around.json")
+    worst = {}
+    for warm in ("true", "false"):
+        out = os.path.join(ROOT, "turn-" + warm)
+        env = dict(os.environ, EGL_LOG_LEVEL="fatal", MESA_SHADER_CACHE_DISABLE="true",
+                   PNB_PROGRAM_CACHE_DIR=os.path.join(ROOT, "turn-cache"))
+        p = subprocess.run([PLAY, SCENE, "--headless", "--bench", "--path", turn, "--frames", "40",
+                            "--fixed-dt", "--size", "128x72", "--no-plot", "--out", out, "-q",
+                            "--set", "startup.warmup=" + warm], env=env, capture_output=True, text=True,
+                           timeout=300)
+        check(p.returncode == 0, f"turn-around path, warm-up {warm}: exit {p.returncode}: {p.stderr}")
+        with open(os.path.join(out, "frames.csv")) as f:
+            frames = [float(r["thread_cpu_ms"]) for r in csv.DictReader(f)]
+        worst[warm] = max(frames)
+        print(f"turn-around, warm-up {warm}: worst frame {worst[warm]:.1f} ms render-thread CPU")
+    check(worst["true"] < 25, f"with warm-up a frame along the path spent {worst['true']:.1f} ms (code generation?)")
+    check(worst["false"] > 4 * max(worst["true"], 25),
+          f"without warm-up no frame shows code generation ({worst['false']:.1f} ms): the check has no power")
 
     return 1 if FAILURES else 0
 
