@@ -307,7 +307,7 @@ PlayResult<BenchResult> runBenchmark(const GpuScene& scene, Renderer& renderer,
     csv << "frame,time_s,cpu_ms,gpu_total_ms";
     for (const std::string& n : passNames) csv << ",gpu_" << n << "_ms";
     csv << ",draw_calls,triangles,visible_items,culled_items,deferred_layers,shadow_draws,"
-           "shadow_triangles,shadow_casters,camera_x,camera_y,camera_z,camera_yfov_deg\n";
+           "shadow_triangles,shadow_casters,camera_x,camera_y,camera_z,camera_yfov_deg,thread_cpu_ms\n";
     for (size_t k = 0; k < records.size(); ++k) {
         const FrameRecord& r = records[k];
         csv << k << ',' << r.pathTime << ',' << r.stats.cpuMs << ',';
@@ -320,7 +320,8 @@ PlayResult<BenchResult> runBenchmark(const GpuScene& scene, Renderer& renderer,
             << ',' << r.stats.culledItems << ',' << r.stats.deferredLayersDrawn << ','
             << r.stats.shadowDraws << ',' << r.stats.shadowTriangles << ',' << r.stats.shadowCasters << ','
             << std::setprecision(9) << r.cameraPosition.x << ',' << r.cameraPosition.y << ','
-            << r.cameraPosition.z << ',' << r.cameraYfovDegrees << std::setprecision(6) << '\n';
+            << r.cameraPosition.z << ',' << r.cameraYfovDegrees << std::setprecision(6) << ','
+            << r.stats.threadCpuMs << '\n';
     }
     std::string csvPath = options.outDir + "/frames.csv";
     if (auto w = writeText(csvPath, csv.str()); !w) return w.error();
@@ -354,6 +355,20 @@ PlayResult<BenchResult> runBenchmark(const GpuScene& scene, Renderer& renderer,
                     {"upload", load.uploadMs}, {"compile", load.compileMs}, {"total", load.totalMs},
                     {"file_bytes", load.fileBytes}, {"zero_copy_bytes", load.zeroCopyBytes},
                     {"decompressed_bytes", load.decompressedBytes}};
+    if (options.startup) {
+        const StartupTimes& t = *options.startup;
+        const ProgramCacheStats& p = t.programs;
+        j["time_to_first_frame_ms"] = {
+            {"total", t.totalMs}, {"process_start", t.processStartMs},
+            {"process_start_source", t.processStartSource}, {"context", t.contextMs}, {"load", t.loadMs},
+            {"programs", t.programsMs}, {"warmup", t.warmUpMs}, {"first_frame", t.firstFrameMs},
+            {"first_frame_thread_cpu", t.firstFrameThreadCpuMs},
+            {"other", t.otherMs}, {"warmup_enabled", t.warmUp},
+            {"program_cache", {{"enabled", p.enabled}, {"binaries_offered", p.binariesOffered},
+                               {"directory", p.directory}, {"hits", p.hits}, {"misses", p.misses},
+                               {"rejected", p.rejected}, {"uncached", p.uncached}, {"written", p.written},
+                               {"write_failures", p.writeFailures}}}};
+    }
     TargetMemory tm = renderer.targetMemory();
     j["gpu_memory_bytes"] = {{"meshes", scene.memory.meshBytes}, {"textures", scene.memory.textureBytes},
                              {"material_uniforms", scene.memory.uniformBytes},

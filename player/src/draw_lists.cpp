@@ -111,7 +111,7 @@ void drawItems(FrameContext& ctx, std::span<const DrawRef> refs, GLuint program,
                           GLsizeiptr(ctx.objectBlockBytes));
         if (mesh.vertexArray.id() != boundVao) glBindVertexArray(boundVao = mesh.vertexArray.id());
         const Submesh& sm = mesh.submeshes[item.submesh];
-        glDrawElements(mesh.primitive, GLsizei(sm.indexCount), mesh.indexType,
+        glDrawElements(mesh.primitive, GLsizei(warmUpCount(ctx, sm.indexCount)), mesh.indexType,
                        reinterpret_cast<const void*>(mesh.indexOffset +
                                                      uint64_t(sm.firstIndex) * mesh.indexSize));
         ++ctx.stats.drawCalls;

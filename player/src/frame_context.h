@@ -3,6 +3,7 @@
 // (pass_*.cpp), so each file holds one pass and its GL state.
 #pragma once
 
+#include <algorithm>
 #include <span>
 #include <vector>
 
@@ -62,6 +63,8 @@ struct FrameContext {
     ShadowContext& shadows;
     GiContext& gi;
     size_t frameBlockOffset = 0; // this frame's FrameBlock in the ring (binding 0)
+    // Renderer::warmUp's frame: nothing culled, every draw cut to its first triangle.
+    bool warmUp = false;
 };
 
 // The renderer's private state (renderer.cpp, frame_capture.cpp).
@@ -78,6 +81,7 @@ struct Renderer::Impl {
     CameraState lastCamera;               // re-rendered for CaptureBuffer::Shadow
     GpuTimer captureTimer;                // times of capture renders (discarded)
     bool capturing = false;
+    bool warming = false;                 // inside Renderer::warmUp
     float appliedAnisotropy = 1.0f;       // textures' GL_TEXTURE_MAX_ANISOTROPY (1 at upload)
     size_t alignment = 256;
     uint64_t frame = 0;
@@ -89,6 +93,12 @@ struct Renderer::Impl {
 // what the sun hits first is what it lights, whichever side). Counts draws and triangles.
 void drawItems(FrameContext& ctx, std::span<const DrawRef> refs, GLuint program = 0,
                uint32_t GpuMaterial::*materialProgram = &GpuMaterial::program, bool twoSided = false);
+
+// The indices a draw of `count` issues: all, or the first primitive's in a warm-up frame (the
+// driver generates code at the draw, whatever it rasterises).
+inline uint32_t warmUpCount(const FrameContext& ctx, uint32_t count) {
+    return ctx.warmUp ? std::min(count, 3u) : count;
+}
 
 // Full-screen triangle (fullscreen.vert: no vertex buffer).
 void drawFullscreenTriangle();

@@ -107,7 +107,7 @@ void prepareGi(FrameContext& ctx) {
         if (scene.materials[item.material].rsmProgram == kNone) continue;
         auto [ilo, ihi] = lightBounds(rotation, item.boundsMin, item.boundsMax, cam);
         glm::dvec2 rlo = centre - 0.5 * side, rhi = centre + 0.5 * side;
-        if (ihi.x < rlo.x || ilo.x > rhi.x || ihi.y < rlo.y || ilo.y > rhi.y) continue;
+        if (!ctx.warmUp && (ihi.x < rlo.x || ilo.x > rhi.x || ihi.y < rlo.y || ilo.y > rhi.y)) continue;
         f.rsmItems.push_back(i);
         f.rsmObjectOffsets.push_back(pushObjectBlock(scene, item, toCamera, ctx.ring, 0.0f));
     }

@@ -86,12 +86,17 @@ void drawCasters(FrameContext& ctx, int passCascade, bool geometryLayers) {
         glBindBufferRange(GL_UNIFORM_BUFFER, 1, ctx.ring.buffer(), GLintptr(f.objectOffsets[i]),
                           GLsizeiptr(ctx.objectBlockBytes));
         if (mesh.vertexArray.id() != boundVao) glBindVertexArray(boundVao = mesh.vertexArray.id());
-        if (f.gpuFit) {
+        if (f.gpuFit && ctx.warmUp) {
+            // The GPU cull may leave a draw empty, and a driver may skip an empty draw before
+            // generating code: the warm-up draws the caster's first triangle directly.
+            glDrawElementsInstanced(mesh.primitive, GLsizei(warmUpCount(ctx, caster.indexCount)), mesh.indexType,
+                                    reinterpret_cast<const void*>(uint64_t(caster.firstIndex) * mesh.indexSize), 1);
+        } else if (f.gpuFit) {
             size_t slot = passCascade < 0 ? i : (size_t(passCascade) + 1) * ctx.shadows.resources.sdsmCasterCapacity + i;
             glDrawElementsIndirect(mesh.primitive, mesh.indexType,
                                    reinterpret_cast<const void*>(slot * kIndirectCommandBytes));
         } else {
-            glDrawElementsInstanced(mesh.primitive, GLsizei(caster.indexCount), mesh.indexType,
+            glDrawElementsInstanced(mesh.primitive, GLsizei(warmUpCount(ctx, caster.indexCount)), mesh.indexType,
                                     reinterpret_cast<const void*>(uint64_t(caster.firstIndex) * mesh.indexSize),
                                     GLsizei(instances));
         }

@@ -1,9 +1,11 @@
 #include "program_compile.h"
 
+#include <chrono>
 #include <cstdlib>
 #include <sstream>
 
 #include "player_shaders.h"
+#include "pnb_player/program_cache.h"
 
 namespace pnb::player {
 
@@ -92,12 +94,31 @@ std::string infoLog(GLuint object, bool program) {
 
 PlayResult<GlHandle> compileProgram(std::string_view label, std::span<const StageSource> stages,
                                     std::span<const std::string_view> defines) {
+    const auto start = std::chrono::steady_clock::now();
+    struct Timed { // every return path adds its time to the start-up figures
+        std::chrono::steady_clock::time_point start;
+        ~Timed() { addProgramTime(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count()); }
+    } timed{start};
+    std::vector<std::string> texts;
+    std::vector<ProgramStageText> keyed;
+    texts.reserve(stages.size());
+    for (const StageSource& s : stages) {
+        texts.push_back(withDefines(s.source, defines));
+        keyed.push_back({s.stage, texts.back()});
+    }
+    const ProgramCacheLookup cache = programCacheLookup(keyed);
+    if (GLuint cached = loadCachedProgram(cache, label)) {
+        glObjectLabel(GL_PROGRAM, cached, GLsizei(label.size()), label.data());
+        return GlHandle(GlKind::Program, cached);
+    }
+    countCompiledProgram(cache);
+
     GlHandle program(GlKind::Program, glCreateProgram());
     std::vector<GlHandle> shaders;
-    for (const StageSource& s : stages) {
-        std::string text = withDefines(s.source, defines);
+    for (size_t i = 0; i < stages.size(); ++i) {
+        const StageSource& s = stages[i];
         GlHandle shader(GlKind::Shader, glCreateShader(s.stage));
-        const char* ptr = text.c_str();
+        const char* ptr = texts[i].c_str();
         glShaderSource(shader.id(), 1, &ptr, nullptr);
         glCompileShader(shader.id());
         GLint ok = GL_FALSE;
@@ -110,6 +131,7 @@ PlayResult<GlHandle> compileProgram(std::string_view label, std::span<const Stag
         glAttachShader(program.id(), shader.id());
         shaders.push_back(std::move(shader));
     }
+    prepareProgramForCache(cache, program.id());
     glLinkProgram(program.id());
     GLint ok = GL_FALSE;
     glGetProgramiv(program.id(), GL_LINK_STATUS, &ok);
@@ -119,6 +141,7 @@ PlayResult<GlHandle> compileProgram(std::string_view label, std::span<const Stag
                                                 annotateLog(infoLog(program.id(), true), {})};
     for (const GlHandle& s : shaders) glDetachShader(program.id(), s.id());
     glObjectLabel(GL_PROGRAM, program.id(), GLsizei(label.size()), label.data());
+    storeCachedProgram(cache, program.id());
     return program;
 }
 

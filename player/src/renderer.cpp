@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <ctime>
 
 #include <glm/gtc/type_ptr.hpp>
 
@@ -22,6 +23,12 @@ struct GpuLight {
 };
 
 constexpr size_t kObjectBlockBytes = 176;
+
+double threadCpuMs() {
+    timespec ts{};
+    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+    return double(ts.tv_sec) * 1e3 + double(ts.tv_nsec) * 1e-6;
+}
 
 } // namespace
 
@@ -105,6 +112,7 @@ GLuint Renderer::outputTexture() const { return mImpl->targets.output.id(); }
 
 PlayResult<Done> Renderer::render(const CameraState& camera, uint32_t width, uint32_t height) {
     auto cpuStart = std::chrono::steady_clock::now();
+    const double threadStart = threadCpuMs();
     Impl& impl = *mImpl;
     const GpuScene& scene = *impl.scene;
     if (width == 0 || height == 0)
@@ -112,7 +120,8 @@ PlayResult<Done> Renderer::render(const CameraState& camera, uint32_t width, uin
     mStats = {};
     mStats.frame = impl.frame++;
     impl.lastCamera = camera;
-    GpuTimer& timer = impl.capturing ? impl.captureTimer : mTimer;
+    // Captures and the warm-up frame keep their GPU times out of the benchmark's.
+    GpuTimer& timer = impl.capturing || impl.warming ? impl.captureTimer : mTimer;
 
     CameraState cam = camera;
     if (mSettings.nearPlane > 0) cam.znear = mSettings.nearPlane;
@@ -150,12 +159,13 @@ PlayResult<Done> Renderer::render(const CameraState& camera, uint32_t width, uin
                       GLsizeiptr(lightBytes));
 
     DrawLists& lists = impl.lists;
-    buildDrawLists(scene, mView, mSettings.frustumCulling, impl.ring, lists);
+    buildDrawLists(scene, mView, mSettings.frustumCulling && !impl.warming, impl.ring, lists);
     mStats.visibleItems = lists.visible;
     mStats.culledItems = lists.culled;
 
     FrameContext ctx{scene, mSettings, mView, impl.targets, impl.ring, lists, mStats, timer,
                      impl.builtins, kObjectBlockBytes, impl.shadows, impl.gi};
+    ctx.warmUp = impl.warming;
     if (impl.shadowsForMaterials != scene.materialsVersion) {
         initShadowContext(scene, impl.shadows);
         impl.shadowsForMaterials = scene.materialsVersion;
@@ -212,11 +222,27 @@ PlayResult<Done> Renderer::render(const CameraState& camera, uint32_t width, uin
     glBindVertexArray(impl.emptyVao.id());
 
     timer.endFrame();
-    if (impl.capturing) timer.completed().clear();
+    if (impl.capturing || impl.warming) timer.completed().clear();
     impl.ring.endFrame();
     glBindFramebuffer(GL_FRAMEBUFFER, 0);
     mStats.cpuMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - cpuStart).count();
+    mStats.threadCpuMs = threadCpuMs() - threadStart;
     return Done{};
+}
+
+PlayResult<Done> Renderer::warmUp(const CameraState& camera, uint32_t width, uint32_t height) {
+    if (!mSettings.warmUp) return Done{};
+    Impl& impl = *mImpl;
+    impl.warming = true;
+    // Scissoring keeps the full-screen passes from shading every pixel; no driver keys shader
+    // variants on the scissor rectangle (llvmpipe applies it when binning).
+    glEnable(GL_SCISSOR_TEST);
+    glScissor(0, 0, 1, 1);
+    auto r = render(camera, width, height);
+    glDisable(GL_SCISSOR_TEST);
+    impl.warming = false;
+    glFinish();
+    return r;
 }
 
 void Renderer::presentToWindow(int windowWidth, int windowHeight) {

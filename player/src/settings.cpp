@@ -169,6 +169,11 @@ const std::vector<Row>& rows() {
         {{"textures.anisotropy", "float 1..16",
           "largest anisotropic filtering ratio of mipmapped textures (1 = trilinear only)"},
          FloatField{&S::anisotropy, 1.0f, 16.0f}},
+        {{"startup.warmup", "bool",
+          "before the first frame, draw every program the scene uses once, off-screen, in its "
+          "pass's real state, so the driver generates its code during load and no frame along a "
+          "path pays for it (off: for measuring what it saves)"},
+         BoolField{&S::warmUp}},
     };
     return table;
 }

@@ -202,7 +202,7 @@ void prepareShadows(FrameContext& ctx) {
         } else {
             uint32_t mask = 0;
             for (uint32_t c = 0; c < cascades; ++c)
-                if (boxTouchesMap(f.fits[c], lo, hi)) mask |= 1u << c;
+                if (ctx.warmUp || boxTouchesMap(f.fits[c], lo, hi)) mask |= 1u << c;
             if (!mask) continue;
             f.masks.push_back(mask);
         }

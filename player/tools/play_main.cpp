@@ -5,6 +5,7 @@
 #include <GLFW/glfw3.h>
 
 #include <chrono>
+#include <csignal>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -20,7 +21,9 @@
 #include "pnb_player/benchmark.h"
 #include "pnb_player/gl_context.h"
 #include "pnb_player/path_json.h"
+#include "pnb_player/program_cache.h"
 #include "pnb_player/renderer.h"
+#include "pnb_player/startup_times.h"
 
 using namespace pnb::player;
 
@@ -81,6 +84,13 @@ Settings (container RSET < command line):
   --set KEY=VALUE         e.g. --set lighting.exposure=1.5 (repeatable)
   --list-settings         print every key, its type and meaning
 
+Start-up (docs/PLAYER.md "Time to first frame"):
+  --program-cache DIR     keep linked program binaries in DIR (default: $PNB_PROGRAM_CACHE_DIR,
+                          else $XDG_CACHE_HOME/penumbra/programs, else ~/.cache/penumbra/programs)
+  --no-program-cache      compile and link every program from source, write no entries
+  --set startup.warmup=false   no warm-up draws during load (code generation then lands in the
+                          frames that first draw each state; for measuring)
+
 Other:
   --no-checksums          skip payload checksum verification when loading
   --gl-debug              report GL performance messages too
@@ -91,7 +101,8 @@ Exit codes: 0 ok, 1 usage, 2 bad input, 3 GL or output failure.
 
 struct Args {
     std::string scene, pathName, outDir, screenshot, recordPath = "recorded_path.json", screenshotDir = ".",
-        scriptInput;
+        scriptInput, programCacheDir;
+    bool programCache = true;
     double recordEvery = 0;
     std::vector<std::string> sets, dumps;
     bool headless = false, bench = false, ui = false, fixedDt = false, plot = true,
@@ -177,6 +188,10 @@ Args parseArgs(int argc, char** argv) {
         else if (s == "--set") a.sets.push_back(next(i));
         else if (s == "--no-plot") a.plot = false;
         else if (s == "--no-checksums") a.checksums = false;
+        else if (s == "--program-cache") {
+            a.programCacheDir = next(i);
+            if (a.programCacheDir.empty()) usageError("--program-cache needs a directory");
+        } else if (s == "--no-program-cache") a.programCache = false;
         else if (s == "--gl-debug") a.glDebug = true;
         else if (s == "-q" || s == "--quiet") a.quiet = true;
         else if (!s.empty() && s[0] == '-') usageError("unknown option " + s);
@@ -227,7 +242,20 @@ PlayResult<CaptureRequest> dumpRequest(const std::string& kind, const Args& a) {
 
 int main(int argc, char** argv) {
     auto processStart = std::chrono::steady_clock::now();
+    StartupTimes startup;
+    startup.processStartMs = std::max(0.0, processAgeMs(&startup.processStartSource));
+    auto msSince = [](std::chrono::steady_clock::time_point t) {
+        return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t).count();
+    };
+    // A write past RLIMIT_FSIZE (a cache entry, a screenshot) then fails with EFBIG and is
+    // reported, instead of the default SIGXFSZ ending the process.
+    std::signal(SIGXFSZ, SIG_IGN);
     Args args = parseArgs(argc, argv);
+    ProgramCacheOptions cacheOptions;
+    cacheOptions.enabled = args.programCache;
+    cacheOptions.directory = args.programCacheDir;
+    cacheOptions.notes = !args.quiet;
+    configureProgramCache(cacheOptions);
     std::string commandLine;
     for (int i = 0; i < argc; ++i) commandLine += (i ? " " : "") + std::string(argv[i]);
 
@@ -240,6 +268,7 @@ int main(int argc, char** argv) {
     }
     bool window = !args.headless;
     std::unique_ptr<GlContext> context;
+    auto phase = std::chrono::steady_clock::now();
     if (window) {
         WindowOptions wo;
         wo.width = int(args.width ? args.width : 1280);
@@ -256,12 +285,14 @@ int main(int argc, char** argv) {
         context = std::move(*c);
     }
     GlInfo gl = context->info();
+    startup.contextMs = msSince(phase);
 
     LoadOptions lo;
     lo.verifyChecksums = args.checksums;
     LoadStats load;
     auto scene = loadScene(args.scene, lo, &load);
     if (!scene) return fail(scene.error());
+    startup.loadMs = load.totalMs - load.compileMs;
     // --path FILE: a keyframe file rather than a name in the container. It goes first, so its
     // name wins over a container path of the same name.
     if (std::error_code ec; !args.pathName.empty() && (args.pathName.ends_with(".json") ||
@@ -325,11 +356,26 @@ int main(int argc, char** argv) {
                                                std::to_string((*scene)->cameras.size()) + " camera(s)"});
     if (args.camera >= 0) bo.staticCamera = sceneCamera(**scene, size_t(args.camera));
     CameraState first = bo.staticCamera ? *bo.staticCamera : initialCamera(**scene, args.pathName);
+    // Warm-up: the driver's code generation for every state the scene is drawn in, now rather
+    // than in whichever frame first shows each material (Renderer::warmUp).
+    phase = std::chrono::steady_clock::now();
+    double programsBefore = programCacheStats().ms;
+    if (auto r = (*renderer)->warmUp(first, bo.width, bo.height); !r) return fail(r.error());
+    startup.warmUp = settings.warmUp;
+    startup.warmUpMs = msSince(phase) - (programCacheStats().ms - programsBefore);
+    phase = std::chrono::steady_clock::now();
     if (auto r = (*renderer)->render(first, bo.width, bo.height); !r) return fail(r.error());
     glFinish();
-    load.firstFrameMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() -
-                                                                  processStart).count();
-    if (!args.quiet) std::printf("time to first frame: %.1f ms (process start to finished frame)\n", load.firstFrameMs);
+    startup.firstFrameMs = msSince(phase);
+    startup.firstFrameThreadCpuMs = (*renderer)->lastFrame().threadCpuMs;
+    startup.programs = programCacheStats();
+    startup.programsMs = startup.programs.ms;
+    startup.totalMs = startup.processStartMs + msSince(processStart);
+    startup.otherMs = startup.totalMs - startup.processStartMs - startup.contextMs - startup.loadMs -
+                      startup.programsMs - startup.warmUpMs - startup.firstFrameMs;
+    load.firstFrameMs = startup.totalMs;
+    bo.startup = startup;
+    if (!args.quiet) std::printf("%s\n", startupSummary(startup).c_str());
 
     std::unique_ptr<ShadowQuality> shadowQuality;
     if (args.shadowMetrics > 0) {

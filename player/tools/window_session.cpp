@@ -4,6 +4,7 @@
 #define GLFW_INCLUDE_NONE
 #include <GLFW/glfw3.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cstdarg>
 #include <cstdio>
@@ -205,6 +206,13 @@ void Session::openScene(const std::string& path) {
     if (!resolved) return error("cannot open " + path + ": " + resolved.error().message + keeping);
     auto renderer = Renderer::create(**scene, *resolved);
     if (!renderer) return error("cannot open " + path + ": " + renderer.error().message + keeping);
+    // Code generation for the new scene's states now, not in the frames that first show them.
+    int fw = 0, fh = 0;
+    mContext.framebufferSize(fw, fh);
+    uint32_t ww = mOptions.width ? mOptions.width : uint32_t(std::max(fw, 1));
+    uint32_t wh = mOptions.height ? mOptions.height : uint32_t(std::max(fh, 1));
+    if (auto r = (*renderer)->warmUp(initialCamera(**scene, ""), ww, wh); !r)
+        return error("cannot open " + path + ": " + r.error().message + keeping);
     if (mRecorder.recording()) stopRecording(" (a new scene was opened)");
     // The old renderer goes before the old scene it draws.
     mRenderer = std::move(*renderer);

@@ -7,9 +7,11 @@
 // Output directory:
 //   frames.csv     one row per frame: path time, CPU ms, GPU ms per pass and total, draw calls,
 //                  triangles, visible/culled items, deferred layers drawn, camera position and
-//                  vertical field of view (camera_x/y/z, camera_yfov_deg)
-//   summary.json   min/median/p95/max per pass and for CPU time; load-time split; GPU memory by
-//                  category; machine, GL vendor/renderer/version; resolution; every setting
+//                  vertical field of view (camera_x/y/z, camera_yfov_deg), the render thread's
+//                  CPU time (thread_cpu_ms: where shader code generation shows, FrameStats)
+//   summary.json   min/median/p95/max per pass and for CPU time; load-time split; time to first
+//                  frame and its split (startup_times.h, when given); GPU memory by category;
+//                  machine, GL vendor/renderer/version; resolution; every setting
 //   frame_times.png  per-pass stacked GPU time and CPU time along the path (player/tools/
 //                  plot_frames.py, needs python3-matplotlib; skipped with a warning otherwise)
 //   screenshots and dumps asked for (PNG for colour, EXR for float buffers)
@@ -26,6 +28,7 @@
 #include "pnb_player/gl_context.h"
 #include "pnb_player/gpu_scene.h"
 #include "pnb_player/renderer.h"
+#include "pnb_player/startup_times.h"
 
 namespace pnb::player {
 
@@ -60,6 +63,7 @@ struct BenchOptions {
     bool plot = true;
     std::string sceneFile, commandLine; // recorded in the summary
     QualityHook quality;
+    std::optional<StartupTimes> startup; // pnb-play's time to first frame, for summary.json
 };
 
 struct PassSummary {

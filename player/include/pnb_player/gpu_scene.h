@@ -102,7 +102,8 @@ struct LoadStats {
     double compileMs = 0;    // shader programs (compile + link)
     double uploadMs = 0;     // buffers and textures, through glFinish
     double totalMs = 0;      // open to GPU-ready
-    double firstFrameMs = 0; // process start to the first finished frame (set by pnb-play)
+    double firstFrameMs = 0; // time to first frame: exec to the first finished frame (pnb-play;
+                             // its split is StartupTimes, startup_times.h)
     uint64_t fileBytes = 0, zeroCopyBytes = 0, decompressedBytes = 0;
     uint64_t hugePageBytes = 0; // heap reserved in 2 MiB pages for the driver's copy (upload_heap.h)
     uint32_t chunks = 0, unknownChunks = 0;

@@ -31,6 +31,11 @@ namespace pnb::player {
 struct FrameStats {
     uint64_t frame = 0;
     double cpuMs = 0;          // CPU time to record and submit the frame
+    // CPU time of the calling thread inside render(): the driver's work on this thread (state
+    // validation, shader code generation at a state's first draw; on llvmpipe also vertex
+    // processing) but not rasterisation, which runs on the driver's own threads. Unlike cpuMs it
+    // barely moves when other processes compete for the cores, so code-generation spikes stand out.
+    double threadCpuMs = 0;
     uint32_t drawCalls = 0;
     uint64_t triangles = 0;    // submitted
     uint32_t visibleItems = 0, culledItems = 0;
@@ -98,6 +103,18 @@ public:
 
     // Renders one frame at width x height into the output target.
     PlayResult<Done> render(const CameraState& camera, uint32_t width, uint32_t height);
+
+    // Makes the driver generate code for everything a frame of this scene can draw, before the
+    // first frame (drivers such as llvmpipe compile a shader variant for the state a program is
+    // first drawn with: framebuffer formats, blend, depth, bound texture formats, vertex layout).
+    // Renders one frame at width x height through the real passes, with frustum culling off (so
+    // every draw item, shadow caster and RSM item is drawn), each draw cut to its first triangle
+    // and rasterisation scissored to one pixel; then waits for it (glFinish). Built-in and
+    // lazily linked programs the settings use are made here too. Leaves nothing visible: the
+    // next render() clears every target. Does nothing when startup.warmup is off. Later setting
+    // changes (a debug view, another shadow technique) and a render size whose dimensions differ
+    // in being powers of two are not covered.
+    PlayResult<Done> warmUp(const CameraState& camera, uint32_t width, uint32_t height);
 
     // Copies the output to the default framebuffer of a window (after render()).
     void presentToWindow(int windowWidth, int windowHeight);

@@ -65,6 +65,7 @@ struct RenderSettings {
     uint32_t debugShadowLayer = 0;         // debug.shadow_layer
     uint32_t debugGiSlice = 0;             // debug.gi_slice
     float anisotropy = 8.0f;               // textures.anisotropy: max anisotropic filter ratio
+    bool warmUp = true;                    // startup.warmup: Renderer::warmUp draws every program once
 
     // shadows.*: see settings.cpp for each key's meaning.
     ShadowTechnique shadowTechnique = ShadowTechnique::Pssm;
