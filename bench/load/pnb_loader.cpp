@@ -5,6 +5,7 @@
 
 #include "peer_gl.h"
 #include "pnb_player/gpu_scene.h"
+#include "pnb_player/program_cache.h"
 #include "probe.h"
 
 namespace pnb::bench {
@@ -12,6 +13,11 @@ namespace pnb::bench {
 ProbeResult loadPnb(const std::string& path) {
     ProbeResult r;
     player::LoadStats stats;
+    // As pnb-play loads: programs through the program binary cache ($PNB_PROGRAM_CACHE_DIR, which
+    // bench_load.py points at its own directory, filled by its untimed warm-up run).
+    player::ProgramCacheOptions cache;
+    cache.enabled = true;
+    player::configureProgramCache(cache);
     const auto start = Clock::now();
     auto scene = player::loadScene(path, {}, &stats);
     if (!scene) throw LoadFailure(scene.error().message);

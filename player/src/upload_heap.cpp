@@ -43,17 +43,21 @@ UploadHeap::UploadHeap(uint64_t bytes) {
     if (!mallopt(M_MMAP_THRESHOLD, kLargestHeapAllocation)) return;
     mActive = true;
     mallopt(M_TRIM_THRESHOLD, 1 << 30);
-    // The next time the heap grows, it grows by the whole upload at once: one brk, one range to
-    // advise. A 16 MiB allocation is larger than the free top of a fresh process's heap, so it
-    // forces that growth; freeing it leaves the grown range free for the driver.
-    const int pad = int(std::min<uint64_t>(bytes, uint64_t(1) << 30));
-    mallopt(M_TOP_PAD, pad);
-    auto* before = static_cast<char*>(sbrk(0));
-    void* probe = std::malloc(16u << 20);
-    auto* after = static_cast<char*>(sbrk(0));
-    mallopt(M_TOP_PAD, kGlibcDefault);
-    if (probe && after > before) {
-        uintptr_t begin = (uintptr_t(before) + kHugePage - 1) & ~(kHugePage - 1);
+    // The heap's free top is advised as it is, and if it is smaller than the upload the heap
+    // grows once by the rest (M_TOP_PAD): an allocation just larger than the free top forces
+    // that growth, and freeing it leaves the whole range free for the driver. (Measured from the
+    // free top, not assumed empty: the driver's own start-up may have left megabytes there.)
+    const auto* heapEnd = static_cast<char*>(sbrk(0));
+    const size_t top = mallinfo2().keepcost;
+    void* probe = nullptr;
+    if (top < bytes && top + (1u << 20) < size_t(kLargestHeapAllocation)) {
+        mallopt(M_TOP_PAD, int(std::min<uint64_t>(bytes - top, uint64_t(1) << 30)));
+        probe = std::malloc(top + (1u << 20));
+        mallopt(M_TOP_PAD, kGlibcDefault);
+    }
+    const auto* after = static_cast<char*>(sbrk(0));
+    if (after >= heapEnd && uintptr_t(heapEnd) > top) {
+        uintptr_t begin = (uintptr_t(heapEnd) - top + kHugePage - 1) & ~(kHugePage - 1);
         if (uintptr_t(after) > begin &&
             madvise(reinterpret_cast<void*>(begin), uintptr_t(after) - begin, MADV_HUGEPAGE) == 0)
             mAdvised = uintptr_t(after) - begin;
