@@ -208,11 +208,7 @@ ProbeResult loadAssimp(const std::string& path) {
                 {"upload", uploadMs},
                 {"mips", mipsMs},
                 {"compile", compileMs}};
-    r.textures = gl->textures;
-    r.mipLevels = gl->mipLevels;
-    r.programs = gl->programCount();
-    r.bufferBytes = gl->bufferBytes;
-    r.textureBytes = gl->textureBytes;
+    gl->countInto(r);
 
     const auto down = Clock::now();
     importer.FreeScene();

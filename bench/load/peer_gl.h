@@ -24,6 +24,8 @@
 
 #include <epoxy/gl.h>
 
+#include "probe.h"
+
 namespace pnb::bench {
 
 // A failure a peer reports instead of a figure (the runner lists the model as skipped).
@@ -64,6 +66,14 @@ public:
     uint64_t bufferBytes = 0, textureBytes = 0;
     uint32_t textures = 0, mipLevels = 0;
     size_t programCount() const { return programs_.size(); }
+    // What was made, into the probe's result.
+    void countInto(ProbeResult& r) const {
+        r.textures = textures;
+        r.mipLevels = mipLevels;
+        r.programs = programCount();
+        r.bufferBytes = bufferBytes;
+        r.textureBytes = textureBytes;
+    }
 
 private:
     std::vector<GLuint> buffers_, vertexArrays_, textures_;
