@@ -58,7 +58,7 @@ INCLUDED = (
     "textures and programs as for assimp. **floor**: mmap + memcpy of the same files the loader "
     "read into never-touched memory (the time to have the bytes, nothing else). **process** = "
     "spawn to exit as the runner sees it (includes dynamic linking, the EGL context and "
-    "teardown). Warm = files in the page cache; **cold = every file that loader reads evicted "
+    "teardown). Warm = files in the page cache (read back, untimed, right before each warm run); **cold = every file that loader reads evicted "
     "with posix_fadvise(POSIX_FADV_DONTNEED) right before the run** (binary, shared libraries "
     "and Mesa's shader cache stay warm).")
 
@@ -89,6 +89,13 @@ class Runner:
     def run_probe(self, argv, cache="warm", files=None):
         """One fresh probe process; returns its JSON line plus the runner's own timings."""
         evicted = None
+        if cache == "warm" and files:
+            # Rounds are shuffled: a cold run of this file (or of another loader reading it) may
+            # just have evicted it. Read it back, untimed, so that "warm" means warm.
+            for path in files:
+                with open(path, "rb") as f:
+                    while f.read(1 << 22):
+                        pass
         if cache == "cold":
             ev = subprocess.run([str(self.probe), "--evict", *files], capture_output=True,
                                 text=True, env=self.env, check=True)
