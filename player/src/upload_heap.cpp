@@ -31,16 +31,16 @@ uint64_t estimateUploadBytes(const Scene& scene) {
 namespace {
 constexpr uint64_t kMinBytes = 4u << 20;
 constexpr uintptr_t kHugePage = 2u << 20;
-constexpr int kLargestHeapAllocation = 32 << 20; // glibc's ceiling for M_MMAP_THRESHOLD
-constexpr int kGlibcDefault = 128 << 10;         // M_MMAP_THRESHOLD, M_TRIM_THRESHOLD, M_TOP_PAD
+constexpr int kGlibcDefault = 128 << 10; // M_TRIM_THRESHOLD, M_TOP_PAD
+constexpr int kGlibcDefaultMmapMax = 65536;
 } // namespace
 
 UploadHeap::UploadHeap(uint64_t bytes) {
     if (bytes < kMinBytes || bytes > (uint64_t(1) << 40)) return;
-    // Keep the driver's allocations (up to 32 MiB each: a 2048² RGBA8 texture with its mips is
-    // 21 MiB) in the heap instead of separate mmaps, and do not give freed memory back until the
-    // upload is over.
-    if (!mallopt(M_MMAP_THRESHOLD, kLargestHeapAllocation)) return;
+    // Every allocation comes from the heap while the upload runs — a 2048² RGBA8 texture with
+    // its mips (21 MiB) or a 64 MiB shadow-map array would otherwise get a mapping of its own,
+    // in 4 KiB pages — and freed memory is not given back until the upload is over.
+    if (!mallopt(M_MMAP_MAX, 0)) return;
     mActive = true;
     mallopt(M_TRIM_THRESHOLD, 1 << 30);
     // The heap's free top is advised as it is, and if it is smaller than the upload the heap
@@ -50,7 +50,7 @@ UploadHeap::UploadHeap(uint64_t bytes) {
     const auto* heapEnd = static_cast<char*>(sbrk(0));
     const size_t top = mallinfo2().keepcost;
     void* probe = nullptr;
-    if (top < bytes && top + (1u << 20) < size_t(kLargestHeapAllocation)) {
+    if (top < bytes) {
         mallopt(M_TOP_PAD, int(std::min<uint64_t>(bytes - top, uint64_t(1) << 30)));
         probe = std::malloc(top + (1u << 20));
         mallopt(M_TOP_PAD, kGlibcDefault);
@@ -67,7 +67,7 @@ UploadHeap::UploadHeap(uint64_t bytes) {
 
 UploadHeap::~UploadHeap() {
     if (!mActive) return;
-    mallopt(M_MMAP_THRESHOLD, kGlibcDefault);
+    mallopt(M_MMAP_MAX, kGlibcDefaultMmapMax);
     mallopt(M_TRIM_THRESHOLD, kGlibcDefault);
     malloc_trim(0); // what the driver did not use goes back to the system
 }

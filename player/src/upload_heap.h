@@ -18,9 +18,9 @@ namespace pnb::player {
 // which drivers expand it to).
 uint64_t estimateUploadBytes(const Scene& scene);
 
-// While alive, allocations below 32 MiB come from a heap grown by `bytes` up front and advised
-// MADV_HUGEPAGE; when it is destroyed, malloc's thresholds return to their defaults (128 KiB)
-// and the part of the heap the driver did not use is given back.
+// While alive, every allocation comes from a heap grown by `bytes` up front and advised
+// MADV_HUGEPAGE (malloc makes no separate mappings); when it is destroyed, malloc's settings
+// return to their defaults and the part of the heap the driver did not use is given back.
 // Does nothing below 4 MiB, on a C library other than glibc, or where the heap cannot grow.
 class UploadHeap {
 public:
