@@ -193,15 +193,7 @@ ProbeResult loadAssimp(const std::string& path) {
     glFinish();
     const double uploadMs = msSince(phase);
 
-    phase = Clock::now();
-    gl->generateMipmaps();
-    const double mipsMs = msSince(phase);
-
-    phase = Clock::now();
-    for (uint32_t f : meshFeatures)
-        gl->program(f);
-    glFinish();
-    const double compileMs = msSince(phase);
+    const auto [mipsMs, compileMs] = gl->mipsAndPrograms(meshFeatures);
     r.gpuReadyMs = msSince(start);
     r.phases = {{"import", importMs},
                 {"decode", decodeMs},

@@ -186,4 +186,15 @@ GLuint PeerGl::program(uint32_t features) {
     return p;
 }
 
+std::pair<double, double> PeerGl::mipsAndPrograms(const std::vector<uint32_t>& features) {
+    auto phase = Clock::now();
+    generateMipmaps();
+    const double mipsMs = msSince(phase);
+    phase = Clock::now();
+    for (uint32_t f : features)
+        program(f);
+    glFinish();
+    return {mipsMs, msSince(phase)};
+}
+
 } // namespace pnb::bench

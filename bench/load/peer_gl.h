@@ -20,6 +20,7 @@
 #include <map>
 #include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <epoxy/gl.h>
@@ -62,6 +63,9 @@ public:
     // The program for `features`, compiled and linked on first use. Throws LoadFailure if the
     // driver refuses it (with its log).
     GLuint program(uint32_t features);
+    // The last two phases of every peer load, each through glFinish: the mip chains, then one
+    // program per distinct feature set in `features`; returns {mips ms, compile ms}.
+    std::pair<double, double> mipsAndPrograms(const std::vector<uint32_t>& features);
 
     uint64_t bufferBytes = 0, textureBytes = 0;
     uint32_t textures = 0, mipLevels = 0;

@@ -155,15 +155,7 @@ ProbeResult loadTinygltf(const std::string& path) {
     glFinish();
     const double uploadMs = msSince(phase);
 
-    phase = Clock::now();
-    gl->generateMipmaps();
-    const double mipsMs = msSince(phase);
-
-    phase = Clock::now();
-    for (uint32_t f : features)
-        gl->program(f);
-    glFinish();
-    const double compileMs = msSince(phase);
+    const auto [mipsMs, compileMs] = gl->mipsAndPrograms(features);
     r.gpuReadyMs = msSince(start);
     r.phases = {{"import", loadMs - recorder.decodeMs},
                 {"decode", recorder.decodeMs},
