@@ -205,10 +205,12 @@ Result<ConvertSummary, ConvertError> convertScene(const ConvertSettings& s,
     for (const std::string& d : scene.dependencies) sum.dependencies.push_back(d);
     clock.stop();
 
-    // The image decoder's load (dynamic linking of OpenImageIO) overlaps materials and meshes;
-    // processTextures waits for it if it is not done by then. The future joins at return.
+    // The image decoder module's load (dynamic linking of OpenImageIO), when an image needs it,
+    // overlaps materials and meshes; processTextures waits for it if it is not done by then. The
+    // future joins at return.
     std::future<void> decoderLoad;
-    if (!scene.images.empty()) decoderLoad = std::async(std::launch::async, loadImageDecoder);
+    if (std::any_of(scene.images.begin(), scene.images.end(), imageNeedsDecoderModule))
+        decoderLoad = std::async(std::launch::async, loadImageDecoder);
 
     // [SECTION] materials
     clock.start("materials");

@@ -1,6 +1,6 @@
-// converter/src/image_decode.cpp — decodeImage and resizeImage through the OpenImageIO codec
-// module (texture_internal.h, ImageCodec), loaded with dlopen the first time an image is
-// decoded. Why a module: OpenImageIO links some 250 shared libraries, whose loading and
+// converter/src/image_decode.cpp — decodeImage (PNG and JPEG in-process, everything else) and
+// resizeImage through the OpenImageIO codec module (texture_internal.h, ImageCodec), loaded with
+// dlopen the first time it is needed. Why a module: OpenImageIO links some 250 shared libraries, whose loading and
 // relocation took ~0.2 s of every pnb-convert process, textures or not (docs/CONVERTER.md,
 // "Start-up"). Conversions without images, and --help, no longer load it.
 //
@@ -14,8 +14,10 @@
 #include <dlfcn.h>
 #include <unistd.h>
 
-#include <cassert>
+#include <cstdio>
 #include <cstdlib>
+#include <cstring>
+#include <algorithm>
 #include <filesystem>
 #include <mutex>
 #include <string>
@@ -45,6 +47,36 @@ std::vector<std::string> candidatePaths() {
     }
     paths.push_back(PNB_IMAGE_CODEC_BUILD_PATH);
     return paths;
+}
+
+// PNG or JPEG by its first bytes (a file's are read), which decodeImage decodes in-process.
+bool hasNativeSignature(const IrImage& image) {
+    uint8_t head[8] = {};
+    size_t got = std::min(image.encoded.size(), sizeof head);
+    std::memcpy(head, image.encoded.data(), got);
+    if (!image.path.empty()) {
+        std::FILE* f = std::fopen(image.path.c_str(), "rb");
+        got = f ? std::fread(head, 1, sizeof head, f) : 0;
+        if (f) std::fclose(f);
+    }
+    return (got >= 8 && std::memcmp(head, "\x89PNG\r\n\x1a\n", 8) == 0) ||
+           (got >= 3 && std::memcmp(head, "\xFF\xD8\xFF", 3) == 0);
+}
+
+// The whole file, or as much as could be read (the decoder reports a short one).
+std::vector<uint8_t> readWholeFile(const std::string& path) {
+    std::vector<uint8_t> bytes;
+    std::FILE* f = std::fopen(path.c_str(), "rb");
+    if (!f) return bytes;
+    if (std::fseek(f, 0, SEEK_END) == 0) {
+        const long size = std::ftell(f);
+        if (size > 0 && std::fseek(f, 0, SEEK_SET) == 0) {
+            bytes.resize(size_t(size));
+            bytes.resize(std::fread(bytes.data(), 1, bytes.size(), f));
+        }
+    }
+    std::fclose(f);
+    return bytes;
 }
 
 struct LoadedCodec {
@@ -90,18 +122,42 @@ const LoadedCodec& loadedCodec() {
 
 } // namespace
 
-Result<DecodedImage, ConvertError> decodeImage(const IrImage& image, uint64_t maxSourceTexels,
-                                               const AdmitImage& admit) {
+Result<DecodedImage, ConvertError> decodeImageWithModule(const IrImage& image,
+                                                         uint64_t maxSourceTexels,
+                                                         const AdmitImage& admit) {
     const LoadedCodec& loaded = loadedCodec();
     if (!loaded.codec)
         return ConvertError{ConvertErrorKind::Input, describeImage(image) + ": " + loaded.error};
     return loaded.codec->decode(image, maxSourceTexels, admit);
 }
 
-ImageF resizeImage(const ImageF& src, uint32_t width, uint32_t height) {
+Result<DecodedImage, ConvertError> decodeImage(const IrImage& image, uint64_t maxSourceTexels,
+                                               const AdmitImage& admit) {
+    // Embedded bytes are at hand; a file is read whole only when its signature is PNG or JPEG
+    // (the module opens other files itself, and reports a missing one).
+    std::vector<uint8_t> fileBytes;
+    std::span<const uint8_t> bytes(image.encoded);
+    if (!image.path.empty()) {
+        std::error_code ec;
+        if (!fs::exists(image.path, ec))
+            return ConvertError{ConvertErrorKind::Input, describeImage(image) + ": file not found"};
+        if (!fs::is_regular_file(image.path, ec))
+            return ConvertError{ConvertErrorKind::Input,
+                                describeImage(image) + ": not a regular file"};
+        if (hasNativeSignature(image)) fileBytes = readWholeFile(image.path);
+        bytes = fileBytes;
+    }
+    if (auto png = decodePng(image, bytes, maxSourceTexels, admit)) return std::move(*png);
+    if (auto jpeg = decodeJpeg(image, bytes, maxSourceTexels, admit)) return std::move(*jpeg);
+    return decodeImageWithModule(image, maxSourceTexels, admit);
+}
+
+Result<ImageF, ConvertError> resizeImage(const ImageF& src, uint32_t width, uint32_t height) {
     const LoadedCodec& loaded = loadedCodec();
-    assert(loaded.codec && "resizeImage before any image was decoded");
-    if (!loaded.codec) return {}; // unreachable: every resized image was decoded first
+    if (!loaded.codec)
+        return ConvertError{ConvertErrorKind::Input,
+                            "resizing a " + std::to_string(src.width) + "x" +
+                                std::to_string(src.height) + " image: " + loaded.error};
     return loaded.codec->resize(src, width, height);
 }
 
@@ -111,6 +167,10 @@ namespace pnb::converter {
 
 void loadImageDecoder() {
     (void)texture_detail::loadedCodec();
+}
+
+bool imageNeedsDecoderModule(const IrImage& image) {
+    return !texture_detail::hasNativeSignature(image);
 }
 
 } // namespace pnb::converter

@@ -81,35 +81,6 @@ std::string extensionForEmbedded(const IrImage& image) {
     return lowerExtension(image.name);
 }
 
-// Copies or expands the decoded channels (already at 4-float stride) into RGBA, keeping what
-// each source channel means: grey fills r, g and b; a grey+alpha image keeps its alpha.
-void expandToRgba(std::vector<float>& t, int channels, bool secondIsAlpha) {
-    size_t n = t.size() / 4;
-    for (size_t i = 0; i < n; ++i) {
-        float* p = &t[i * 4];
-        switch (channels) {
-        case 1:
-            p[1] = p[2] = p[0];
-            p[3] = 1.0f;
-            break;
-        case 2:
-            if (secondIsAlpha) {
-                p[3] = p[1];
-                p[1] = p[2] = p[0];
-            } else {
-                p[2] = 0.0f;
-                p[3] = 1.0f;
-            }
-            break;
-        case 3:
-            p[3] = 1.0f;
-            break;
-        default:
-            break;
-        }
-    }
-}
-
 } // namespace
 
 Result<DecodedImage, ConvertError> decodeWithOiio(const IrImage& image, uint64_t maxSourceTexels,
@@ -144,26 +115,17 @@ Result<DecodedImage, ConvertError> decodeWithOiio(const IrImage& image, uint64_t
     in->threads(1);
 
     const OIIO::ImageSpec& spec = in->spec();
-    if (spec.width <= 0 || spec.height <= 0 || spec.nchannels <= 0)
-        return fail("zero size (" + std::to_string(spec.width) + "x" + std::to_string(spec.height) +
-                    ", " + std::to_string(spec.nchannels) + " channels)");
     if (spec.depth > 1)
         return ConvertError{ConvertErrorKind::Unsupported,
                             describeImage(image) + ": volume images are not supported"};
     ImageHeader header;
-    header.width = uint32_t(spec.width);
-    header.height = uint32_t(spec.height);
-    header.channels = uint32_t(spec.nchannels);
+    header.width = uint32_t(std::max(spec.width, 0));
+    header.height = uint32_t(std::max(spec.height, 0));
+    header.channels = uint32_t(std::max(spec.nchannels, 0));
     header.bytesPerChannel = uint32_t(spec.format.size());
     header.floatSource = spec.format.is_floating_point();
-    uint64_t texels = header.texels();
-    if (texels > maxSourceTexels)
-        return fail(std::to_string(spec.width) + "x" + std::to_string(spec.height) + " = " +
-                    std::to_string(texels) + " texels exceeds the limit of " +
-                    std::to_string(maxSourceTexels));
-    if (admit) {
-        if (std::optional<std::string> refusal = admit(header)) return fail(*refusal);
-    }
+    if (auto refused = checkImageHeader(image, header, maxSourceTexels, admit)) return *refused;
+    const uint64_t texels = header.texels();
 
     // Channel meaning: 1 grey, 2 grey+alpha (or RG without an alpha channel), 3 RGB, 4+ RGB and
     // alpha (OIIO's alpha channel if it names one, else the fourth).
@@ -202,7 +164,7 @@ Result<DecodedImage, ConvertError> decodeWithOiio(const IrImage& image, uint64_t
                              OIIO::AutoStride, OIIO::AutoStride, out.image.texels.data(),
                              OIIO::TypeDesc::FLOAT, kStride, kStride * width, OIIO::AutoStride);
     if (!ok) return fail("cannot convert pixels to float: " + trimmed(OIIO::geterror()));
-    expandToRgba(out.image.texels, kept, secondIsAlpha);
+    expandToRgba(out.image.texels, uint32_t(kept), secondIsAlpha);
     return out;
 }
 

@@ -18,6 +18,7 @@
 #include <cstdint>
 #include <functional>
 #include <optional>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -67,6 +68,57 @@ inline std::string describeImage(const IrImage& image) {
     return s + ")";
 }
 
+// The checks every decoder makes on a header before any pixel buffer exists: zero size, more
+// than `maxSourceTexels` texels, a refusal by `admit`. Inline: the codec module uses it too.
+inline std::optional<ConvertError> checkImageHeader(const IrImage& image, const ImageHeader& h,
+                                                    uint64_t maxSourceTexels,
+                                                    const AdmitImage& admit) {
+    auto fail = [&](const std::string& what) {
+        return ConvertError{ConvertErrorKind::Input, describeImage(image) + ": " + what};
+    };
+    if (h.width == 0 || h.height == 0 || h.channels == 0)
+        return fail("zero size (" + std::to_string(h.width) + "x" + std::to_string(h.height) +
+                    ", " + std::to_string(h.channels) + " channels)");
+    if (h.texels() > maxSourceTexels)
+        return fail(std::to_string(h.width) + "x" + std::to_string(h.height) + " = " +
+                    std::to_string(h.texels()) + " texels exceeds the limit of " +
+                    std::to_string(maxSourceTexels));
+    if (admit) {
+        if (std::optional<std::string> refusal = admit(h)) return fail(*refusal);
+    }
+    return std::nullopt;
+}
+
+// Fills in RGBA from the first `channels` floats of each texel (already at a 4-float stride),
+// keeping what each source channel means: grey fills r, g and b; a grey+alpha image keeps its
+// alpha (`secondIsAlpha`; otherwise two channels are red and green); no alpha → 1.
+inline void expandToRgba(std::vector<float>& t, uint32_t channels, bool secondIsAlpha) {
+    const size_t n = t.size() / 4;
+    for (size_t i = 0; i < n; ++i) {
+        float* p = &t[i * 4];
+        switch (channels) {
+        case 1:
+            p[1] = p[2] = p[0];
+            p[3] = 1.0f;
+            break;
+        case 2:
+            if (secondIsAlpha) {
+                p[3] = p[1];
+                p[1] = p[2] = p[0];
+            } else {
+                p[2] = 0.0f;
+                p[3] = 1.0f;
+            }
+            break;
+        case 3:
+            p[3] = 1.0f;
+            break;
+        default:
+            break;
+        }
+    }
+}
+
 // Decodes the first subimage's full-resolution level to float RGBA with straight (not
 // premultiplied) alpha. The header is read and checked before any pixel buffer is allocated:
 // zero size, more than `maxSourceTexels` texels, or a refusal by `admit` fail. Pixels are read
@@ -76,10 +128,31 @@ inline std::string describeImage(const IrImage& image) {
 Result<DecodedImage, ConvertError> decodeImage(const IrImage& image, uint64_t maxSourceTexels,
                                                const AdmitImage& admit);
 
+// PNG and JPEG, the formats nearly every model's textures use, are decoded in-process with
+// libpng and libjpeg-turbo (image_decode_png.cpp, image_decode_jpeg.cpp): loading the
+// OpenImageIO module costs 0.2–0.5 s of a conversion, decoding a small texture about 1 ms. Every
+// other format, and the rare PNG/JPEG variants listed there, go to the module. nullopt: not
+// handled here (not that format, or a variant left to the module); the same float texels and
+// sourceChannels as the module's decode otherwise (tests/converter/image_decode_native_test.cpp).
+std::optional<Result<DecodedImage, ConvertError>> decodePng(const IrImage& image,
+                                                            std::span<const uint8_t> bytes,
+                                                            uint64_t maxSourceTexels,
+                                                            const AdmitImage& admit);
+std::optional<Result<DecodedImage, ConvertError>> decodeJpeg(const IrImage& image,
+                                                             std::span<const uint8_t> bytes,
+                                                             uint64_t maxSourceTexels,
+                                                             const AdmitImage& admit);
+
+// The decode through the OpenImageIO module alone, for tests that compare it with the native
+// decoders; decodeImage picks the decoder.
+Result<DecodedImage, ConvertError> decodeImageWithModule(const IrImage& image,
+                                                         uint64_t maxSourceTexels,
+                                                         const AdmitImage& admit);
+
 // Resamples to width × height (each ≥ 1) with a Lanczos-3 filter (OIIO resize), on the calling
 // thread only, so results do not depend on OIIO's thread pool. Values are not clamped.
-// Precondition: an image was decoded before (the codec module is loaded).
-ImageF resizeImage(const ImageF& src, uint32_t width, uint32_t height);
+// Loads the codec module if no image needed it yet; fails only if it cannot be loaded.
+Result<ImageF, ConvertError> resizeImage(const ImageF& src, uint32_t width, uint32_t height);
 
 // The OpenImageIO codec behind decodeImage and resizeImage, in the module libpnb_image_oiio.so
 // (image_decode_oiio.cpp), loaded by image_decode.cpp on first use. The module and the converter

@@ -127,7 +127,11 @@ Result<ProcessedTexture, ConvertError> processOne(const TextureRequest& request,
         auto edge = [&](uint32_t e) {
             return std::clamp(uint32_t(std::lround(e * scale)), 1u, settings.maxSize);
         };
-        level = resizeImage(level, edge(level.width), edge(level.height));
+        auto resized = resizeImage(level, edge(level.width), edge(level.height));
+        if (!resized)
+            return ConvertError{resized.error().kind,
+                                describeImage(*request.image) + ": " + resized.error().message};
+        level = std::move(*resized);
         // Lanczos lobes overshoot: keep LDR data in [0, 1] and non-negative data non-negative.
         float lo = range.negative ? -65504.0f : 0.0f, hi = hdr ? 65504.0f : 1.0f;
         for (float& v : level.texels)

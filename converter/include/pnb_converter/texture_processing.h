@@ -56,11 +56,15 @@ struct TextureSettings {
 uint64_t estimateTextureBytes(uint32_t width, uint32_t height, uint32_t channels,
                               uint32_t bytesPerChannel, const TextureSettings& settings);
 
-// Loads the image decoder (the OpenImageIO module, see image_decode.cpp) now, on the calling
+// Loads the image decoder module (OpenImageIO, see image_decode.cpp) now, on the calling
 // thread, if it is not loaded yet; processTextures would otherwise load it on first use. The
-// converter calls it on a helper thread as soon as it knows the scene has images, so the load
-// (0.2-0.5 s of dynamic linking) overlaps mesh processing. Harmless to call from several threads.
+// converter calls it on a helper thread as soon as it knows the scene has an image that needs it
+// (imageNeedsDecoderModule), so the load (0.2-0.5 s of dynamic linking) overlaps mesh processing.
+// Harmless to call from several threads.
 void loadImageDecoder();
+
+// False for PNG and JPEG (by their first bytes), which are decoded without the module.
+bool imageNeedsDecoderModule(const IrImage& image);
 
 struct ProcessedTexture {
     TextureDesc desc;                            // name left kNone: the writer interns it
