@@ -271,6 +271,7 @@ PlayResult<std::unique_ptr<GpuScene>> uploadScene(const Scene& scene, LoadStats*
     glPixelStorei(GL_UNPACK_ALIGNMENT, 1); // RGB8 and R8 rows are tightly packed
     UploadHeap heap(estimateUploadBytes(scene));
     stats.hugePageBytes = heap.hugePageBytes();
+    stats.uploadPages = heap.describe();
     for (uint32_t i = 0; i < scene.textures.size(); ++i) {
         auto t = createTexture(scene.textures[i], i);
         if (!t) return t.error();

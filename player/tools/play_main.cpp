@@ -320,11 +320,10 @@ int main(int argc, char** argv) {
                     (*scene)->materials.size(), (*scene)->deferredLayers.size(),
                     (*scene)->hasForward ? " + forward" : "", (*scene)->lights.size());
         std::printf("load: %.2f ms total = open %.2f + read %.2f + decode %.2f + upload %.2f + "
-                    "shaders %.2f (%.1f MiB, %.1f MiB zero-copy, upload heap %.0f MiB in 2 MiB "
-                    "pages)\n",
+                    "shaders %.2f (%.1f MiB, %.1f MiB zero-copy, upload heap: %s)\n",
                     load.totalMs, load.openMs, load.readMs, load.decodeMs, load.uploadMs, load.compileMs,
                     double(load.fileBytes) / 1048576.0, double(load.zeroCopyBytes) / 1048576.0,
-                    double(load.hugePageBytes) / 1048576.0);
+                    load.uploadPages.empty() ? "none" : load.uploadPages.c_str());
         std::printf("GL: %s | %s\n", gl.renderer.c_str(), gl.version.c_str());
     }
 

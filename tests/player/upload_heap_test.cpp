@@ -66,6 +66,12 @@ bool transparentHugePagesUsable(std::string& why) {
 #endif
 }
 
+// Sets $PNB_HUGE_PAGES for one scope.
+struct HugePagesEnv {
+    explicit HugePagesEnv(const char* value) { setenv("PNB_HUGE_PAGES", value, 1); }
+    ~HugePagesEnv() { unsetenv("PNB_HUGE_PAGES"); }
+};
+
 TEST(UploadHeap, DriverAllocationsArriveInHugePagesAndMallocIsRestoredAfter) {
     std::string why;
     if (!transparentHugePagesUsable(why)) GTEST_SKIP() << why;
@@ -73,7 +79,9 @@ TEST(UploadHeap, DriverAllocationsArriveInHugePagesAndMallocIsRestoredAfter) {
     constexpr size_t kMiB = size_t(1) << 20;
     void* heapEndBefore = sbrk(0);
     {
+        HugePagesEnv on("on"); // whatever this machine's automatic choice is
         UploadHeap heap(96 * kMiB);
+        EXPECT_NE(heap.describe().find("MiB in 2 MiB pages"), std::string::npos) << heap.describe();
         ASSERT_GE(heap.hugePageBytes(), 80 * kMiB) << "the heap did not grow by the upload's size";
         // What a driver does with a new texture: allocate and fill it — 40 MiB, more than glibc
         // would otherwise put in the heap (32 MiB at most) instead of a mapping of its own.
@@ -95,6 +103,44 @@ TEST(UploadHeap, DriverAllocationsArriveInHugePagesAndMallocIsRestoredAfter) {
     EXPECT_GE(mallinfo2().hblkhd, mappedBefore + kMiB) << "a 1 MiB block should be mapped again";
     std::free(block);
 #endif
+}
+
+TEST(UploadHeap, WithoutHugePagesTheHeapStillGrowsButIn4KiBPages) {
+    std::string why;
+    if (!transparentHugePagesUsable(why)) GTEST_SKIP() << why;
+#if defined(__GLIBC__)
+    constexpr size_t kMiB = size_t(1) << 20;
+    HugePagesEnv off("off");
+    UploadHeap heap(96 * kMiB);
+    EXPECT_EQ(heap.hugePageBytes(), 0u);
+    EXPECT_EQ(heap.describe(), "4 KiB pages ($PNB_HUGE_PAGES=off)");
+    const uint64_t hugeBefore = anonHugePagesKib();
+    void* storage = std::malloc(40 * kMiB);
+    ASSERT_NE(storage, nullptr);
+    std::memset(storage, 1, 40 * kMiB);
+    EXPECT_LT(anonHugePagesKib() - hugeBefore, 4u * 1024) << "MADV_NOHUGEPAGE was not applied";
+    std::free(storage);
+#endif
+}
+
+// Automatic: huge pages unless the kernel has them off or the VM reports free pages to its host,
+// and the reason is always given.
+TEST(UploadHeap, TheAutomaticChoiceFollowsTheKernel) {
+    unsetenv("PNB_HUGE_PAGES");
+    const HugePageChoice choice = hugePageChoice();
+    EXPECT_FALSE(choice.why.empty());
+    std::ifstream in("/sys/kernel/mm/transparent_hugepage/enabled");
+    std::string modes;
+    std::getline(in, modes);
+    if (modes.find("[never]") != std::string::npos || modes.empty()) {
+        EXPECT_FALSE(choice.use) << choice.why;
+    } else if (!choice.use) {
+        EXPECT_NE(choice.why.find("free page reporting"), std::string::npos) << choice.why;
+    }
+    std::printf("automatic choice here: %s (%s)\n", choice.use ? "2 MiB pages" : "4 KiB pages",
+                choice.why.c_str());
+    HugePagesEnv forced("on");
+    EXPECT_TRUE(hugePageChoice().use);
 }
 
 TEST(UploadHeap, SmallScenesAreLeftAlone) {

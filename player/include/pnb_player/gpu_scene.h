@@ -106,6 +106,7 @@ struct LoadStats {
                              // its split is StartupTimes, startup_times.h)
     uint64_t fileBytes = 0, zeroCopyBytes = 0, decompressedBytes = 0;
     uint64_t hugePageBytes = 0; // heap reserved in 2 MiB pages for the driver's copy (upload_heap.h)
+    std::string uploadPages;    // "N MiB in 2 MiB pages", or which pages and why (for the load line)
     uint32_t chunks = 0, unknownChunks = 0;
 };
 
