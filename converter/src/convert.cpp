@@ -15,8 +15,8 @@
 
 #include "parallel_for.h"
 #include "pnb/scene_builder.h"
+#include "pnb/user_cache_directory.h"
 #include "pnb/writer.h"
-#include "pnb_converter/cache_directory.h"
 #include "pnb_converter/camera_path.h"
 #include "pnb_converter/importers.h"
 #include "pnb_converter/material_resolve.h"
@@ -409,8 +409,8 @@ Result<ConvertSummary, ConvertError> convertScene(const ConvertSettings& s,
         report("shaders", 0, plan.programs.size());
         ShaderValidationCache* cache = nullptr;
         if (s.shaderCache)
-            cache = &processShaderValidationCache(s.cacheDir.empty() ? userCacheDirectory()
-                                                                     : s.cacheDir);
+            cache = &processShaderValidationCache(
+                s.cacheDir.empty() ? pnb::userCacheDirectory("PNB_CACHE_DIR") : s.cacheDir);
         ShaderValidationStats stats;
         auto validated = validateShaders(plan, builtinShaderFiles(), cache, &stats);
         if (cache)

@@ -23,7 +23,7 @@
 
 #include "pnb/reader.h"
 #include "pnb/scene.h"
-#include "pnb_converter/cache_directory.h"
+#include "pnb/user_cache_directory.h"
 #include "pnb_converter/convert.h"
 #include "pnb_converter/memory_budget.h"
 
@@ -187,7 +187,7 @@ void printHelp() {
                 "($PNB_CACHE_DIR, else $XDG_CACHE_HOME/penumbra, else ~/.cache/penumbra); a\n"
                 "damaged or unwritable cache only means validating again.\n",
                 [] {
-                    std::string d = pnb::converter::userCacheDirectory();
+                    std::string d = pnb::userCacheDirectory("PNB_CACHE_DIR");
                     return d.empty() ? std::string("(no cache directory here)") : d;
                 }()
                     .c_str());

@@ -17,6 +17,7 @@
 #include <xxhash.h>
 
 #include "pnb/atomic_file.h"
+#include "pnb/user_cache_directory.h"
 
 namespace pnb::player {
 
@@ -198,14 +199,7 @@ void writeFailed(const std::string& what) {
 } // namespace
 
 std::string defaultProgramCacheDirectory() {
-    auto env = [](const char* name) -> std::string {
-        const char* v = std::getenv(name);
-        return v && *v ? v : "";
-    };
-    if (std::string d = env("PNB_PROGRAM_CACHE_DIR"); !d.empty()) return d;
-    if (std::string d = env("XDG_CACHE_HOME"); !d.empty()) return d + "/penumbra/programs";
-    if (std::string d = env("HOME"); !d.empty()) return d + "/.cache/penumbra/programs";
-    return "";
+    return userCacheDirectory("PNB_PROGRAM_CACHE_DIR", "programs");
 }
 
 void configureProgramCache(const ProgramCacheOptions& options) {

@@ -12,7 +12,7 @@
 #include <fstream>
 #include <optional>
 
-#include "pnb_converter/cache_directory.h"
+#include "pnb/user_cache_directory.h"
 #include "pnb_converter/convert.h"
 #include "pnb_converter/shader_permutations.h"
 #include "pnb_converter/shader_validation_cache.h"
@@ -214,11 +214,15 @@ TEST(CacheDirectory, FollowsPnbCacheDirThenXdgThenHome) {
     setenv("PNB_CACHE_DIR", "/tmp/pnb-cache", 1);
     setenv("XDG_CACHE_HOME", "/tmp/xdg", 1);
     setenv("HOME", "/home/someone", 1);
-    EXPECT_EQ(userCacheDirectory(), "/tmp/pnb-cache");
+    EXPECT_EQ(pnb::userCacheDirectory("PNB_CACHE_DIR"), "/tmp/pnb-cache");
     unsetenv("PNB_CACHE_DIR");
-    EXPECT_EQ(userCacheDirectory(), "/tmp/xdg/penumbra");
+    EXPECT_EQ(pnb::userCacheDirectory("PNB_CACHE_DIR"), "/tmp/xdg/penumbra");
     setenv("XDG_CACHE_HOME", "relative/ignored", 1);
-    EXPECT_EQ(userCacheDirectory(), "/home/someone/.cache/penumbra");
+    EXPECT_EQ(pnb::userCacheDirectory("PNB_CACHE_DIR"), "/home/someone/.cache/penumbra");
+    EXPECT_EQ(pnb::userCacheDirectory("PNB_CACHE_DIR", "programs"),
+              "/home/someone/.cache/penumbra/programs");
+    unsetenv("HOME"); // no guess from the password database: no cache
+    EXPECT_EQ(pnb::userCacheDirectory("PNB_CACHE_DIR"), "");
     restore("PNB_CACHE_DIR", pnbDir);
     restore("XDG_CACHE_HOME", xdg);
     restore("HOME", home);

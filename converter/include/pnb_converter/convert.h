@@ -34,7 +34,7 @@ struct ConvertSettings {
     // Remember programs glslang accepted (shader_validation_cache.h): in memory for the process
     // and on disk under `cacheDir`, so a program text is validated once. Default: true.
     bool shaderCache = true;
-    std::string cacheDir;       // "" = userCacheDirectory() (cache_directory.h)
+    std::string cacheDir;       // "" = pnb::userCacheDirectory("PNB_CACHE_DIR")
     bool checksums = true;      // payload checksums. Default: true.
     bool compressBulk = false;  // zstd also for meshes and texels (smaller file, no zero-copy
                                 // load). Default: false.
