@@ -412,12 +412,14 @@ def write_outputs(out, args, rows, skipped, configs):
             w.writerows(rows)
     replace_atomically(out / "results.csv", write_csv)
 
-    gl = "unknown"
+    gl, upload_pages = "unknown", set()
     for line in open(out / "samples.jsonl"):
         d = json.loads(line)
-        if "gl" in d:
+        if "gl" in d and gl == "unknown":
             gl = f"{d['gl']['renderer']}, {d['gl']['version']}"
-            break
+        if "upload_pages" in d:
+            upload_pages.add(d["upload_pages"].split(" (")[-1].rstrip(")") if "4 KiB" in d["upload_pages"]
+                             else "2 MiB pages")
     md = []
     p = md.append
     p("# scripts/bench-load")
@@ -427,6 +429,9 @@ def write_outputs(out, args, rows, skipped, configs):
       f"{' ' + ' '.join(args.files) if args.files else ''}`. Every figure is a fresh process; "
       f"{args.runs} runs of each (configuration, cache) pair, interleaved in a shuffled order. "
       "Cells: median (min–max; IQR q1–q3), ms.")
+    if upload_pages:
+        p(f"pnb's upload heap on this machine (docs/PLAYER.md, Upload memory): "
+          f"{'; '.join(sorted(upload_pages))}.")
     p("")
     p(INCLUDED)
     p("")

@@ -171,6 +171,7 @@ int main(int argc, char** argv) {
     line["buffer_bytes"] = r.bufferBytes;
     line["texture_bytes"] = r.textureBytes;
     line["checksum"] = r.checksum;
+    if (!r.uploadPages.empty()) line["upload_pages"] = r.uploadPages;
     line["inner_ms"] = msSince(mainEntry);
     printLine(line);
     return 0;

@@ -37,6 +37,7 @@ ProbeResult loadPnb(const std::string& path) {
     for (const auto& p : s.programs)
         r.programs += p ? 1 : 0;
     r.bufferBytes = s.memory.meshBytes;
+    r.uploadPages = stats.uploadPages;
     r.textureBytes = s.memory.textureBytes;
     const auto down = Clock::now();
     scene->reset();

@@ -28,6 +28,7 @@ struct ProbeResult {
     uint64_t triangles = 0, textures = 0, programs = 0, mipLevels = 0;
     uint64_t bufferBytes = 0, textureBytes = 0;
     uint64_t checksum = 0; // floor: a sum over the copied bytes, so the copy cannot be elided
+    std::string uploadPages; // pnb: the upload heap's pages and why (LoadStats::uploadPages)
 };
 
 // The player's loadScene() on a .pnb, then glFinish.
