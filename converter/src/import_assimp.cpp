@@ -1,4 +1,7 @@
-// import_assimp.cpp — OBJ/MTL (and the other formats assimp 5.2 reads) into the scene IR.
+// import_assimp.cpp — the formats assimp 5.2 reads (FBX, Collada, 3DS, PLY, STL, .blend, ...)
+// into the scene IR. OBJ/MTL has its own importer (import_obj.cpp, tinyobjloader), which
+// importScene picks for .obj; this file still reads OBJ when called directly, and its OBJ
+// behaviour below is what import_obj.cpp reproduces.
 //
 // A translation, not a processing step: assimp runs only Triangulate, SortByPType and
 // ValidateDataStructure; welding, normals, tangents and every optimisation are the mesh stage's
@@ -31,8 +34,9 @@
 //   maps are not supported yet) and the alpha mode comes from d alone.
 // - Texture paths: relative to the source file's directory, '\' → '/', then a
 //   case-insensitive, component-by-component lookup, then (with a warning) the file name alone
-//   next to the source file (absolute paths from another machine). Files assimp itself opens
-//   (mtllib) go through the same resolver via an IOSystem. Missing textures are dropped with a
+//   next to the source file (absolute paths from another machine): import_paths.h, shared with
+//   import_obj.cpp. Files assimp itself opens (mtllib) go through the same resolver via an
+//   IOSystem. Missing textures are dropped with a
 //   warning; the material is kept.
 //
 // Does NOT do: processing of any kind, image decoding, animation, skinning, morph targets
