@@ -49,6 +49,7 @@
 #include <tiny_obj_loader.h>
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
@@ -125,10 +126,9 @@ void scanMtlKeys(std::string_view text, std::map<std::string, MtlKeys>& out) {
         if (end == std::string_view::npos) end = text.size();
         std::string_view line = text.substr(pos, end - pos);
         pos = end + 1;
-        while (!line.empty() && (line.front() == ' ' || line.front() == '\t')) line.remove_prefix(1);
-        while (!line.empty() && (line.back() == ' ' || line.back() == '\t' || line.back() == '\r')) {
-            line.remove_suffix(1);
-        }
+        auto blank = [](char c) { return c == ' ' || c == '\t' || c == '\r'; };
+        while (!line.empty() && blank(line.front())) line.remove_prefix(1);
+        while (!line.empty() && blank(line.back())) line.remove_suffix(1);
         auto key = [&](std::string_view k) {
             return line.size() > k.size() && line.substr(0, k.size()) == k &&
                    (line[k.size()] == ' ' || line[k.size()] == '\t');
@@ -210,9 +210,10 @@ private:
     std::map<std::string, MtlKeys>& mKeys;
 };
 
-// The first line of `text` with a face, line or point index outside `vertexCount` positions
-// (tinyobjloader's rules: k > 0 is k - 1, k < 0 counts back from the vertices read so far), or
-// 0. Only called once something is known to be wrong.
+// The first line of `text` with a face index outside `vertexCount` positions (tinyobjloader's
+// rules: k > 0 is k - 1, k < 0 counts back from the vertices read so far), or 0. Only called
+// once something is known to be wrong. (Point and line indices are not checked: those elements
+// are dropped.)
 size_t lineOfBadIndex(std::string_view text, size_t vertexCount) {
     size_t line = 0, seen = 0, pos = 0;
     while (pos < text.size()) {
@@ -227,7 +228,7 @@ size_t lineOfBadIndex(std::string_view text, size_t vertexCount) {
             ++seen;
             continue;
         }
-        if (l[0] != 'f' && l[0] != 'l' && l[0] != 'p') continue;
+        if (l[0] != 'f') continue;
         const std::string s(l.substr(2));
         const char* p = s.c_str();
         while (*p != '\0') {
@@ -240,6 +241,20 @@ size_t lineOfBadIndex(std::string_view text, size_t vertexCount) {
         }
     }
     return 0;
+}
+
+// Line `number` (1-based) of `text`, shortened for a message.
+std::string lineText(std::string_view text, size_t number) {
+    size_t pos = 0;
+    for (size_t line = 1; line < number && pos < text.size(); ++line) {
+        const size_t end = text.find('\n', pos);
+        pos = end == std::string_view::npos ? text.size() : end + 1;
+    }
+    std::string_view l = text.substr(std::min(pos, text.size()));
+    l = l.substr(0, std::min(l.find_first_of("\r\n"), size_t(80)));
+    std::string out;
+    for (char c : l) out += std::isprint(static_cast<unsigned char>(c)) ? c : '?';
+    return out;
 }
 
 // [SECTION] materials
@@ -538,8 +553,16 @@ Result<IrScene, ConvertError> importObj(const std::string& path) {
                                       /*default_vcols_fallback=*/false);
         }
         if (!parsed) {
-            // "Failed parse `f' line(e.g. zero value for face index. line 5.)"
+            // tinyobjloader: "Failed parse `f' line(e.g. zero value for face index. line 5.)"
             while (!err.empty() && (err.back() == '\n' || err.back() == ' ')) err.pop_back();
+            const size_t at = err.rfind("line ");
+            const size_t line =
+                at == std::string::npos ? 0 : std::strtoul(&err[at + 5], nullptr, 10);
+            if (line > 0 && err.rfind("Failed parse `", 0) == 0 && err.size() > 15) {
+                return inputError(format("line %zu: malformed '%c' element (an index is 0 or not "
+                                         "a number): \"%s\"", line, err[14],
+                                         lineText(*text, line).c_str()));
+            }
             return inputError(err.empty() ? std::string("not a valid OBJ file") : err);
         }
         const size_t vertexCount = attrib.vertices.size() / 3;
