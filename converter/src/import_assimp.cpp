@@ -1,4 +1,7 @@
-// import_assimp.cpp — OBJ/MTL (and the other formats assimp 5.2 reads) into the scene IR.
+// import_assimp.cpp — the formats assimp 5.2 reads (FBX, Collada, 3DS, PLY, STL, .blend, ...)
+// into the scene IR. OBJ/MTL has its own importer (import_obj.cpp, tinyobjloader), which
+// importScene picks for .obj; this file still reads OBJ when called directly, and its OBJ
+// behaviour below is what import_obj.cpp reproduces.
 //
 // A translation, not a processing step: assimp runs only Triangulate, SortByPType and
 // ValidateDataStructure; welding, normals, tangents and every optimisation are the mesh stage's
@@ -31,14 +34,15 @@
 //   maps are not supported yet) and the alpha mode comes from d alone.
 // - Texture paths: relative to the source file's directory, '\' → '/', then a
 //   case-insensitive, component-by-component lookup, then (with a warning) the file name alone
-//   next to the source file (absolute paths from another machine). Files assimp itself opens
-//   (mtllib) go through the same resolver via an IOSystem. Missing textures are dropped with a
+//   next to the source file (absolute paths from another machine): import_paths.h, shared with
+//   import_obj.cpp. Files assimp itself opens (mtllib) go through the same resolver via an
+//   IOSystem. Missing textures are dropped with a
 //   warning; the material is kept.
 //
 // Does NOT do: processing of any kind, image decoding, animation, skinning, morph targets
 // (each dropped with a warning), unit conversion.
 //
-// Index: [SECTION] paths, [SECTION] io system, [SECTION] math, [SECTION] images,
+// Index: [SECTION] io system, [SECTION] math, [SECTION] images,
 // [SECTION] materials, [SECTION] meshes, [SECTION] axes, [SECTION] lights and cameras,
 // [SECTION] scene and entry point.
 #include "pnb_converter/importers.h"
@@ -54,7 +58,6 @@
 #include <array>
 #include <cctype>
 #include <cmath>
-#include <cstdarg>
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
@@ -65,6 +68,7 @@
 #include <utility>
 #include <vector>
 
+#include "import_paths.h"
 #include "pnb_converter/mtl_to_pbr.h"
 
 namespace pnb::converter {
@@ -72,109 +76,9 @@ namespace pnb::converter {
 namespace {
 
 namespace fs = std::filesystem;
-
-std::string format(const char* fmt, ...) __attribute__((format(printf, 1, 2)));
-std::string format(const char* fmt, ...) {
-    va_list args;
-    va_start(args, fmt);
-    va_list copy;
-    va_copy(copy, args);
-    int size = std::vsnprintf(nullptr, 0, fmt, copy);
-    va_end(copy);
-    std::string out(size > 0 ? size_t(size) : 0, '\0');
-    if (size > 0) std::vsnprintf(out.data(), out.size() + 1, fmt, args);
-    va_end(args);
-    return out;
-}
+using namespace import_detail;
 
 std::string str(const aiString& s) { return std::string(s.C_Str(), s.length); }
-
-bool iequals(const std::string& a, const std::string& b) {
-    return a.size() == b.size() &&
-           std::equal(a.begin(), a.end(), b.begin(), [](char x, char y) {
-               return std::tolower(static_cast<unsigned char>(x)) ==
-                      std::tolower(static_cast<unsigned char>(y));
-           });
-}
-
-// [SECTION] paths
-
-bool isRegularFile(const fs::path& p) {
-    std::error_code ec;
-    return fs::is_regular_file(p, ec);
-}
-
-// Walks `rel` one component at a time from `base`, taking the exact name when it exists and
-// otherwise the directory entry equal to it ignoring ASCII case (exports from Windows, where
-// "Tex/Wood.PNG" and "tex/wood.png" are the same file). Several case variants: the smallest
-// name, so the result does not depend on directory order.
-std::optional<fs::path> findIgnoringCase(const fs::path& base, const fs::path& rel) {
-    fs::path current = base.empty() ? fs::path(".") : base;
-    for (const fs::path& component : rel) {
-        const std::string name = component.string();
-        if (name.empty() || name == "." || name == "/") continue;
-        if (name == "..") {
-            current /= "..";
-            continue;
-        }
-        std::error_code ec;
-        if (fs::exists(current / component, ec)) {
-            current /= component;
-            continue;
-        }
-        std::optional<fs::path> match;
-        fs::directory_iterator it(current, ec);
-        for (; !ec && it != fs::directory_iterator(); it.increment(ec)) {
-            fs::path candidate = it->path().filename();
-            if (iequals(candidate.string(), name) && (!match || candidate < *match)) {
-                match = candidate;
-            }
-        }
-        if (!match) return std::nullopt;
-        current /= *match;
-    }
-    if (!isRegularFile(current)) return std::nullopt;
-    return current.lexically_normal();
-}
-
-struct ResolvedPath {
-    fs::path path;
-    bool byNameOnly = false; // found only as the bare file name next to the source
-};
-
-// Resolves a file reference written inside a source file (see the header block for the order).
-std::optional<ResolvedPath> resolveReference(const fs::path& sourceDir, std::string ref) {
-    std::replace(ref.begin(), ref.end(), '\\', '/');
-    while (!ref.empty() && std::isspace(static_cast<unsigned char>(ref.back()))) ref.pop_back();
-    size_t start = 0;
-    while (start < ref.size() && std::isspace(static_cast<unsigned char>(ref[start]))) ++start;
-    ref.erase(0, start);
-    if (ref.rfind("file://", 0) == 0) ref.erase(0, 7);
-    if (ref.empty()) return std::nullopt;
-
-    // "C:/Users/..." is an absolute path from another machine: only its file name can help.
-    const bool foreignAbsolute = ref.size() >= 3 && ref[1] == ':' && ref[2] == '/' &&
-                                 std::isalpha(static_cast<unsigned char>(ref[0]));
-    const fs::path refPath(ref);
-    if (!foreignAbsolute) {
-        if (refPath.is_absolute()) {
-            if (isRegularFile(refPath)) return ResolvedPath{refPath.lexically_normal()};
-            if (auto p = findIgnoringCase(refPath.root_path(), refPath.relative_path())) {
-                return ResolvedPath{*p};
-            }
-        } else {
-            fs::path exact = (sourceDir / refPath).lexically_normal();
-            if (isRegularFile(exact)) return ResolvedPath{exact};
-            if (auto p = findIgnoringCase(sourceDir, refPath)) return ResolvedPath{*p};
-        }
-    }
-    if (refPath.has_filename() && refPath.filename() != refPath) {
-        if (auto p = findIgnoringCase(sourceDir, refPath.filename())) {
-            return ResolvedPath{*p, true};
-        }
-    }
-    return std::nullopt;
-}
 
 // [SECTION] io system
 

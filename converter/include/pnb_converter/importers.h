@@ -24,12 +24,17 @@ namespace pnb::converter {
 // Unsupported error names the texture and image when there is none.
 Result<IrScene, ConvertError> importGltf(const std::string& path);
 
-// OBJ/MTL (and the other formats assimp reads) through assimp. MTL parameters map onto PBR as
-// mtl_to_pbr.h documents; map_Kd → base colour, map_d → alpha (a warning if it is not the base
-// colour's alpha), map_bump/norm → normal map, map_Ke → emissive.
+// Wavefront OBJ/MTL through tinyobjloader. MTL parameters map onto PBR as mtl_to_pbr.h
+// documents; map_Kd → base colour, map_d → alpha (a warning if it is not the base colour's
+// alpha), norm/bump/map_bump → normal map, map_Ke → emissive. Errors name the file and, for
+// malformed faces, the line. The MTL files read are listed in IrScene::dependencies.
+Result<IrScene, ConvertError> importObj(const std::string& path);
+
+// The other formats assimp reads (FBX, Collada, 3DS, PLY, STL, .blend, ...; OBJ too, though
+// importScene sends .obj to importObj). Same MTL mapping for OBJ.
 Result<IrScene, ConvertError> importWithAssimp(const std::string& path);
 
-// Picks the importer by extension (.gltf/.glb → glTF, anything else → assimp).
+// Picks the importer by extension (.gltf/.glb → glTF, .obj → OBJ, anything else → assimp).
 Result<IrScene, ConvertError> importScene(const std::string& path);
 
 } // namespace pnb::converter
