@@ -35,14 +35,18 @@ done
 codec=$(find "$prefix" -path '*/penumbra/libpnb_image_oiio.so')
 [ -n "$codec" ] || fail "the image codec module libpnb_image_oiio.so is not installed"
 # The installed converter loads its image codec from the prefix, not from the build tree (it
-# would find that one last): a textured model, with the dynamic loader reporting what it loads.
-textured=/usr/share/assimp/models/glTF2/BoxTextured-glTF/BoxTextured.gltf
-if [ -f "$textured" ]; then
-    LD_DEBUG=files "$prefix/bin/pnb-convert" "$textured" -o "$tmp/textured.pnb" -q \
-        >"$tmp/codec.log" 2>&1 || { cat "$tmp/codec.log" >&2; fail "installed pnb-convert on $textured"; }
-    grep -q "file=$codec .*dynamically loaded" "$tmp/codec.log" ||
-        fail "the installed pnb-convert did not load $codec: $(grep libpnb_image_oiio "$tmp/codec.log")"
-fi
+# would find that one last): a quad textured with a TGA (PNG and JPEG need no module), with the
+# dynamic loader reporting what it loads.
+textured=$tmp/quad.obj
+printf 'mtllib quad.mtl\nv 0 0 0\nv 1 0 0\nv 1 1 0\nvt 0 0\nvt 1 0\nvt 1 1\nusemtl m\nf 1/1 2/2 3/3\n' \
+    >"$textured"
+printf 'newmtl m\nKd 1 1 1\nmap_Kd tiles.tga\n' >"$tmp/quad.mtl"
+# An 18-byte header (uncompressed true-colour, 1 x 1, 24 bits) and one BGR texel.
+printf '\0\0\2\0\0\0\0\0\0\0\0\0\1\0\1\0\30\0\100\200\300' >"$tmp/tiles.tga"
+LD_DEBUG=files "$prefix/bin/pnb-convert" "$textured" -o "$tmp/textured.pnb" -q \
+    >"$tmp/codec.log" 2>&1 || { cat "$tmp/codec.log" >&2; fail "installed pnb-convert on $textured"; }
+grep -q "file=$codec .*dynamically loaded" "$tmp/codec.log" ||
+    fail "the installed pnb-convert did not load $codec: $(grep libpnb_image_oiio "$tmp/codec.log")"
 
 # The consumer, configured from a directory outside the source and build trees. The package
 # registries are off, so only CMAKE_PREFIX_PATH (or the system) can provide Penumbra.
