@@ -32,8 +32,8 @@
 namespace pnb::player {
 
 // viewportHeight / (2 tan(yfov / 2)): pixels a unit-long segment facing the eye covers at unit
-// distance. yfov outside (0, pi) or not finite, or a zero height, gives +infinity (nothing can
-// be bounded: selection keeps full detail) or 0 for yfov >= pi (everything is a point).
+// distance. yfov <= 0 or not finite gives +infinity (nothing can be bounded: selection keeps full
+// detail); yfov >= pi or a zero height gives 0 (everything is below a pixel).
 double lodPixelScale(double yfovRadians, uint32_t viewportHeight);
 
 // Distance from `eye` to the nearest point of the box [lo, hi]; 0 inside. NaN inputs give 0.
