@@ -40,7 +40,7 @@ gltf::Primitive uvSphere(float radius, uint32_t rings, uint32_t segments, uint32
 
 // The sphere (material 0) at the origin, optionally a ground plane below it, and the fixture's
 // sun and lamp; converted with `lods` extra levels.
-std::string sphereScene(uint32_t lods, bool ground, const std::string& name) {
+std::string sphereScene(uint32_t lods, bool ground, const std::string& name, bool gi = false) {
     gltf::Document doc;
     gltf::Material grey;
     grey.name = "grey";
@@ -66,6 +66,7 @@ std::string sphereScene(uint32_t lods, bool ground, const std::string& name) {
     s.validateShaders = false;
     s.noSidecar = true;
     s.mesh.lodCount = lods;
+    if (gi) s.renderSettings.emplace_back("gi.enabled", "true");
     auto r = converter::convertScene(s);
     EXPECT_TRUE(r.ok()) << (r.ok() ? "" : r.error().message);
     return s.output;
@@ -232,6 +233,30 @@ TEST(Lod, ShadowPassesDrawTheMainViewsLevel) {
             ASSERT_TRUE(hdr.ok());
             EXPECT_TRUE(allFinite(*hdr));
         }
+    }
+}
+
+TEST(Lod, TheGiReflectiveShadowMapDrawsTheMainViewsLevel) {
+    Loaded l = load(sphereScene(3, true, "gi", true));
+    ASSERT_TRUE(l.renderer);
+    ASSERT_TRUE(l.scene->giPrograms);
+    const uint32_t coarsest = l.levels() - 1;
+    const uint64_t ground = l.scene->triangles - l.triangles(0);
+    RenderSettings on, off;
+    on.giEnabled = true;
+    for (double distance : {0.2, 2.0 * switchDistance(l, coarsest) / 0.8}) {
+        const uint32_t level = distance < 1 ? 0 : coarsest;
+        l.renderer->setSettings(off);
+        ASSERT_TRUE(l.renderer->render(at(distance), kWidth, kHeight).ok());
+        const uint64_t mainView = l.renderer->lastFrame().triangles;
+        EXPECT_EQ(mainView, l.triangles(level) + ground);
+        l.renderer->setSettings(on);
+        ASSERT_TRUE(l.renderer->render(at(distance), kWidth, kHeight).ok());
+        // The RSM's draws count as draws: the sphere and the ground once more, at the same level.
+        EXPECT_EQ(l.renderer->lastFrame().triangles - mainView, l.triangles(level) + ground);
+        auto hdr = l.renderer->capture(CaptureBuffer::Hdr);
+        ASSERT_TRUE(hdr.ok());
+        EXPECT_TRUE(allFinite(*hdr));
     }
 }
 
