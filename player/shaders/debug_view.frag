@@ -4,7 +4,7 @@ layout(binding = 0) uniform sampler2D uGBaseColor;
 layout(binding = 1) uniform sampler2D uGNormalMaterial;
 layout(binding = 2) uniform sampler2D uGEmissive;
 layout(binding = 3) uniform sampler2D uDepth;
-layout(binding = 4) uniform sampler2D uDebug; // layer colours, overdraw counts or the RSM
+layout(binding = 4) uniform sampler2D uDebug; // layer or LOD colours, overdraw counts, the RSM
 layout(binding = 5) uniform sampler3D uGiR;   // GI's summed volume (gi_volume)
 layout(binding = 6) uniform sampler3D uGiG;
 layout(binding = 7) uniform sampler3D uGiB;
@@ -47,6 +47,7 @@ void main() {
     } else if (uMode == 9) c = texture(uDebug, vUv).rgb;
     else if (uMode == 10) c = heat(texture(uDebug, vUv).r);
     else if (uMode == 15) c = texture(uDebug, vUv).rgb; // RSM (black without GI)
+    else if (uMode == 17) c = texture(uDebug, vUv).rgb; // level-of-detail colours
     else if (uMode == 16 && uGiSlice.y > 0.5) { // band 0 = radiance / sun irradiance x 2 sqrt(pi)
         vec3 uvw = vec3(vUv, uGiSlice.x);
         c = 4.0 * vec3(texture(uGiR, uvw).x, texture(uGiG, uvw).x, texture(uGiB, uvw).x); // x4: visible

@@ -271,8 +271,15 @@ void main() {
 
 #ifdef SDSM_CULL
 layout(local_size_x = 64) in;
-layout(std430, binding = 6) readonly buffer CasterBounds { vec4 casterBounds[]; }; // min, max
-layout(std430, binding = 7) readonly buffer CasterInfo { uvec2 casterInfo[]; };    // count, first
+// Per caster (SdsmCasterData, shadow_maps.h): camera-relative bounds and the index range of the
+// level of detail it draws this frame.
+struct Caster {
+    vec3 lo;
+    uint indexCount;
+    vec3 hi;
+    uint firstIndex;
+};
+layout(std430, binding = 6) readonly buffer CasterBounds { Caster casters[]; };
 layout(std430, binding = 5) writeonly buffer CasterMasks { uint casterMask[]; };
 struct DrawCommand {
     uint count, instanceCount, firstIndex;
@@ -284,7 +291,7 @@ layout(std430, binding = 4) writeonly buffer Commands { DrawCommand commands[]; 
 void main() {
     uint i = gl_GlobalInvocationID.x;
     if (i >= uint(uCasterCount)) return;
-    vec3 lo = casterBounds[2u * i].xyz, hi = casterBounds[2u * i + 1u].xyz;
+    vec3 lo = casters[i].lo, hi = casters[i].hi;
     uint mask = 0u;
     for (int c = 0; c < uCascades; ++c) {
         vec3 nlo = vec3(1e30), nhi = vec3(-1e30);
@@ -298,7 +305,7 @@ void main() {
             mask |= 1u << uint(c);
     }
     casterMask[i] = mask;
-    uvec2 info = casterInfo[i];
+    uvec2 info = uvec2(casters[i].indexCount, casters[i].firstIndex);
     commands[i] = DrawCommand(info.x, uint(bitCount(mask)), info.y, 0, 0u);
     for (int c = 0; c < MAX_CASCADES; ++c)
         commands[uint(c + 1) * uCommandStride + i] = DrawCommand(info.x, (mask >> uint(c)) & 1u, info.y, 0, 0u);

@@ -307,7 +307,8 @@ PlayResult<BenchResult> runBenchmark(const GpuScene& scene, Renderer& renderer,
     csv << "frame,time_s,cpu_ms,gpu_total_ms";
     for (const std::string& n : passNames) csv << ",gpu_" << n << "_ms";
     csv << ",draw_calls,triangles,visible_items,culled_items,deferred_layers,shadow_draws,"
-           "shadow_triangles,shadow_casters,camera_x,camera_y,camera_z,camera_yfov_deg,thread_cpu_ms\n";
+           "shadow_triangles,shadow_casters,camera_x,camera_y,camera_z,camera_yfov_deg,thread_cpu_ms,"
+           "lod_switches\n";
     for (size_t k = 0; k < records.size(); ++k) {
         const FrameRecord& r = records[k];
         csv << k << ',' << r.pathTime << ',' << r.stats.cpuMs << ',';
@@ -321,7 +322,7 @@ PlayResult<BenchResult> runBenchmark(const GpuScene& scene, Renderer& renderer,
             << r.stats.shadowDraws << ',' << r.stats.shadowTriangles << ',' << r.stats.shadowCasters << ','
             << std::setprecision(9) << r.cameraPosition.x << ',' << r.cameraPosition.y << ','
             << r.cameraPosition.z << ',' << r.cameraYfovDegrees << std::setprecision(6) << ','
-            << r.stats.threadCpuMs << '\n';
+            << r.stats.threadCpuMs << ',' << r.stats.lodSwitches << '\n';
     }
     std::string csvPath = options.outDir + "/frames.csv";
     if (auto w = writeText(csvPath, csv.str()); !w) return w.error();
@@ -387,9 +388,26 @@ PlayResult<BenchResult> runBenchmark(const GpuScene& scene, Renderer& renderer,
                        {"deferred_layers_drawn", last.stats.deferredLayersDrawn},
                        {"shadow_draws", last.stats.shadowDraws}, {"shadow_triangles", last.stats.shadowTriangles},
                        {"shadow_casters", last.stats.shadowCasters}};
-    std::vector<double> shadowDraws;
-    for (const FrameRecord& r : records) shadowDraws.push_back(r.stats.shadowDraws);
+    std::vector<double> shadowDraws, triangles, shadowTriangles;
+    uint64_t trianglesSum = 0, shadowTrianglesSum = 0, lodSwitches = 0;
+    for (const FrameRecord& r : records) {
+        shadowDraws.push_back(r.stats.shadowDraws);
+        triangles.push_back(double(r.stats.triangles));
+        shadowTriangles.push_back(double(r.stats.shadowTriangles));
+        trianglesSum += r.stats.triangles;
+        shadowTrianglesSum += r.stats.shadowTriangles;
+        lodSwitches += r.stats.lodSwitches;
+    }
     j["shadow_draws"] = toJson(summarize("shadow_draws", shadowDraws));
+    // Triangles drawn per frame (main view and shadow maps), at the levels of detail drawn; the
+    // sums compare runs along the same fixed-step path (lod.force=0 against by-error selection).
+    auto counts = [](const std::vector<double>& v, uint64_t sum) {
+        PassSummary p = summarize("", v);
+        return nlohmann::json{{"min", p.min}, {"median", p.median}, {"p95", p.p95}, {"max", p.max}, {"sum", sum}};
+    };
+    j["triangles"] = counts(triangles, trianglesSum);
+    j["shadow_triangles"] = counts(shadowTriangles, shadowTrianglesSum);
+    j["lod"] = {{"items_with_levels", scene.lodItems.size()}, {"switches", lodSwitches}};
     if (!quality.empty()) j["quality"] = quality;
     std::string jsonPath = options.outDir + "/summary.json";
     if (auto w = writeText(jsonPath, j.dump(2) + "\n"); !w) return w.error();

@@ -38,8 +38,8 @@ size_t pushObjectBlock(const GpuScene& scene, const DrawItem& item, const glm::d
     return ring.push(&block, sizeof block);
 }
 
-void buildDrawLists(const GpuScene& scene, const ViewMatrices& view, bool cull, StreamRing& ring,
-                    DrawLists& lists) {
+void buildDrawLists(const GpuScene& scene, const ViewMatrices& view, const LodState& lod, bool cull,
+                    StreamRing& ring, DrawLists& lists) {
     lists.layers.resize(scene.deferredLayers.size());
     for (auto& layer : lists.layers) layer.clear();
     lists.forwardOpaque.clear();
@@ -58,6 +58,7 @@ void buildDrawLists(const GpuScene& scene, const ViewMatrices& view, bool cull, 
         ref.item = i;
         ref.viewDepth = float(glm::dot((item.boundsMin + item.boundsMax) * 0.5 - view.position, forward));
         ref.objectOffset = pushObjectBlock(scene, item, toCamera, ring, 0.0f);
+        ref.level = drawLevel(scene, lod, i);
         const Material& m = scene.materials[item.material].desc;
         if (m.shadingPath == ShadingPath::Deferred) {
             auto layer = std::lower_bound(scene.deferredLayers.begin(), scene.deferredLayers.end(),
@@ -110,12 +111,12 @@ void drawItems(FrameContext& ctx, std::span<const DrawRef> refs, GLuint program,
         glBindBufferRange(GL_UNIFORM_BUFFER, 1, ctx.ring.buffer(), GLintptr(ref.objectOffset),
                           GLsizeiptr(ctx.objectBlockBytes));
         if (mesh.vertexArray.id() != boundVao) glBindVertexArray(boundVao = mesh.vertexArray.id());
-        const Submesh& sm = mesh.submeshes[item.submesh];
-        glDrawElements(mesh.primitive, GLsizei(warmUpCount(ctx, sm.indexCount)), mesh.indexType,
+        const DrawLevel& level = scene.levels[ref.level];
+        glDrawElements(mesh.primitive, GLsizei(warmUpCount(ctx, level.indexCount)), mesh.indexType,
                        reinterpret_cast<const void*>(mesh.indexOffset +
-                                                     uint64_t(sm.firstIndex) * mesh.indexSize));
+                                                     uint64_t(level.firstIndex) * mesh.indexSize));
         ++ctx.stats.drawCalls;
-        ctx.stats.triangles += item.triangles;
+        ctx.stats.triangles += level.triangles;
     }
     glEnable(GL_CULL_FACE);
 }

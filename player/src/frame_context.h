@@ -15,12 +15,35 @@
 
 namespace pnb::player {
 
-// One visible item: where its ObjectBlock lives in the ring, and its view depth for sorting.
+// One visible item: where its ObjectBlock lives in the ring, its view depth for sorting, and the
+// level of detail drawn.
 struct DrawRef {
     uint32_t item = 0;
     float viewDepth = 0;      // distance of the bounds' centre along the view direction
     size_t objectOffset = 0;  // ObjectBlock in the stream ring
+    uint32_t level = 0;       // index into GpuScene::levels (not the item's level number)
 };
+
+// Levels of detail (lod_selection.cpp). One choice per item and frame, made for the main view
+// and used by every pass that draws the item (main, shadow maps, RSM): the shadow maps then hold
+// the very surface that is lit, so receiver biases tuned for full detail still hold, and a
+// caster stays one draw for all its cascades. Both vectors stay empty while the scene has no
+// LODs (nothing is selected; every item draws level 0).
+struct LodState {
+    std::vector<uint8_t> selected; // per item: the rule's level, hysteresis applied (its state)
+    std::vector<uint8_t> drawn;    // per item: `selected` after lod.bias / lod.force
+};
+
+// Updates `lod` for this frame's view (the viewport height and vertical field of view) and
+// counts the items whose drawn level changed into stats.lodSwitches. Visits GpuScene::lodItems
+// only; a scene without LODs returns at once.
+void selectLevels(const GpuScene& scene, const ViewMatrices& view, uint32_t viewportHeight,
+                  const RenderSettings& settings, LodState& lod, FrameStats& stats);
+
+// The GpuScene::levels index item `item` draws this frame.
+inline uint32_t drawLevel(const GpuScene& scene, const LodState& lod, uint32_t item) {
+    return scene.items[item].firstLevel + (lod.drawn.empty() ? 0u : uint32_t(lod.drawn[item]));
+}
 
 struct DrawLists {
     std::vector<std::vector<DrawRef>> layers; // parallel to GpuScene::deferredLayers
@@ -31,8 +54,8 @@ struct DrawLists {
 
 // Culls, writes one ObjectBlock per visible item into the ring, and sorts into `lists` (reused
 // frame to frame, so its vectors keep their capacity).
-void buildDrawLists(const GpuScene& scene, const ViewMatrices& view, bool cull, StreamRing& ring,
-                    DrawLists& lists);
+void buildDrawLists(const GpuScene& scene, const ViewMatrices& view, const LodState& lod, bool cull,
+                    StreamRing& ring, DrawLists& lists);
 
 // One ObjectBlock (interface.glsl) for `item` into the ring; `casterIndex` is the shadow pass's
 // index into the caster masks (uObjectParams.y). Returns its ring offset.
@@ -62,6 +85,7 @@ struct FrameContext {
     size_t objectBlockBytes = 0;
     ShadowContext& shadows;
     GiContext& gi;
+    const LodState& lod;
     size_t frameBlockOffset = 0; // this frame's FrameBlock in the ring (binding 0)
     // Renderer::warmUp's frame: nothing culled, every draw cut to its first triangle.
     bool warmUp = false;
@@ -77,6 +101,7 @@ struct Renderer::Impl {
     DrawLists lists;   // this frame's visible draws
     ShadowContext shadows;
     GiContext gi;
+    LodState lod;
     uint64_t shadowsForMaterials = ~0ull; // GpuScene::materialsVersion the casters were built for
     CameraState lastCamera;               // re-rendered for CaptureBuffer::Shadow
     GpuTimer captureTimer;                // times of capture renders (discarded)

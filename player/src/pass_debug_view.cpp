@@ -1,6 +1,7 @@
 // Debug views: a G-buffer channel or depth straight from the frame's targets, or — for the layer
 // and overdraw views — the visible draws re-rendered with the flat program into a debug target
-// (nearest surface's layer colour; additive fragment counts), then mapped to the output.
+// (nearest surface's layer colour; additive fragment counts), as for the level-of-detail view
+// (nearest surface's level colour), then mapped to the output.
 // G-buffer views show the last deferred layer drawn (the G-buffer is reused per layer).
 #include <algorithm>
 
@@ -37,6 +38,40 @@ void renderLayerColors(FrameContext& ctx) {
     glProgramUniform4fv(flat, 1, 1, &forward[0]);
     drawItems(ctx, ctx.lists.forwardOpaque, flat);
     drawItems(ctx, ctx.lists.forwardBlended, flat);
+}
+
+// The level of detail each visible item draws: level 0 blue, then green, yellow, orange, red,
+// magenta (5 and coarser); items without LODs grey, so "full detail because near" and "full
+// detail because there is nothing else" differ. Nearest surface wins, as in the layer view.
+glm::vec4 lodColor(uint32_t level, bool hasLevels) {
+    static const glm::vec4 palette[] = {{0.15f, 0.35f, 1.0f, 1}, {0.1f, 0.8f, 0.2f, 1},
+                                        {1.0f, 0.9f, 0.1f, 1},   {1.0f, 0.5f, 0.05f, 1},
+                                        {0.9f, 0.1f, 0.1f, 1},   {0.9f, 0.2f, 0.9f, 1}};
+    if (!hasLevels) return {0.5f, 0.5f, 0.5f, 1};
+    return palette[std::min<size_t>(level, std::size(palette) - 1)];
+}
+
+void renderLodColors(FrameContext& ctx) {
+    GLuint flat = ctx.builtins.flat.id();
+    glBindFramebuffer(GL_FRAMEBUFFER, ctx.targets.debugFb.id());
+    const float zero[4] = {0, 0, 0, 0};
+    glClearNamedFramebufferfv(ctx.targets.debugFb.id(), GL_COLOR, 0, zero);
+    glClearNamedFramebufferfi(ctx.targets.debugFb.id(), GL_DEPTH_STENCIL, 0, 0.0f, 0);
+    glEnable(GL_DEPTH_TEST);
+    glDepthFunc(GL_GREATER);
+    glDepthMask(GL_TRUE);
+    glDisable(GL_BLEND);
+    const GpuScene& scene = ctx.scene;
+    auto drawList = [&](std::span<const DrawRef> refs) {
+        for (const DrawRef& ref : refs) {
+            const DrawItem& item = scene.items[ref.item];
+            glProgramUniform4fv(flat, 1, 1, &lodColor(ref.level - item.firstLevel, item.levelCount > 1)[0]);
+            drawItems(ctx, std::span(&ref, 1), flat);
+        }
+    };
+    for (const auto& layer : ctx.lists.layers) drawList(layer);
+    drawList(ctx.lists.forwardOpaque);
+    drawList(ctx.lists.forwardBlended);
 }
 
 void renderOverdraw(FrameContext& ctx) {
@@ -94,6 +129,7 @@ void runDebugView(FrameContext& ctx) {
     }
     if (mode == DebugView::Layer) renderLayerColors(ctx);
     if (mode == DebugView::Overdraw) renderOverdraw(ctx);
+    if (mode == DebugView::Lod) renderLodColors(ctx);
     glBindFramebuffer(GL_FRAMEBUFFER, ctx.targets.outputFb.id());
     glDisable(GL_DEPTH_TEST);
     glDisable(GL_FRAMEBUFFER_SRGB); // values are shown as stored, not as colours

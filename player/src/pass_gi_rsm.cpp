@@ -16,7 +16,9 @@ void runGiRsm(FrameContext& ctx) {
     ctx.timer.mark("gi_rsm");
     std::vector<DrawRef> refs;
     refs.reserve(f.rsmItems.size());
-    for (size_t i = 0; i < f.rsmItems.size(); ++i) refs.push_back({f.rsmItems[i], 0.0f, f.rsmObjectOffsets[i]});
+    // At the main view's levels of detail, as the shadow maps (LodState, frame_context.h).
+    for (size_t i = 0; i < f.rsmItems.size(); ++i)
+        refs.push_back({f.rsmItems[i], 0.0f, f.rsmObjectOffsets[i], drawLevel(ctx.scene, ctx.lod, f.rsmItems[i])});
     glBindFramebuffer(GL_FRAMEBUFFER, r.rsmFb.id());
     glViewport(0, 0, GLsizei(r.rsmResolution), GLsizei(r.rsmResolution));
     const float zero[4] = {0, 0, 0, 0}, far = 1.0f;

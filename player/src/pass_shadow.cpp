@@ -68,6 +68,8 @@ void drawCasters(FrameContext& ctx, int passCascade, bool geometryLayers) {
         const ShadowCaster& caster = casters[f.casters[i]];
         const DrawItem& item = scene.items[caster.item];
         const GpuMesh& mesh = scene.meshes[item.mesh];
+        const DrawLevel& level = scene.levels[f.levels[i]];
+        const uint64_t firstIndex = mesh.indexOffset / mesh.indexSize + level.firstIndex;
         GLuint program = casterProgram(ctx, caster, geometryLayers);
         if (!program) continue;
         if (program != boundProgram) {
@@ -89,19 +91,19 @@ void drawCasters(FrameContext& ctx, int passCascade, bool geometryLayers) {
         if (f.gpuFit && ctx.warmUp) {
             // The GPU cull may leave a draw empty, and a driver may skip an empty draw before
             // generating code: the warm-up draws the caster's first triangle directly.
-            glDrawElementsInstanced(mesh.primitive, GLsizei(warmUpCount(ctx, caster.indexCount)), mesh.indexType,
-                                    reinterpret_cast<const void*>(uint64_t(caster.firstIndex) * mesh.indexSize), 1);
+            glDrawElementsInstanced(mesh.primitive, GLsizei(warmUpCount(ctx, level.indexCount)), mesh.indexType,
+                                    reinterpret_cast<const void*>(firstIndex * mesh.indexSize), 1);
         } else if (f.gpuFit) {
             size_t slot = passCascade < 0 ? i : (size_t(passCascade) + 1) * ctx.shadows.resources.sdsmCasterCapacity + i;
             glDrawElementsIndirect(mesh.primitive, mesh.indexType,
                                    reinterpret_cast<const void*>(slot * kIndirectCommandBytes));
         } else {
-            glDrawElementsInstanced(mesh.primitive, GLsizei(warmUpCount(ctx, caster.indexCount)), mesh.indexType,
-                                    reinterpret_cast<const void*>(uint64_t(caster.firstIndex) * mesh.indexSize),
+            glDrawElementsInstanced(mesh.primitive, GLsizei(warmUpCount(ctx, level.indexCount)), mesh.indexType,
+                                    reinterpret_cast<const void*>(firstIndex * mesh.indexSize),
                                     GLsizei(instances));
         }
         ++ctx.stats.shadowDraws;
-        ctx.stats.shadowTriangles += uint64_t(item.triangles) * copies;
+        ctx.stats.shadowTriangles += uint64_t(level.triangles) * copies;
     }
 }
 

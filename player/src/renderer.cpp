@@ -96,7 +96,8 @@ void Renderer::setSettings(const RenderSettings& settings) {
     bool debug = settings.debugView != DebugView::None && settings.debugView != DebugView::Cascades &&
                  settings.debugView != DebugView::GiIndirect && !shadowDebug;
     ensure(b.debugView, debug, "fullscreen.vert", "debug_view.frag");
-    ensure(b.flat, settings.debugView == DebugView::Layer || settings.debugView == DebugView::Overdraw,
+    ensure(b.flat, settings.debugView == DebugView::Layer || settings.debugView == DebugView::Overdraw ||
+                       settings.debugView == DebugView::Lod,
            "flat.vert", "flat.frag");
 }
 
@@ -107,6 +108,8 @@ TargetMemory Renderer::targetMemory() const {
     m.giBytes = mImpl->gi.resources.bytes;
     return m;
 }
+
+const CameraState& Renderer::lastCamera() const { return mImpl->lastCamera; }
 
 GLuint Renderer::outputTexture() const { return mImpl->targets.output.id(); }
 
@@ -131,7 +134,7 @@ PlayResult<Done> Renderer::render(const CameraState& camera, uint32_t width, uin
     mView = makeViewMatrices(cam, float(width) / float(height));
 
     bool debugTargets = mSettings.debugView == DebugView::Layer ||
-                        mSettings.debugView == DebugView::Overdraw;
+                        mSettings.debugView == DebugView::Overdraw || mSettings.debugView == DebugView::Lod;
     impl.targets.ensure(width, height, !scene.deferredLayers.empty(),
                         mSettings.fxaa && impl.builtins.fxaa, debugTargets);
 
@@ -159,12 +162,13 @@ PlayResult<Done> Renderer::render(const CameraState& camera, uint32_t width, uin
                       GLsizeiptr(lightBytes));
 
     DrawLists& lists = impl.lists;
-    buildDrawLists(scene, mView, mSettings.frustumCulling && !impl.warming, impl.ring, lists);
+    selectLevels(scene, mView, height, mSettings, impl.lod, mStats);
+    buildDrawLists(scene, mView, impl.lod, mSettings.frustumCulling && !impl.warming, impl.ring, lists);
     mStats.visibleItems = lists.visible;
     mStats.culledItems = lists.culled;
 
     FrameContext ctx{scene, mSettings, mView, impl.targets, impl.ring, lists, mStats, timer,
-                     impl.builtins, kObjectBlockBytes, impl.shadows, impl.gi};
+                     impl.builtins, kObjectBlockBytes, impl.shadows, impl.gi, impl.lod};
     ctx.warmUp = impl.warming;
     if (impl.shadowsForMaterials != scene.materialsVersion) {
         initShadowContext(scene, impl.shadows);

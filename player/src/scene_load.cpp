@@ -1,6 +1,8 @@
 // Loads a container onto the GPU (see gpu_scene.h for the phases and what each one costs).
 #include <algorithm>
+#include <cfloat>
 #include <chrono>
+#include <cmath>
 #include <cstring>
 #include <limits>
 #include <set>
@@ -10,6 +12,8 @@
 
 #include "pnb/node_transform.h"
 #include "pnb/scene.h"
+#include "lod_levels.h"
+#include "lod_select.h"
 #include "program_compile.h"
 #include "upload.h"
 #include "upload_heap.h"
@@ -150,8 +154,39 @@ PlayResult<Done> compileNeededPrograms(const Scene& scene, GpuScene& gpu) {
     return Done{};
 }
 
+// Each mesh's level chains (lod_levels.h) as DrawLevels in gpu.levels, shared by its instances.
+struct MeshChain {
+    uint32_t material = 0, firstLevel = 0, levelCount = 0;
+};
+std::vector<std::vector<MeshChain>> buildMeshLevels(GpuScene& gpu) {
+    std::vector<std::vector<MeshChain>> out(gpu.meshes.size());
+    for (size_t m = 0; m < gpu.meshes.size(); ++m) {
+        const GpuMesh& mesh = gpu.meshes[m];
+        for (const SubmeshChain& chain : buildLevelChains(mesh.submeshes)) {
+            MeshChain mc{chain.material, uint32_t(gpu.levels.size()), uint32_t(chain.levels.size())};
+            float error = 0;
+            for (size_t l = 0; l < chain.levels.size(); ++l) {
+                const Submesh& sm = mesh.submeshes[chain.levels[l]];
+                DrawLevel level;
+                level.submesh = chain.levels[l];
+                level.firstIndex = sm.firstIndex;
+                level.indexCount = sm.indexCount;
+                level.triangles = mesh.primitive == GL_TRIANGLES ? sm.indexCount / 3 : 0;
+                // Level 0 is exact by definition; a NaN or negative error from another writer
+                // counts as unbounded / zero.
+                if (l > 0) error = std::max(error, std::isnan(sm.lodError) ? FLT_MAX : std::max(sm.lodError, 0.0f));
+                level.error = error;
+                gpu.levels.push_back(level);
+            }
+            out[m].push_back(mc);
+        }
+    }
+    return out;
+}
+
 // World transforms (double) for every node; draw items, lights and cameras from them.
 void buildSceneGraph(const Scene& scene, GpuScene& gpu) {
+    const std::vector<std::vector<MeshChain>> meshLevels = buildMeshLevels(gpu);
     std::vector<glm::dmat4> world(scene.nodes.nodes.size());
     for (size_t i = 0; i < scene.nodes.nodes.size(); ++i) {
         const Node& n = scene.nodes.nodes[i];
@@ -160,19 +195,23 @@ void buildSceneGraph(const Scene& scene, GpuScene& gpu) {
         if (n.mesh != kNone) {
             const GpuMesh& mesh = gpu.meshes[n.mesh];
             glm::mat3 normal = glm::mat3(glm::inverseTranspose(glm::dmat3(world[i])));
-            for (uint32_t s = 0; s < mesh.submeshes.size(); ++s) {
-                const Submesh& sm = mesh.submeshes[s];
-                if (sm.lod != 0 || sm.material == kNone) continue;
+            const double worldScale = maxStretch(glm::dmat3(world[i]));
+            for (const MeshChain& chain : meshLevels[n.mesh]) {
+                const DrawLevel& level0 = gpu.levels[chain.firstLevel];
                 DrawItem item;
                 item.node = uint32_t(i);
                 item.mesh = n.mesh;
-                item.submesh = s;
-                item.material = sm.material;
+                item.material = chain.material;
+                item.firstLevel = chain.firstLevel;
+                item.levelCount = chain.levelCount;
                 item.world = world[i];
                 item.normalMatrix = normal;
-                transformBounds(world[i], sm.bounds, item.boundsMin, item.boundsMax);
-                item.triangles = mesh.primitive == GL_TRIANGLES ? sm.indexCount / 3 : 0;
+                item.worldScale = worldScale;
+                // The coarser levels reuse level 0's vertices, so its bounds hold them all.
+                transformBounds(world[i], mesh.submeshes[level0.submesh].bounds, item.boundsMin, item.boundsMax);
+                item.triangles = level0.triangles;
                 gpu.triangles += item.triangles;
+                if (item.levelCount > 1) gpu.lodItems.push_back(uint32_t(gpu.items.size()));
                 gpu.items.push_back(item);
             }
         }

@@ -21,6 +21,10 @@ struct UIntField {
     uint32_t RenderSettings::*member;
     uint32_t min, max;
 };
+struct IntField {
+    int32_t RenderSettings::*member;
+    int32_t min, max;
+};
 struct BoolField {
     bool RenderSettings::*member;
 };
@@ -30,7 +34,7 @@ struct EnumField {
     int (*get)(const RenderSettings&);
     void (*set)(RenderSettings&, int);
 };
-using Field = std::variant<FloatField, UIntField, BoolField, EnumField>;
+using Field = std::variant<FloatField, UIntField, IntField, BoolField, EnumField>;
 
 template <auto Member>
 EnumField enumField(std::span<const std::string_view> names) {
@@ -49,7 +53,7 @@ constexpr std::string_view kDebugViewNames[] = {"none", "basecolor", "alpha", "n
                                                 "roughness", "metallic", "occlusion", "emissive",
                                                 "depth", "layer", "overdraw", "cascades",
                                                 "shadowmap", "histogram", "gi_indirect", "gi_rsm",
-                                                "gi_volume"};
+                                                "gi_volume", "lod"};
 static_assert(std::size(kDebugViewNames) == size_t(DebugView::Count));
 constexpr std::string_view kTechniqueNames[] = {"off", "single", "lispsm", "pssm", "sdsm"};
 constexpr std::string_view kFitNames[] = {"sphere", "tight"};
@@ -157,9 +161,23 @@ const std::vector<Row>& rows() {
          enumField<&S::giAtomics>(kAtomicsNames)},
         {{"debug.view",
           "none|basecolor|alpha|normal|roughness|metallic|occlusion|emissive|depth|layer|overdraw|"
-          "cascades|shadowmap|histogram|gi_indirect|gi_rsm|gi_volume",
+          "cascades|shadowmap|histogram|gi_indirect|gi_rsm|gi_volume|lod",
           "show one buffer instead of the lit image"},
          enumField<&S::debugView>(kDebugViewNames)},
+        {{"lod.threshold_px", "float 0..1000",
+          "largest simplification error a level of detail may show, in pixels at the current "
+          "resolution and field of view (0 = full detail unless a level is exact)"},
+         FloatField{&S::lodThresholdPx, 0.0f, 1000.0f}},
+        {{"lod.hysteresis", "float 0..0.9",
+          "a coarser level is taken only once its error is below threshold x (1 - hysteresis), a "
+          "finer one as soon as the current exceeds the threshold: no flipping at the threshold"},
+         FloatField{&S::lodHysteresis, 0.0f, 0.9f}},
+        {{"lod.bias", "int -8..8", "levels added to the chosen level of detail (+ coarser, - finer)"},
+         IntField{&S::lodBias, -8, 8}},
+        {{"lod.force", "int -1..254",
+          "-1: levels of detail by projected error; N: every object draws level N (or its "
+          "coarsest, if it has fewer)"},
+         IntField{&S::lodForce, -1, 254}},
         {{"debug.shadow_layer", "int 0..7", "the shadow-map layer debug.view=shadowmap shows"},
          UIntField{&S::debugShadowLayer, 0, 7}},
         {{"debug.gi_slice", "int 0..511",
@@ -230,6 +248,12 @@ PlayResult<Done> applySetting(RenderSettings& settings, std::string_view key,
         if (ec != std::errc() || end != value.data() + value.size() || v < u->min || v > u->max)
             return usage(key, value, row->info.type);
         settings.*(u->member) = v;
+    } else if (const auto* n = std::get_if<IntField>(&row->field)) {
+        int32_t v = 0;
+        auto [end, ec] = std::from_chars(value.data(), value.data() + value.size(), v);
+        if (ec != std::errc() || end != value.data() + value.size() || v < n->min || v > n->max)
+            return usage(key, value, row->info.type);
+        settings.*(n->member) = v;
     } else if (const auto* b = std::get_if<BoolField>(&row->field)) {
         if (value == "1" || value == "true" || value == "on") settings.*(b->member) = true;
         else if (value == "0" || value == "false" || value == "off") settings.*(b->member) = false;
@@ -258,6 +282,8 @@ std::string settingValue(const RenderSettings& settings, std::string_view key) {
         return formatFloat(settings.*(f->member));
     if (const auto* u = std::get_if<UIntField>(&row->field))
         return std::to_string(settings.*(u->member));
+    if (const auto* n = std::get_if<IntField>(&row->field))
+        return std::to_string(settings.*(n->member));
     if (const auto* b = std::get_if<BoolField>(&row->field))
         return settings.*(b->member) ? "true" : "false";
     const auto& e = std::get<EnumField>(row->field);

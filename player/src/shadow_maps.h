@@ -43,13 +43,22 @@ struct ShadowBlock {
 };
 static_assert(sizeof(ShadowBlock) == 8 * 64 + 8 * 16 + 5 * 16);
 
-// A shadow caster: a draw item drawn into the maps with the scene's `shadow` program.
+// A shadow caster: a draw item drawn into the maps with the scene's `shadow` program, at the
+// level of detail the main view chose for it this frame (LodState, frame_context.h).
 struct ShadowCaster {
     uint32_t item = 0;
     uint32_t program = 0;     // GpuScene::programs index (shadow[] or shadow[ALPHA_MASK])
-    uint32_t firstIndex = 0;  // in indices from the start of the mesh buffer (indirect draws)
-    uint32_t indexCount = 0;
 };
+
+// SDSM: what the GPU cull reads per caster (std430, sdsm.comp CasterBounds): camera-relative
+// bounds and the index range of the level drawn this frame, which it writes into the draws.
+struct SdsmCasterData {
+    glm::vec3 lo{0.0f};
+    uint32_t indexCount = 0;
+    glm::vec3 hi{0.0f};
+    uint32_t firstIndex = 0; // in indices from the start of the mesh buffer
+};
+static_assert(sizeof(SdsmCasterData) == 32);
 
 struct ShadowResources {
     uint32_t resolution = 0, layers = 0;
@@ -58,7 +67,7 @@ struct ShadowResources {
     GlHandle layeredFb;    // the whole array (gl_Layer selects)
     std::vector<GlHandle> layerFbs; // one layer each (multi-pass)
     // SDSM (GPU fit), present only while technique = sdsm.
-    GlHandle sdsmState, sdsmBlock, sdsmMasks, sdsmCommands, casterInfo;
+    GlHandle sdsmState, sdsmBlock, sdsmMasks, sdsmCommands;
     GlHandle sdsmReduce, sdsmPartition, sdsmBounds, sdsmFinalize, sdsmCull;
     uint32_t sdsmCasterCapacity = 0;
     uint64_t mapBytes = 0, bufferBytes = 0;
@@ -77,13 +86,14 @@ struct ShadowFrame {
     uint32_t cascades = 0;
     size_t blockOffset = 0;       // CPU-written ShadowBlock in the ring (SDSM: its parameters)
     size_t maskOffset = 0, maskBytes = 0;
-    size_t boundsOffset = 0;      // SDSM: casters' camera-relative AABBs in the ring
+    size_t boundsOffset = 0;      // SDSM: casters' SdsmCasterData in the ring
     // Casters to draw: CPU fits list those touching some cascade (objectOffsets parallel);
     // SDSM lists every caster in the scene (the GPU zeroes the culled ones' instance counts).
     std::vector<uint32_t> casters;       // indices into Renderer::Impl::casters
     std::vector<size_t> objectOffsets;
+    std::vector<uint32_t> levels;        // GpuScene::levels index each listed caster draws
     std::vector<uint32_t> masks;         // CPU fits: cascades each listed caster touches
-    std::vector<glm::vec4> casterBounds; // SDSM: min, max per caster (camera-relative)
+    std::vector<SdsmCasterData> casterBounds; // SDSM: per caster (camera-relative)
     std::array<ShadowFit, kMaxCascades> fits{};
     std::array<float, kMaxCascades + 1> splits{}; // view depths (CPU fits)
     glm::dmat3 lightRotation{1.0};

@@ -72,7 +72,7 @@ PlayResult<Done> ShadowResources::ensure(uint32_t res, uint32_t layerCount, bool
         mapBytes = uint64_t(res) * res * layerCount * 4;
     }
     if (!sdsm) {
-        for (GlHandle* h : {&sdsmState, &sdsmBlock, &sdsmMasks, &sdsmCommands, &casterInfo,
+        for (GlHandle* h : {&sdsmState, &sdsmBlock, &sdsmMasks, &sdsmCommands,
                             &sdsmReduce, &sdsmPartition, &sdsmBounds, &sdsmFinalize, &sdsmCull})
             h->reset();
         sdsmCasterCapacity = 0;
@@ -101,15 +101,6 @@ PlayResult<Done> ShadowResources::ensure(uint32_t res, uint32_t layerCount, bool
         sdsmMasks = buffer(casterCount * 4, "sdsm caster masks", bufferBytes);
         sdsmCommands = buffer(size_t(casterCount) * (kMaxCascades + 1) * kIndirectCommandBytes,
                               "sdsm shadow draws", bufferBytes);
-        // Static per caster: index count and first index (what the cull writes into draws).
-        std::vector<uint32_t> info;
-        for (const ShadowCaster& c : casters) {
-            info.push_back(c.indexCount);
-            info.push_back(c.firstIndex);
-        }
-        info.resize(size_t(casterCount) * 2);
-        casterInfo = buffer(info.size() * 4, "sdsm caster info", bufferBytes);
-        glNamedBufferSubData(casterInfo.id(), 0, GLsizeiptr(info.size() * 4), info.data());
     }
     (void)scene;
     return Done{};

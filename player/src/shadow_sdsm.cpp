@@ -72,11 +72,11 @@ void runSdsmFit(FrameContext& ctx) {
     if (!f.casters.empty()) {
         setCommon(r.sdsmCull.id());
         // Bindings 3 (the light list) and 5 (masks, as the shadow pass reads them) are shared.
+        // Binding 6: bounds and the index range of the level each caster draws this frame.
         glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 4, r.sdsmCommands.id());
         glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 5, r.sdsmMasks.id());
         glBindBufferRange(GL_SHADER_STORAGE_BUFFER, 6, ctx.ring.buffer(), GLintptr(f.boundsOffset),
-                          GLsizeiptr(f.casterBounds.size() * sizeof(glm::vec4)));
-        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 7, r.casterInfo.id());
+                          GLsizeiptr(f.casterBounds.size() * sizeof(SdsmCasterData)));
         glUseProgram(r.sdsmCull.id());
         glDispatchCompute(GLuint((f.casters.size() + 63) / 64), 1, 1);
     }

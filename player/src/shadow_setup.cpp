@@ -69,13 +69,9 @@ void initShadowContext(const GpuScene& scene, ShadowContext& shadows) {
         std::optional<uint32_t> program =
             m.alphaMode == AlphaMode::Mask ? scene.shadowMaskProgram : scene.shadowProgram;
         if (!program || !scene.programs[*program]) continue;
-        const GpuMesh& mesh = scene.meshes[item.mesh];
-        const Submesh& sm = mesh.submeshes[item.submesh];
         ShadowCaster c;
         c.item = i;
         c.program = *program;
-        c.firstIndex = uint32_t(mesh.indexOffset / mesh.indexSize) + sm.firstIndex;
-        c.indexCount = sm.indexCount;
         shadows.casters.push_back(c);
     }
 }
@@ -90,6 +86,7 @@ void prepareShadows(FrameContext& ctx) {
     f.cascades = 0;
     f.casters.clear();
     f.objectOffsets.clear();
+    f.levels.clear();
     f.masks.clear();
     if (!f.sceneHasShadows) return;
 
@@ -194,11 +191,18 @@ void prepareShadows(FrameContext& ctx) {
     glm::dmat4 toCamera = glm::translate(glm::dmat4(1.0), -ctx.view.position);
     f.casterBounds.clear();
     for (uint32_t ci = 0; ci < sc.casters.size(); ++ci) {
-        const DrawItem& item = scene.items[sc.casters[ci].item];
+        const uint32_t itemIndex = sc.casters[ci].item;
+        const DrawItem& item = scene.items[itemIndex];
+        const uint32_t level = drawLevel(scene, ctx.lod, itemIndex);
         glm::dvec3 lo = item.boundsMin - ctx.view.position, hi = item.boundsMax - ctx.view.position;
         if (f.gpuFit) {
-            f.casterBounds.push_back(glm::vec4(glm::vec3(lo), 0));
-            f.casterBounds.push_back(glm::vec4(glm::vec3(hi), 0));
+            const GpuMesh& mesh = scene.meshes[item.mesh];
+            SdsmCasterData d;
+            d.lo = glm::vec3(lo);
+            d.hi = glm::vec3(hi);
+            d.indexCount = scene.levels[level].indexCount;
+            d.firstIndex = uint32_t(mesh.indexOffset / mesh.indexSize) + scene.levels[level].firstIndex;
+            f.casterBounds.push_back(d);
         } else {
             uint32_t mask = 0;
             for (uint32_t c = 0; c < cascades; ++c)
@@ -208,10 +212,11 @@ void prepareShadows(FrameContext& ctx) {
         }
         float index = float(f.casters.size());
         f.casters.push_back(ci);
+        f.levels.push_back(level);
         f.objectOffsets.push_back(pushObjectBlock(scene, item, toCamera, ctx.ring, index));
     }
     if (f.gpuFit) {
-        f.boundsOffset = ctx.ring.push(f.casterBounds.data(), f.casterBounds.size() * sizeof(glm::vec4));
+        f.boundsOffset = ctx.ring.push(f.casterBounds.data(), f.casterBounds.size() * sizeof(SdsmCasterData));
     } else if (!f.masks.empty()) {
         f.maskBytes = f.masks.size() * sizeof(uint32_t);
         f.maskOffset = ctx.ring.push(f.masks.data(), f.maskBytes);

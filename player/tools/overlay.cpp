@@ -47,6 +47,8 @@ bool Overlay::draw(const Renderer& renderer, const FrameGpuTimes* times, RenderS
                 static_cast<unsigned long long>(s.triangles));
     ImGui::Text("items %u visible, %u culled; deferred layers drawn %u", s.visibleItems,
                 s.culledItems, s.deferredLayersDrawn);
+    ImGui::Text("shadow triangles %llu; LOD switches %u", static_cast<unsigned long long>(s.shadowTriangles),
+                s.lodSwitches);
     if (times) {
         ImGui::Text("GPU %.2f ms (frame %llu)", times->totalMs, static_cast<unsigned long long>(times->frame));
         for (const PassTime& p : times->passes) ImGui::BulletText("%-9s %.3f ms", p.pass.c_str(), p.ms);
@@ -67,7 +69,7 @@ bool Overlay::draw(const Renderer& renderer, const FrameGpuTimes* times, RenderS
         } else if (info.type.rfind("int", 0) == 0) {
             int i = std::stoi(value);
             if (ImGui::InputInt(key.c_str(), &i))
-                changed |= bool(applySetting(settings, key, std::to_string(std::max(i, 0))));
+                changed |= bool(applySetting(settings, key, std::to_string(i))); // range checked there
         } else if (auto choices = settingChoices(key); !choices.empty()) {
             std::vector<std::string> storage(choices.begin(), choices.end());
             std::vector<const char*> names;

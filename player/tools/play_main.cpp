@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "gi_quality.h"
+#include "lod_quality.h"
 #include "input_actions.h"
 #include "shadow_quality.h"
 #include "window_session.h"
@@ -63,6 +64,9 @@ Run:
                           one-bounce truth (gi_rmse_pct, gi_energy_ratio, per-colour ratios,
                           gi_leak_pct, the reference's noise, gi_flicker_pct); with
                           --shadow-metrics, N must be the same
+  --lod-metrics N         with --bench: replay every N-th frame and compare it with the same view
+                          at full detail (lod.force=0): PSNR, pixels off by > 8/255, triangles
+                          (quality.csv, "quality" in summary.json); with other metrics, the same N
   --gi-samples S          rays per pixel of that truth (default 64)
   --gi-lights sun|all     light the truth's bounce with the sun alone (default: what GI models)
                           or every light
@@ -109,7 +113,8 @@ struct Args {
          checksums = true, glDebug = false, quiet = false;
     double dt = 0, seconds = 0;
     int camera = -1;
-    uint32_t frames = 0, frame = 0, width = 0, height = 0, shadowMetrics = 0, giMetrics = 0, giSamples = 64;
+    uint32_t frames = 0, frame = 0, width = 0, height = 0, shadowMetrics = 0, giMetrics = 0, giSamples = 64,
+             lodMetrics = 0;
     bool giAllLights = false;
 };
 
@@ -156,6 +161,7 @@ Args parseArgs(int argc, char** argv) {
         else if (s == "--frames") a.frames = parseCount("--frames", next(i));
         else if (s == "--shadow-metrics") a.shadowMetrics = parseCount("--shadow-metrics", next(i));
         else if (s == "--gi-metrics") a.giMetrics = parseCount("--gi-metrics", next(i));
+        else if (s == "--lod-metrics") a.lodMetrics = parseCount("--lod-metrics", next(i));
         else if (s == "--gi-samples") a.giSamples = parseCount("--gi-samples", next(i));
         else if (s == "--gi-lights") a.giAllLights = std::string(next(i)) == "all";
         else if (s == "--record-path") a.recordPath = next(i);
@@ -421,6 +427,27 @@ int main(int argc, char** argv) {
             auto g = giQuality->measure(r, followUp);
             if (!g) return g.error();
             out.insert(out.end(), g->begin(), g->end());
+            return out;
+        };
+    }
+
+    if (args.lodMetrics > 0) {
+        if (!args.bench) return fail({PlayErrorKind::Usage, "--lod-metrics needs --bench"});
+        if (bo.quality.measure && bo.quality.every != args.lodMetrics)
+            return fail({PlayErrorKind::Usage, "--lod-metrics and the other metrics must measure the same frames"});
+        auto others = bo.quality.measure;
+        bo.quality.every = args.lodMetrics;
+        bo.quality.measure = [others](uint32_t k, Renderer& r, bool followUp)
+            -> PlayResult<std::vector<std::pair<std::string, double>>> {
+            std::vector<std::pair<std::string, double>> out;
+            if (others) {
+                auto o = others(k, r, followUp);
+                if (!o) return o.error();
+                out = std::move(*o);
+            }
+            auto l = measureLodQuality(r, followUp);
+            if (!l) return l.error();
+            out.insert(out.end(), l->begin(), l->end());
             return out;
         };
     }

@@ -12,6 +12,12 @@ TEST(Settings, ParsesEveryKindAndRoundTrips) {
     ASSERT_TRUE(applySetting(s, "debug.view", "overdraw").ok());
     ASSERT_TRUE(applySetting(s, "shadows.technique=sdsm").ok());
     ASSERT_TRUE(applySetting(s, "shadows.cascades=8").ok());
+    ASSERT_TRUE(applySetting(s, "lod.bias=-3").ok()); // signed integers
+    ASSERT_TRUE(applySetting(s, "lod.force", "2").ok());
+    EXPECT_EQ(s.lodBias, -3);
+    EXPECT_EQ(s.lodForce, 2);
+    EXPECT_EQ(settingValue(s, "lod.bias"), "-3");
+    EXPECT_EQ(settingValue(RenderSettings{}, "lod.force"), "-1");
     EXPECT_EQ(s.shadowTechnique, ShadowTechnique::Sdsm);
     EXPECT_EQ(s.shadowCascades, 8u);
     EXPECT_EQ(settingChoices("shadows.filter").size(), 3u);
@@ -34,6 +40,8 @@ TEST(Settings, RejectsWhatDoesNotParseAndNamesTheKey) {
         {"debug.view", "normals"},      {"camera.far", "-2"},         {"lighting.exposure", "2x"},
         {"shadows.cascades", "0"},      {"shadows.cascades", "9"},    {"shadows.cascades", "2.5"},
         {"shadows.technique", "csm"},   {"shadows.lambda", "1.5"},    {"shadows.resolution", "-1"},
+        {"lod.force", "-2"},            {"lod.force", "255"},         {"lod.bias", "9"},
+        {"lod.bias", "-1.5"},           {"lod.threshold_px", "-1"},   {"lod.hysteresis", "1"},
     };
     for (auto [key, value] : bad) {
         auto r = applySetting(s, key, value);

@@ -8,10 +8,12 @@
 //   frames.csv     one row per frame: path time, CPU ms, GPU ms per pass and total, draw calls,
 //                  triangles, visible/culled items, deferred layers drawn, camera position and
 //                  vertical field of view (camera_x/y/z, camera_yfov_deg), the render thread's
-//                  CPU time (thread_cpu_ms: where shader code generation shows, FrameStats)
+//                  CPU time (thread_cpu_ms: where shader code generation shows, FrameStats),
+//                  items whose level of detail changed (lod_switches)
 //   summary.json   min/median/p95/max per pass and for CPU time; load-time split; time to first
 //                  frame and its split (startup_times.h, when given); GPU memory by category;
-//                  machine, GL vendor/renderer/version; resolution; every setting
+//                  machine, GL vendor/renderer/version; resolution; every setting; triangles
+//                  and shadow triangles per frame (min/median/p95/max, sum); LOD switches
 //   frame_times.png  per-pass stacked GPU time and CPU time along the path (player/tools/
 //                  plot_frames.py, needs python3-matplotlib; skipped with a warning otherwise)
 //   screenshots and dumps asked for (PNG for colour, EXR for float buffers)

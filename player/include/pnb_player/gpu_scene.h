@@ -63,13 +63,26 @@ struct GpuMaterial {
     bool translucent() const { return desc.alphaMode == AlphaMode::Blend; }
 };
 
-// One submesh of one mesh instance: the unit the renderer culls, sorts and draws.
+// One level of detail of a draw item: an index range of its mesh (docs/FORMAT.md "MESH").
+struct DrawLevel {
+    uint32_t submesh = 0;               // index into GpuMesh::submeshes
+    uint32_t firstIndex = 0, indexCount = 0; // as the submesh's
+    uint32_t triangles = 0;
+    // Submesh::lodError made nondecreasing along the chain (a level is taken to be at least as
+    // wrong as any finer one), mesh units; 0 for level 0.
+    float error = 0;
+};
+
+// One level-0 submesh of one mesh instance, with its simplified levels: the unit the renderer
+// culls, sorts, picks a level for and draws. A scene without LODs has levelCount = 1 everywhere.
 struct DrawItem {
-    uint32_t node = 0, mesh = 0, submesh = 0, material = 0;
+    uint32_t node = 0, mesh = 0, material = 0;
+    uint32_t firstLevel = 0, levelCount = 1; // GpuScene::levels[firstLevel ..], level 0 first
     glm::dmat4 world{1.0};
     glm::mat3 normalMatrix{1.0f}; // inverse-transpose of world's 3x3 (no translation: float is fine)
-    glm::dvec3 boundsMin{0.0}, boundsMax{0.0}; // world-space AABB of the submesh
-    uint32_t triangles = 0;
+    glm::dvec3 boundsMin{0.0}, boundsMax{0.0}; // world-space AABB of the level-0 submesh
+    double worldScale = 1.0;      // largest stretch of world's 3x3: mesh units -> world units
+    uint32_t triangles = 0;       // at level 0
 };
 
 struct SceneLight {
@@ -145,11 +158,13 @@ struct GpuScene {
     uint32_t materialStride = 0;
     std::vector<GpuMesh> meshes;
     std::vector<DrawItem> items;
+    std::vector<DrawLevel> levels;   // every item's levels (DrawItem::firstLevel)
+    std::vector<uint32_t> lodItems;  // items with more than one level: all LOD selection visits
     std::vector<SceneLight> lights;
     std::vector<SceneCamera> cameras;
     std::vector<ScenePath> paths;
     GpuMemory memory;
-    uint64_t triangles = 0;
+    uint64_t triangles = 0; // at level 0
 
     // Distinct deferred layer priorities in drawing order (ascending), and whether the scene
     // has forward materials: what the frame needs to allocate and run.

@@ -2,6 +2,8 @@
 // HDR target, tone mapping to sRGB, optional FXAA and debug views.
 //
 // The frame (one pass per file, src/pass_*.cpp):
+//   0. pick each draw item's level of detail by its projected simplification error (scenes
+//      converted with --lods; one choice per item, used by every pass: player/math/lod_select.h);
 //   1. cull draw items against the view frustum (world AABBs, camera-relative);
 //   2. for each deferred layer in ascending priority that has visible items: clear the G-buffer
 //      colour but keep the shared depth, draw the layer (opaque front-to-back, layers holding
@@ -37,7 +39,8 @@ struct FrameStats {
     // barely moves when other processes compete for the cores, so code-generation spikes stand out.
     double threadCpuMs = 0;
     uint32_t drawCalls = 0;
-    uint64_t triangles = 0;    // submitted
+    uint64_t triangles = 0;    // submitted, at the levels of detail drawn
+    uint32_t lodSwitches = 0;  // items whose level of detail changed since the last frame
     uint32_t visibleItems = 0, culledItems = 0;
     uint32_t deferredLayersDrawn = 0; // layers with visible items (each: one clear, one compose)
     // Shadows: draw calls and triangles of the shadow pass (triangles counted once per cascade
@@ -129,6 +132,8 @@ public:
     TargetMemory targetMemory() const;
     // Debug-view helpers need the view of the last frame.
     const ViewMatrices& lastView() const { return mView; }
+    // The camera of the last render() (to draw the same view again with other settings).
+    const CameraState& lastCamera() const;
 
     struct Impl;
 

@@ -35,6 +35,7 @@ enum class DebugView {
     GiIndirect, // the irradiance GI adds, tone mapped (lighting writes it instead of radiance)
     GiRsm,      // the reflective shadow map: diffuse albedo each texel reflects (flux / (E A_t))
     GiVolume,   // one z slice (debug.gi_slice) of the summed light volume: band 0 per colour, x4
+    Lod,        // each object in the colour of the level of detail it draws (grey: has no LODs)
     Count
 };
 
@@ -66,6 +67,13 @@ struct RenderSettings {
     uint32_t debugGiSlice = 0;             // debug.gi_slice
     float anisotropy = 8.0f;               // textures.anisotropy: max anisotropic filter ratio
     bool warmUp = true;                    // startup.warmup: Renderer::warmUp draws every program once
+
+    // lod.*: level-of-detail selection by projected error (player/math/lod_select.h,
+    // docs/PLAYER.md "Level of detail").
+    float lodThresholdPx = 1.0f; // lod.threshold_px: largest projected simplification error, px
+    float lodHysteresis = 0.2f;  // lod.hysteresis: coarser only once below threshold x (1 - h)
+    int32_t lodBias = 0;         // lod.bias: levels added to the chosen one (+ coarser, - finer)
+    int32_t lodForce = -1;       // lod.force: -1 = by error; N = level N (clamped to what exists)
 
     // shadows.*: see settings.cpp for each key's meaning.
     ShadowTechnique shadowTechnique = ShadowTechnique::Pssm;
