@@ -417,9 +417,11 @@ def write_outputs(out, args, rows, skipped, configs):
         d = json.loads(line)
         if "gl" in d and gl == "unknown":
             gl = f"{d['gl']['renderer']}, {d['gl']['version']}"
-        if "upload_pages" in d:
-            upload_pages.add(d["upload_pages"].split(" (")[-1].rstrip(")") if "4 KiB" in d["upload_pages"]
-                             else "2 MiB pages")
+        pages = d.get("upload_pages", "")
+        if pages.startswith("4 KiB pages ("):  # "4 KiB pages (why)"
+            upload_pages.add("4 KiB pages: " + pages[len("4 KiB pages ("):].rstrip(")"))
+        elif "in 2 MiB pages" in pages:  # "N MiB in 2 MiB pages"; small scenes use no heap
+            upload_pages.add("2 MiB pages")
     md = []
     p = md.append
     p("# scripts/bench-load")
