@@ -1,6 +1,8 @@
 // converter/src/texture_internal.h — private interfaces between the texture processing files
-// (texture_processing.cpp drives one request and runs the worker pool; image_decode_oiio.cpp
-// decodes and resizes with OpenImageIO, in a module image_decode.cpp loads on first use; mip_chain.cpp filters mip levels and preserves alpha coverage;
+// (texture_processing.cpp drives one request and runs the worker pool; image_decode.cpp picks
+// the decoder: image_decode_png.cpp and image_decode_jpeg.cpp in-process, image_decode_oiio.cpp
+// — OpenImageIO, also for resizing — in a module loaded on first use; mip_chain.cpp filters mip
+// levels and preserves alpha coverage;
 // channel_packing.cpp chooses what is stored where and quantises; block_compress.cpp wraps
 // libsquish). Not installed, not used outside converter/src.
 //
