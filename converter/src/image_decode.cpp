@@ -53,7 +53,7 @@ std::vector<std::string> candidatePaths() {
 bool hasNativeSignature(const IrImage& image) {
     uint8_t head[8] = {};
     size_t got = std::min(image.encoded.size(), sizeof head);
-    std::memcpy(head, image.encoded.data(), got);
+    if (got) std::memcpy(head, image.encoded.data(), got); // data() may be null when empty
     if (!image.path.empty()) {
         std::FILE* f = std::fopen(image.path.c_str(), "rb");
         got = f ? std::fread(head, 1, sizeof head, f) : 0;
