@@ -24,7 +24,10 @@
 //  8. LODs: each level simplifies the *level-0* submesh to previous level × lodRatio indices, so
 //     lodError is the error against full detail rather than an accumulation; simplified indices
 //     reference the same vertices. Appended after all level-0 submeshes, ordered by level then
-//     submesh. A submesh stops when simplification no longer reduces it.
+//     submesh. A submesh stops when simplification no longer reduces it. Open borders are
+//     locked (settings.lodLockBorders): a submesh simplified on its own would move its border
+//     vertices independently of the neighbour that shares them, and tiles would crack apart
+//     where they meet at different levels.
 //  9. Encode streams and indices (mesh_encode.cpp). Quantization is last: every geometric step
 //     above works on the source floats.
 // 10. Bounds: AABB of the mesh and of each submesh range, bounding sphere (mesh_bounds.cpp), of
@@ -431,7 +434,10 @@ Result<ProcessedMesh, ConvertError> processMesh(const IrMesh& mesh, const Stream
                 float error = 0;
                 size_t count = meshopt_simplify(simplified.data(), &indices[r.first], r.count,
                                                 v.positions.data(), v.count, sizeof(float) * 3,
-                                                target, kLodTargetError, 0, &error);
+                                                target, kLodTargetError,
+                                                settings.lodLockBorders ? meshopt_SimplifyLockBorder
+                                                                        : 0,
+                                                &error);
                 if (count == 0 || count >= previous[s]) {
                     previous[s] = 0; // no further reduction: this submesh's chain ends
                     continue;

@@ -93,6 +93,10 @@ const std::vector<Option>& options() {
              c.settings.mesh.lodRatio = r;
              return *a && !*end && r > 0.01f && r < 1.0f;
          }},
+        {"Meshes", "--lod-free-borders", nullptr,
+         "let LODs move open-boundary vertices (more reduction for open meshes; meshes that meet "
+         "edge to edge then crack at their seams)",
+         [](CliState& c, const char*) { c.settings.mesh.lodLockBorders = false; return true; }},
         {"Meshes", "--no-optimize", nullptr, "skip vertex-cache/overdraw/fetch optimisation",
          [](CliState& c, const char*) { c.settings.mesh.optimize = false; return true; }},
         {"Textures", "--compress-textures", nullptr,

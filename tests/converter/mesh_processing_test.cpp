@@ -11,6 +11,7 @@
 #include <cstring>
 #include <limits>
 #include <numbers>
+#include <set>
 
 #include "pnb_converter/mesh_processing.h"
 
@@ -640,6 +641,46 @@ TEST(MeshProcessing, LodLevelsShrinkWithNonNegativeErrors) {
     EXPECT_EQ(end * (m.indexType == IndexType::U16 ? 2u : 4u), m.indices.size());
     for (uint32_t i : indicesOf(m))
         EXPECT_LT(i, m.vertexCount);
+}
+
+// Tiles that meet edge to edge (terrain) are simplified each on its own; if a level moved or
+// removed a vertex of the tile's open border, the neighbour drawn at another level would no
+// longer meet it and the seam would crack. With lodLockBorders (the default) every level keeps
+// every border vertex of level 0; without it the simplifier takes some of them away.
+TEST(MeshProcessing, LodLevelsKeepOpenBorderVerticesUnlessFreed) {
+    constexpr int n = 32;
+    IrPrimitive tile = grid(n, n);
+    for (size_t i = 0; i < tile.positions.size(); i += 3) // a gentle heightfield
+        tile.positions[i + 2] =
+            0.4f * std::sin(tile.positions[i] * 0.45f) * std::cos(tile.positions[i + 1] * 0.3f);
+    auto borderVerticesPerLevel = [&](bool lock) {
+        MeshStats stats;
+        ProcessedMesh m = process(meshOf("tile", {tile}), stats, {},
+                                  {.lodCount = 3, .lodRatio = 0.5f, .lodLockBorders = lock});
+        std::vector<float> pos = decoded(m, VertexSemantic::Position);
+        std::vector<uint32_t> ix = indicesOf(m);
+        std::vector<std::pair<size_t, uint32_t>> out; // (border vertices used, triangles)
+        for (const Submesh& sm : m.submeshes) {
+            std::set<uint32_t> border;
+            for (uint32_t k = sm.firstIndex; k < sm.firstIndex + sm.indexCount; ++k) {
+                const float x = pos[size_t(ix[k]) * 3], y = pos[size_t(ix[k]) * 3 + 1];
+                if (x == 0 || y == 0 || x == n || y == n) border.insert(ix[k]);
+            }
+            out.emplace_back(border.size(), sm.indexCount / 3);
+        }
+        return out;
+    };
+    const auto locked = borderVerticesPerLevel(true);
+    ASSERT_GE(locked.size(), 2u) << "no LOD level was produced";
+    EXPECT_EQ(locked[0].first, size_t(4 * n)) << "level 0 uses every border vertex";
+    for (size_t level = 1; level < locked.size(); ++level) {
+        EXPECT_EQ(locked[level].first, locked[0].first) << "level " << level;
+        EXPECT_LT(locked[level].second, locked[level - 1].second) << "level " << level;
+    }
+    const auto freed = borderVerticesPerLevel(false);
+    ASSERT_GE(freed.size(), 2u);
+    EXPECT_LT(freed.back().first, freed[0].first)
+        << "with free borders the coarsest level should drop border vertices";
 }
 
 TEST(MeshProcessing, LodChainStopsWhenNothingCanBeRemoved) {

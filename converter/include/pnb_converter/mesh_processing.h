@@ -52,6 +52,9 @@ struct MeshSettings {
                              // stops reducing, at most 255 (Submesh::lod). Default: 0.
     float lodRatio = 0.5f;   // index count of each level relative to the previous, in (0, 1).
                              // Default: 0.5.
+    bool lodLockBorders = true; // keep open-boundary vertices of each submesh in every level, so
+                                // meshes that meet edge to edge (terrain tiles) stay crack-free
+                                // at different levels. Default: true.
 };
 
 struct MeshStats {
