@@ -397,25 +397,7 @@ int imageFor(Context& ctx, const std::string& ref, const std::string& what) {
                         ref.c_str()));
         return -1;
     }
-    const auto resolved = resolveReference(ctx.sourceDir, ref);
-    if (!resolved) {
-        ctx.warn(format("%s: texture '%s' not found; ignored", what.c_str(), ref.c_str()));
-        return -1;
-    }
-    if (resolved->byNameOnly) {
-        ctx.warn(format("%s: texture '%s' not found; using '%s' (same file name, next to the "
-                        "source file)", what.c_str(), ref.c_str(),
-                        resolved->path.string().c_str()));
-    }
-    const std::string key = resolved->path.string();
-    if (auto it = ctx.imageByKey.find(key); it != ctx.imageByKey.end()) return it->second;
-    IrImage image;
-    image.name = resolved->path.filename().string();
-    image.path = key;
-    ctx.out->images.push_back(std::move(image));
-    const int index = int(ctx.out->images.size() - 1);
-    ctx.imageByKey.emplace(key, index);
-    return index;
+    return imageForReference(ctx.sourceDir, ref, what, *ctx.out, ctx.imageByKey);
 }
 
 Wrap wrapOf(aiTextureMapMode mode) {

@@ -270,25 +270,7 @@ struct Context {
 };
 
 int imageFor(Context& ctx, const std::string& ref, const std::string& what) {
-    const auto resolved = resolveReference(ctx.sourceDir, ref);
-    if (!resolved) {
-        ctx.warn(format("%s: texture '%s' not found; ignored", what.c_str(), ref.c_str()));
-        return -1;
-    }
-    if (resolved->byNameOnly) {
-        ctx.warn(format("%s: texture '%s' not found; using '%s' (same file name, next to the "
-                        "source file)", what.c_str(), ref.c_str(),
-                        resolved->path.string().c_str()));
-    }
-    const std::string key = resolved->path.string();
-    if (auto it = ctx.imageByPath.find(key); it != ctx.imageByPath.end()) return it->second;
-    IrImage image;
-    image.name = resolved->path.filename().string();
-    image.path = key;
-    ctx.out->images.push_back(std::move(image));
-    const int index = int(ctx.out->images.size() - 1);
-    ctx.imageByPath.emplace(key, index);
-    return index;
+    return imageForReference(ctx.sourceDir, ref, what, *ctx.out, ctx.imageByPath);
 }
 
 // Same file, or (both unresolved) the same reference once slashes and case are normalised.

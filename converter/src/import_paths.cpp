@@ -98,4 +98,30 @@ std::optional<ResolvedPath> resolveReference(const fs::path& sourceDir, std::str
     return std::nullopt;
 }
 
+int imageForReference(const std::filesystem::path& sourceDir, const std::string& ref,
+                      const std::string& what, IrScene& scene,
+                      std::map<std::string, int>& imageByPath) {
+    const auto resolved = resolveReference(sourceDir, ref);
+    if (!resolved) {
+        scene.warnings.push_back(
+            format("%s: texture '%s' not found; ignored", what.c_str(), ref.c_str()));
+        return -1;
+    }
+    if (resolved->byNameOnly) {
+        scene.warnings.push_back(format("%s: texture '%s' not found; using '%s' (same file name, "
+                                        "next to the source file)",
+                                        what.c_str(), ref.c_str(),
+                                        resolved->path.string().c_str()));
+    }
+    const std::string key = resolved->path.string();
+    if (auto it = imageByPath.find(key); it != imageByPath.end()) return it->second;
+    IrImage image;
+    image.name = resolved->path.filename().string();
+    image.path = key;
+    scene.images.push_back(std::move(image));
+    const int index = int(scene.images.size() - 1);
+    imageByPath.emplace(key, index);
+    return index;
+}
+
 } // namespace pnb::converter::import_detail

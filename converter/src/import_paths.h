@@ -10,8 +10,11 @@
 #pragma once
 
 #include <filesystem>
+#include <map>
 #include <optional>
 #include <string>
+
+#include "pnb_converter/scene_ir.h"
 
 namespace pnb::converter::import_detail {
 
@@ -39,5 +42,13 @@ struct ResolvedPath {
 // header block for the order); nullopt when nothing matches.
 std::optional<ResolvedPath> resolveReference(const std::filesystem::path& sourceDir,
                                              std::string ref);
+
+// The scene image for texture file reference `ref`, resolved as above and added to `scene` once
+// per resolved path (`imageByPath` remembers them); -1 with a warning in scene.warnings when
+// nothing matches, and a warning when only the bare file name matched. `what` starts each
+// warning ("material 'wood'").
+int imageForReference(const std::filesystem::path& sourceDir, const std::string& ref,
+                      const std::string& what, IrScene& scene,
+                      std::map<std::string, int>& imageByPath);
 
 } // namespace pnb::converter::import_detail

@@ -100,66 +100,9 @@ TEST(ObjImport, CubeUsemtlIsOneMeshWithAPrimitivePerMaterialRun) {
     EXPECT_EQ(r->materials[size_t(prims[1].material)].name, "mtl");
 }
 
-// The hand-written scene of import_assimp_test.cpp: groups, two materials in one group, quads,
-// points and lines, MTL parameters, Windows paths in the wrong case, an mtllib in the wrong
-// case, a foreign absolute path, map_d both as the base colour's alpha and as a separate file,
-// map_Ks, map_Ke.
-constexpr std::string_view kSceneObj = R"(# hand-written
-mtllib Scene.MTL
-v 0 0 0 1 0 0
-v 1 0 0 0 1 0
-v 1 1 0 0 0 1
-v 0 1 0 1 1 1
-v 0 0 1 1 0 0
-v 1 0 1 0 1 0
-v 1 1 1 0 0 1
-v 0 1 1 1 1 1
-vt 0 0.25
-vt 1 0.25
-vt 1 1
-vt 0 1
-vn 0 0 1
-o Body
-g front
-usemtl painted
-f 1/1/1 2/2/1 3/3/1 4/4/1
-usemtl glass
-f 5/1/1 6/2/1 7/3/1 8/4/1
-this line is garbage and is ignored
-g back
-usemtl painted
-f 1/1/1 3/3/1 2/2/1
-l 1 2 3
-)";
-
-constexpr std::string_view kSceneMtl = R"(newmtl painted
-Kd 0.5 0.25 1
-Ns 10
-d 0.5
-Ke 0.1 0.2 0.3
-map_Kd Textures\Albedo.PNG
-map_d Textures\Albedo.PNG
-map_bump -bm 0.5 textures\Normal.png
-map_Ks spec.png
-
-newmtl glass
-Kd 1 1 1
-Tr 0.25
-map_Kd C:\Users\someone\Desktop\Glass.jpg
-map_d mask.png
-map_Ke glow.png
-)";
-
 TEST(ObjImport, HandWrittenObjMtlMapsEverything) {
     TempDir dir("obj_scene");
-    writeFile(dir.path / "scene.obj", kSceneObj);
-    writeFile(dir.path / "scene.mtl", kSceneMtl); // referenced as Scene.MTL
-    writeFile(dir.path / "textures/albedo.png", "png");
-    writeFile(dir.path / "textures/normal.png", "png");
-    writeFile(dir.path / "glass.jpg", "jpg");
-    writeFile(dir.path / "mask.png", "png");
-    writeFile(dir.path / "glow.png", "png");
-    const std::string file = (dir.path / "scene.obj").string();
+    const std::string file = writeHandWrittenScene(dir.path);
     auto r = importObj(file);
     ASSERT_TRUE(r.ok()) << r.error().message;
     expectConsistent(*r, file);
