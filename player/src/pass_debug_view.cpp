@@ -20,8 +20,8 @@ glm::vec4 layerColor(size_t index) {
     return palette[index % std::size(palette)];
 }
 
-void renderLayerColors(FrameContext& ctx) {
-    GLuint flat = ctx.builtins.flat.id();
+// The flat-colour views draw into the cleared debug target, nearest surface winning (reversed Z).
+void beginFlatColourView(FrameContext& ctx) {
     glBindFramebuffer(GL_FRAMEBUFFER, ctx.targets.debugFb.id());
     const float zero[4] = {0, 0, 0, 0};
     glClearNamedFramebufferfv(ctx.targets.debugFb.id(), GL_COLOR, 0, zero);
@@ -30,6 +30,11 @@ void renderLayerColors(FrameContext& ctx) {
     glDepthFunc(GL_GREATER);
     glDepthMask(GL_TRUE);
     glDisable(GL_BLEND);
+}
+
+void renderLayerColors(FrameContext& ctx) {
+    GLuint flat = ctx.builtins.flat.id();
+    beginFlatColourView(ctx);
     for (size_t layer = 0; layer < ctx.lists.layers.size(); ++layer) {
         glProgramUniform4fv(flat, 1, 1, &layerColor(layer)[0]);
         drawItems(ctx, ctx.lists.layers[layer], flat);
@@ -53,14 +58,7 @@ glm::vec4 lodColor(uint32_t level, bool hasLevels) {
 
 void renderLodColors(FrameContext& ctx) {
     GLuint flat = ctx.builtins.flat.id();
-    glBindFramebuffer(GL_FRAMEBUFFER, ctx.targets.debugFb.id());
-    const float zero[4] = {0, 0, 0, 0};
-    glClearNamedFramebufferfv(ctx.targets.debugFb.id(), GL_COLOR, 0, zero);
-    glClearNamedFramebufferfi(ctx.targets.debugFb.id(), GL_DEPTH_STENCIL, 0, 0.0f, 0);
-    glEnable(GL_DEPTH_TEST);
-    glDepthFunc(GL_GREATER);
-    glDepthMask(GL_TRUE);
-    glDisable(GL_BLEND);
+    beginFlatColourView(ctx);
     const GpuScene& scene = ctx.scene;
     auto drawList = [&](std::span<const DrawRef> refs) {
         for (const DrawRef& ref : refs) {
