@@ -244,6 +244,22 @@ PlayResult<CaptureRequest> dumpRequest(const std::string& kind, const Args& a) {
                          "' (color, hdr, depth, lineardepth, normal, position, shadow, indirect)"};
 }
 
+// `earlier` (when set) then `next`, their metrics in one list: the --*-metrics options measure
+// the same replayed frames, each adding its columns to quality.csv.
+using QualityMeasure = decltype(QualityHook::measure);
+QualityMeasure chainQuality(QualityMeasure earlier, QualityMeasure next) {
+    if (!earlier) return next;
+    return [earlier, next](uint32_t k, Renderer& r, bool followUp)
+               -> PlayResult<std::vector<std::pair<std::string, double>>> {
+        auto out = earlier(k, r, followUp);
+        if (!out) return out.error();
+        auto more = next(k, r, followUp);
+        if (!more) return more.error();
+        out->insert(out->end(), more->begin(), more->end());
+        return out;
+    };
+}
+
 } // namespace
 
 int main(int argc, char** argv) {
@@ -414,42 +430,20 @@ int main(int argc, char** argv) {
         auto q = GiQuality::create(args.scene, first.position, is);
         if (!q) return fail(q.error());
         giQuality = std::move(*q);
-        auto shadows = bo.quality.measure;
         bo.quality.every = args.giMetrics;
-        bo.quality.measure = [&, shadows](uint32_t k, Renderer& r, bool followUp)
-            -> PlayResult<std::vector<std::pair<std::string, double>>> {
-            std::vector<std::pair<std::string, double>> out;
-            if (shadows) {
-                auto s = shadows(k, r, followUp);
-                if (!s) return s.error();
-                out = std::move(*s);
-            }
-            auto g = giQuality->measure(r, followUp);
-            if (!g) return g.error();
-            out.insert(out.end(), g->begin(), g->end());
-            return out;
-        };
+        bo.quality.measure = chainQuality(bo.quality.measure, [&](uint32_t, Renderer& r, bool followUp) {
+            return giQuality->measure(r, followUp);
+        });
     }
 
     if (args.lodMetrics > 0) {
         if (!args.bench) return fail({PlayErrorKind::Usage, "--lod-metrics needs --bench"});
         if (bo.quality.measure && bo.quality.every != args.lodMetrics)
             return fail({PlayErrorKind::Usage, "--lod-metrics and the other metrics must measure the same frames"});
-        auto others = bo.quality.measure;
         bo.quality.every = args.lodMetrics;
-        bo.quality.measure = [others](uint32_t k, Renderer& r, bool followUp)
-            -> PlayResult<std::vector<std::pair<std::string, double>>> {
-            std::vector<std::pair<std::string, double>> out;
-            if (others) {
-                auto o = others(k, r, followUp);
-                if (!o) return o.error();
-                out = std::move(*o);
-            }
-            auto l = measureLodQuality(r, followUp);
-            if (!l) return l.error();
-            out.insert(out.end(), l->begin(), l->end());
-            return out;
-        };
+        bo.quality.measure = chainQuality(bo.quality.measure, [](uint32_t, Renderer& r, bool followUp) {
+            return measureLodQuality(r, followUp);
+        });
     }
 
     if (args.bench || !window) {
