@@ -555,4 +555,40 @@ Status streamChunks(const std::string& path, const ReadOptions& options,
     return s;
 }
 
+Result<Payload> readChunkAt(int fd, const ChunkInfo& info, const ReadOptions& options) {
+    auto preadAll = [&](std::vector<std::byte>& dst, uint64_t n, uint64_t offset) -> Status {
+        dst.resize(n);
+        for (uint64_t got = 0; got < n;) {
+            ssize_t r = ::pread(fd, dst.data() + got, n - got, off_t(offset + got));
+            if (r < 0 && errno == EINTR) continue;
+            if (r < 0)
+                return makeError(FormatError::IoError, offset + got, "read error in chunk %u: %s",
+                                 info.header.sequence, std::strerror(errno));
+            if (r == 0)
+                return makeError(FormatError::Truncated, offset + got,
+                                 "the file ends inside chunk %u (it changed since it was read)",
+                                 info.header.sequence);
+            got += uint64_t(r);
+        }
+        return {};
+    };
+    std::vector<std::byte> bytes;
+    if (Status s = preadAll(bytes, kChunkHeaderSize, info.headerOffset); !isOk(s)) return s;
+    auto header = decodeChunkHeader(bytes, info.headerOffset);
+    if (!header) return header.error();
+    if (!sameHeader(*header, info.header))
+        return makeError(FormatError::BadToc, info.headerOffset,
+                         "chunk %u: the header there is not the one read before (the file changed)",
+                         info.header.sequence);
+    if (Status s = preadAll(bytes, info.header.storedSize, info.payloadOffset); !isOk(s)) return s;
+    if (options.verifyChecksums)
+        if (Status s = verifyChecksum(info, bytes); !isOk(s)) return s;
+    if (info.header.compression() == Compression::None) return Payload::own(std::move(bytes));
+    if (Status s = checkRawLimit(info, options); !isOk(s)) return s;
+    if (Status s = checkFrameContentSize(info, bytes); !isOk(s)) return s;
+    std::vector<std::byte> raw(info.header.rawSize);
+    if (Status s = decompressInto(info, bytes, raw); !isOk(s)) return s;
+    return Payload::own(std::move(raw));
+}
+
 } // namespace pnb

@@ -19,21 +19,19 @@ bool isSingleton(Tag t) {
            t == tags::kLights || t == tags::kCameras || t == tags::kNodes;
 }
 
-template <class T> Status decodeInto(const Container& c, const ChunkInfo& info, Scene& s, T& out) {
-    auto payload = c.load(info);
-    if (!payload) return payload.error();
-    auto value = decodeChunk<T>(payload->bytes(), info.header, info.payloadOffset);
+template <class T> Status decodeInto(const ChunkInfo& info, Payload payload, Scene& s, T& out) {
+    auto value = decodeChunk<T>(payload.bytes(), info.header, info.payloadOffset);
     if (!value) return value.error();
     if (info.header.version > ChunkTraits<T>::version) ++s.newerChunks;
     out = std::move(*value);
-    s.payloads.push_back(std::move(*payload));
+    s.payloads.push_back(std::move(payload));
     return {};
 }
 
 template <class T>
-Status decodeAppend(const Container& c, const ChunkInfo& info, Scene& s, std::vector<T>& out) {
+Status decodeAppend(const ChunkInfo& info, Payload payload, Scene& s, std::vector<T>& out) {
     out.emplace_back();
-    return decodeInto(c, info, s, out.back());
+    return decodeInto(info, std::move(payload), s, out.back());
 }
 
 Error refError(const char* what, size_t index, const char* field, uint64_t value, size_t count) {
@@ -47,55 +45,70 @@ bool finite(const Vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && 
 
 } // namespace
 
-Result<Scene> readScene(const Container& container) {
-    Scene s;
-    int lastRank = -1;
-    bool seen[16] = {};
-    for (const ChunkInfo& info : container.chunks()) {
-        const Tag tag = info.header.tag;
-        int rank = streamOrderRank(tag);
-        if (rank < 0) {
-            if (info.header.flags & kChunkCritical)
-                return makeError(FormatError::UnsupportedChunkVersion, info.headerOffset,
-                                 "chunk %u '%s' is critical and unknown to this reader: update "
-                                 "Penumbra to read it",
-                                 info.header.sequence, tag.str().c_str());
-            ++s.unknownChunks;
-            continue;
-        }
-        if (rank < lastRank)
-            return makeError(FormatError::BadReference, info.headerOffset,
-                             "chunk %u '%s' is out of order (FORMAT.md 4.1)", info.header.sequence,
-                             tag.str().c_str());
-        if (lastRank < 0 && !(tag == tags::kStrings))
-            return makeError(FormatError::Missing, info.headerOffset,
-                             "the first chunk must be the string table STRS");
-        if (isSingleton(tag) && seen[rank])
-            return makeError(FormatError::BadReference, info.headerOffset,
-                             "second '%s' chunk; only one is allowed", tag.str().c_str());
-        seen[rank] = true;
-        lastRank = rank;
-
-        Status st;
-        if (tag == tags::kStrings) st = decodeInto(container, info, s, s.strings);
-        else if (tag == tags::kSceneInfo) st = decodeInto(container, info, s, s.info);
-        else if (tag == tags::kRenderSettings) st = decodeInto(container, info, s, s.settings);
-        else if (tag == tags::kShader) st = decodeAppend(container, info, s, s.shaders);
-        else if (tag == tags::kProgram) st = decodeAppend(container, info, s, s.programs);
-        else if (tag == tags::kTexture) st = decodeAppend(container, info, s, s.textures);
-        else if (tag == tags::kMaterial) st = decodeAppend(container, info, s, s.materials);
-        else if (tag == tags::kMesh) st = decodeAppend(container, info, s, s.meshes);
-        else if (tag == tags::kLights) st = decodeInto(container, info, s, s.lights);
-        else if (tag == tags::kCameras) st = decodeInto(container, info, s, s.cameras);
-        else if (tag == tags::kNodes) st = decodeInto(container, info, s, s.nodes);
-        else if (tag == tags::kCameraPath) st = decodeAppend(container, info, s, s.cameraPaths);
-        else if (tag == tags::kTextureMip) st = decodeAppend(container, info, s, s.textureMips);
-        if (!isOk(st)) return st;
+Status SceneAssembler::checkOrder(const ChunkInfo& info) {
+    const Tag tag = info.header.tag;
+    const int rank = streamOrderRank(tag);
+    if (rank < 0) {
+        if (info.header.flags & kChunkCritical)
+            return makeError(FormatError::UnsupportedChunkVersion, info.headerOffset,
+                             "chunk %u '%s' is critical and unknown to this reader: update "
+                             "Penumbra to read it",
+                             info.header.sequence, tag.str().c_str());
+        ++scene.unknownChunks;
+        return {};
     }
-    if (!seen[0])
-        return makeError(FormatError::Missing, 0, "no string table (STRS) chunk");
-    if (Status st = validateScene(s); !isOk(st)) return st;
-    return s;
+    if (rank < mLastRank)
+        return makeError(FormatError::BadReference, info.headerOffset,
+                         "chunk %u '%s' is out of order (FORMAT.md 4.1)", info.header.sequence,
+                         tag.str().c_str());
+    if (mLastRank < 0 && !(tag == tags::kStrings))
+        return makeError(FormatError::Missing, info.headerOffset,
+                         "the first chunk must be the string table STRS");
+    if (isSingleton(tag) && mSeen[rank])
+        return makeError(FormatError::BadReference, info.headerOffset,
+                         "second '%s' chunk; only one is allowed", tag.str().c_str());
+    mSeen[rank] = true;
+    mLastRank = rank;
+    return {};
+}
+
+Status SceneAssembler::decode(const ChunkInfo& info, Payload payload) {
+    const Tag tag = info.header.tag;
+    Scene& s = scene;
+    Payload p = std::move(payload);
+    if (tag == tags::kStrings) return decodeInto(info, std::move(p), s, s.strings);
+    if (tag == tags::kSceneInfo) return decodeInto(info, std::move(p), s, s.info);
+    if (tag == tags::kRenderSettings) return decodeInto(info, std::move(p), s, s.settings);
+    if (tag == tags::kShader) return decodeAppend(info, std::move(p), s, s.shaders);
+    if (tag == tags::kProgram) return decodeAppend(info, std::move(p), s, s.programs);
+    if (tag == tags::kTexture) return decodeAppend(info, std::move(p), s, s.textures);
+    if (tag == tags::kMaterial) return decodeAppend(info, std::move(p), s, s.materials);
+    if (tag == tags::kMesh) return decodeAppend(info, std::move(p), s, s.meshes);
+    if (tag == tags::kLights) return decodeInto(info, std::move(p), s, s.lights);
+    if (tag == tags::kCameras) return decodeInto(info, std::move(p), s, s.cameras);
+    if (tag == tags::kNodes) return decodeInto(info, std::move(p), s, s.nodes);
+    if (tag == tags::kCameraPath) return decodeAppend(info, std::move(p), s, s.cameraPaths);
+    if (tag == tags::kTextureMip) return decodeAppend(info, std::move(p), s, s.textureMips);
+    return {}; // unknown (counted by checkOrder)
+}
+
+Status SceneAssembler::finish() const {
+    if (!mSeen[0]) return makeError(FormatError::Missing, 0, "no string table (STRS) chunk");
+    return {};
+}
+
+Result<Scene> readScene(const Container& container) {
+    SceneAssembler assembler;
+    for (const ChunkInfo& info : container.chunks()) {
+        if (Status st = assembler.checkOrder(info); !isOk(st)) return st;
+        if (streamOrderRank(info.header.tag) < 0) continue; // unknown: not even loaded
+        auto payload = container.load(info);
+        if (!payload) return payload.error();
+        if (Status st = assembler.decode(info, std::move(*payload)); !isOk(st)) return st;
+    }
+    if (Status st = assembler.finish(); !isOk(st)) return st;
+    if (Status st = validateScene(assembler.scene); !isOk(st)) return st;
+    return std::move(assembler.scene);
 }
 
 Status validateScene(const Scene& s) {
@@ -212,21 +225,23 @@ Status validateScene(const Scene& s) {
                 return makeError(FormatError::BadReference, 0,
                                  "camera path %zu: key %zu time does not increase", i, k);
     }
-    for (size_t i = 0; i < s.textureMips.size(); ++i) {
-        const TextureMip& mip = s.textureMips[i];
-        if (mip.texture >= s.textures.size())
-            return refError("texture mip", i, "texture", mip.texture, s.textures.size());
-        const TextureDesc& t = s.textures[mip.texture];
-        uint32_t w = std::max(1u, t.width >> std::min(mip.level, 31u));
-        uint32_t h = std::max(1u, t.height >> std::min(mip.level, 31u));
-        if (mip.level >= t.mipCount || mip.width != w || mip.height != h ||
-            mip.data.size() != textureLevelSizeBytes(t.format, w, h, t.layers))
-            return makeError(FormatError::BadReference, 0,
-                             "texture mip %zu: level %u of texture %u (%ux%u, %zu bytes) does "
-                             "not fit its descriptor",
-                             i, mip.level, mip.texture, mip.width, mip.height, mip.data.size());
-    }
+    for (size_t i = 0; i < s.textureMips.size(); ++i) PNB_CHECK(validateTextureMip(s, s.textureMips[i], i));
 #undef PNB_CHECK
+    return {};
+}
+
+Status validateTextureMip(const Scene& s, const TextureMip& mip, size_t i) {
+    if (mip.texture >= s.textures.size())
+        return refError("texture mip", i, "texture", mip.texture, s.textures.size());
+    const TextureDesc& t = s.textures[mip.texture];
+    uint32_t w = std::max(1u, t.width >> std::min(mip.level, 31u));
+    uint32_t h = std::max(1u, t.height >> std::min(mip.level, 31u));
+    if (mip.level >= t.mipCount || mip.width != w || mip.height != h ||
+        mip.data.size() != textureLevelSizeBytes(t.format, w, h, t.layers))
+        return makeError(FormatError::BadReference, 0,
+                         "texture mip %zu: level %u of texture %u (%ux%u, %zu bytes) does "
+                         "not fit its descriptor",
+                         i, mip.level, mip.texture, mip.width, mip.height, mip.data.size());
     return {};
 }
 

@@ -1,5 +1,6 @@
 #include "pnb_player/benchmark.h"
 
+#include <sys/resource.h>
 #include <sys/utsname.h>
 
 #include <algorithm>
@@ -30,6 +31,9 @@ struct FrameRecord {
     double gpuTotal = -1;              // -1 = not measured
     glm::dvec3 cameraPosition{0.0};
     double cameraYfovDegrees = 0;
+    double frameMs = 0;  // wall time from this frame's start to the next one's
+    double streamMs = 0; // SceneStream::update
+    StreamStatus stream; // after this frame's update
 };
 
 PassSummary summarize(std::string name, std::vector<double> v) {
@@ -151,6 +155,46 @@ PlayResult<Done> saveCapture(const std::string& path, const CapturedImage& image
     return Done{};
 }
 
+// summary.json's "streaming": what it cost to draw while the texels streamed in.
+nlohmann::json streamingSummary(const std::vector<FrameRecord>& records, const SceneStream& stream,
+                                std::optional<double> fullQualityMs, const std::optional<StartupTimes>& startup) {
+    const StreamStatus& last = stream.status();
+    std::vector<double> frameMs, during, after, uploads;
+    for (const FrameRecord& r : records) {
+        frameMs.push_back(r.frameMs);
+        (r.stream.complete ? after : during).push_back(r.frameMs);
+        uploads.push_back(double(r.stream.frame.uploadedBytes));
+    }
+    const double median = summarize("", frameMs).median;
+    uint32_t stalls = 0;
+    for (double ms : frameMs) stalls += ms > 2 * median;
+    nlohmann::json j = {
+        {"complete", last.complete},
+        {"frames_streaming", during.size()},
+        {"file_bytes", last.fileBytes},
+        {"texture_budget_bytes", stream.options().textureBudgetBytes},
+        {"upload_bytes_per_frame_limit", stream.options().uploadBytesPerFrame},
+        {"full_texture_bytes", last.fullTextureBytes},
+        {"peak_texture_bytes", last.peakTextureBytes},
+        {"resident_texture_bytes", last.residentTextureBytes},
+        {"needed_texture_bytes", last.neededTextureBytes},
+        {"uploaded_bytes", last.uploadedBytes},
+        {"uploaded_bytes_per_frame", {{"median", summarize("", uploads).median}, {"p95", summarize("", uploads).p95},
+                                      {"max", summarize("", uploads).max}}},
+        {"evicted_bytes", last.evictedBytes},
+        {"evictions", last.evictions},
+        {"refetches", last.refetches},
+        {"lost_levels", last.lostLevels},
+        {"stalls", stalls},
+        {"frame_ms_median", median},
+        {"frame_ms_p95_streaming", during.empty() ? nlohmann::json() : nlohmann::json(summarize("", during).p95)},
+        {"frame_ms_p95_after", after.empty() ? nlohmann::json() : nlohmann::json(summarize("", after).p95)}};
+    j["first_frame_bytes_read"] = last.firstFrameBytesRead;
+    // From the process start (the time to first frame) when known, else from the first timed frame.
+    if (fullQualityMs) j["time_to_full_quality_ms"] = *fullQualityMs + (startup ? startup->totalMs : 0.0);
+    return j;
+}
+
 PlayResult<BenchResult> runBenchmark(const GpuScene& scene, Renderer& renderer,
                                      const BenchOptions& options, const LoadStats& load,
                                      const GlInfo& gl, const std::function<bool()>& present) {
@@ -175,6 +219,8 @@ PlayResult<BenchResult> runBenchmark(const GpuScene& scene, Renderer& renderer,
     std::vector<FrameRecord> records;
     BenchResult result;
     auto wallStart = std::chrono::steady_clock::now();
+    auto lastFrameStart = wallStart;
+    std::optional<double> fullQualityMs; // from the first timed frame to the stream's completion
     auto collect = [&] {
         for (FrameGpuTimes& f : renderer.timer().completed()) {
             if (f.frame >= records.size()) continue;
@@ -190,9 +236,20 @@ PlayResult<BenchResult> runBenchmark(const GpuScene& scene, Renderer& renderer,
                        : std::chrono::duration<double>(std::chrono::steady_clock::now() - wallStart).count();
         if (!options.fixedDt && options.frames == 0 && span > 0 && t > span) break;
         if (path) evaluatePath(path->path, start + t, camera);
+        const auto frameStart = std::chrono::steady_clock::now();
+        if (!records.empty())
+            records.back().frameMs = std::chrono::duration<double, std::milli>(frameStart - lastFrameStart).count();
+        lastFrameStart = frameStart;
+        FrameRecord rec;
+        if (options.stream) {
+            if (auto u = options.stream->update(camera, options.width, options.height); !u) return u.error();
+            rec.streamMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - frameStart).count();
+            rec.stream = options.stream->status();
+            if (rec.stream.complete && !fullQualityMs)
+                fullQualityMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - wallStart).count();
+        }
         auto r = renderer.render(camera, options.width, options.height);
         if (!r) return r.error();
-        FrameRecord rec;
         rec.pathTime = t;
         rec.stats = renderer.lastFrame();
         rec.cameraPosition = camera.position;
@@ -222,6 +279,8 @@ PlayResult<BenchResult> runBenchmark(const GpuScene& scene, Renderer& renderer,
         }
         if (present && !present()) break;
     }
+    if (!records.empty())
+        records.back().frameMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - lastFrameStart).count();
     // The last frames' timers: wait for them now that nothing else is queued.
     uint64_t lastRendererFrame = renderer.lastFrame().frame;
     renderer.timer().drain();
@@ -308,7 +367,11 @@ PlayResult<BenchResult> runBenchmark(const GpuScene& scene, Renderer& renderer,
     for (const std::string& n : passNames) csv << ",gpu_" << n << "_ms";
     csv << ",draw_calls,triangles,visible_items,culled_items,deferred_layers,shadow_draws,"
            "shadow_triangles,shadow_casters,camera_x,camera_y,camera_z,camera_yfov_deg,thread_cpu_ms,"
-           "lod_switches\n";
+           "lod_switches,frame_ms";
+    if (options.stream)
+        csv << ",stream_ms,stream_upload_bytes,stream_evicted_bytes,resident_texture_bytes,"
+               "needed_texture_bytes,bytes_read,streaming";
+    csv << '\n';
     for (size_t k = 0; k < records.size(); ++k) {
         const FrameRecord& r = records[k];
         csv << k << ',' << r.pathTime << ',' << r.stats.cpuMs << ',';
@@ -322,7 +385,12 @@ PlayResult<BenchResult> runBenchmark(const GpuScene& scene, Renderer& renderer,
             << r.stats.shadowDraws << ',' << r.stats.shadowTriangles << ',' << r.stats.shadowCasters << ','
             << std::setprecision(9) << r.cameraPosition.x << ',' << r.cameraPosition.y << ','
             << r.cameraPosition.z << ',' << r.cameraYfovDegrees << std::setprecision(6) << ','
-            << r.stats.threadCpuMs << ',' << r.stats.lodSwitches << '\n';
+            << r.stats.threadCpuMs << ',' << r.stats.lodSwitches << ',' << r.frameMs;
+        if (options.stream)
+            csv << ',' << r.streamMs << ',' << r.stream.frame.uploadedBytes << ',' << r.stream.frame.evictedBytes
+                << ',' << r.stream.residentTextureBytes << ',' << r.stream.neededTextureBytes << ','
+                << r.stream.bytesRead << ',' << (r.stream.complete ? 0 : 1);
+        csv << '\n';
     }
     std::string csvPath = options.outDir + "/frames.csv";
     if (auto w = writeText(csvPath, csv.str()); !w) return w.error();
@@ -409,6 +477,10 @@ PlayResult<BenchResult> runBenchmark(const GpuScene& scene, Renderer& renderer,
     j["shadow_triangles"] = counts(shadowTriangles, shadowTrianglesSum);
     j["lod"] = {{"items_with_levels", scene.lodItems.size()}, {"switches", lodSwitches}};
     if (!quality.empty()) j["quality"] = quality;
+    rusage usage{};
+    getrusage(RUSAGE_SELF, &usage);
+    j["peak_rss_bytes"] = uint64_t(usage.ru_maxrss) * 1024;
+    if (options.stream) j["streaming"] = streamingSummary(records, *options.stream, fullQualityMs, options.startup);
     std::string jsonPath = options.outDir + "/summary.json";
     if (auto w = writeText(jsonPath, j.dump(2) + "\n"); !w) return w.error();
     result.written.push_back(jsonPath);

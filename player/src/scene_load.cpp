@@ -15,6 +15,7 @@
 #include "lod_levels.h"
 #include "lod_select.h"
 #include "program_compile.h"
+#include "scene_upload.h"
 #include "upload.h"
 #include "upload_heap.h"
 
@@ -76,8 +77,8 @@ void updatePipelineLayout(GpuScene& gpu) {
     gpu.deferredLayers.assign(layers.begin(), layers.end());
 }
 
-// Compiles what the frame uses and is not compiled yet: the materials' programs, the lighting
-// pass if anything is deferred, the tone mapper.
+} // namespace
+
 PlayResult<Done> compileNeededPrograms(const Scene& scene, GpuScene& gpu) {
     gpu.programs.resize(scene.programs.size());
     size_t labelled = gpu.programLabels.size();
@@ -153,6 +154,8 @@ PlayResult<Done> compileNeededPrograms(const Scene& scene, GpuScene& gpu) {
     }
     return Done{};
 }
+
+namespace {
 
 // Each mesh's level chains (lod_levels.h) as DrawLevels in gpu.levels, shared by its instances.
 struct MeshChain {
@@ -297,28 +300,20 @@ PlayResult<std::unique_ptr<GpuScene>> loadScene(const std::string& path,
     return std::move(*gpu);
 }
 
-PlayResult<std::unique_ptr<GpuScene>> uploadScene(const Scene& scene, LoadStats* statsOut) {
-    LoadStats local;
-    LoadStats& stats = statsOut ? *statsOut : local;
-    // Upload, in file order: textures (storage), meshes, then texels (smallest mips first).
-    auto phase = Clock::now();
+PlayResult<std::unique_ptr<GpuScene>> uploadSceneWithoutTexels(const Scene& scene,
+                                                                const std::vector<uint32_t>& firstLevels) {
     auto gpu = std::make_unique<GpuScene>();
     gpu->name = std::string(scene.str(scene.info.name));
     gpu->bounds = scene.info.bounds;
     for (const Setting& s : scene.settings.entries)
         gpu->settings.emplace_back(std::string(scene.str(s.key)), std::string(scene.str(s.value)));
     glPixelStorei(GL_UNPACK_ALIGNMENT, 1); // RGB8 and R8 rows are tightly packed
-    UploadHeap heap(estimateUploadBytes(scene));
-    stats.hugePageBytes = heap.hugePageBytes();
-    stats.uploadPages = heap.describe();
     for (uint32_t i = 0; i < scene.textures.size(); ++i) {
-        auto t = createTexture(scene.textures[i], i);
+        auto t = createTexture(scene.textures[i], i, i < firstLevels.size() ? firstLevels[i] : 0);
         if (!t) return t.error();
         gpu->memory.textureBytes += t->bytes;
         gpu->textures.push_back(std::move(*t));
     }
-    for (const TextureMip& mip : scene.textureMips)
-        uploadTextureMip(gpu->textures[mip.texture], scene.textures[mip.texture], mip);
     for (uint32_t i = 0; i < scene.meshes.size(); ++i) {
         auto m = uploadMesh(scene.meshes[i], i);
         if (!m) return m.error();
@@ -355,14 +350,29 @@ PlayResult<std::unique_ptr<GpuScene>> uploadScene(const Scene& scene, LoadStats*
     }
     buildSceneGraph(scene, *gpu);
     updatePipelineLayout(*gpu);
+    return gpu;
+}
+
+PlayResult<std::unique_ptr<GpuScene>> uploadScene(const Scene& scene, LoadStats* statsOut) {
+    LoadStats local;
+    LoadStats& stats = statsOut ? *statsOut : local;
+    // Upload, in file order: textures (storage), meshes, then texels (smallest mips first).
+    auto phase = Clock::now();
+    UploadHeap heap(estimateUploadBytes(scene));
+    stats.hugePageBytes = heap.hugePageBytes();
+    stats.uploadPages = heap.describe();
+    auto gpu = uploadSceneWithoutTexels(scene, {});
+    if (!gpu) return gpu.error();
+    for (const TextureMip& mip : scene.textureMips)
+        uploadTextureMip((*gpu)->textures[mip.texture], scene.textures[mip.texture], mip);
     glFinish();
     stats.uploadMs = msSince(phase);
 
     // Programs last: on a real driver they compile in parallel with the uploads above.
     phase = Clock::now();
-    if (auto r = compileNeededPrograms(scene, *gpu); !r) return r.error();
+    if (auto r = compileNeededPrograms(scene, **gpu); !r) return r.error();
     stats.compileMs = msSince(phase);
-    return gpu;
+    return std::move(*gpu);
 }
 
 PlayResult<Done> updateMaterials(GpuScene& gpu, const Scene& scene) {

@@ -178,6 +178,14 @@ const std::vector<Row>& rows() {
           "-1: levels of detail by projected error; N: every object draws level N (or its "
           "coarsest, if it has fewer)"},
          IntField{&S::lodForce, -1, 254}},
+        {{"stream.budget_mib", "int 0..1048576",
+          "streaming: texture storage budget in MiB (0 = no limit); textures keep the mip levels "
+          "the view needs, the least recently needed are given up when it is short"},
+         UIntField{&S::streamBudgetMib, 0, 1048576}},
+        {{"stream.upload_mib", "float 0.0625..4096",
+          "streaming: texel bytes uploaded per frame through the staging ring, MiB (more: full "
+          "quality sooner; fewer: steadier frame times)"},
+         FloatField{&S::streamUploadMib, 0.0625f, 4096.0f}},
         {{"debug.shadow_layer", "int 0..7", "the shadow-map layer debug.view=shadowmap shows"},
          UIntField{&S::debugShadowLayer, 0, 7}},
         {{"debug.gi_slice", "int 0..511",

@@ -54,20 +54,28 @@ GLint glWrap(Wrap w) {
 
 } // namespace
 
-PlayResult<GpuTexture> createTexture(const TextureDesc& desc, uint32_t index) {
+uint64_t textureLevelBytes(const TextureDesc& desc, uint32_t level) {
+    return textureLevelSizeBytes(desc.format, std::max(desc.width >> level, 1u),
+                                 std::max(desc.height >> level, 1u), desc.layers);
+}
+
+PlayResult<GpuTexture> createTexture(const TextureDesc& desc, uint32_t index, uint32_t firstLevel) {
     GlFormat f = glFormat(desc.format);
     if (f.internal == GL_NONE)
         return PlayError{PlayErrorKind::Input,
                          "TEXR " + std::to_string(index) + ": unsupported texture format"};
     GLenum internal = desc.colorSpace == ColorSpace::Srgb ? f.internal : f.linearInternal;
     bool cube = desc.dimension == TextureDimension::Cube;
+    const uint32_t levels = desc.mipCount - firstLevel;
     GpuTexture t;
     t.texture = pnb::player::createTexture(cube ? GL_TEXTURE_CUBE_MAP : GL_TEXTURE_2D);
     t.width = desc.width;
     t.height = desc.height;
     t.mipCount = desc.mipCount;
-    glTextureStorage2D(t.texture.id(), GLsizei(desc.mipCount), internal, GLsizei(desc.width),
-                       GLsizei(desc.height));
+    t.firstLevel = firstLevel;
+    glTextureStorage2D(t.texture.id(), GLsizei(levels), internal,
+                       GLsizei(std::max(desc.width >> firstLevel, 1u)),
+                       GLsizei(std::max(desc.height >> firstLevel, 1u)));
     GLint swizzle[4];
     for (int i = 0; i < 4; ++i) swizzle[i] = glSwizzle(desc.swizzle[size_t(i)]);
     glTextureParameteriv(t.texture.id(), GL_TEXTURE_SWIZZLE_RGBA, swizzle);
@@ -76,37 +84,46 @@ PlayResult<GpuTexture> createTexture(const TextureDesc& desc, uint32_t index) {
                         desc.magFilter == MagFilter::Nearest ? GL_NEAREST : GL_LINEAR);
     glTextureParameteri(t.texture.id(), GL_TEXTURE_WRAP_S, glWrap(desc.wrapU));
     glTextureParameteri(t.texture.id(), GL_TEXTURE_WRAP_T, glWrap(desc.wrapV));
-    glTextureParameteri(t.texture.id(), GL_TEXTURE_MAX_LEVEL, GLint(desc.mipCount) - 1);
+    glTextureParameteri(t.texture.id(), GL_TEXTURE_MAX_LEVEL, GLint(levels) - 1);
     // Anisotropic filtering is a render setting (textures.anisotropy), applied by the renderer.
     t.trilinear = desc.minFilter == MinFilter::LinearMipLinear;
-    for (uint32_t level = 0; level < desc.mipCount; ++level)
-        t.bytes += textureLevelSizeBytes(desc.format, std::max(desc.width >> level, 1u),
-                                         std::max(desc.height >> level, 1u), desc.layers);
+    for (uint32_t level = firstLevel; level < desc.mipCount; ++level) t.bytes += textureLevelBytes(desc, level);
     std::string label = "texture " + std::to_string(index);
+    if (firstLevel) label += " from level " + std::to_string(firstLevel);
     glObjectLabel(GL_TEXTURE, t.texture.id(), GLsizei(label.size()), label.c_str());
     return t;
 }
 
-void uploadTextureMip(const GpuTexture& texture, const TextureDesc& desc, const TextureMip& mip) {
+void uploadTextureRows(const GpuTexture& texture, const TextureDesc& desc, uint32_t level,
+                       uint32_t face, uint32_t firstRow, uint32_t rows, const void* pixels) {
     GlFormat f = glFormat(desc.format);
     GLenum internal = desc.colorSpace == ColorSpace::Srgb ? f.internal : f.linearInternal;
-    GLint level = GLint(mip.level);
-    auto w = GLsizei(mip.width), h = GLsizei(mip.height);
+    const GLint glLevel = GLint(level - texture.firstLevel);
+    const auto w = GLsizei(std::max(desc.width >> level, 1u));
+    const auto h = GLsizei(std::max(desc.height >> level, 1u));
+    rows = std::min(rows, uint32_t(h) - firstRow);
+    const auto bytes = GLsizei(textureLevelSizeBytes(desc.format, uint32_t(w), rows, 1));
     if (desc.dimension == TextureDimension::Cube) {
         if (f.compressed)
-            glCompressedTextureSubImage3D(texture.texture.id(), level, 0, 0, 0, w, h, 6, internal,
-                                          GLsizei(mip.data.size()), mip.data.data());
+            glCompressedTextureSubImage3D(texture.texture.id(), glLevel, 0, GLint(firstRow), GLint(face), w,
+                                          GLsizei(rows), 1, internal, bytes, pixels);
         else
-            glTextureSubImage3D(texture.texture.id(), level, 0, 0, 0, w, h, 6, f.format, f.type,
-                                mip.data.data());
+            glTextureSubImage3D(texture.texture.id(), glLevel, 0, GLint(firstRow), GLint(face), w,
+                                GLsizei(rows), 1, f.format, f.type, pixels);
         return;
     }
     if (f.compressed)
-        glCompressedTextureSubImage2D(texture.texture.id(), level, 0, 0, w, h, internal,
-                                      GLsizei(mip.data.size()), mip.data.data());
+        glCompressedTextureSubImage2D(texture.texture.id(), glLevel, 0, GLint(firstRow), w, GLsizei(rows),
+                                      internal, bytes, pixels);
     else
-        glTextureSubImage2D(texture.texture.id(), level, 0, 0, w, h, f.format, f.type,
-                            mip.data.data());
+        glTextureSubImage2D(texture.texture.id(), glLevel, 0, GLint(firstRow), w, GLsizei(rows), f.format,
+                            f.type, pixels);
+}
+
+void uploadTextureMip(const GpuTexture& texture, const TextureDesc& desc, const TextureMip& mip) {
+    const uint64_t faceBytes = mip.data.size() / desc.layers;
+    for (uint32_t face = 0; face < desc.layers; ++face)
+        uploadTextureRows(texture, desc, mip.level, face, 0, mip.height, mip.data.data() + face * faceBytes);
 }
 
 } // namespace pnb::player

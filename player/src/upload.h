@@ -7,8 +7,17 @@
 
 namespace pnb::player {
 
-// Immutable storage for all levels; no texels yet (mips arrive as separate TMIP chunks).
-PlayResult<GpuTexture> createTexture(const TextureDesc& desc, uint32_t index);
+// Immutable storage for the levels firstLevel.. of the container's texture (a streaming player
+// keeps only the coarse end of a chain resident; GL level 0 is then container level
+// firstLevel); no texels yet (mips arrive as separate TMIP chunks).
+PlayResult<GpuTexture> createTexture(const TextureDesc& desc, uint32_t index, uint32_t firstLevel = 0);
+// Bytes of one container level (all faces).
+uint64_t textureLevelBytes(const TextureDesc& desc, uint32_t level);
+// Rows firstRow.. of one face of container level `level` (rows of 4-pixel blocks for compressed
+// formats: firstRow and rows are then multiples of 4, except a last partial block row), from
+// `pixels` — client memory, or an offset into the bound GL_PIXEL_UNPACK_BUFFER.
+void uploadTextureRows(const GpuTexture& texture, const TextureDesc& desc, uint32_t level,
+                       uint32_t face, uint32_t firstRow, uint32_t rows, const void* pixels);
 // One level (all faces of a cube map) from the chunk's bytes.
 void uploadTextureMip(const GpuTexture& texture, const TextureDesc& desc, const TextureMip& mip);
 

@@ -24,6 +24,7 @@
 #include "pnb_player/path_json.h"
 #include "pnb_player/program_cache.h"
 #include "pnb_player/renderer.h"
+#include "pnb_player/scene_stream.h"
 #include "pnb_player/startup_times.h"
 
 using namespace pnb::player;
@@ -31,6 +32,7 @@ using namespace pnb::player;
 namespace {
 
 const char* kUsage = R"(usage: pnb-play SCENE.pnb [options]
+       cat SCENE.pnb | pnb-play - [options]     (streams from standard input)
 
 Modes (default: an interactive window):
   --headless              render offscreen through EGL (no display needed)
@@ -95,6 +97,14 @@ Start-up (docs/PLAYER.md "Time to first frame"):
   --set startup.warmup=false   no warm-up draws during load (code generation then lands in the
                           frames that first draw each state; for measuring)
 
+Streaming (docs/PLAYER.md "Streaming"):
+  --stream                draw the first frame once the scene's structure and each texture's
+                          smallest mip are in; the texels stream in while frames are drawn
+                          (the default in the window and for '-'; settings stream.budget_mib,
+                          stream.upload_mib)
+  --no-stream             load everything before the first frame (the default for --headless
+                          and --bench, whose frames then do not depend on the loader's timing)
+
 Other:
   --no-checksums          skip payload checksum verification when loading
   --gl-debug              report GL performance messages too
@@ -116,6 +126,7 @@ struct Args {
     uint32_t frames = 0, frame = 0, width = 0, height = 0, shadowMetrics = 0, giMetrics = 0, giSamples = 64,
              lodMetrics = 0;
     bool giAllLights = false;
+    int stream = -1; // --stream 1, --no-stream 0, -1: by mode
 };
 
 [[noreturn]] void usageError(const std::string& message) {
@@ -193,6 +204,8 @@ Args parseArgs(int argc, char** argv) {
         } else if (s == "--frame") a.frame = parseCount("--frame", next(i));
         else if (s == "--set") a.sets.push_back(next(i));
         else if (s == "--no-plot") a.plot = false;
+        else if (s == "--stream") a.stream = 1;
+        else if (s == "--no-stream") a.stream = 0;
         else if (s == "--no-checksums") a.checksums = false;
         else if (s == "--program-cache") {
             a.programCacheDir = next(i);
@@ -200,13 +213,14 @@ Args parseArgs(int argc, char** argv) {
         } else if (s == "--no-program-cache") a.programCache = false;
         else if (s == "--gl-debug") a.glDebug = true;
         else if (s == "-q" || s == "--quiet") a.quiet = true;
-        else if (!s.empty() && s[0] == '-') usageError("unknown option " + s);
+        else if (s.size() > 1 && s[0] == '-') usageError("unknown option " + s);
         else if (a.scene.empty()) a.scene = s;
         else usageError("more than one scene given ('" + a.scene + "', '" + s + "')");
     }
     if (a.scene.empty()) usageError("no scene given");
     if (a.bench && a.outDir.empty()) usageError("--bench needs --out DIR");
     if (!a.dumps.empty() && a.outDir.empty()) usageError("--dump needs --out DIR");
+    if (a.stream == 0 && a.scene == "-") usageError("'-' (standard input) is read by streaming: drop --no-stream");
     if (!a.scriptInput.empty() && (a.headless || a.bench))
         usageError("--script-input drives the window (not --headless or --bench)");
     return a;
@@ -309,11 +323,29 @@ int main(int argc, char** argv) {
     GlInfo gl = context->info();
     startup.contextMs = msSince(phase);
 
-    LoadOptions lo;
-    lo.verifyChecksums = args.checksums;
+    // Streaming or a full load (docs/PLAYER.md "Streaming"). The stream's limits come from the
+    // command line now, and again from the resolved settings (the container's RSET too) below.
     LoadStats load;
-    auto scene = loadScene(args.scene, lo, &load);
-    if (!scene) return fail(scene.error());
+    std::unique_ptr<GpuScene> scene;
+    std::unique_ptr<SceneStream> stream; // after `scene`: it fills it, so it goes first
+    if (args.stream == 1 || (args.stream == -1 && (window || args.scene == "-"))) {
+        StreamOptions so;
+        so.verifyChecksums = args.checksums;
+        if (auto early = resolveSettings({}, args.sets, nullptr)) {
+            so.textureBudgetBytes = uint64_t(early->streamBudgetMib) << 20;
+            so.uploadBytesPerFrame = uint64_t(double(early->streamUploadMib) * 1048576.0);
+        }
+        auto opened = SceneStream::open(args.scene, so, &load);
+        if (!opened) return fail(opened.error());
+        scene = std::move(opened->scene);
+        stream = std::move(opened->stream);
+    } else {
+        LoadOptions lo;
+        lo.verifyChecksums = args.checksums;
+        auto loaded = loadScene(args.scene, lo, &load);
+        if (!loaded) return fail(loaded.error());
+        scene = std::move(*loaded);
+    }
     startup.loadMs = load.totalMs - load.compileMs;
     // --path FILE: a keyframe file rather than a name in the container. It goes first, so its
     // name wins over a container path of the same name.
@@ -322,30 +354,41 @@ int main(int argc, char** argv) {
         auto p = readPathJson(args.pathName);
         if (!p) return fail(p.error());
         args.pathName = p->name;
-        (*scene)->paths.insert((*scene)->paths.begin(), std::move(*p));
+        scene->paths.insert(scene->paths.begin(), std::move(*p));
     }
 
     std::vector<std::string> warnings;
     auto defaults = driverDefaults(gl.renderer);
-    defaults.insert(defaults.end(), (*scene)->settings.begin(), (*scene)->settings.end());
+    defaults.insert(defaults.end(), scene->settings.begin(), scene->settings.end());
     auto resolved = resolveSettings(defaults, args.sets, &warnings);
     if (!resolved) return fail(resolved.error());
     RenderSettings settings = *resolved;
     if (!args.quiet)
         for (const std::string& w : warnings) std::fprintf(stderr, "pnb-play: warning: %s\n", w.c_str());
-    auto renderer = Renderer::create(**scene, settings);
+    auto renderer = Renderer::create(*scene, settings);
     if (!renderer) return fail(renderer.error());
+    if (stream)
+        stream->setLimits(uint64_t(settings.streamBudgetMib) << 20,
+                          uint64_t(double(settings.streamUploadMib) * 1048576.0));
 
     if (!args.quiet) {
         std::printf("%s: %zu draw items, %llu triangles, %zu materials (%zu deferred layers%s), %zu lights\n",
-                    args.scene.c_str(), (*scene)->items.size(), (unsigned long long)(*scene)->triangles,
-                    (*scene)->materials.size(), (*scene)->deferredLayers.size(),
-                    (*scene)->hasForward ? " + forward" : "", (*scene)->lights.size());
-        std::printf("load: %.2f ms total = open %.2f + read %.2f + decode %.2f + upload %.2f + "
-                    "shaders %.2f (%.1f MiB, %.1f MiB zero-copy, upload heap: %s)\n",
-                    load.totalMs, load.openMs, load.readMs, load.decodeMs, load.uploadMs, load.compileMs,
-                    double(load.fileBytes) / 1048576.0, double(load.zeroCopyBytes) / 1048576.0,
-                    load.uploadPages.empty() ? "none" : load.uploadPages.c_str());
+                    args.scene.c_str(), scene->items.size(), (unsigned long long)scene->triangles,
+                    scene->materials.size(), scene->deferredLayers.size(),
+                    scene->hasForward ? " + forward" : "", scene->lights.size());
+        if (stream)
+            std::printf("load (streaming): first frame's data in %.2f ms = open %.2f + structure %.2f + "
+                        "upload %.2f + shaders %.2f; %.1f of %.1f MiB texels resident now (budget %s)\n",
+                        load.totalMs, load.openMs, load.decodeMs, load.uploadMs, load.compileMs,
+                        double(stream->status().residentTextureBytes) / 1048576.0,
+                        double(stream->status().fullTextureBytes) / 1048576.0,
+                        settings.streamBudgetMib ? (std::to_string(settings.streamBudgetMib) + " MiB").c_str() : "none");
+        else
+            std::printf("load: %.2f ms total = open %.2f + read %.2f + decode %.2f + upload %.2f + "
+                        "shaders %.2f (%.1f MiB, %.1f MiB zero-copy, upload heap: %s)\n",
+                        load.totalMs, load.openMs, load.readMs, load.decodeMs, load.uploadMs, load.compileMs,
+                        double(load.fileBytes) / 1048576.0, double(load.zeroCopyBytes) / 1048576.0,
+                        load.uploadPages.empty() ? "none" : load.uploadPages.c_str());
         std::printf("GL: %s | %s\n", gl.renderer.c_str(), gl.version.c_str());
     }
 
@@ -361,6 +404,7 @@ int main(int argc, char** argv) {
     bo.plot = args.plot;
     bo.sceneFile = args.scene;
     bo.commandLine = commandLine;
+    bo.stream = stream.get();
     if (!args.screenshot.empty()) bo.captures.push_back({CaptureBuffer::Color, args.frame, args.screenshot});
     for (const std::string& d : args.dumps) {
         auto r = dumpRequest(d, args);
@@ -374,11 +418,11 @@ int main(int argc, char** argv) {
 
     // The first frame: everything the driver does lazily (shader variants, first-touch of
     // targets) lands here, so it is reported on its own and kept out of benchmark statistics.
-    if (args.camera >= 0 && size_t(args.camera) >= (*scene)->cameras.size())
+    if (args.camera >= 0 && size_t(args.camera) >= scene->cameras.size())
         return fail({PlayErrorKind::Usage, "--camera " + std::to_string(args.camera) + ": the container has " +
-                                               std::to_string((*scene)->cameras.size()) + " camera(s)"});
-    if (args.camera >= 0) bo.staticCamera = sceneCamera(**scene, size_t(args.camera));
-    CameraState first = bo.staticCamera ? *bo.staticCamera : initialCamera(**scene, args.pathName);
+                                               std::to_string(scene->cameras.size()) + " camera(s)"});
+    if (args.camera >= 0) bo.staticCamera = sceneCamera(*scene, size_t(args.camera));
+    CameraState first = bo.staticCamera ? *bo.staticCamera : initialCamera(*scene, args.pathName);
     // Warm-up: the driver's code generation for every state the scene is drawn in, now rather
     // than in whichever frame first shows each material (Renderer::warmUp).
     phase = std::chrono::steady_clock::now();
@@ -387,9 +431,12 @@ int main(int argc, char** argv) {
     startup.warmUp = settings.warmUp;
     startup.warmUpMs = msSince(phase) - (programCacheStats().ms - programsBefore);
     phase = std::chrono::steady_clock::now();
+    if (stream)
+        if (auto r = stream->update(first, bo.width, bo.height); !r) return fail(r.error());
     if (auto r = (*renderer)->render(first, bo.width, bo.height); !r) return fail(r.error());
     glFinish();
     startup.firstFrameMs = msSince(phase);
+    if (stream) stream->markFirstFrame();
     startup.firstFrameThreadCpuMs = (*renderer)->lastFrame().threadCpuMs;
     startup.programs = programCacheStats();
     startup.programsMs = startup.programs.ms;
@@ -399,6 +446,15 @@ int main(int argc, char** argv) {
     load.firstFrameMs = startup.totalMs;
     bo.startup = startup;
     if (!args.quiet) std::printf("%s\n", startupSummary(startup).c_str());
+    if (stream && !args.quiet) {
+        const StreamStatus& ss = stream->status();
+        if (ss.fileBytes)
+            std::printf("streaming: first frame after reading %.1f of %.1f MiB (%.1f %%)\n",
+                        double(ss.firstFrameBytesRead) / 1048576.0, double(ss.fileBytes) / 1048576.0,
+                        100.0 * double(ss.firstFrameBytesRead) / double(ss.fileBytes));
+        else
+            std::printf("streaming: first frame after reading %.1f MiB\n", double(ss.firstFrameBytesRead) / 1048576.0);
+    }
 
     std::unique_ptr<ShadowQuality> shadowQuality;
     if (args.shadowMetrics > 0) {
@@ -407,7 +463,7 @@ int main(int argc, char** argv) {
         if (!q) return fail(q.error());
         shadowQuality = std::move(*q);
         glm::vec3 toward{0, 1, 0};
-        for (const SceneLight& l : (*scene)->lights)
+        for (const SceneLight& l : scene->lights)
             if (l.desc.type == pnb::LightType::Directional && l.desc.castsShadows) {
                 toward = -l.direction;
                 break;
@@ -422,7 +478,7 @@ int main(int argc, char** argv) {
         if (!args.bench) return fail({PlayErrorKind::Usage, "--gi-metrics needs --bench"});
         if (args.shadowMetrics > 0 && args.shadowMetrics != args.giMetrics)
             return fail({PlayErrorKind::Usage, "--gi-metrics and --shadow-metrics must measure the same frames"});
-        if (!(*scene)->giPrograms)
+        if (!scene->giPrograms)
             return fail({PlayErrorKind::Usage, "--gi-metrics: the container has no GI (pnb-convert --gi)"});
         pnb::reference::IndirectSettings is;
         is.samples = std::max(1u, args.giSamples);
@@ -463,7 +519,7 @@ int main(int argc, char** argv) {
                 context->pollEvents();
                 return !context->shouldClose();
             };
-        auto result = runBenchmark(**scene, **renderer, bo, load, gl, present);
+        auto result = runBenchmark(*scene, **renderer, bo, load, gl, present);
         if (!result) return fail(result.error());
         if (!args.quiet) {
             std::printf("%u frames at %ux%u\n", result->frames, bo.width, bo.height);
@@ -494,5 +550,5 @@ int main(int argc, char** argv) {
     wo.recordEvery = args.recordEvery;
     wo.scripted = !args.scriptInput.empty();
     wo.script = std::move(script);
-    return runWindow(*context, std::move(*scene), std::move(*renderer), settings, first, wo);
+    return runWindow(*context, std::move(scene), std::move(stream), std::move(*renderer), settings, first, wo);
 }

@@ -85,9 +85,11 @@ std::string describe(const glm::dvec3& p) { return format("(%.4f, %.4f, %.4f)", 
 
 class Session {
 public:
-    Session(GlContext& context, std::unique_ptr<GpuScene> scene, std::unique_ptr<Renderer> renderer,
-            RenderSettings settings, const CameraState& first, const WindowRunOptions& options)
-        : mContext(context), mOptions(options), mScene(std::move(scene)), mRenderer(std::move(renderer)),
+    Session(GlContext& context, std::unique_ptr<GpuScene> scene, std::unique_ptr<SceneStream> stream,
+            std::unique_ptr<Renderer> renderer, RenderSettings settings, const CameraState& first,
+            const WindowRunOptions& options)
+        : mContext(context), mOptions(options), mScene(std::move(scene)), mStream(std::move(stream)),
+          mRenderer(std::move(renderer)),
           mSettings(settings), mFly(first, mScene->bounds), mRecorder(options.recordEvery),
           mSceneFile(options.sceneFile) {}
 
@@ -97,6 +99,7 @@ private:
     GlContext& mContext;
     const WindowRunOptions& mOptions;
     std::unique_ptr<GpuScene> mScene;
+    std::unique_ptr<SceneStream> mStream; // fills mScene: destroyed before it
     std::unique_ptr<Renderer> mRenderer;
     RenderSettings mSettings;
     FlyCamera mFly;
@@ -124,6 +127,11 @@ private:
     void takeScreenshot();
     void updateTitle();
     std::vector<std::string> status() const;
+    void applyStreamLimits() {
+        if (mStream)
+            mStream->setLimits(uint64_t(mSettings.streamBudgetMib) << 20,
+                               uint64_t(double(mSettings.streamUploadMib) * 1048576.0));
+    }
 };
 
 std::vector<std::string> Session::status() const {
@@ -132,6 +140,14 @@ std::vector<std::string> Session::status() const {
                        mFly.fovDegrees(), mFly.orbiting() ? "   orbit" : ""));
     if (mRecorder.recording())
         s.push_back(format("REC %.1f s, %zu keys (F9 stops, K adds a key)", mRecorder.time(), mRecorder.keyCount()));
+    if (mStream) {
+        const StreamStatus& st = mStream->status();
+        s.push_back(format("textures %.1f MiB resident / %.1f needed%s; +%.2f MiB, %u evictions this frame%s",
+                           double(st.residentTextureBytes) / 1048576.0, double(st.neededTextureBytes) / 1048576.0,
+                           mSettings.streamBudgetMib ? format(" (budget %u)", mSettings.streamBudgetMib).c_str() : "",
+                           double(st.frame.uploadedBytes) / 1048576.0, st.frame.evictions,
+                           st.complete ? "" : "   streaming"));
+    }
     if (!mMessage.empty()) s.push_back(mMessage);
     return s;
 }
@@ -194,10 +210,24 @@ void Session::openScene(const std::string& path) {
         return error("cannot open " + path + ": drop a .pnb container, or a .gltf, .glb or .obj to convert" +
                      keeping);
     }
-    LoadOptions lo;
-    lo.verifyChecksums = mOptions.verifyChecksums;
     LoadStats load;
-    auto scene = loadScene(file, lo, &load);
+    std::unique_ptr<SceneStream> stream;
+    PlayResult<std::unique_ptr<GpuScene>> scene = PlayError{PlayErrorKind::Input, "not loaded"};
+    if (mStream) {
+        StreamOptions so = mStream->options();
+        so.verifyChecksums = mOptions.verifyChecksums;
+        auto opened = SceneStream::open(file, so, &load);
+        if (opened) {
+            stream = std::move(opened->stream);
+            scene = std::move(opened->scene);
+        } else {
+            scene = opened.error();
+        }
+    } else {
+        LoadOptions lo;
+        lo.verifyChecksums = mOptions.verifyChecksums;
+        scene = loadScene(file, lo, &load);
+    }
     if (!scene) return error("cannot open " + path + ": " + scene.error().message + keeping);
     std::vector<std::string> warnings;
     auto defaults = driverDefaults(mOptions.glRenderer);
@@ -214,10 +244,12 @@ void Session::openScene(const std::string& path) {
     if (auto r = (*renderer)->warmUp(initialCamera(**scene, ""), ww, wh); !r)
         return error("cannot open " + path + ": " + r.error().message + keeping);
     if (mRecorder.recording()) stopRecording(" (a new scene was opened)");
-    // The old renderer goes before the old scene it draws.
+    // The old renderer goes before the old scene it draws, the old stream before the scene it fills.
     mRenderer = std::move(*renderer);
+    mStream = std::move(stream);
     mScene = std::move(*scene);
     mSettings = *resolved;
+    applyStreamLimits();
     mFly = FlyCamera(initialCamera(*mScene, ""), mScene->bounds);
     mSceneFile = path;
     if (!mOptions.quiet)
@@ -302,6 +334,13 @@ int Session::run() {
                  describe(mFly.camera().position));
         uint32_t rw = mOptions.width ? mOptions.width : uint32_t(w);
         uint32_t rh = mOptions.height ? mOptions.height : uint32_t(h);
+        if (mStream) {
+            if (auto r = mStream->update(mFly.camera(), rw, rh); !r) {
+                error(r.error().message); // a damaged chunk: stop before drawing anything of it
+                mExitCode = 2;
+                break;
+            }
+        }
         if (auto r = mRenderer->render(mFly.camera(), rw, rh); !r) {
             error(r.error().message);
             mExitCode = 3;
@@ -329,7 +368,10 @@ int Session::run() {
         mRenderer->presentToWindow(w, h);
         if (mOverlay && mOverlay->draw(*mRenderer, lastTimes.passes.empty() ? nullptr : &lastTimes, mSettings,
                                        status()))
+        {
             mRenderer->setSettings(mSettings);
+            applyStreamLimits();
+        }
         mContext.swapBuffers();
         ++rendered;
         scriptTime += dt;
@@ -347,9 +389,10 @@ int Session::run() {
 
 } // namespace
 
-int runWindow(GlContext& context, std::unique_ptr<GpuScene> scene, std::unique_ptr<Renderer> renderer,
-              RenderSettings settings, const CameraState& first, const WindowRunOptions& options) {
-    Session session(context, std::move(scene), std::move(renderer), settings, first, options);
+int runWindow(GlContext& context, std::unique_ptr<GpuScene> scene, std::unique_ptr<SceneStream> stream,
+              std::unique_ptr<Renderer> renderer, RenderSettings settings, const CameraState& first,
+              const WindowRunOptions& options) {
+    Session session(context, std::move(scene), std::move(stream), std::move(renderer), settings, first, options);
     return session.run();
 }
 

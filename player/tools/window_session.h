@@ -13,6 +13,7 @@
 #include "pnb_player/benchmark.h"
 #include "pnb_player/gl_context.h"
 #include "pnb_player/renderer.h"
+#include "pnb_player/scene_stream.h"
 
 namespace pnb::player {
 
@@ -36,7 +37,10 @@ struct WindowRunOptions {
 
 // Runs until Esc, the window's close button, a scripted close or `frames`. Returns the exit code
 // (0 on a normal quit; a recording in progress is saved first).
-int runWindow(GlContext& context, std::unique_ptr<GpuScene> scene, std::unique_ptr<Renderer> renderer,
-              RenderSettings settings, const CameraState& first, const WindowRunOptions& options);
+// `stream` (may be null) fills `scene` while frames are drawn; a dropped file is streamed too
+// when it is set.
+int runWindow(GlContext& context, std::unique_ptr<GpuScene> scene, std::unique_ptr<SceneStream> stream,
+              std::unique_ptr<Renderer> renderer, RenderSettings settings, const CameraState& first,
+              const WindowRunOptions& options);
 
 } // namespace pnb::player

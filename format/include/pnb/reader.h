@@ -130,4 +130,11 @@ Status streamChunks(int fd, const ReadOptions& options, const ChunkCallback& onC
 Status streamChunks(const std::string& path, const ReadOptions& options,
                     const ChunkCallback& onChunk);
 
+// Reads chunk `info` again with pread(2) from a seekable `fd` of the same file (a streaming
+// player fetching a texel level it dropped): the header at info.headerOffset must equal
+// info.header, the checksum is verified (per `options`) and a compressed payload is inflated.
+// Returns the raw payload, owned. Errors: IoError, Truncated (the file shrank), BadToc (the
+// header there is another one: the file changed), ChecksumMismatch, decompression errors.
+Result<Payload> readChunkAt(int fd, const ChunkInfo& info, const ReadOptions& options);
+
 } // namespace pnb

@@ -1,8 +1,8 @@
 // pnb/scene.h — a whole container decoded into typed chunks, written back in streamable order,
 // and checked for cross-references (docs/FORMAT.md §4.1 and §4.3).
 //
-// Does NOT do: GPU upload (player), importing (converter). For progressive loading use
-// streamChunks() + decodeChunk() directly; this is the convenience layer for tools and tests.
+// Does NOT do: GPU upload (player), importing (converter). Progressive loading feeds chunks from
+// streamChunks() to a SceneAssembler and handles the texels (TMIP) itself, one at a time.
 #pragma once
 
 #include <string_view>
@@ -42,10 +42,40 @@ struct Scene {
     }
 };
 
+// Builds a Scene from chunks handed over one at a time in file order (from a mapping or from
+// streamChunks): the order rules of FORMAT.md §4.1 (every reference points backwards; single
+// kinds at most once; STRS first), then the chunk's decoding. readScene is this over a whole
+// container; a streaming reader uses it for everything before the texels and checks each TMIP
+// with checkOrder + validateTextureMip instead of keeping it.
+class SceneAssembler {
+public:
+    // Whether `info` may come next; records it as seen. Unknown tags are counted (or refused if
+    // critical). Errors name the chunk's sequence number, tag and header offset.
+    Status checkOrder(const ChunkInfo& info);
+    // Decodes `payload` (the raw payload of `info`, which passed checkOrder) into the scene,
+    // which keeps the payload (its blobs and strings point into it). Unknown tags are skipped.
+    Status decode(const ChunkInfo& info, Payload payload);
+    Status add(const ChunkInfo& info, Payload payload) { // checkOrder, then decode
+        Status st = checkOrder(info);
+        return isOk(st) ? decode(info, std::move(payload)) : st;
+    }
+    // The string table was seen. (validateScene is the caller's: it may run on a prefix.)
+    Status finish() const;
+    Scene scene;
+
+private:
+    int mLastRank = -1;
+    bool mSeen[16] = {};
+};
+
 // Decodes every chunk. Checks the chunk order of FORMAT.md §4.1 (which makes every reference
 // point backwards), that single-instance chunks appear at most once, then validateScene().
 // Unknown tags are skipped and counted.
 Result<Scene> readScene(const Container& container);
+
+// Checks one texel chunk against its descriptor (texture index, level, size), as validateScene
+// does for each of scene.textureMips; `index` names it in the error.
+Status validateTextureMip(const Scene& scene, const TextureMip& mip, size_t index);
 
 // Checks every cross-reference of §4.3: string, shader, program, texture, material, mesh,
 // light, camera and parent indices; mip levels and sizes; stream sizes; index values.

@@ -9,11 +9,22 @@
 //                  triangles, visible/culled items, deferred layers drawn, camera position and
 //                  vertical field of view (camera_x/y/z, camera_yfov_deg), the render thread's
 //                  CPU time (thread_cpu_ms: where shader code generation shows, FrameStats),
-//                  items whose level of detail changed (lod_switches)
+//                  items whose level of detail changed (lod_switches); the wall time from this
+//                  frame's start to the next one's (frame_ms: what stalls are counted on); with
+//                  streaming (BenchOptions::stream), the stream's update time (stream_ms), texel
+//                  bytes uploaded and texture storage given back (stream_upload_bytes,
+//                  stream_evicted_bytes), texture storage resident and needed by the view
+//                  (resident_texture_bytes, needed_texture_bytes), bytes of the container read so
+//                  far (bytes_read) and whether it was still streaming (streaming: 1 until the
+//                  stream is complete)
 //   summary.json   min/median/p95/max per pass and for CPU time; load-time split; time to first
 //                  frame and its split (startup_times.h, when given); GPU memory by category;
 //                  machine, GL vendor/renderer/version; resolution; every setting; triangles
-//                  and shadow triangles per frame (min/median/p95/max, sum); LOD switches
+//                  and shadow triangles per frame (min/median/p95/max, sum); LOD switches; peak
+//                  resident memory of the process (peak_rss_bytes); with streaming, "streaming":
+//                  time to full quality, bytes read at the first frame, uploads per frame,
+//                  evictions, re-reads, stalls (frames over 2x the median frame_ms) and frame_ms
+//                  p95 while streaming and after, peak texture storage against the budget
 //   frame_times.png  per-pass stacked GPU time and CPU time along the path (player/tools/
 //                  plot_frames.py, needs python3-matplotlib; skipped with a warning otherwise)
 //   screenshots and dumps asked for (PNG for colour, EXR for float buffers)
@@ -30,6 +41,7 @@
 #include "pnb_player/gl_context.h"
 #include "pnb_player/gpu_scene.h"
 #include "pnb_player/renderer.h"
+#include "pnb_player/scene_stream.h"
 #include "pnb_player/startup_times.h"
 
 namespace pnb::player {
@@ -66,6 +78,7 @@ struct BenchOptions {
     std::string sceneFile, commandLine; // recorded in the summary
     QualityHook quality;
     std::optional<StartupTimes> startup; // pnb-play's time to first frame, for summary.json
+    SceneStream* stream = nullptr;       // streaming: update() before every frame, and its figures
 };
 
 struct PassSummary {

@@ -34,8 +34,9 @@ namespace pnb::player {
 
 struct GpuTexture {
     GlHandle texture;
-    uint32_t width = 0, height = 0, mipCount = 0;
-    uint64_t bytes = 0;
+    uint32_t width = 0, height = 0, mipCount = 0; // the container's texture (level 0)
+    uint32_t firstLevel = 0; // container level held as GL level 0 (streaming: the finest allocated)
+    uint64_t bytes = 0;      // of the storage allocated (levels firstLevel..)
     bool trilinear = false; // mipmapped linear filtering: anisotropic filtering applies
 };
 

@@ -1,0 +1,365 @@
+// Streaming playback's GL side (scene_stream.h): the first frame's upload, then per frame the
+// residency plan, the staged texel uploads and the publication of complete levels.
+#include "pnb_player/scene_stream.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cstring>
+#include <deque>
+
+#include <epoxy/gl.h>
+
+#include "lod_select.h"
+#include "mip_need.h"
+#include "scene_upload.h"
+#include "stream_loader.h"
+#include "stream_ring.h"
+#include "texture_residency.h"
+#include "upload.h"
+
+namespace pnb::player {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double msSince(Clock::time_point t) {
+    return std::chrono::duration<double, std::milli>(Clock::now() - t).count();
+}
+
+// One surface that samples a texture: its level-0 texels per world unit (mip_need.h).
+struct TextureUse {
+    uint32_t item = 0;
+    double texelsPerUnit = 0;
+};
+
+// Bytes of `rows` rows (block rows for compressed formats: 4 pixels) of one face of a level.
+uint64_t rowBytes(const TextureDesc& d, uint32_t level, uint32_t rows) {
+    return textureLevelSizeBytes(d.format, std::max(d.width >> level, 1u), rows, 1);
+}
+// Rows per upload unit: a block row (4) for block-compressed formats, whose 4x1 and 4x4 images
+// are the same one block; else 1.
+uint32_t rowUnit(const TextureDesc& d) {
+    return textureLevelSizeBytes(d.format, 4, 1, 1) == textureLevelSizeBytes(d.format, 4, 4, 1) ? 4 : 1;
+}
+uint64_t alignUp(uint64_t v, uint64_t a) { return (v + a - 1) / a * a; }
+constexpr uint64_t kStagingAlignment = 16;
+
+} // namespace
+
+struct SceneStream::Impl {
+    GpuScene* gpu = nullptr;
+    std::unique_ptr<StreamLoader> loader;
+    const Scene* scene = nullptr; // the loader's, read-only
+    std::vector<TextureResidency> residency;
+    struct Pending {
+        // Levels valid - 1, valid - 2, ... that have arrived (their bytes hold the loader's
+        // read-ahead back until uploaded or dropped); the front is being uploaded.
+        std::deque<TexelLevel> levels;
+        uint32_t face = 0, row = 0; // upload progress of the front
+        bool requested = false;     // a re-read of valid - 1 was asked for
+        bool lost = false;          // needed again, but the input cannot be re-read
+        uint32_t nextLevel(uint32_t valid) const { return levels.empty() ? valid : levels.back().mip.level; }
+    };
+    std::deque<Pending> pending; // deque: Pending holds a deque, which cannot move noexcept
+    std::vector<std::vector<TextureUse>> uses; // per texture
+    StreamRing staging;
+    uint64_t frame = 0;
+    GLint unpackAlignment = 1;
+
+    void setBaseLevel(uint32_t t) {
+        const GpuTexture& tex = gpu->textures[t];
+        const uint32_t valid = std::min(residency[t].valid, tex.mipCount - 1);
+        glTextureParameteri(tex.texture.id(), GL_TEXTURE_BASE_LEVEL, GLint(valid - tex.firstLevel));
+    }
+
+    // New storage for levels `first`.. of texture t; the complete levels both chains have are
+    // copied on the GPU. Levels finer than `first` are dropped (and their upload, if under way).
+    PlayResult<Done> reallocate(uint32_t t, uint32_t first) {
+        const TextureDesc& desc = scene->textures[t];
+        GpuTexture& old = gpu->textures[t];
+        auto fresh = createTexture(desc, t, first);
+        if (!fresh) return fresh.error();
+        TextureResidency& r = residency[t];
+        const GLenum target = desc.dimension == TextureDimension::Cube ? GL_TEXTURE_CUBE_MAP : GL_TEXTURE_2D;
+        for (uint32_t level = std::max(r.valid, first); level < desc.mipCount; ++level)
+            glCopyImageSubData(old.texture.id(), target, GLint(level - old.firstLevel), 0, 0, 0,
+                               fresh->texture.id(), target, GLint(level - first), 0, 0, 0,
+                               GLsizei(std::max(desc.width >> level, 1u)),
+                               GLsizei(std::max(desc.height >> level, 1u)), GLsizei(desc.layers));
+        if (epoxy_has_gl_extension("GL_EXT_texture_filter_anisotropic")) {
+            GLfloat aniso = 1;
+            glGetTextureParameterfv(old.texture.id(), GL_TEXTURE_MAX_ANISOTROPY_EXT, &aniso);
+            glTextureParameterf(fresh->texture.id(), GL_TEXTURE_MAX_ANISOTROPY_EXT, aniso);
+        }
+        gpu->memory.textureBytes = gpu->memory.textureBytes - old.bytes + fresh->bytes;
+        old = std::move(*fresh);
+        r.allocated = first;
+        r.valid = std::max(r.valid, first);
+        Pending& p = pending[t];
+        while (!p.levels.empty() && p.levels.back().mip.level < first) p.levels.pop_back();
+        if (p.levels.empty()) p.face = p.row = 0;
+        setBaseLevel(t);
+        return Done{};
+    }
+
+    // Takes a level that arrived: kept if it is the next one texture t can use, else dropped
+    // (it can be read again from a file when needed).
+    void accept(TexelLevel level) {
+        const uint32_t t = level.mip.texture, l = level.mip.level;
+        Pending& p = pending[t];
+        if (level.refetched) p.requested = false;
+        if (l + 1 == p.nextLevel(residency[t].valid) && l >= residency[t].allocated)
+            p.levels.push_back(std::move(level));
+    }
+
+    // Uploads rows of the front level until `budget` bytes are spent; true when it is complete.
+    bool uploadRows(uint32_t t, uint64_t& budget, StreamFrameStats& f) {
+        Pending& p = pending[t];
+        const TextureDesc& desc = scene->textures[t];
+        const TextureMip& mip = p.levels.front().mip;
+        const uint32_t unit = rowUnit(desc);
+        const uint64_t faceBytes = mip.data.size() / desc.layers;
+        while (p.face < desc.layers) {
+            const uint32_t left = mip.height - p.row;
+            const uint64_t unitBytes = rowBytes(desc, mip.level, std::min(unit, mip.height));
+            uint32_t rows = uint32_t(std::min<uint64_t>(left, budget / alignUp(unitBytes, kStagingAlignment) * unit));
+            if (rows == 0) {
+                if (f.uploadedBytes > 0) return false; // next frame
+                rows = std::min(unit, left);           // a unit larger than the frame's bytes
+            }
+            const uint64_t offset = rowBytes(desc, mip.level, p.row);
+            const uint64_t bytes = rowBytes(desc, mip.level, rows);
+            std::byte* dst = nullptr;
+            const size_t at = staging.allocate(bytes, dst);
+            std::memcpy(dst, mip.data.data() + p.face * faceBytes + offset, bytes);
+            uploadTextureRows(gpu->textures[t], desc, mip.level, p.face, p.row, rows,
+                              reinterpret_cast<const void*>(uintptr_t(at)));
+            f.uploadedBytes += bytes;
+            budget -= std::min(budget, alignUp(bytes, kStagingAlignment));
+            p.row += rows;
+            if (p.row >= mip.height) {
+                p.row = 0;
+                ++p.face;
+            }
+        }
+        residency[t].valid = mip.level;
+        p.levels.pop_front();
+        p.face = p.row = 0;
+        setBaseLevel(t);
+        ++f.levelsCompleted;
+        return true;
+    }
+};
+
+SceneStream::SceneStream() : mImpl(std::make_unique<Impl>()) {}
+SceneStream::~SceneStream() = default;
+
+PlayResult<SceneStream::Opened> SceneStream::open(const std::string& path, const StreamOptions& options,
+                                                  LoadStats* statsOut) {
+    LoadStats stats;
+    const auto start = Clock::now();
+    Opened out;
+    out.stream.reset(new SceneStream);
+    SceneStream& s = *out.stream;
+    Impl& im = *s.mImpl;
+    s.mOptions = options;
+    StreamLoader::Options lo;
+    lo.verifyChecksums = options.verifyChecksums;
+    lo.readAheadBytes = options.readAheadBytes;
+    auto loader = StreamLoader::start(path, lo);
+    if (!loader) return loader.error();
+    im.loader = std::move(*loader);
+    stats.openMs = msSince(start);
+
+    auto phase = Clock::now();
+    auto scene = im.loader->waitForScene();
+    if (!scene) return scene.error();
+    im.scene = *scene;
+    stats.decodeMs = msSince(phase);
+
+    // Storage: every whole chain without a budget; with one, the smallest level until the
+    // first update() knows the view.
+    phase = Clock::now();
+    const Scene& sc = *im.scene;
+    std::vector<uint32_t> firstLevels;
+    for (const TextureDesc& d : sc.textures) {
+        TextureResidency r;
+        for (uint32_t l = 0; l < d.mipCount; ++l) r.levelBytes.push_back(textureLevelBytes(d, l));
+        r.allocated = options.textureBudgetBytes ? d.mipCount - 1 : 0;
+        r.valid = d.mipCount;
+        r.wanted = r.allocated;
+        firstLevels.push_back(r.allocated);
+        s.mStatus.fullTextureBytes += r.bytesFrom(0);
+        im.residency.push_back(std::move(r));
+    }
+    im.pending.resize(sc.textures.size());
+    auto gpu = uploadSceneWithoutTexels(sc, firstLevels);
+    if (!gpu) return gpu.error();
+    im.gpu = gpu->get();
+    for (uint32_t t = 0; t < sc.textures.size(); ++t) im.setBaseLevel(t);
+
+    // Which surfaces sample which texture, at how many texels per world unit.
+    im.uses.resize(sc.textures.size());
+    for (uint32_t i = 0; i < im.gpu->items.size(); ++i) {
+        const DrawItem& item = im.gpu->items[i];
+        const Mesh& mesh = sc.meshes[item.mesh];
+        const Submesh& sm = mesh.submeshes[im.gpu->levels[item.firstLevel].submesh];
+        double density = uvDensity(mesh, sm);
+        if (!(density > 0)) density = uvDensityFromBounds(sm);
+        for (const TextureSlot& slot : im.gpu->materials[item.material].desc.textures) {
+            if (slot.texture == kNone) continue;
+            const TextureDesc& d = sc.textures[slot.texture];
+            const double scale = std::max({std::abs(double(slot.scale.x)), std::abs(double(slot.scale.y)), 1e-6});
+            const double tpu = double(std::max(d.width, d.height)) * density * scale / std::max(item.worldScale, 1e-30);
+            im.uses[slot.texture].push_back({i, tpu});
+        }
+    }
+
+    // The first frame's texels: each texture's smallest level, straight from the loader.
+    auto missing = [&] {
+        for (const TextureResidency& r : im.residency)
+            if (r.valid == r.mipCount()) return true;
+        return false;
+    };
+    while (missing()) {
+        im.loader->waitForLevel();
+        if (auto st = im.loader->status(); !st) return st.error();
+        std::vector<TexelLevel> levels = im.loader->take();
+        if (levels.empty() && im.loader->forwardDone()) break; // a texture without texels
+        for (TexelLevel& level : levels) {
+            const uint32_t t = level.mip.texture;
+            TextureResidency& r = im.residency[t];
+            if (level.mip.level + 1 != r.valid || level.mip.level < r.allocated) continue;
+            uploadTextureMip(im.gpu->textures[t], sc.textures[t], level.mip);
+            r.valid = level.mip.level;
+            im.setBaseLevel(t);
+            s.mStatus.uploadedBytes += level.mip.data.size();
+        }
+    }
+    stats.uploadMs = msSince(phase);
+    phase = Clock::now();
+    if (auto r = compileNeededPrograms(sc, *im.gpu); !r) return r.error();
+    stats.compileMs = msSince(phase);
+    glFinish();
+    stats.totalMs = msSince(start);
+    stats.fileBytes = im.loader->fileBytes();
+    stats.chunks = 0;
+    s.mStatus.fileBytes = im.loader->fileBytes();
+    s.mStatus.bytesRead = im.loader->bytesRead();
+    s.mStatus.residentTextureBytes = residentBytes(im.residency);
+    s.mStatus.peakTextureBytes = s.mStatus.residentTextureBytes;
+    s.mStatus.neededTextureBytes = neededBytes(im.residency);
+    if (statsOut) *statsOut = stats;
+    out.scene = std::move(*gpu);
+    return out;
+}
+
+void SceneStream::markFirstFrame() { mStatus.firstFrameBytesRead = mImpl->loader->bytesRead(); }
+
+void SceneStream::setLimits(uint64_t textureBudgetBytes, uint64_t uploadBytesPerFrame) {
+    mOptions.textureBudgetBytes = textureBudgetBytes;
+    mOptions.uploadBytesPerFrame = std::max<uint64_t>(uploadBytesPerFrame, 1);
+}
+
+PlayResult<Done> SceneStream::update(const CameraState& camera, uint32_t width, uint32_t height) {
+    (void)width;
+    Impl& im = *mImpl;
+    StreamStatus& st = mStatus;
+    st.frame = {};
+    if (auto r = im.loader->status(); !r) return r.error();
+    ++im.frame;
+    const Scene& sc = *im.scene;
+
+    // The levels this view needs: all of them without a budget.
+    const double pixelScale = lodPixelScale(camera.yfovRadians, height);
+    for (uint32_t t = 0; t < im.residency.size(); ++t) {
+        TextureResidency& r = im.residency[t];
+        if (!mOptions.textureBudgetBytes) {
+            r.wanted = 0;
+            continue;
+        }
+        uint32_t want = r.mipCount() - 1;
+        for (const TextureUse& u : im.uses[t]) {
+            const DrawItem& item = im.gpu->items[u.item];
+            const double d = distanceToBox(camera.position, item.boundsMin, item.boundsMax);
+            want = std::min(want, neededMipLevel(u.texelsPerUnit, d, pixelScale, r.mipCount()));
+        }
+        r.wanted = want;
+    }
+
+    // Storage: cut back and grow chains within the budget.
+    const ResidencyPlan plan = planResidency(im.residency, mOptions.textureBudgetBytes, im.frame);
+    for (const ResidencyChange& c : plan.evictions) {
+        const uint64_t before = im.residency[c.texture].bytesFrom(im.residency[c.texture].allocated);
+        if (auto r = im.reallocate(c.texture, c.allocated); !r) return r.error();
+        st.frame.evictedBytes += before - im.residency[c.texture].bytesFrom(c.allocated);
+        ++st.frame.evictions;
+    }
+    for (const ResidencyChange& c : plan.growths) {
+        if (auto r = im.reallocate(c.texture, c.allocated); !r) return r.error();
+        ++st.frame.growths;
+    }
+    st.peakTextureBytes = std::max(st.peakTextureBytes, plan.peakBytes);
+
+    // Levels read since the last frame; re-reads of levels the chains now have room for.
+    for (TexelLevel& level : im.loader->take()) im.accept(std::move(level));
+    const bool readDone = im.loader->forwardDone();
+    for (uint32_t t = 0; t < im.residency.size(); ++t) {
+        const TextureResidency& r = im.residency[t];
+        Impl::Pending& p = im.pending[t];
+        if (r.allocated >= r.valid || !p.levels.empty() || p.requested || p.lost) continue;
+        if (im.loader->request(t, r.valid - 1)) {
+            p.requested = true;
+            ++st.frame.refetches;
+        } else if (readDone) {
+            p.lost = true; // passed on a pipe: it will not come again
+            ++st.lostLevels;
+        }
+    }
+
+    // Uploads, the textures furthest from what they need first.
+    std::vector<uint32_t> order;
+    for (uint32_t t = 0; t < im.pending.size(); ++t)
+        if (!im.pending[t].levels.empty()) order.push_back(t);
+    std::stable_sort(order.begin(), order.end(), [&](uint32_t a, uint32_t b) {
+        return int64_t(im.residency[a].valid) - im.residency[a].wanted >
+               int64_t(im.residency[b].valid) - im.residency[b].wanted;
+    });
+    if (!order.empty()) {
+        uint64_t largestUnit = 0;
+        for (uint32_t t : order) {
+            const TextureDesc& d = sc.textures[t];
+            largestUnit = std::max(largestUnit, rowBytes(d, im.pending[t].levels.front().mip.level, rowUnit(d)));
+        }
+        // The frame's bytes, and one unit more: a unit larger than them still goes alone.
+        im.staging.reserve(mOptions.uploadBytesPerFrame + alignUp(largestUnit, kStagingAlignment),
+                           kStagingAlignment);
+        im.staging.beginFrame();
+        glGetIntegerv(GL_UNPACK_ALIGNMENT, &im.unpackAlignment);
+        glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+        glBindBuffer(GL_PIXEL_UNPACK_BUFFER, im.staging.buffer());
+        uint64_t budget = mOptions.uploadBytesPerFrame;
+        for (uint32_t t : order)
+            while (budget > 0 && !im.pending[t].levels.empty())
+                if (!im.uploadRows(t, budget, st.frame)) break;
+        glBindBuffer(GL_PIXEL_UNPACK_BUFFER, 0);
+        glPixelStorei(GL_UNPACK_ALIGNMENT, im.unpackAlignment);
+        im.staging.endFrame();
+    }
+
+    st.uploadedBytes += st.frame.uploadedBytes;
+    st.evictedBytes += st.frame.evictedBytes;
+    st.evictions += st.frame.evictions;
+    st.refetches += st.frame.refetches;
+    st.bytesRead = im.loader->bytesRead();
+    st.readDone = readDone;
+    st.residentTextureBytes = residentBytes(im.residency);
+    st.neededTextureBytes = neededBytes(im.residency);
+    bool complete = readDone;
+    for (uint32_t t = 0; t < im.residency.size() && complete; ++t)
+        complete = im.pending[t].lost || im.residency[t].valid <= im.residency[t].wanted;
+    st.complete = complete;
+    return Done{};
+}
+
+} // namespace pnb::player

@@ -1,0 +1,22 @@
+// scene_upload.h — the steps of uploadScene that the streaming loader (scene_stream.cpp) shares.
+#pragma once
+
+#include <memory>
+#include <vector>
+
+#include "pnb/scene.h"
+#include "pnb_player/gpu_scene.h"
+
+namespace pnb::player {
+
+// Everything of `scene` but the texels and the programs: texture storage (texture i from
+// container level firstLevels[i], or 0 where the vector is shorter), meshes, materials, camera
+// paths, draw items, lights and cameras, the layer layout. No glFinish.
+PlayResult<std::unique_ptr<GpuScene>> uploadSceneWithoutTexels(const Scene& scene,
+                                                                const std::vector<uint32_t>& firstLevels);
+
+// Compiles what the frame uses and is not compiled yet: the materials' programs, the lighting
+// pass if anything is deferred, the tone mapper, the shadow and GI programs.
+PlayResult<Done> compileNeededPrograms(const Scene& scene, GpuScene& gpu);
+
+} // namespace pnb::player
