@@ -2,18 +2,32 @@
 // shared by the player and editor tests (header-only; link pnb_assets and pnb_converter).
 #pragma once
 
+#include <array>
 #include <fstream>
 #include <string>
+#include <vector>
 
 #include <gtest/gtest.h>
 
 #include "pnb/atomic_file.h"
 #include "pnb_assets/gltf_writer.h"
+#include "pnb_assets/png_writer.h"
 #include "pnb_converter/convert.h"
 
 namespace pnb::test {
 
 namespace gltf = pnb::assets::gltf;
+
+// An RGB checker PNG: `a` and `b` colours in 8-texel squares.
+inline std::vector<uint8_t> checkerPng(uint32_t size, std::array<uint8_t, 3> a, std::array<uint8_t, 3> b) {
+    std::vector<uint8_t> pixels;
+    for (uint32_t y = 0; y < size; ++y)
+        for (uint32_t x = 0; x < size; ++x) {
+            const auto& c = ((x / 8 + y / 8) & 1) ? a : b;
+            pixels.insert(pixels.end(), c.begin(), c.end());
+        }
+    return assets::encodePng(size, size, 3, pixels);
+}
 
 // A width x height quad in the XY plane facing +Z; with `uvs`, texture coordinates 0..1
 // (glTF's v = 0 at the image's top row).

@@ -79,18 +79,7 @@ inline std::string copyScene(const TempDir& dir, const std::string& name) {
     return target;
 }
 
-// An RGB checker PNG: `a` and `b` colours in 8-texel squares.
-inline std::vector<uint8_t> checkerPng(uint32_t size, std::array<uint8_t, 3> a,
-                                       std::array<uint8_t, 3> b) {
-    std::vector<uint8_t> pixels;
-    for (uint32_t y = 0; y < size; ++y)
-        for (uint32_t x = 0; x < size; ++x) {
-            const auto& c = ((x / 8 + y / 8) & 1) ? a : b;
-            pixels.insert(pixels.end(), c.begin(), c.end());
-        }
-    return assets::encodePng(size, size, 3, pixels);
-}
-
+using pnb::test::checkerPng;
 using pnb::test::addObject;
 using pnb::test::box;
 using pnb::test::quad;

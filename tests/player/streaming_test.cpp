@@ -1,0 +1,223 @@
+// Streaming playback (pnb_player/scene_stream.h) against the full load: the finished stream draws
+// the same image, frames drawn while streaming are finite, the texture budget is never exceeded
+// and the image converges where it suffices, damage met mid-stream stops cleanly with the chunk
+// and its offset, and a pipe streams like a file.
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
+#include <thread>
+
+#include "pnb/reader.h"
+#include "pnb_player/scene_stream.h"
+#include "render_fixture.h"
+
+namespace pnb::player::test {
+
+namespace {
+
+constexpr uint32_t kW = 160, kH = 120;
+
+// Eight 256^2 checker textures on eight 2x2 quads along -Z, alternating left and right.
+const std::string& texturedStreet() {
+    static const std::string path = [] {
+        gltf::Document doc;
+        doc.sceneName = "textured-street";
+        for (uint8_t i = 0; i < 8; ++i) {
+            doc.images.push_back({"checker" + std::to_string(i),
+                                  pnb::test::checkerPng(256, {uint8_t(40 + 25 * i), 200, uint8_t(220 - 20 * i)},
+                                                        {30, uint8_t(30 + 20 * i), 60})});
+            gltf::Material m;
+            m.name = "m" + std::to_string(i);
+            m.baseColorImage = int32_t(i);
+            doc.materials.push_back(m);
+            addObject(doc, "panel" + std::to_string(i), quad(2, 2, i, true),
+                      {(i % 2 ? 1.2f : -1.2f), 1.0f, -3.0f * float(i)});
+        }
+        addObject(doc, "ground", box(6, 0.1f, 30, 0), {0, -0.05f, -10});
+        addLights(doc);
+        return convert(doc, "textured-street");
+    }();
+    return path;
+}
+
+CameraState streetView(double z) { return lookAt({0, 1.2, z}, {0, 1.0, z - 6}); }
+
+struct Streamed {
+    std::unique_ptr<GpuScene> scene;
+    std::unique_ptr<SceneStream> stream;
+    std::unique_ptr<Renderer> renderer;
+};
+
+Streamed openStream(const std::string& path, const StreamOptions& options) {
+    Streamed s;
+    auto opened = SceneStream::open(path, options);
+    EXPECT_TRUE(opened.ok()) << (opened.ok() ? "" : opened.error().message);
+    if (!opened.ok()) return s;
+    s.scene = std::move(opened->scene);
+    s.stream = std::move(opened->stream);
+    auto r = Renderer::create(*s.scene, {});
+    EXPECT_TRUE(r.ok());
+    if (r.ok()) s.renderer = std::move(*r);
+    return s;
+}
+
+CapturedImage frame(Streamed& s, const CameraState& camera, CaptureBuffer buffer = CaptureBuffer::Color) {
+    auto u = s.stream->update(camera, kW, kH);
+    EXPECT_TRUE(u.ok()) << (u.ok() ? "" : u.error().message);
+    EXPECT_TRUE(s.renderer->render(camera, kW, kH).ok());
+    return std::move(*s.renderer->capture(buffer));
+}
+
+std::string copyTo(const std::string& from, const std::string& name) {
+    auto to = std::filesystem::path(from).parent_path() / name;
+    std::filesystem::copy_file(from, to, std::filesystem::copy_options::overwrite_existing);
+    return to.string();
+}
+
+} // namespace
+
+TEST(Streaming, FinishedStreamDrawsTheFullLoadsImageAndEveryFrameBeforeIsFinite) {
+    const std::string path = texturedStreet();
+    const CameraState view = streetView(2.0);
+    const Rendered full = render(path, view, kW, kH);
+
+    StreamOptions o;
+    o.uploadBytesPerFrame = 48 << 10; // a 256^2 RGBA8 level 0 takes six frames
+    Streamed s = openStream(path, o);
+    ASSERT_TRUE(s.renderer);
+    int streamingFrames = 0;
+    bool differedWhileStreaming = false;
+    for (int k = 0; k < 400 && !s.stream->status().complete; ++k) {
+        CapturedImage hdr = frame(s, view, CaptureBuffer::Hdr);
+        ASSERT_TRUE(allFinite(hdr)) << "frame " << k;
+        if (!s.stream->status().complete) {
+            ++streamingFrames;
+            CapturedImage color = std::move(*s.renderer->capture(CaptureBuffer::Color));
+            differedWhileStreaming |= compareRgba8(color, full.color).maxAbs > 0;
+        }
+        EXPECT_LE(s.stream->status().frame.uploadedBytes, o.uploadBytesPerFrame + 4 * 256 * 4);
+    }
+    ASSERT_TRUE(s.stream->status().complete);
+    EXPECT_GT(streamingFrames, 10);       // it did stream, over many frames
+    EXPECT_TRUE(differedWhileStreaming);  // with coarser mips than the final image
+    EXPECT_EQ(s.stream->status().residentTextureBytes, s.stream->status().fullTextureBytes);
+    const CapturedImage done = frame(s, view);
+    EXPECT_EQ(compareRgba8(done, full.color).maxAbs, 0);
+}
+
+TEST(Streaming, BudgetIsNeverExceededAlongAPathAndTheImageConvergesWhereItSuffices) {
+    const std::string path = texturedStreet();
+    StreamOptions o;
+    Streamed probe = openStream(path, o);
+    ASSERT_TRUE(probe.stream);
+    const uint64_t budget = probe.stream->status().fullTextureBytes / 4;
+    probe = {};
+
+    o.textureBudgetBytes = budget;
+    o.uploadBytesPerFrame = 64 << 10;
+    Streamed s = openStream(path, o);
+    ASSERT_TRUE(s.renderer);
+    // Down the street and back, three times.
+    uint32_t evictions = 0;
+    for (int k = 0; k < 360; ++k) {
+        const double phase = double(k % 120) / 120.0;
+        const double z = 3.0 - 24.0 * (phase < 0.5 ? 2 * phase : 2 - 2 * phase);
+        frame(s, streetView(z));
+        const StreamStatus& st = s.stream->status();
+        ASSERT_LE(st.peakTextureBytes, budget) << "frame " << k;
+        ASSERT_LE(st.residentTextureBytes, budget) << "frame " << k;
+        evictions = st.evictions;
+    }
+    EXPECT_GT(evictions, 0u); // the budget was short somewhere along the path
+    // Parked where the budget suffices for the view: the image becomes the full load's.
+    const CameraState view = streetView(-6.0);
+    for (int k = 0; k < 200 && !s.stream->status().complete; ++k) frame(s, view);
+    ASSERT_TRUE(s.stream->status().complete);
+    EXPECT_LE(s.stream->status().neededTextureBytes, budget);
+    const CapturedImage converged = frame(s, view);
+    const Rendered full = render(path, view, kW, kH);
+    EXPECT_EQ(compareRgba8(converged, full.color).maxAbs, 0);
+}
+
+// The last texel chunk (a level 0, after the first frame's data): a byte of its payload
+// flipped, or the file cut inside it.
+struct LastTexels {
+    uint32_t sequence = 0;
+    uint64_t payloadOffset = 0, storedSize = 0;
+};
+LastTexels lastTexels(const std::string& path) {
+    auto c = Container::open(path);
+    EXPECT_TRUE(c.ok());
+    LastTexels t;
+    for (const ChunkInfo& info : c->chunks())
+        if (info.header.tag == tags::kTextureMip)
+            t = {info.header.sequence, info.payloadOffset, info.header.storedSize};
+    return t;
+}
+
+void expectStopsWithError(const std::string& path, const std::string& what) {
+    StreamOptions o;
+    o.uploadBytesPerFrame = 48 << 10;
+    Streamed s = openStream(path, o);
+    ASSERT_TRUE(s.renderer);
+    const CameraState view = streetView(2.0);
+    for (int k = 0; k < 400; ++k) {
+        auto u = s.stream->update(view, kW, kH);
+        if (!u.ok()) {
+            EXPECT_EQ(u.error().kind, PlayErrorKind::Input);
+            EXPECT_NE(u.error().message.find(what), std::string::npos) << u.error().message;
+            EXPECT_FALSE(s.stream->status().complete);
+            return;
+        }
+        ASSERT_TRUE(s.renderer->render(view, kW, kH).ok());
+        ASSERT_TRUE(allFinite(*s.renderer->capture(CaptureBuffer::Hdr))) << "frame " << k;
+    }
+    ADD_FAILURE() << "the damage was never reported";
+}
+
+TEST(Streaming, ACorruptChunkMidStreamStopsWithTheChunkAndItsOffset) {
+    const std::string path = copyTo(texturedStreet(), "stream-corrupt.pnb");
+    const LastTexels t = lastTexels(path);
+    ASSERT_GT(t.storedSize, 0u);
+    {
+        std::fstream f(path, std::ios::in | std::ios::out | std::ios::binary);
+        f.seekp(std::streamoff(t.payloadOffset + t.storedSize / 2));
+        f.put('\x5a');
+    }
+    expectStopsWithError(path, "chunk " + std::to_string(t.sequence) + " 'TMIP'");
+    expectStopsWithError(path, "at byte " + std::to_string(t.payloadOffset));
+}
+
+TEST(Streaming, ATruncatedStreamStopsWithWhereItEnds) {
+    const std::string path = copyTo(texturedStreet(), "stream-truncated.pnb");
+    const LastTexels t = lastTexels(path);
+    std::filesystem::resize_file(path, t.payloadOffset + t.storedSize / 2);
+    expectStopsWithError(path, "stream ends inside a chunk payload");
+}
+
+TEST(Streaming, APipeStreamsLikeAFile) {
+    const std::string path = texturedStreet();
+    const std::string fifo = (std::filesystem::path(path).parent_path() / "stream.fifo").string();
+    std::filesystem::remove(fifo);
+    ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+    std::thread writer([&] {
+        std::ifstream in(path, std::ios::binary);
+        std::ofstream out(fifo, std::ios::binary);
+        out << in.rdbuf();
+    });
+    StreamOptions o;
+    o.uploadBytesPerFrame = 48 << 10;
+    Streamed s = openStream(fifo, o);
+    const CameraState view = streetView(2.0);
+    for (int k = 0; k < 400 && s.stream && !s.stream->status().complete; ++k) frame(s, view);
+    writer.join();
+    ASSERT_TRUE(s.stream);
+    EXPECT_TRUE(s.stream->status().complete);
+    EXPECT_EQ(s.stream->status().fileBytes, 0u); // unknown: a pipe
+    EXPECT_EQ(compareRgba8(frame(s, view), render(path, view, kW, kH).color).maxAbs, 0);
+    std::filesystem::remove(fifo);
+}
+
+} // namespace pnb::player::test
