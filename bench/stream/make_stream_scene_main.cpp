@@ -1,5 +1,6 @@
 // pnb-make-stream-scene: writes a large, texture-heavy .pnb container for streaming tests and
-// benchmarks, chunk by chunk with pnb::Writer, in bounded memory (a few level-0 buffers).
+// benchmarks, chunk by chunk with pnb::Writer, in bounded memory: two level-0 TMIP payloads
+// (2 x 16 MiB at 2048 texels; peak RSS about 45 MiB whatever --size, 140 MiB at 4096 texels).
 //
 //   pnb-make-stream-scene OUT.pnb (--size SIZE | --textures N) [--texture-size N]
 //                         [--spacing M] [--speed M/S] [--no-shadows] [--no-checksums]
@@ -9,7 +10,7 @@
 //                      1G, 5G, 64M): as many textures as that takes (the last one may overshoot
 //                      by less than one texture's mip chain)
 //   --textures N       exactly N textured objects (1..100000) instead
-//   --texture-size N   texels a side of every texture, a power of two 8..8192 (default 2048)
+//   --texture-size N   texels a side of every texture, a power of two 8..4096 (default 2048)
 //   --spacing M        metres between consecutive objects on one side (default 6)
 //   --speed M/S        camera path speed (default 5)
 //   --no-shadows       no shadow-casting sun (and so no shadow program)
@@ -95,7 +96,7 @@ void printUsage(std::FILE* out) {
                  "\n"
                  "  --size SIZE       file of at least SIZE bytes (K, M, G suffix = KiB, MiB, GiB)\n"
                  "  --textures N      exactly N textured panels (1..100000)\n"
-                 "  --texture-size N  texels a side, power of two 8..8192 (default 2048)\n"
+                 "  --texture-size N  texels a side, power of two 8..4096 (default 2048)\n"
                  "  --spacing M       metres between panels on one side, 1..1000 (default 6)\n"
                  "  --speed M/S       camera path speed, 0.1..1000 (default 5)\n"
                  "  --no-shadows      the sun casts no shadows\n"
@@ -172,9 +173,9 @@ std::optional<int> parseArgs(int argc, char** argv, Options& o) {
         } else if (a == "--texture-size") {
             if (auto e = needs("a size")) return e;
             uint64_t n = 0;
-            if (!parseU64(value, n) || n < 8 || n > 8192 || (n & (n - 1)) != 0)
+            if (!parseU64(value, n) || n < 8 || n > 4096 || (n & (n - 1)) != 0)
                 return usageError(std::string("bad --texture-size '") + value +
-                                  "' (a power of two 8..8192)");
+                                  "' (a power of two 8..4096)");
             o.textureSize = uint32_t(n);
         } else if (a == "--spacing") {
             if (auto e = needs("metres")) return e;
@@ -820,14 +821,16 @@ int run(const Options& o) {
             producer.recycle(std::move(job));
         }
     }
+    const auto commitStart = std::chrono::steady_clock::now();
     if (Status st = writer->commit(); !isOk(st)) return writeError(st.message);
     const uint64_t fileBytes = writer->size();
+    const auto end = std::chrono::steady_clock::now();
 
     if (!o.quiet) {
-        double seconds =
-            std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+        double seconds = std::chrono::duration<double>(end - start).count();
+        double commitSeconds = std::chrono::duration<double>(end - commitStart).count();
         std::printf("wrote %s: %llu bytes, %u textures of %ux%u (%u levels), %zu chunks; "
-                    "level-0 TMIPs from byte %llu (%.1f%% of the file); %.2f s, %.0f MB/s\n",
+                    "level-0 TMIPs from byte %llu (%.1f%% of the file); %.2f s (commit and fsync %.2f s), %.0f MB/s\n",
                     o.output.c_str(), (unsigned long long)fileBytes, count, o.textureSize,
                     o.textureSize, levels,
                     3 + s.shaders.size() + s.programs.size() + s.textures.size() +
@@ -835,6 +838,7 @@ int run(const Options& o) {
                         size_t(count) * levels,
                     (unsigned long long)lastNonZeroEnd,
                     100.0 * double(fileBytes - lastNonZeroEnd) / double(fileBytes), seconds,
+                    commitSeconds,
                     double(fileBytes) / 1e6 / seconds);
     }
     return 0;
