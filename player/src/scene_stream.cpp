@@ -64,6 +64,9 @@ struct SceneStream::Impl {
     std::vector<std::vector<TextureUse>> uses; // per texture
     StreamRing staging;
     uint64_t frame = 0;
+    // A budget: storage follows the view's needs, and only levels with storage are kept as they
+    // arrive. None: storage follows the texels, a chain growing as its next levels arrive.
+    bool budgeted = false;
     GLint unpackAlignment = 1;
 
     void setBaseLevel(uint32_t t) {
@@ -108,7 +111,7 @@ struct SceneStream::Impl {
         const uint32_t t = level.mip.texture, l = level.mip.level;
         Pending& p = pending[t];
         if (level.refetched) p.requested = false;
-        if (l + 1 == p.nextLevel(residency[t].valid) && l >= residency[t].allocated)
+        if (l + 1 == p.nextLevel(residency[t].valid) && (!budgeted || l >= residency[t].allocated))
             p.levels.push_back(std::move(level));
     }
 
@@ -177,15 +180,15 @@ PlayResult<SceneStream::Opened> SceneStream::open(const std::string& path, const
     im.scene = *scene;
     stats.decodeMs = msSince(phase);
 
-    // Storage: every whole chain without a budget; with one, the smallest level until the
-    // first update() knows the view.
+    // Storage: the smallest level, for the first frame; chains grow from there (update()).
     phase = Clock::now();
+    im.budgeted = options.textureBudgetBytes > 0;
     const Scene& sc = *im.scene;
     std::vector<uint32_t> firstLevels;
     for (const TextureDesc& d : sc.textures) {
         TextureResidency r;
         for (uint32_t l = 0; l < d.mipCount; ++l) r.levelBytes.push_back(textureLevelBytes(d, l));
-        r.allocated = options.textureBudgetBytes ? d.mipCount - 1 : 0;
+        r.allocated = d.mipCount - 1;
         r.valid = d.mipCount;
         r.wanted = r.allocated;
         firstLevels.push_back(r.allocated);
@@ -229,7 +232,10 @@ PlayResult<SceneStream::Opened> SceneStream::open(const std::string& path, const
         for (TexelLevel& level : levels) {
             const uint32_t t = level.mip.texture;
             TextureResidency& r = im.residency[t];
-            if (level.mip.level + 1 != r.valid || level.mip.level < r.allocated) continue;
+            if (r.valid < r.mipCount() || level.mip.level + 1 != r.valid) {
+                im.accept(std::move(level)); // for the frames to come, if usable
+                continue;
+            }
             uploadTextureMip(im.gpu->textures[t], sc.textures[t], level.mip);
             r.valid = level.mip.level;
             im.setBaseLevel(t);
@@ -248,7 +254,7 @@ PlayResult<SceneStream::Opened> SceneStream::open(const std::string& path, const
     s.mStatus.bytesRead = im.loader->bytesRead();
     s.mStatus.residentTextureBytes = residentBytes(im.residency);
     s.mStatus.peakTextureBytes = s.mStatus.residentTextureBytes;
-    s.mStatus.neededTextureBytes = neededBytes(im.residency);
+    s.mStatus.neededTextureBytes = im.budgeted ? neededBytes(im.residency) : s.mStatus.fullTextureBytes;
     if (statsOut) *statsOut = stats;
     out.scene = std::move(*gpu);
     return out;
@@ -270,12 +276,13 @@ PlayResult<Done> SceneStream::update(const CameraState& camera, uint32_t width, 
     ++im.frame;
     const Scene& sc = *im.scene;
 
-    // The levels this view needs: all of them without a budget.
+    // The levels this view needs; without a budget, storage for the levels that have arrived.
+    im.budgeted = mOptions.textureBudgetBytes > 0;
     const double pixelScale = lodPixelScale(camera.yfovRadians, height);
     for (uint32_t t = 0; t < im.residency.size(); ++t) {
         TextureResidency& r = im.residency[t];
-        if (!mOptions.textureBudgetBytes) {
-            r.wanted = 0;
+        if (!im.budgeted) {
+            r.wanted = std::min(r.allocated, im.pending[t].nextLevel(r.valid));
             continue;
         }
         uint32_t want = r.mipCount() - 1;
@@ -339,8 +346,12 @@ PlayResult<Done> SceneStream::update(const CameraState& camera, uint32_t width, 
         glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
         glBindBuffer(GL_PIXEL_UNPACK_BUFFER, im.staging.buffer());
         uint64_t budget = mOptions.uploadBytesPerFrame;
+        // (A level that arrived after this frame's plan has storage from the next frame on.)
+        auto hasStorage = [&](uint32_t t) {
+            return im.pending[t].levels.front().mip.level >= im.residency[t].allocated;
+        };
         for (uint32_t t : order)
-            while (budget > 0 && !im.pending[t].levels.empty())
+            while (budget > 0 && !im.pending[t].levels.empty() && hasStorage(t))
                 if (!im.uploadRows(t, budget, st.frame)) break;
         glBindBuffer(GL_PIXEL_UNPACK_BUFFER, 0);
         glPixelStorei(GL_UNPACK_ALIGNMENT, im.unpackAlignment);
@@ -354,10 +365,10 @@ PlayResult<Done> SceneStream::update(const CameraState& camera, uint32_t width, 
     st.bytesRead = im.loader->bytesRead();
     st.readDone = readDone;
     st.residentTextureBytes = residentBytes(im.residency);
-    st.neededTextureBytes = neededBytes(im.residency);
+    st.neededTextureBytes = im.budgeted ? neededBytes(im.residency) : st.fullTextureBytes;
     bool complete = readDone;
     for (uint32_t t = 0; t < im.residency.size() && complete; ++t)
-        complete = im.pending[t].lost || im.residency[t].valid <= im.residency[t].wanted;
+        complete = im.pending[t].lost || im.residency[t].valid <= (im.budgeted ? im.residency[t].wanted : 0);
     st.complete = complete;
     return Done{};
 }

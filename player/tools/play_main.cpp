@@ -431,8 +431,7 @@ int main(int argc, char** argv) {
     startup.warmUp = settings.warmUp;
     startup.warmUpMs = msSince(phase) - (programCacheStats().ms - programsBefore);
     phase = std::chrono::steady_clock::now();
-    if (stream)
-        if (auto r = stream->update(first, bo.width, bo.height); !r) return fail(r.error());
+    // (Streaming: the first frame draws what open() uploaded; update() starts with the next.)
     if (auto r = (*renderer)->render(first, bo.width, bo.height); !r) return fail(r.error());
     glFinish();
     startup.firstFrameMs = msSince(phase);
