@@ -23,8 +23,11 @@ uint64_t neededBytes(std::span<const TextureResidency> textures) {
     return sum;
 }
 
-ResidencyPlan planResidency(std::span<TextureResidency> textures, uint64_t budget, uint64_t frame) {
+ResidencyPlan planResidency(std::span<TextureResidency> textures, uint64_t budget, uint64_t frame,
+                            uint64_t maxGrowth) {
     ResidencyPlan plan;
+    uint64_t grown = 0; // storage added this frame
+    const uint64_t growthLimit = maxGrowth ? maxGrowth : UINT64_MAX;
     const uint64_t limit = budget ? budget : UINT64_MAX;
     std::vector<uint32_t> allocated(textures.size());
     for (size_t i = 0; i < textures.size(); ++i) {
@@ -73,24 +76,32 @@ ResidencyPlan planResidency(std::span<TextureResidency> textures, uint64_t budge
     auto grow = [&](uint32_t i, uint32_t target) {
         const TextureResidency& t = textures[i];
         const uint64_t before = t.bytesFrom(allocated[i]), after = t.bytesFrom(target);
+        grown += after - before;
         plan.peakBytes = std::max(plan.peakBytes, resident + after);
         resident = resident - before + after;
         allocated[i] = target;
         plan.growths.push_back({i, target});
     };
+    // Within this frame's allowance; or the frame's first growth, by one level (progress even
+    // when one level is larger than the allowance).
+    auto mayGrow = [&](uint32_t i, uint32_t target) {
+        const uint64_t added = textures[i].bytesFrom(target) - textures[i].bytesFrom(allocated[i]);
+        return grown + added <= growthLimit || (grown == 0 && target + 1 == allocated[i]);
+    };
     for (uint32_t i : growers) {
         const TextureResidency& t = textures[i];
         // All the way to the wanted level if it fits, else as far as it does (one level at least).
-        bool grown = false;
-        for (uint32_t target = t.wanted; target < allocated[i] && !grown; ++target) {
+        bool done = false;
+        for (uint32_t target = t.wanted; target < allocated[i] && !done; ++target) {
+            if (!mayGrow(i, target)) continue; // this frame's new storage is spent: less
             while (resident + t.bytesFrom(target) > limit && nextVictim < victims.size())
                 if (uint32_t v = victims[nextVictim++]; v != i) evict(v);
             if (resident + t.bytesFrom(target) > limit) continue; // try a shorter growth
             allMet &= target == t.wanted;
             grow(i, target);
-            grown = true;
+            done = true;
         }
-        allMet &= grown;
+        allMet &= done;
     }
     // Room left once every need is met: one level more for the textures whose need is nearest
     // to their chain (the next to be needed), so that a budget the scene fits in ends with all
@@ -103,7 +114,8 @@ ResidencyPlan planResidency(std::span<TextureResidency> textures, uint64_t budge
             return int64_t(allocated[a]) - textures[a].wanted > int64_t(allocated[b]) - textures[b].wanted;
         });
         for (uint32_t i : spare)
-            if (resident + textures[i].bytesFrom(allocated[i] - 1) <= limit) grow(i, allocated[i] - 1);
+            if (resident + textures[i].bytesFrom(allocated[i] - 1) <= limit && mayGrow(i, allocated[i] - 1))
+                grow(i, allocated[i] - 1);
     }
     return plan;
 }

@@ -43,10 +43,13 @@ struct ResidencyPlan {
     uint64_t peakBytes = 0;                 // the most storage alive at once while applying
 };
 
-// The plan for this frame. `budget` 0: no limit (every wanted level gets storage). Updates
-// lastNeededFrame from `wanted`. Does not change `allocated` (the caller applies the plan and
-// sets it); residentBytes() before the plan is at most `budget` if it was after the last one.
-ResidencyPlan planResidency(std::span<TextureResidency> textures, uint64_t budget, uint64_t frame);
+// The plan for this frame. `budget` 0: no limit (every wanted level gets storage). `maxGrowth`
+// (0: no limit) bounds the storage added this frame — new storage is only worth what the frame's
+// uploads can fill, and creating it costs frame time — though a frame always grows one chain by
+// one level at least. Updates lastNeededFrame from `wanted`. Does not change `allocated` (the caller
+// applies the plan); residentBytes() after it is at most `budget` if it was before.
+ResidencyPlan planResidency(std::span<TextureResidency> textures, uint64_t budget, uint64_t frame,
+                            uint64_t maxGrowth = 0);
 
 uint64_t residentBytes(std::span<const TextureResidency> textures); // storage of every chain
 uint64_t neededBytes(std::span<const TextureResidency> textures);   // storage of the wanted chains

@@ -76,7 +76,8 @@ struct SceneStream::Impl {
     }
 
     // New storage for levels `first`.. of texture t; the complete levels both chains have are
-    // copied on the GPU. Levels finer than `first` are dropped (and their upload, if under way).
+    // copied on the GPU. When it shrinks (an eviction), arrived levels finer than `first` are
+    // dropped (and their upload, if under way); a growth keeps them for the next frames.
     PlayResult<Done> reallocate(uint32_t t, uint32_t first) {
         const TextureDesc& desc = scene->textures[t];
         GpuTexture& old = gpu->textures[t];
@@ -96,10 +97,12 @@ struct SceneStream::Impl {
         }
         gpu->memory.textureBytes = gpu->memory.textureBytes - old.bytes + fresh->bytes;
         old = std::move(*fresh);
+        const bool shrinks = first > r.allocated;
         r.allocated = first;
         r.valid = std::max(r.valid, first);
         Pending& p = pending[t];
-        while (!p.levels.empty() && p.levels.back().mip.level < first) p.levels.pop_back();
+        if (shrinks) // levels without storage now: read again if needed again
+            while (!p.levels.empty() && p.levels.back().mip.level < first) p.levels.pop_back();
         if (p.levels.empty()) p.face = p.row = 0;
         setBaseLevel(t);
         return Done{};
@@ -295,7 +298,9 @@ PlayResult<Done> SceneStream::update(const CameraState& camera, uint32_t width, 
     }
 
     // Storage: cut back and grow chains within the budget.
-    const ResidencyPlan plan = planResidency(im.residency, mOptions.textureBudgetBytes, im.frame);
+    // New storage per frame: what two frames of uploads fill (creating it costs frame time).
+    const ResidencyPlan plan = planResidency(im.residency, mOptions.textureBudgetBytes, im.frame,
+                                             2 * mOptions.uploadBytesPerFrame);
     for (const ResidencyChange& c : plan.evictions) {
         const uint64_t before = im.residency[c.texture].bytesFrom(im.residency[c.texture].allocated);
         if (auto r = im.reallocate(c.texture, c.allocated); !r) return r.error();
@@ -366,7 +371,9 @@ PlayResult<Done> SceneStream::update(const CameraState& camera, uint32_t width, 
     st.readDone = readDone;
     st.residentTextureBytes = residentBytes(im.residency);
     st.neededTextureBytes = im.budgeted ? neededBytes(im.residency) : st.fullTextureBytes;
-    bool complete = readDone;
+    // Complete: with a budget, every level the view needs is in (the rest of the file may still
+    // be read); without one, every level of every texture, so the whole file.
+    bool complete = im.budgeted || readDone;
     for (uint32_t t = 0; t < im.residency.size() && complete; ++t)
         complete = im.pending[t].lost || im.residency[t].valid <= (im.budgeted ? im.residency[t].wanted : 0);
     st.complete = complete;

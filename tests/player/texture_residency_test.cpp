@@ -173,5 +173,25 @@ TEST(TextureResidency, SpareRoomFillsTheCacheUntilTheSceneIsResident) {
     EXPECT_EQ(neededBytes(ts), 2 * ts[0].bytesFrom(9));
 }
 
+TEST(TextureResidency, NewStoragePerFrameIsBoundedButAFrameAlwaysGrowsOneLevel) {
+    std::vector<TextureResidency> ts = {texture(10, 10, 0), texture(10, 10, 0), texture(10, 10, 0)};
+    const uint64_t level0 = ts[0].levelBytes[0];
+    for (uint64_t frame = 1; frame < 30; ++frame) {
+        const uint64_t before = residentBytes(ts);
+        ResidencyPlan plan = planResidency(ts, 0, frame, level0 / 2);
+        applyPlan(ts, plan);
+        // Within the allowance, or one level alone (level 0 is larger than the allowance).
+        EXPECT_TRUE(residentBytes(ts) - before <= level0 / 2 ||
+                    (plan.growths.size() == 1 && residentBytes(ts) - before == level0))
+            << "frame " << frame;
+    }
+    for (const TextureResidency& t : ts) EXPECT_EQ(t.allocated, 0u); // all the way, over frames
+    // An allowance smaller than any level: one level a frame.
+    ts = {texture(10, 10, 0)};
+    ResidencyPlan plan = planResidency(ts, 0, 1, 1);
+    ASSERT_EQ(plan.growths.size(), 1u);
+    EXPECT_EQ(plan.growths[0].allocated, 9u);
+}
+
 } // namespace
 } // namespace pnb::player

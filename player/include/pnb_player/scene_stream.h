@@ -58,7 +58,9 @@ struct StreamStatus {
     uint32_t evictions = 0, refetches = 0;
     uint32_t lostLevels = 0; // needed again after being skipped, but the input is a pipe
     bool readDone = false;   // the forward pass reached the end of the container, intact
-    bool complete = false;   // readDone, and every texture holds the levels its view needs
+    // Full quality: with a budget, every texture holds the levels the view needs; without one,
+    // every level of every texture is in (the forward pass has ended).
+    bool complete = false;
     StreamFrameStats frame;  // the last update()
 };
 
