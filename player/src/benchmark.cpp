@@ -480,7 +480,15 @@ PlayResult<BenchResult> runBenchmark(const GpuScene& scene, Renderer& renderer,
     rusage usage{};
     getrusage(RUSAGE_SELF, &usage);
     j["peak_rss_bytes"] = uint64_t(usage.ru_maxrss) * 1024;
-    if (options.stream) j["streaming"] = streamingSummary(records, *options.stream, fullQualityMs, options.startup);
+    if (options.stream) {
+        j["streaming"] = streamingSummary(records, *options.stream, fullQualityMs, options.startup);
+        // Everything GL holds at the textures' peak: the peak texture storage, the meshes and
+        // material blocks (resident whole), the frame's targets and buffers.
+        uint64_t gpuBytes = options.stream->status().peakTextureBytes + scene.memory.meshBytes + scene.memory.uniformBytes;
+        for (const auto& [name, bytes] : j["gpu_memory_bytes"].items())
+            if (name != "meshes" && name != "textures" && name != "material_uniforms") gpuBytes += bytes.get<uint64_t>();
+        j["streaming"]["peak_gpu_bytes"] = gpuBytes;
+    }
     std::string jsonPath = options.outDir + "/summary.json";
     if (auto w = writeText(jsonPath, j.dump(2) + "\n"); !w) return w.error();
     result.written.push_back(jsonPath);

@@ -8,8 +8,10 @@ FRAMES_CSV has a header row with at least the columns frame, time_s (camera-path
 cpu_ms and gpu_total_ms, plus any number of gpu_<pass>_ms columns (gpu_gbuffer_ms,
 gpu_lighting_ms, ...). Empty cells mean "no value" (e.g. a GPU timer not available yet).
 
-The default plot stacks the per-pass GPU times as areas and draws the CPU frame time as a line,
-against path time. With --compare, the total GPU frame time of both runs is overlaid instead
+The default plot stacks the per-pass GPU times as areas and draws the CPU frame time (and the
+wall-clock frame time, frame_ms, when present) as lines, against path time. A streaming run's CSV
+(resident_texture_bytes, needed_texture_bytes, stream_upload_bytes) adds a panel below: texture
+storage resident and needed, and the bytes uploaded each frame. With --compare, the total GPU frame time of both runs is overlaid instead
 (e.g. deferred vs forward over the same camera path). The PNG is written atomically.
 
 Exit status: 0 on success, 2 on a usage error or a missing/malformed CSV (message on stderr).
@@ -23,6 +25,8 @@ import statistics
 import sys
 
 REQUIRED = ("frame", "time_s", "cpu_ms", "gpu_total_ms")
+# Optional columns plotted when present (newer pnb-play; streaming runs).
+OPTIONAL = ("frame_ms", "resident_texture_bytes", "needed_texture_bytes", "stream_upload_bytes")
 
 
 class CsvError(Exception):
@@ -73,7 +77,7 @@ def read_frames(path):
         if len(row) != len(header):
             raise CsvError(f"{path}:{index}: {len(row)} fields, the header has {len(header)}")
         for name, cell in zip(header, row):
-            if name in REQUIRED or name in passes:
+            if name in REQUIRED or name in OPTIONAL or name in passes:
                 columns[name].append(parse_number(cell, path, index, name))
     if not columns["time_s"]:
         raise CsvError(f"{path}: no data rows")
@@ -101,7 +105,11 @@ def plot_single(plt, columns, passes, title):
     t = np.array(columns["time_s"])
     order = np.argsort(t, kind="stable")
     t = t[order]
-    fig, ax = plt.subplots(figsize=(11, 5.5))
+    streaming = "resident_texture_bytes" in columns
+    if streaming:  # a second panel: texture storage and uploads (streaming runs)
+        fig, (ax, sx) = plt.subplots(2, 1, figsize=(11, 8), sharex=True, height_ratios=(3, 2))
+    else:
+        fig, ax = plt.subplots(figsize=(11, 5.5))
     bottom = np.zeros(len(t))
     if passes:
         values = np.array([columns[p] for p in passes])[:, order]
@@ -119,7 +127,24 @@ def plot_single(plt, columns, passes, title):
             linestyle=":", label="GPU total")
     ax.plot(t, np.array(columns["cpu_ms"])[order], color="crimson", linewidth=1.2,
             label="CPU frame")
-    ax.set_xlabel("path time (s)")
+    if "frame_ms" in columns:
+        ax.plot(t, np.array(columns["frame_ms"])[order], color="grey", linewidth=0.8,
+                label="frame (wall)")
+    if streaming:
+        mib = 1.0 / 1048576.0
+        sx.plot(t, np.array(columns["resident_texture_bytes"])[order] * mib, color="tab:blue",
+                label="textures resident (MiB)")
+        sx.plot(t, np.array(columns["needed_texture_bytes"])[order] * mib, color="tab:green",
+                linestyle="--", label="needed by the view (MiB)")
+        sx.bar(t, np.array(columns["stream_upload_bytes"])[order] * mib, width=(t[-1] - t[0]) / max(len(t), 1),
+               color="tab:orange", alpha=0.6, label="uploaded this frame (MiB)")
+        sx.set_xlabel("path time (s)")
+        sx.set_ylabel("MiB")
+        sx.set_ylim(bottom=0)
+        sx.grid(True, alpha=0.3)
+        sx.legend(loc="upper right", fontsize="small")
+    else:
+        ax.set_xlabel("path time (s)")
     ax.set_ylabel("frame time (ms)")
     ax.set_ylim(bottom=0)
     ax.grid(True, alpha=0.3)
