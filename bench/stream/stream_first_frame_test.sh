@@ -3,10 +3,13 @@
 # directory and deleted at the end, draws its first frame before 10 % of its bytes have been read
 # — from the file with and without a texture budget, and from a pipe (`cat | pnb-play -`); a
 # short --bench run along its path writes the streaming figures and stays within the budget.
-# Usage: stream_first_frame_test.sh PNB_MAKE_STREAM_SCENE PNB_PLAY
+# A chunk damaged mid-stream ends the run with exit code 2 and a message naming the chunk and its
+# offset, from the file and from a pipe.
+# Usage: stream_first_frame_test.sh PNB_MAKE_STREAM_SCENE PNB_PLAY PNB_INSPECT
 set -euo pipefail
 make=$1
 play=$2
+inspect=$3
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 fail() { echo "FAIL: $*" >&2; exit 1; }
@@ -57,4 +60,33 @@ for r in rows:
 print("bench: peak texture storage %.1f of %d MiB, %d evictions, %.1f MiB uploaded"
       % (s["peak_texture_bytes"] / 2**20, budget >> 20, s["evictions"], s["uploaded_bytes"] / 2**20))
 PY
+# Damage mid-stream: a byte of the last texel chunk's payload (a level 0, after the first frame).
+small=$tmp/small.pnb
+"$make" "$small" --textures 4 --texture-size 512 -q
+read -r seq off size < <("$inspect" "$small" --json | python3 -c '
+import json, sys
+c = [c for c in json.load(sys.stdin)["chunks"] if c["tag"] == "TMIP"][-1]
+print(c["index"], c["payload_offset"], c["stored_size"])')
+python3 - "$small" $((off + size / 2)) <<'PY'
+import sys
+with open(sys.argv[1], "r+b") as f:
+    f.seek(int(sys.argv[2]))
+    b = f.read(1)
+    f.seek(int(sys.argv[2]))
+    f.write(bytes([b[0] ^ 0x5A]))
+PY
+for source in file pipe; do
+    set +e
+    if [ $source = file ]; then
+        "$play" "$small" --headless --stream --frames 400 --size 128x72 --set stream.upload_mib=0.25 >"$tmp/damaged.txt" 2>&1
+    else
+        { cat "$small" || true; } | "$play" - --headless --frames 400 --size 128x72 --set stream.upload_mib=0.25 >"$tmp/damaged.txt" 2>&1
+    fi
+    code=$?
+    set -e
+    [ $code -eq 2 ] || { cat "$tmp/damaged.txt"; fail "damaged chunk ($source): exit $code, expected 2"; }
+    grep -q "chunk $seq 'TMIP'" "$tmp/damaged.txt" && grep -q "at byte $off" "$tmp/damaged.txt" ||
+        { cat "$tmp/damaged.txt"; fail "damaged chunk ($source): the message does not name chunk $seq at byte $off"; }
+    echo "damaged ($source): $(grep -m1 'pnb-play:' "$tmp/damaged.txt")"
+done
 echo "ok"
