@@ -9,8 +9,10 @@
 // World transforms are kept in double precision; the renderer subtracts the camera position
 // before converting to float (camera-relative rendering).
 //
-// Does NOT do: skinning, morph targets, animation other than camera paths, streaming textures
-// in after the first frame.
+// Streaming (scene_stream.h) fills the same GpuScene progressively: the textures' storage
+// (GpuTexture::firstLevel, bytes) changes between frames.
+//
+// Does NOT do: skinning, morph targets, animation other than camera paths.
 #pragma once
 
 #include <array>
