@@ -662,30 +662,9 @@ int run(const Options& o) {
     converter::SceneShaderNeeds needs;
     needs.shadows = o.shadows;
     converter::ShaderPlan plan = converter::planShaders(materials, features, needs);
-    std::vector<std::string> stageFiles;
-    for (const converter::ProgramVariant& v : plan.programs)
-        for (size_t k = 0; k < v.stageFiles.size(); ++k) {
-            if (std::find(stageFiles.begin(), stageFiles.end(), v.stageFiles[k]) !=
-                stageFiles.end())
-                continue;
-            stageFiles.push_back(v.stageFiles[k]);
-            auto resolved =
-                converter::resolveShaderSource(v.stageFiles[k], converter::builtinShaderFiles());
-            if (!resolved) {
-                std::fprintf(stderr, "pnb-make-stream-scene: shader %s: %s\n",
-                             v.stageFiles[k].c_str(), resolved.error().message.c_str());
-                return kExitInternal;
-            }
-            s.shaders.push_back({b.intern(v.stageFiles[k]), v.stages[k], b.keep(resolved->text)});
-        }
-    for (const converter::ProgramVariant& v : plan.programs) {
-        Program p;
-        p.name = b.intern(v.name);
-        for (const std::string& f : v.stageFiles)
-            p.shaders.push_back(uint32_t(std::find(stageFiles.begin(), stageFiles.end(), f) -
-                                         stageFiles.begin()));
-        for (const std::string& d : v.defines) p.defines.push_back(b.intern(d));
-        s.programs.push_back(p);
+    if (auto r = converter::appendShaderPrograms(plan, converter::builtinShaderFiles(), b); !r) {
+        std::fprintf(stderr, "pnb-make-stream-scene: %s\n", r.error().message.c_str());
+        return kExitInternal;
     }
     for (size_t i = 0; i < materials.size(); ++i) {
         materials[i].program = plan.materialProgram[i];

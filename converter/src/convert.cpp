@@ -434,26 +434,7 @@ Result<ConvertSummary, ConvertError> convertScene(const ConvertSettings& s,
     for (const auto& [key, value] : s.renderSettings)
         out.settings.entries.push_back({b.intern(key), b.intern(value)});
 
-    // Shader stage files: each resolved once, shared by every program that uses it.
-    std::vector<std::string> stageFiles;
-    for (const ProgramVariant& v : plan.programs)
-        for (size_t k = 0; k < v.stageFiles.size(); ++k)
-            if (std::find(stageFiles.begin(), stageFiles.end(), v.stageFiles[k]) == stageFiles.end()) {
-                stageFiles.push_back(v.stageFiles[k]);
-                auto resolved = resolveShaderSource(v.stageFiles[k], builtinShaderFiles());
-                if (!resolved) return resolved.error();
-                out.shaders.push_back(
-                    {b.intern(v.stageFiles[k]), v.stages[k], b.keep(resolved->text)});
-            }
-    for (const ProgramVariant& v : plan.programs) {
-        Program p;
-        p.name = b.intern(v.name);
-        for (const std::string& f : v.stageFiles)
-            p.shaders.push_back(uint32_t(std::find(stageFiles.begin(), stageFiles.end(), f) -
-                                         stageFiles.begin()));
-        for (const std::string& d : v.defines) p.defines.push_back(b.intern(d));
-        out.programs.push_back(p);
-    }
+    if (auto r = appendShaderPrograms(plan, builtinShaderFiles(), b); !r) return r.error();
     for (size_t i = 0; i < textures.size(); ++i) {
         ProcessedTexture& t = textures[i];
         TextureDesc desc = t.desc;

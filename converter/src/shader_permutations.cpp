@@ -41,6 +41,28 @@ std::vector<std::string> surfaceDefines(const MaterialFeatures& f) {
 
 } // namespace
 
+Result<bool, ConvertError> appendShaderPrograms(const ShaderPlan& plan, std::span<const ShaderFile> library,
+                                                SceneBuilder& b) {
+    std::vector<std::string> stageFiles;
+    for (const ProgramVariant& v : plan.programs)
+        for (size_t k = 0; k < v.stageFiles.size(); ++k)
+            if (std::find(stageFiles.begin(), stageFiles.end(), v.stageFiles[k]) == stageFiles.end()) {
+                stageFiles.push_back(v.stageFiles[k]);
+                auto resolved = resolveShaderSource(v.stageFiles[k], library);
+                if (!resolved) return resolved.error();
+                b.scene.shaders.push_back({b.intern(v.stageFiles[k]), v.stages[k], b.keep(resolved->text)});
+            }
+    for (const ProgramVariant& v : plan.programs) {
+        Program p;
+        p.name = b.intern(v.name);
+        for (const std::string& f : v.stageFiles)
+            p.shaders.push_back(uint32_t(std::find(stageFiles.begin(), stageFiles.end(), f) - stageFiles.begin()));
+        for (const std::string& d : v.defines) p.defines.push_back(b.intern(d));
+        b.scene.programs.push_back(p);
+    }
+    return true;
+}
+
 ShaderPlan planShaders(std::span<const Material> materials,
                        std::span<const MaterialFeatures> features, const SceneShaderNeeds& needs) {
     ShaderPlan plan;

@@ -17,6 +17,7 @@
 
 #include "pnb/chunks.h"
 #include "pnb/error.h"
+#include "pnb/scene_builder.h"
 #include "pnb_converter/scene_ir.h"
 
 namespace pnb::converter {
@@ -74,6 +75,12 @@ struct ShaderPlan {
 // defines of its features; identical variants are shared.
 ShaderPlan planShaders(std::span<const Material> materials,
                        std::span<const MaterialFeatures> features, const SceneShaderNeeds& needs);
+
+// Appends the plan's shader stages (each file resolved once and shared by every program that
+// uses it) and programs to builder.scene, in plan order: program i of the plan is PROG chunk i.
+// Errors: resolveShaderSource's.
+Result<bool, ConvertError> appendShaderPrograms(const ShaderPlan& plan, std::span<const ShaderFile> library,
+                                                SceneBuilder& builder);
 
 class ShaderValidationCache; // shader_validation_cache.h
 
