@@ -236,7 +236,9 @@ PlayResult<SceneStream::Opened> SceneStream::open(const std::string& path, const
             const uint32_t t = level.mip.texture;
             TextureResidency& r = im.residency[t];
             if (r.valid < r.mipCount() || level.mip.level + 1 != r.valid) {
-                im.accept(std::move(level)); // for the frames to come, if usable
+                // For the frames to come, if usable — while the read-ahead has room: a container
+                // whose smallest levels come late (another writer's order) must still open.
+                if (im.loader->queuedBytes() < options.readAheadBytes / 2) im.accept(std::move(level));
                 continue;
             }
             uploadTextureMip(im.gpu->textures[t], sc.textures[t], level.mip);
@@ -319,7 +321,9 @@ PlayResult<Done> SceneStream::update(const CameraState& camera, uint32_t width, 
     for (uint32_t t = 0; t < im.residency.size(); ++t) {
         const TextureResidency& r = im.residency[t];
         Impl::Pending& p = im.pending[t];
-        if (r.allocated >= r.valid || !p.levels.empty() || p.requested || p.lost) continue;
+        // The next level is wanted: storage waits for it (budget), or every level is (none).
+        const bool wantsNext = im.budgeted ? r.allocated < r.valid : r.valid > 0;
+        if (!wantsNext || !p.levels.empty() || p.requested || p.lost) continue;
         if (im.loader->request(t, r.valid - 1)) {
             p.requested = true;
             ++st.frame.refetches;

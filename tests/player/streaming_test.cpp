@@ -107,6 +107,22 @@ TEST(Streaming, FinishedStreamDrawsTheFullLoadsImageAndEveryFrameBeforeIsFinite)
     EXPECT_EQ(compareRgba8(done, full.color).maxAbs, 0);
 }
 
+TEST(Streaming, LevelsDroppedForLackOfReadAheadAreReadAgain) {
+    // A read-ahead smaller than one level: levels that arrive while the first frame is prepared
+    // are dropped, and fetched again from the file later; the result is still the full image.
+    const std::string path = texturedStreet();
+    const CameraState view = streetView(2.0);
+    StreamOptions o;
+    o.readAheadBytes = 4 << 10;
+    o.uploadBytesPerFrame = 96 << 10;
+    Streamed s = openStream(path, o);
+    ASSERT_TRUE(s.renderer);
+    for (int k = 0; k < 400 && !s.stream->status().complete; ++k) frame(s, view);
+    ASSERT_TRUE(s.stream->status().complete);
+    EXPECT_GT(s.stream->status().refetches, 0u);
+    EXPECT_EQ(compareRgba8(frame(s, view), render(path, view, kW, kH).color).maxAbs, 0);
+}
+
 TEST(Streaming, BudgetIsNeverExceededAlongAPathAndTheImageConvergesWhereItSuffices) {
     const std::string path = texturedStreet();
     StreamOptions o;
