@@ -1,5 +1,6 @@
 #include "gl_debug.h"
 
+#include <atomic>
 #include <cstdio>
 
 #include <epoxy/gl.h>
@@ -10,18 +11,23 @@ namespace pnb::player {
 
 namespace {
 
+std::atomic<uint64_t> gErrors{0};
+
 void GLAPIENTRY onDebugMessage(GLenum source, GLenum type, GLuint id, GLenum severity,
                                GLsizei /*length*/, const GLchar* message, const void* user) {
     bool verbose = user != nullptr;
     if (severity == GL_DEBUG_SEVERITY_NOTIFICATION) return;
     // Compile errors are reported with file names by program_compile.cpp.
     if (source == GL_DEBUG_SOURCE_SHADER_COMPILER) return;
+    if (type == GL_DEBUG_TYPE_ERROR) ++gErrors;
     if (!verbose && type != GL_DEBUG_TYPE_ERROR) return;
     std::fprintf(stderr, "pnb-play: GL %s %u: %s\n", type == GL_DEBUG_TYPE_ERROR ? "error" : "note",
                  id, message);
 }
 
 } // namespace
+
+uint64_t glErrorsReported() { return gErrors.load(); }
 
 void installGlDebugOutput(bool verbose) {
     if (!epoxy_has_gl_extension("GL_KHR_debug") && epoxy_gl_version() < 43) return;

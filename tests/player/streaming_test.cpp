@@ -9,6 +9,7 @@
 #include <fstream>
 #include <thread>
 
+#include "gl_debug.h"
 #include "pnb/reader.h"
 #include "pnb_player/scene_stream.h"
 #include "render_fixture.h"
@@ -43,6 +44,13 @@ const std::string& texturedStreet() {
 }
 
 CameraState streetView(double z) { return lookAt({0, 1.2, z}, {0, 1.0, z - 6}); }
+
+// Fails the test if GL reported an error while it was alive (a level out of range, a copy
+// between mismatched chains: the driver would skip the call and the image would be wrong).
+struct NoGlErrors {
+    uint64_t before = glErrorsReported();
+    ~NoGlErrors() { EXPECT_EQ(glErrorsReported(), before) << "GL errors (printed above)"; }
+};
 
 struct Streamed {
     std::unique_ptr<GpuScene> scene;
@@ -79,6 +87,7 @@ std::string copyTo(const std::string& from, const std::string& name) {
 } // namespace
 
 TEST(Streaming, FinishedStreamDrawsTheFullLoadsImageAndEveryFrameBeforeIsFinite) {
+    NoGlErrors noGlErrors;
     const std::string path = texturedStreet();
     const CameraState view = streetView(2.0);
     const Rendered full = render(path, view, kW, kH);
@@ -108,6 +117,7 @@ TEST(Streaming, FinishedStreamDrawsTheFullLoadsImageAndEveryFrameBeforeIsFinite)
 }
 
 TEST(Streaming, LevelsDroppedForLackOfReadAheadAreReadAgain) {
+    NoGlErrors noGlErrors;
     // A read-ahead smaller than one level: levels that arrive while the first frame is prepared
     // are dropped, and fetched again from the file later; the result is still the full image.
     const std::string path = texturedStreet();
@@ -124,6 +134,7 @@ TEST(Streaming, LevelsDroppedForLackOfReadAheadAreReadAgain) {
 }
 
 TEST(Streaming, BudgetIsNeverExceededAlongAPathAndTheImageConvergesWhereItSuffices) {
+    NoGlErrors noGlErrors;
     const std::string path = texturedStreet();
     StreamOptions o;
     Streamed probe = openStream(path, o);
@@ -194,6 +205,7 @@ void expectStopsWithError(const std::string& path, const std::string& what) {
 }
 
 TEST(Streaming, ACorruptChunkMidStreamStopsWithTheChunkAndItsOffset) {
+    NoGlErrors noGlErrors;
     const std::string path = copyTo(texturedStreet(), "stream-corrupt.pnb");
     const LastTexels t = lastTexels(path);
     ASSERT_GT(t.storedSize, 0u);
@@ -207,6 +219,7 @@ TEST(Streaming, ACorruptChunkMidStreamStopsWithTheChunkAndItsOffset) {
 }
 
 TEST(Streaming, ATruncatedStreamStopsWithWhereItEnds) {
+    NoGlErrors noGlErrors;
     const std::string path = copyTo(texturedStreet(), "stream-truncated.pnb");
     const LastTexels t = lastTexels(path);
     std::filesystem::resize_file(path, t.payloadOffset + t.storedSize / 2);
@@ -214,6 +227,7 @@ TEST(Streaming, ATruncatedStreamStopsWithWhereItEnds) {
 }
 
 TEST(Streaming, APipeStreamsLikeAFile) {
+    NoGlErrors noGlErrors;
     const std::string path = texturedStreet();
     const std::string fifo = (std::filesystem::path(path).parent_path() / "stream.fifo").string();
     std::filesystem::remove(fifo);
