@@ -14,6 +14,7 @@
 #include <set>
 
 #include "parallel_for.h"
+#include "pnb/mesh_levels.h"
 #include "pnb/scene_builder.h"
 #include "pnb/user_cache_directory.h"
 #include "pnb/writer.h"
@@ -486,7 +487,13 @@ Result<ConvertSummary, ConvertError> convertScene(const ConvertSettings& s,
         m.bounds = pm.bounds;
         m.boundingSphere = pm.boundingSphere;
         sum.submeshes += m.submeshes.size();
-        out.meshes.push_back(m);
+        if (s.mesh.proxies && hasLevelChains(m)) {
+            // Coarse first: the proxy for the first frame, the detail once it is drawn.
+            out.meshes.push_back(buildCoarseProxy(m, b));
+            out.meshDetails.push_back({uint32_t(i), m});
+        } else {
+            out.meshes.push_back(m);
+        }
     }
     for (size_t i = 0; i < scene.lights.size(); ++i) {
         const IrLight& l = scene.lights[i];

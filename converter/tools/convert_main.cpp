@@ -97,6 +97,10 @@ const std::vector<Option>& options() {
          "let LODs move open-boundary vertices (more reduction for open meshes; meshes that meet "
          "edge to edge then crack at their seams)",
          [](CliState& c, const char*) { c.settings.mesh.lodLockBorders = false; return true; }},
+        {"Meshes", "--no-mesh-proxies", nullptr,
+         "with --lods: write each mesh once, all levels in its MESH chunk (default: a coarse proxy "
+         "first and the full detail after the first frame's data, for streaming players)",
+         [](CliState& c, const char*) { c.settings.mesh.proxies = false; return true; }},
         {"Meshes", "--no-optimize", nullptr, "skip vertex-cache/overdraw/fetch optimisation",
          [](CliState& c, const char*) { c.settings.mesh.optimize = false; return true; }},
         {"Textures", "--compress-textures", nullptr,

@@ -216,6 +216,7 @@ PNB_INSTANTIATE(LightList)
 PNB_INSTANTIATE(CameraList)
 PNB_INSTANTIATE(NodeGraph)
 PNB_INSTANTIATE(CameraPath)
+PNB_INSTANTIATE(MeshDetail)
 #undef PNB_INSTANTIATE
 
 uint32_t componentSizeBytes(ComponentType t) {

@@ -88,8 +88,29 @@ Status SceneAssembler::decode(const ChunkInfo& info, Payload payload) {
     if (tag == tags::kCameras) return decodeInto(info, std::move(p), s, s.cameras);
     if (tag == tags::kNodes) return decodeInto(info, std::move(p), s, s.nodes);
     if (tag == tags::kCameraPath) return decodeAppend(info, std::move(p), s, s.cameraPaths);
-    if (tag == tags::kTextureMip) return decodeAppend(info, std::move(p), s, s.textureMips);
+    if (tag == tags::kTextureMip) {
+        Status st = decodeAppend(info, std::move(p), s, s.textureMips);
+        return isOk(st) ? checkProgressive(info, &s.textureMips.back()) : st;
+    }
+    if (tag == tags::kMeshDetail) {
+        Status st = checkProgressive(info, nullptr);
+        return isOk(st) ? decodeAppend(info, std::move(p), s, s.meshDetails) : st;
+    }
     return {}; // unknown (counted by checkOrder)
+}
+
+Status SceneAssembler::checkProgressive(const ChunkInfo& info, const TextureMip* mip) {
+    if (!mip) {
+        if (mLargerTexels)
+            return makeError(FormatError::BadReference, info.headerOffset,
+                             "chunk %u 'MDET' comes after a texel level larger than its texture's "
+                             "smallest (FORMAT.md 4.1)",
+                             info.header.sequence);
+        return {};
+    }
+    if (mip->texture < scene.textures.size() && mip->level + 1 < scene.textures[mip->texture].mipCount)
+        mLargerTexels = true;
+    return {};
 }
 
 Status SceneAssembler::finish() const {
@@ -109,6 +130,46 @@ Result<Scene> readScene(const Container& container) {
     if (Status st = assembler.finish(); !isOk(st)) return st;
     if (Status st = validateScene(assembler.scene); !isOk(st)) return st;
     return std::move(assembler.scene);
+}
+
+// One mesh record (a MESH chunk, or an MDET's detail): §4.4's mesh rules. `what` and `i` name it.
+Status validateMesh(const Scene& s, const Mesh& m, const char* what, size_t i) {
+    if (!refOk(m.name, s.strings.strings.size()))
+        return refError(what, i, "name", m.name, s.strings.strings.size());
+    for (const VertexStream& vs : m.streams) {
+        uint64_t expect = uint64_t(m.vertexCount) * componentSizeBytes(vs.componentType) *
+                          vs.componentCount;
+        if (vs.componentCount < 1 || vs.componentCount > 4 || vs.data.size() != expect)
+            return makeError(FormatError::BadReference, 0,
+                             "%s %zu: stream %u holds %zu bytes, %u vertices of %u x %u "
+                             "need %llu",
+                             what, i, unsigned(vs.semantic), vs.data.size(), m.vertexCount,
+                             vs.componentCount, componentSizeBytes(vs.componentType),
+                             (unsigned long long)expect);
+    }
+    const size_t indexSize = m.indexType == IndexType::U16 ? 2 : 4;
+    if (m.indices.size() % indexSize != 0)
+        return makeError(FormatError::BadReference, 0,
+                         "%s %zu: index data is not a whole number of indices", what, i);
+    const size_t indexCount = m.indices.size() / indexSize;
+    for (size_t k = 0; k < indexCount; ++k) {
+        uint32_t v = indexSize == 2 ? detail::loadLE<uint16_t>(&m.indices[k * 2])
+                                    : detail::loadLE<uint32_t>(&m.indices[k * 4]);
+        if (v >= m.vertexCount)
+            return makeError(FormatError::BadReference, 0,
+                             "%s %zu: index %zu = %u, but there are %u vertices", what, i, k, v,
+                             m.vertexCount);
+    }
+    for (size_t k = 0; k < m.submeshes.size(); ++k) {
+        const Submesh& sm = m.submeshes[k];
+        if (!refOk(sm.material, s.materials.size()))
+            return refError("submesh", k, "material", sm.material, s.materials.size());
+        if (uint64_t(sm.firstIndex) + sm.indexCount > indexCount)
+            return makeError(FormatError::BadReference, 0,
+                             "%s %zu submesh %zu: indices %u..%u, the mesh has %zu", what, i, k,
+                             sm.firstIndex, sm.firstIndex + sm.indexCount, indexCount);
+    }
+    return {};
 }
 
 Status validateScene(const Scene& s) {
@@ -162,43 +223,7 @@ Status validateScene(const Scene& s) {
             if (!refOk(slot.texture, s.textures.size()))
                 return refError("material", i, "texture", slot.texture, s.textures.size());
     }
-    for (size_t i = 0; i < s.meshes.size(); ++i) {
-        const Mesh& m = s.meshes[i];
-        PNB_CHECK(str("mesh", i, "name", m.name));
-        for (const VertexStream& vs : m.streams) {
-            uint64_t expect = uint64_t(m.vertexCount) * componentSizeBytes(vs.componentType) *
-                              vs.componentCount;
-            if (vs.componentCount < 1 || vs.componentCount > 4 || vs.data.size() != expect)
-                return makeError(FormatError::BadReference, 0,
-                                 "mesh %zu: stream %u holds %zu bytes, %u vertices of %u x %u "
-                                 "need %llu",
-                                 i, unsigned(vs.semantic), vs.data.size(), m.vertexCount,
-                                 vs.componentCount, componentSizeBytes(vs.componentType),
-                                 (unsigned long long)expect);
-        }
-        const size_t indexSize = m.indexType == IndexType::U16 ? 2 : 4;
-        if (m.indices.size() % indexSize != 0)
-            return makeError(FormatError::BadReference, 0,
-                             "mesh %zu: index data is not a whole number of indices", i);
-        const size_t indexCount = m.indices.size() / indexSize;
-        for (size_t k = 0; k < indexCount; ++k) {
-            uint32_t v = indexSize == 2 ? detail::loadLE<uint16_t>(&m.indices[k * 2])
-                                        : detail::loadLE<uint32_t>(&m.indices[k * 4]);
-            if (v >= m.vertexCount)
-                return makeError(FormatError::BadReference, 0,
-                                 "mesh %zu: index %zu = %u, but there are %u vertices", i, k, v,
-                                 m.vertexCount);
-        }
-        for (size_t k = 0; k < m.submeshes.size(); ++k) {
-            const Submesh& sm = m.submeshes[k];
-            if (!refOk(sm.material, s.materials.size()))
-                return refError("submesh", k, "material", sm.material, s.materials.size());
-            if (uint64_t(sm.firstIndex) + sm.indexCount > indexCount)
-                return makeError(FormatError::BadReference, 0,
-                                 "mesh %zu submesh %zu: indices %u..%u, the mesh has %zu", i, k,
-                                 sm.firstIndex, sm.firstIndex + sm.indexCount, indexCount);
-        }
-    }
+    for (size_t i = 0; i < s.meshes.size(); ++i) PNB_CHECK(validateMesh(s, s.meshes[i], "mesh", i));
     for (size_t i = 0; i < s.lights.lights.size(); ++i)
         PNB_CHECK(str("light", i, "name", s.lights.lights[i].name));
     for (size_t i = 0; i < s.cameras.cameras.size(); ++i)
@@ -226,7 +251,41 @@ Status validateScene(const Scene& s) {
                                  "camera path %zu: key %zu time does not increase", i, k);
     }
     for (size_t i = 0; i < s.textureMips.size(); ++i) PNB_CHECK(validateTextureMip(s, s.textureMips[i], i));
+    std::vector<bool> detailed(s.meshes.size());
+    for (size_t i = 0; i < s.meshDetails.size(); ++i) {
+        PNB_CHECK(validateMeshDetail(s, s.meshDetails[i], i));
+        if (detailed[s.meshDetails[i].mesh])
+            return makeError(FormatError::BadReference, 0, "mesh detail %zu: mesh %u has one already", i,
+                             s.meshDetails[i].mesh);
+        detailed[s.meshDetails[i].mesh] = true;
+    }
 #undef PNB_CHECK
+    return {};
+}
+
+const Mesh& fullDetailMesh(const Scene& s, uint32_t index) {
+    for (const MeshDetail& d : s.meshDetails)
+        if (d.mesh == index) return d.detail;
+    return s.meshes[index];
+}
+
+Status validateMeshDetail(const Scene& s, const MeshDetail& d, size_t i) {
+    if (d.mesh >= s.meshes.size()) return refError("mesh detail", i, "mesh", d.mesh, s.meshes.size());
+    if (Status st = validateMesh(s, d.detail, "mesh detail", i); !isOk(st)) return st;
+    // Level-0 submeshes by material, in order: the draw items the proxy makes are the detail's.
+    auto levelZero = [](const Mesh& m) {
+        std::vector<uint32_t> materials;
+        for (const Submesh& sm : m.submeshes)
+            if (sm.lod == 0 && sm.material != kNone) materials.push_back(sm.material); // drawn ones
+        return materials;
+    };
+    if (levelZero(d.detail) != levelZero(s.meshes[d.mesh]))
+        return makeError(FormatError::BadReference, 0,
+                         "mesh detail %zu: its level-0 submeshes (by material) are not those of mesh %u, "
+                         "its proxy",
+                         i, d.mesh);
+    if (d.detail.primitive != s.meshes[d.mesh].primitive)
+        return makeError(FormatError::BadReference, 0, "mesh detail %zu: another primitive than mesh %u", i, d.mesh);
     return {};
 }
 
@@ -263,15 +322,30 @@ Status writeScene(Writer& w, const Scene& s, Compression bulk) {
     if (isOk(st)) st = writeChunk(w, s.cameras);
     if (isOk(st)) st = writeChunk(w, s.nodes);
     all(s.cameraPaths);
-    // Smallest level first across all textures: a streaming reader can show every texture
-    // coarsely before any full-resolution level arrives. Stable for determinism.
+    // The progressive section (§4.1): smallest level first across all textures, so a streaming
+    // reader can show every texture coarsely before any full-resolution level arrives; the mesh
+    // details once every texture's smallest level is out (the first frame has what it needs),
+    // before the larger levels. Stable for determinism.
     std::vector<const TextureMip*> mips;
     for (const TextureMip& m : s.textureMips) mips.push_back(&m);
-    std::stable_sort(mips.begin(), mips.end(), [](const TextureMip* a, const TextureMip* b) {
+    auto smallest = [&](const TextureMip* m) {
+        return m->texture < s.textures.size() && m->level + 1 == s.textures[m->texture].mipCount;
+    };
+    std::stable_sort(mips.begin(), mips.end(), [&](const TextureMip* a, const TextureMip* b) {
+        if (smallest(a) != smallest(b)) return smallest(a);
         return a->level > b->level;
     });
-    for (const TextureMip* m : mips)
+    bool detailsOut = false;
+    auto details = [&] {
+        for (const MeshDetail& d : s.meshDetails)
+            if (isOk(st)) st = writeChunk(w, d, bulk);
+        detailsOut = true;
+    };
+    for (const TextureMip* m : mips) {
+        if (!detailsOut && !smallest(m)) details();
         if (isOk(st)) st = writeChunk(w, *m, bulk);
+    }
+    if (!detailsOut) details();
     return st;
 }
 

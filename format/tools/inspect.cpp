@@ -370,15 +370,7 @@ private:
 
 enum class ChunkKind { Known, Unknown, Toc };
 
-bool isKnownTag(Tag t) {
-    static constexpr Tag known[] = {
-        tags::kStrings, tags::kSceneInfo,  tags::kRenderSettings, tags::kShader, tags::kProgram,
-        tags::kTexture, tags::kMaterial,   tags::kMesh,           tags::kLights, tags::kCameras,
-        tags::kNodes,   tags::kCameraPath, tags::kTextureMip};
-    for (const Tag& k : known)
-        if (k == t) return true;
-    return false;
-}
+bool isKnownTag(Tag t) { return streamOrderRank(t) >= 0; }
 
 const char* kindName(ChunkKind k) {
     return k == ChunkKind::Known ? "known" : k == ChunkKind::Unknown ? "unknown" : "toc";

@@ -27,25 +27,30 @@ uint64_t alignUp(uint64_t v, uint64_t a) { return (v + a - 1) / a * a; }
 
 } // namespace
 
-PlayResult<GpuMesh> uploadMesh(const Mesh& mesh, uint32_t index) {
-    GpuMesh m;
-    uint64_t size = 0;
-    std::vector<uint64_t> offsets;
+MeshLayout meshLayout(const Mesh& mesh) {
+    MeshLayout l;
     for (const VertexStream& s : mesh.streams) {
-        offsets.push_back(size);
-        size = alignUp(size + s.data.size(), 16);
+        l.segments.push_back({l.size, s.data});
+        l.size = alignUp(l.size + s.data.size(), 16);
     }
-    m.indexOffset = size;
-    size += mesh.indices.size();
+    l.indexOffset = l.size;
+    l.segments.push_back({l.indexOffset, mesh.indices});
+    l.size += mesh.indices.size();
+    return l;
+}
+
+PlayResult<GpuMesh> uploadMesh(const Mesh& mesh, uint32_t index, bool withData) {
+    GpuMesh m;
+    const MeshLayout layout = meshLayout(mesh);
+    const uint64_t size = layout.size;
+    m.indexOffset = layout.indexOffset;
     m.buffer = createBuffer();
     glNamedBufferStorage(m.buffer.id(), GLsizeiptr(std::max<uint64_t>(size, 16)), nullptr,
                          GL_DYNAMIC_STORAGE_BIT);
     // Straight from the mapping: the driver's copy is the only one.
-    for (size_t i = 0; i < mesh.streams.size(); ++i)
-        glNamedBufferSubData(m.buffer.id(), GLintptr(offsets[i]),
-                             GLsizeiptr(mesh.streams[i].data.size()), mesh.streams[i].data.data());
-    glNamedBufferSubData(m.buffer.id(), GLintptr(m.indexOffset), GLsizeiptr(mesh.indices.size()),
-                         mesh.indices.data());
+    if (withData)
+        for (const MeshLayout::Segment& seg : layout.segments)
+            glNamedBufferSubData(m.buffer.id(), GLintptr(seg.offset), GLsizeiptr(seg.bytes.size()), seg.bytes.data());
     m.bytes = size;
 
     m.vertexArray = createVertexArray();
@@ -60,7 +65,7 @@ PlayResult<GpuMesh> uploadMesh(const Mesh& mesh, uint32_t index) {
         glVertexArrayAttribFormat(vao, loc, s.componentCount, glComponent(s.componentType),
                                   s.normalized ? GL_TRUE : GL_FALSE, 0);
         glVertexArrayAttribBinding(vao, loc, loc);
-        glVertexArrayVertexBuffer(vao, loc, m.buffer.id(), GLintptr(offsets[i]), stride);
+        glVertexArrayVertexBuffer(vao, loc, m.buffer.id(), GLintptr(layout.segments[i].offset), stride);
         if (s.semantic == VertexSemantic::Position) {
             m.dequantScale = {s.dequantScale.x, s.dequantScale.y, s.dequantScale.z};
             m.dequantOffset = {s.dequantOffset.x, s.dequantOffset.y, s.dequantOffset.z};

@@ -10,9 +10,9 @@
 #include <glm/gtc/matrix_inverse.hpp>
 #include <glm/gtc/type_ptr.hpp>
 
+#include "pnb/mesh_levels.h"
 #include "pnb/node_transform.h"
 #include "pnb/scene.h"
-#include "lod_levels.h"
 #include "lod_select.h"
 #include "program_compile.h"
 #include "scene_upload.h"
@@ -157,39 +157,39 @@ PlayResult<Done> compileNeededPrograms(const Scene& scene, GpuScene& gpu) {
 
 namespace {
 
-// Each mesh's level chains (lod_levels.h) as DrawLevels in gpu.levels, shared by its instances.
+// Each mesh's level chains (pnb/mesh_levels.h) as DrawLevels in gpu.levels, shared by its instances.
 struct MeshChain {
     uint32_t material = 0, firstLevel = 0, levelCount = 0;
 };
-std::vector<std::vector<MeshChain>> buildMeshLevels(GpuScene& gpu) {
-    std::vector<std::vector<MeshChain>> out(gpu.meshes.size());
-    for (size_t m = 0; m < gpu.meshes.size(); ++m) {
-        const GpuMesh& mesh = gpu.meshes[m];
-        for (const SubmeshChain& chain : buildLevelChains(mesh.submeshes)) {
-            MeshChain mc{chain.material, uint32_t(gpu.levels.size()), uint32_t(chain.levels.size())};
-            float error = 0;
-            for (size_t l = 0; l < chain.levels.size(); ++l) {
-                const Submesh& sm = mesh.submeshes[chain.levels[l]];
-                DrawLevel level;
-                level.submesh = chain.levels[l];
-                level.firstIndex = sm.firstIndex;
-                level.indexCount = sm.indexCount;
-                level.triangles = mesh.primitive == GL_TRIANGLES ? sm.indexCount / 3 : 0;
-                // Level 0 is exact by definition; a NaN or negative error from another writer
-                // counts as unbounded / zero.
-                if (l > 0) error = std::max(error, std::isnan(sm.lodError) ? FLT_MAX : std::max(sm.lodError, 0.0f));
-                level.error = error;
-                gpu.levels.push_back(level);
-            }
-            out[m].push_back(mc);
+// Appends mesh m's chains to gpu.levels.
+std::vector<MeshChain> appendMeshLevels(GpuScene& gpu, size_t m) {
+    std::vector<MeshChain> out;
+    const GpuMesh& mesh = gpu.meshes[m];
+    for (const SubmeshChain& chain : buildLevelChains(mesh.submeshes)) {
+        MeshChain mc{chain.material, uint32_t(gpu.levels.size()), uint32_t(chain.levels.size())};
+        float error = 0;
+        for (size_t l = 0; l < chain.levels.size(); ++l) {
+            const Submesh& sm = mesh.submeshes[chain.levels[l]];
+            DrawLevel level;
+            level.submesh = chain.levels[l];
+            level.firstIndex = sm.firstIndex;
+            level.indexCount = sm.indexCount;
+            level.triangles = mesh.primitive == GL_TRIANGLES ? sm.indexCount / 3 : 0;
+            // Level 0 is exact by definition; a NaN or negative error from another writer
+            // counts as unbounded / zero.
+            if (l > 0) error = std::max(error, std::isnan(sm.lodError) ? FLT_MAX : std::max(sm.lodError, 0.0f));
+            level.error = error;
+            gpu.levels.push_back(level);
         }
+        out.push_back(mc);
     }
     return out;
 }
 
 // World transforms (double) for every node; draw items, lights and cameras from them.
 void buildSceneGraph(const Scene& scene, GpuScene& gpu) {
-    const std::vector<std::vector<MeshChain>> meshLevels = buildMeshLevels(gpu);
+    std::vector<std::vector<MeshChain>> meshLevels;
+    for (size_t m = 0; m < gpu.meshes.size(); ++m) meshLevels.push_back(appendMeshLevels(gpu, m));
     std::vector<glm::dmat4> world(scene.nodes.nodes.size());
     for (size_t i = 0; i < scene.nodes.nodes.size(); ++i) {
         const Node& n = scene.nodes.nodes[i];
@@ -240,6 +240,32 @@ void buildSceneGraph(const Scene& scene, GpuScene& gpu) {
 }
 
 } // namespace
+
+void replaceMeshLevels(GpuScene& gpu, uint32_t mesh) {
+    const std::vector<MeshChain> chains = appendMeshLevels(gpu, mesh);
+    // A node's items of a mesh are its chains, in order (buildSceneGraph); validateMeshDetail
+    // made the new mesh's chains those of the old one, by material and order.
+    uint32_t node = kNone;
+    size_t k = 0;
+    for (uint32_t i = 0; i < gpu.items.size(); ++i) {
+        DrawItem& item = gpu.items[i];
+        if (item.mesh != mesh) continue;
+        if (item.node != node) {
+            node = item.node;
+            k = 0;
+        }
+        if (k >= chains.size()) continue;
+        const MeshChain& chain = chains[k++];
+        gpu.triangles -= item.triangles;
+        item.firstLevel = chain.firstLevel;
+        item.levelCount = chain.levelCount;
+        item.triangles = gpu.levels[chain.firstLevel].triangles;
+        gpu.triangles += item.triangles;
+        auto at = std::lower_bound(gpu.lodItems.begin(), gpu.lodItems.end(), i);
+        if (item.levelCount > 1 && (at == gpu.lodItems.end() || *at != i)) gpu.lodItems.insert(at, i);
+    }
+    ++gpu.materialsVersion; // renderers rebuild their caster lists
+}
 
 const ScenePath* GpuScene::findPath(std::string_view pathName) const {
     for (const ScenePath& p : paths)
@@ -301,7 +327,8 @@ PlayResult<std::unique_ptr<GpuScene>> loadScene(const std::string& path,
 }
 
 PlayResult<std::unique_ptr<GpuScene>> uploadSceneWithoutTexels(const Scene& scene,
-                                                                const std::vector<uint32_t>& firstLevels) {
+                                                                const std::vector<uint32_t>& firstLevels,
+                                                                bool meshDetails) {
     auto gpu = std::make_unique<GpuScene>();
     gpu->name = std::string(scene.str(scene.info.name));
     gpu->bounds = scene.info.bounds;
@@ -315,7 +342,7 @@ PlayResult<std::unique_ptr<GpuScene>> uploadSceneWithoutTexels(const Scene& scen
         gpu->textures.push_back(std::move(*t));
     }
     for (uint32_t i = 0; i < scene.meshes.size(); ++i) {
-        auto m = uploadMesh(scene.meshes[i], i);
+        auto m = uploadMesh(meshDetails ? fullDetailMesh(scene, i) : scene.meshes[i], i);
         if (!m) return m.error();
         gpu->memory.meshBytes += m->bytes;
         gpu->meshes.push_back(std::move(*m));
@@ -361,7 +388,7 @@ PlayResult<std::unique_ptr<GpuScene>> uploadScene(const Scene& scene, LoadStats*
     UploadHeap heap(estimateUploadBytes(scene));
     stats.hugePageBytes = heap.hugePageBytes();
     stats.uploadPages = heap.describe();
-    auto gpu = uploadSceneWithoutTexels(scene, {});
+    auto gpu = uploadSceneWithoutTexels(scene, {}, true);
     if (!gpu) return gpu.error();
     for (const TextureMip& mip : scene.textureMips)
         uploadTextureMip((*gpu)->textures[mip.texture], scene.textures[mip.texture], mip);

@@ -6,6 +6,7 @@
 #include <chrono>
 #include <cstring>
 #include <deque>
+#include <optional>
 
 #include <epoxy/gl.h>
 
@@ -54,13 +55,22 @@ struct SceneStream::Impl {
     struct Pending {
         // Levels valid - 1, valid - 2, ... that have arrived (their bytes hold the loader's
         // read-ahead back until uploaded or dropped); the front is being uploaded.
-        std::deque<TexelLevel> levels;
+        std::deque<Arrival> levels;
         uint32_t face = 0, row = 0; // upload progress of the front
         bool requested = false;     // a re-read of valid - 1 was asked for
         bool lost = false;          // needed again, but the input cannot be re-read
         uint32_t nextLevel(uint32_t valid) const { return levels.empty() ? valid : levels.back().mip.level; }
     };
     std::deque<Pending> pending; // deque: Pending holds a deque, which cannot move noexcept
+    // Meshes' full detail (MDET) that arrived, in order; the front is being uploaded into its
+    // own new buffer, which replaces the proxy's when complete.
+    struct PendingMesh {
+        Arrival data;
+        std::optional<GpuMesh> gpu;
+        MeshLayout layout;
+        uint64_t done = 0; // bytes copied, over the layout's segments in order
+    };
+    std::deque<PendingMesh> meshes;
     std::vector<std::vector<TextureUse>> uses; // per texture
     StreamRing staging;
     uint64_t frame = 0;
@@ -110,12 +120,55 @@ struct SceneStream::Impl {
 
     // Takes a level that arrived: kept if it is the next one texture t can use, else dropped
     // (it can be read again from a file when needed).
-    void accept(TexelLevel level) {
+    void accept(Arrival level) {
+        if (level.mesh) { // never dropped: it cannot be read again from a pipe, and it is small
+            meshes.push_back({std::move(level), std::nullopt, {}, 0});
+            return;
+        }
         const uint32_t t = level.mip.texture, l = level.mip.level;
         Pending& p = pending[t];
         if (level.refetched) p.requested = false;
         if (l + 1 == p.nextLevel(residency[t].valid) && (!budgeted || l >= residency[t].allocated))
             p.levels.push_back(std::move(level));
+    }
+
+    // Copies the front mesh detail's bytes until `budget` is spent; when all are in, its buffer
+    // replaces the proxy's and its items take its levels. True when it is complete.
+    PlayResult<bool> uploadMeshBytes(uint64_t& budget, StreamFrameStats& f) {
+        PendingMesh& pm = meshes.front();
+        const MeshDetail& d = *pm.data.mesh;
+        if (!pm.gpu) {
+            auto m = uploadMesh(d.detail, d.mesh, false);
+            if (!m) return m.error();
+            pm.gpu = std::move(*m);
+            pm.layout = meshLayout(d.detail);
+        }
+        uint64_t start = 0;
+        for (const MeshLayout::Segment& seg : pm.layout.segments) {
+            const uint64_t end = start + seg.bytes.size();
+            while (pm.done < end) {
+                // Whole 16-byte units of the budget, so the ring's aligned slices fit the frame's bytes.
+                const uint64_t bytes = std::min(end - pm.done, budget / kStagingAlignment * kStagingAlignment);
+                if (bytes == 0) return false;
+                const uint64_t from = pm.done - start;
+                std::byte* dst = nullptr;
+                const size_t at = staging.allocate(bytes, dst);
+                std::memcpy(dst, seg.bytes.data() + from, bytes);
+                glCopyNamedBufferSubData(staging.buffer(), pm.gpu->buffer.id(), GLintptr(at),
+                                         GLintptr(seg.offset + from), GLsizeiptr(bytes));
+                pm.done += bytes;
+                budget -= std::min(budget, alignUp(bytes, kStagingAlignment));
+                f.uploadedBytes += bytes;
+            }
+            start = end;
+        }
+        GpuScene& g = *gpu;
+        g.memory.meshBytes = g.memory.meshBytes - g.meshes[d.mesh].bytes + pm.gpu->bytes;
+        g.meshes[d.mesh] = std::move(*pm.gpu); // GL orders the copies before the frame's draws
+        replaceMeshLevels(g, d.mesh);
+        meshes.pop_front();
+        ++f.meshesCompleted;
+        return true;
     }
 
     // Uploads rows of the front level until `budget` bytes are spent; true when it is complete.
@@ -158,6 +211,7 @@ struct SceneStream::Impl {
 };
 
 SceneStream::SceneStream() : mImpl(std::make_unique<Impl>()) {}
+
 SceneStream::~SceneStream() = default;
 
 PlayResult<SceneStream::Opened> SceneStream::open(const std::string& path, const StreamOptions& options,
@@ -199,7 +253,7 @@ PlayResult<SceneStream::Opened> SceneStream::open(const std::string& path, const
         im.residency.push_back(std::move(r));
     }
     im.pending.resize(sc.textures.size());
-    auto gpu = uploadSceneWithoutTexels(sc, firstLevels);
+    auto gpu = uploadSceneWithoutTexels(sc, firstLevels, false); // proxies: details stream in
     if (!gpu) return gpu.error();
     im.gpu = gpu->get();
     for (uint32_t t = 0; t < sc.textures.size(); ++t) im.setBaseLevel(t);
@@ -230,9 +284,13 @@ PlayResult<SceneStream::Opened> SceneStream::open(const std::string& path, const
     while (missing()) {
         im.loader->waitForLevel();
         if (auto st = im.loader->status(); !st) return st.error();
-        std::vector<TexelLevel> levels = im.loader->take();
+        std::vector<Arrival> levels = im.loader->take();
         if (levels.empty() && im.loader->forwardDone()) break; // a texture without texels
-        for (TexelLevel& level : levels) {
+        for (Arrival& level : levels) {
+            if (level.mesh) {
+                im.accept(std::move(level));
+                continue;
+            }
             const uint32_t t = level.mip.texture;
             TextureResidency& r = im.residency[t];
             if (r.valid < r.mipCount() || level.mip.level + 1 != r.valid) {
@@ -316,7 +374,7 @@ PlayResult<Done> SceneStream::update(const CameraState& camera, uint32_t width, 
     st.peakTextureBytes = std::max(st.peakTextureBytes, plan.peakBytes);
 
     // Levels read since the last frame; re-reads of levels the chains now have room for.
-    for (TexelLevel& level : im.loader->take()) im.accept(std::move(level));
+    for (Arrival& level : im.loader->take()) im.accept(std::move(level));
     const bool readDone = im.loader->forwardDone();
     for (uint32_t t = 0; t < im.residency.size(); ++t) {
         const TextureResidency& r = im.residency[t];
@@ -341,7 +399,7 @@ PlayResult<Done> SceneStream::update(const CameraState& camera, uint32_t width, 
         return int64_t(im.residency[a].valid) - im.residency[a].wanted >
                int64_t(im.residency[b].valid) - im.residency[b].wanted;
     });
-    if (!order.empty()) {
+    if (!order.empty() || !im.meshes.empty()) {
         uint64_t largestUnit = 0;
         for (uint32_t t : order) {
             const TextureDesc& d = sc.textures[t];
@@ -355,6 +413,12 @@ PlayResult<Done> SceneStream::update(const CameraState& camera, uint32_t width, 
         glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
         glBindBuffer(GL_PIXEL_UNPACK_BUFFER, im.staging.buffer());
         uint64_t budget = mOptions.uploadBytesPerFrame;
+        // Meshes first: until its detail is in, a mesh is drawn as its coarse proxy.
+        while (budget >= kStagingAlignment && !im.meshes.empty()) {
+            auto done = im.uploadMeshBytes(budget, st.frame);
+            if (!done) return done.error();
+            if (!*done) break;
+        }
         // (A level that arrived after this frame's plan has storage from the next frame on.)
         auto hasStorage = [&](uint32_t t) {
             return im.pending[t].levels.front().mip.level >= im.residency[t].allocated;
@@ -377,7 +441,8 @@ PlayResult<Done> SceneStream::update(const CameraState& camera, uint32_t width, 
     st.neededTextureBytes = im.budgeted ? neededBytes(im.residency) : st.fullTextureBytes;
     // Complete: with a budget, every level the view needs is in (the rest of the file may still
     // be read); without one, every level of every texture, so the whole file.
-    bool complete = im.budgeted || readDone;
+    st.meshesReplaced += st.frame.meshesCompleted;
+    bool complete = (im.budgeted || readDone) && im.meshes.empty() && im.loader->meshDetailsDone();
     for (uint32_t t = 0; t < im.residency.size() && complete; ++t)
         complete = im.pending[t].lost || im.residency[t].valid <= (im.budgeted ? im.residency[t].wanted : 0);
     st.complete = complete;

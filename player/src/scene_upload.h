@@ -10,10 +10,16 @@
 namespace pnb::player {
 
 // Everything of `scene` but the texels and the programs: texture storage (texture i from
-// container level firstLevels[i], or 0 where the vector is shorter), meshes, materials, camera
+// container level firstLevels[i], or 0 where the vector is shorter), meshes (at full detail with
+// `meshDetails`: an MDET replaces its proxy; else the MESH chunks as they are), materials, camera
 // paths, draw items, lights and cameras, the layer layout. No glFinish.
 PlayResult<std::unique_ptr<GpuScene>> uploadSceneWithoutTexels(const Scene& scene,
-                                                                const std::vector<uint32_t>& firstLevels);
+                                                                const std::vector<uint32_t>& firstLevels,
+                                                                bool meshDetails);
+
+// gpu.meshes[mesh] was replaced (streaming: a proxy by its full detail): its items take the new
+// mesh's level chains (appended to gpu.levels), lodItems and triangle counts follow.
+void replaceMeshLevels(GpuScene& gpu, uint32_t mesh);
 
 // Compiles what the frame uses and is not compiled yet: the materials' programs, the lighting
 // pass if anything is deferred, the tone mapper, the shadow and GI programs.

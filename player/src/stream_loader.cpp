@@ -30,16 +30,16 @@ struct LoaderShared {
     bool stop = false;
     Error error{FormatError::None, 0, {}};
     uint64_t bytesRead = 0, queued = 0;
-    std::deque<TexelLevel> arrived;
+    std::deque<Arrival> arrived;
     std::unordered_map<uint64_t, ChunkInfo> levels; // (texture << 32 | level) -> where it is
     std::deque<uint64_t> requests;
-    uint32_t tmipCount = 0;
+    uint32_t tmipCount = 0, mdetCount = 0;
 
     ~LoaderShared() {
         if (ownsFd && fd >= 0) ::close(fd);
     }
     // Counts `level`'s bytes against the read-ahead until it is destroyed (under the lock).
-    static void track(TexelLevel& level, const std::shared_ptr<LoaderShared>& sh, uint64_t bytes) {
+    static void track(Arrival& level, const std::shared_ptr<LoaderShared>& sh, uint64_t bytes) {
         level.mShared = sh;
         level.mBytes = bytes;
         sh->queued += bytes;
@@ -66,6 +66,19 @@ Result<TextureMip> decodeLevel(const Scene& scene, const ChunkInfo& info, const 
     return mip;
 }
 
+// Decodes an MDET payload and checks it against the scene (its proxy).
+Result<MeshDetail> decodeMeshDetail(const Scene& scene, const ChunkInfo& info, const Payload& payload, uint32_t index) {
+    auto d = decodeChunk<MeshDetail>(payload.bytes(), info.header, info.payloadOffset);
+    if (!d) return d.error();
+    if (Status s = validateMeshDetail(scene, *d, index); !isOk(s)) {
+        Error e = s;
+        e.offset = info.headerOffset;
+        e.message = "chunk " + std::to_string(info.header.sequence) + " 'MDET': " + e.message;
+        return e;
+    }
+    return d;
+}
+
 void forwardPass(const std::shared_ptr<LoaderShared>& sh) {
     ReadOptions ro;
     ro.verifyChecksums = sh->options.verifyChecksums;
@@ -81,7 +94,7 @@ void forwardPass(const std::shared_ptr<LoaderShared>& sh) {
                 sh->fail(s);
                 return false;
             }
-            if (info.header.tag == tags::kTextureMip) {
+            if (streamOrderRank(info.header.tag) == streamOrderRank(tags::kTextureMip)) { // progressive
                 Status s = sh->assembler.finish();
                 if (isOk(s)) s = validateScene(sh->assembler.scene);
                 lock.lock();
@@ -107,7 +120,8 @@ void forwardPass(const std::shared_ptr<LoaderShared>& sh) {
             sh->fail(s);
             return false;
         }
-        if (info.header.tag != tags::kTextureMip) { // an unknown chunk among the texels
+        const bool mesh = info.header.tag == tags::kMeshDetail;
+        if (info.header.tag != tags::kTextureMip && !mesh) { // an unknown chunk among the texels
             sh->bytesRead = end;
             return true;
         }
@@ -115,19 +129,28 @@ void forwardPass(const std::shared_ptr<LoaderShared>& sh) {
         const uint64_t bytes = info.header.rawSize;
         sh->changed.wait(lock, [&] { return sh->stop || sh->queued == 0 || sh->queued + bytes <= sh->options.readAheadBytes; });
         if (sh->stop) return false;
-        const uint32_t index = sh->tmipCount++;
+        const uint32_t index = mesh ? sh->mdetCount++ : sh->tmipCount++;
         lock.unlock();
-        TexelLevel level;
+        Arrival level;
         level.payload = Payload::own({chunk.payload.begin(), chunk.payload.end()});
-        auto mip = decodeLevel(sh->assembler.scene, info, level.payload, index);
+        Status decoded;
+        if (mesh) {
+            auto d = decodeMeshDetail(sh->assembler.scene, info, level.payload, index);
+            if (d) level.mesh = std::move(*d);
+            else decoded = d.error();
+        } else {
+            auto mip = decodeLevel(sh->assembler.scene, info, level.payload, index);
+            if (mip) level.mip = *mip;
+            else decoded = mip.error();
+        }
         lock.lock();
-        if (!mip) {
-            sh->fail(mip.error());
+        if (isOk(decoded)) decoded = sh->assembler.checkProgressive(info, mesh ? nullptr : &level.mip);
+        if (!isOk(decoded)) {
+            sh->fail(decoded);
             return false;
         }
-        level.mip = *mip;
         LoaderShared::track(level, sh, bytes);
-        sh->levels[levelKey(mip->texture, mip->level)] = info;
+        if (!mesh) sh->levels[levelKey(level.mip.texture, level.mip.level)] = info;
         sh->arrived.push_back(std::move(level));
         sh->bytesRead = end;
         sh->changed.notify_all();
@@ -167,7 +190,7 @@ void fetchLoop(const std::shared_ptr<LoaderShared>& sh) {
             sh->fail(mip.error());
             break;
         }
-        TexelLevel level;
+        Arrival level;
         level.payload = std::move(*payload);
         level.mip = *mip;
         level.refetched = true;
@@ -181,12 +204,13 @@ void fetchLoop(const std::shared_ptr<LoaderShared>& sh) {
 
 } // namespace
 
-TexelLevel::TexelLevel(TexelLevel&& o) noexcept
-    : mip(o.mip), payload(std::move(o.payload)), refetched(o.refetched), mShared(std::move(o.mShared)),
-      mBytes(std::exchange(o.mBytes, 0)) {}
-TexelLevel& TexelLevel::operator=(TexelLevel&& o) noexcept {
+Arrival::Arrival(Arrival&& o) noexcept
+    : mesh(std::move(o.mesh)), mip(o.mip), payload(std::move(o.payload)), refetched(o.refetched),
+      mShared(std::move(o.mShared)), mBytes(std::exchange(o.mBytes, 0)) {}
+Arrival& Arrival::operator=(Arrival&& o) noexcept {
     if (this != &o) {
-        TexelLevel gone(std::move(*this));
+        Arrival gone(std::move(*this));
+        mesh = std::move(o.mesh);
         mip = o.mip;
         payload = std::move(o.payload);
         refetched = o.refetched;
@@ -195,7 +219,7 @@ TexelLevel& TexelLevel::operator=(TexelLevel&& o) noexcept {
     }
     return *this;
 }
-TexelLevel::~TexelLevel() {
+Arrival::~Arrival() {
     if (!mShared || !mBytes) return;
     std::lock_guard lock(mShared->mutex);
     mShared->queued -= mBytes;
@@ -226,7 +250,7 @@ PlayResult<std::unique_ptr<StreamLoader>> StreamLoader::start(const std::string&
 }
 
 StreamLoader::~StreamLoader() {
-    std::deque<TexelLevel> dropped;
+    std::deque<Arrival> dropped;
     std::unique_lock lock(mShared->mutex);
     mShared->stop = true;
     dropped.swap(mShared->arrived); // their destructors take the lock: freed after it
@@ -249,11 +273,11 @@ PlayResult<const Scene*> StreamLoader::waitForScene() {
     return &mShared->assembler.scene;
 }
 
-std::vector<TexelLevel> StreamLoader::take() {
+std::vector<Arrival> StreamLoader::take() {
     std::lock_guard lock(mShared->mutex);
-    std::vector<TexelLevel> out;
+    std::vector<Arrival> out;
     out.reserve(mShared->arrived.size());
-    for (TexelLevel& l : mShared->arrived) out.push_back(std::move(l));
+    for (Arrival& l : mShared->arrived) out.push_back(std::move(l));
     mShared->arrived.clear();
     return out;
 }
@@ -274,6 +298,10 @@ bool StreamLoader::request(uint32_t texture, uint32_t level) {
 }
 
 bool StreamLoader::seekable() const { return mShared->seekable; }
+bool StreamLoader::meshDetailsDone() const {
+    std::lock_guard lock(mShared->mutex);
+    return mShared->forwardDone || mShared->assembler.largerTexelsSeen();
+}
 bool StreamLoader::forwardDone() const {
     std::lock_guard lock(mShared->mutex);
     return mShared->forwardDone;

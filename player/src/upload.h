@@ -21,7 +21,20 @@ void uploadTextureRows(const GpuTexture& texture, const TextureDesc& desc, uint3
 // One level (all faces of a cube map) from the chunk's bytes.
 void uploadTextureMip(const GpuTexture& texture, const TextureDesc& desc, const TextureMip& mip);
 
-// One buffer holding every stream and the indices, and a vertex array describing them.
-PlayResult<GpuMesh> uploadMesh(const Mesh& mesh, uint32_t index);
+// Where each of a mesh's byte ranges goes in its GL buffer: every stream at a 16-byte aligned
+// offset, then the indices (the last segment).
+struct MeshLayout {
+    struct Segment {
+        uint64_t offset = 0;
+        Blob bytes;
+    };
+    std::vector<Segment> segments;
+    uint64_t indexOffset = 0, size = 0;
+};
+MeshLayout meshLayout(const Mesh& mesh);
+
+// One buffer holding every stream and the indices (meshLayout), and a vertex array describing
+// them. Without data the buffer is left for the caller to fill (streaming: from its staging ring).
+PlayResult<GpuMesh> uploadMesh(const Mesh& mesh, uint32_t index, bool withData = true);
 
 } // namespace pnb::player

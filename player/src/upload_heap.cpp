@@ -21,7 +21,8 @@ uint64_t estimateUploadBytes(const Scene& scene) {
         uint64_t level = textureLevelSizeBytes(desc.format, mip.width, mip.height, desc.layers);
         bytes += desc.format == TextureFormat::RGB8 ? level / 3 * 4 : level;
     }
-    for (const Mesh& mesh : scene.meshes) {
+    for (uint32_t m = 0; m < scene.meshes.size(); ++m) {
+        const Mesh& mesh = fullDetailMesh(scene, m); // what a full load uploads
         for (const VertexStream& s : mesh.streams) bytes += s.data.size() + 16;
         bytes += mesh.indices.size();
     }

@@ -263,7 +263,7 @@ TracerResult<std::unique_ptr<IndirectTracer>> IndirectTracer::build(const Scene&
             impl.lights.push_back(info);
         }
         if (n.mesh == kNone || n.mesh >= scene.meshes.size()) continue;
-        const Mesh& mesh = scene.meshes[n.mesh];
+        const Mesh& mesh = fullDetailMesh(scene, n.mesh); // the MDET detail, not a proxy
         if (mesh.primitive != Primitive::Triangles) continue;
         for (const Submesh& sm : mesh.submeshes) {
             if (sm.lod != 0 || sm.material >= scene.materials.size()) continue;

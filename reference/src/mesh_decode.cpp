@@ -85,7 +85,7 @@ std::string nodeName(const Scene& scene, uint32_t node) {
 // scale 1, offset 0). Missing components read as 0 (w as 1), as GL's vertex fetch does.
 TracerResult<std::vector<glm::dvec4>> decodeStream(const Scene& scene, uint32_t meshIndex,
                                                    VertexSemantic semantic, bool required) {
-    const Mesh& mesh = scene.meshes[meshIndex];
+    const Mesh& mesh = fullDetailMesh(scene, meshIndex); // the MDET detail, not a proxy
     const VertexStream* stream = nullptr;
     for (const VertexStream& s : mesh.streams)
         if (s.semantic == semantic) {

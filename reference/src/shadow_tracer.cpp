@@ -143,7 +143,7 @@ TracerResult<std::unique_ptr<ShadowTracer>> ShadowTracer::build(const Scene& sce
         if (n.mesh >= scene.meshes.size())
             return inputError(nodeName(scene, uint32_t(i)) + " refers to mesh " +
                               std::to_string(n.mesh) + " of " + std::to_string(scene.meshes.size()));
-        const Mesh& mesh = scene.meshes[n.mesh];
+        const Mesh& mesh = fullDetailMesh(scene, n.mesh); // the MDET detail, not a proxy
         const uint32_t indexBytes = mesh.indexType == IndexType::U16 ? 2 : 4;
         const uint64_t indexCount = mesh.indices.size() / indexBytes;
 

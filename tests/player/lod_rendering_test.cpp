@@ -10,6 +10,7 @@
 
 #include "lod_select.h"
 #include "pnb_player/gpu_scene.h"
+#include "pnb_player/scene_stream.h"
 
 namespace pnb::player::test {
 
@@ -40,7 +41,8 @@ gltf::Primitive uvSphere(float radius, uint32_t rings, uint32_t segments, uint32
 
 // The sphere (material 0) at the origin, optionally a ground plane below it, and the fixture's
 // sun and lamp; converted with `lods` extra levels.
-std::string sphereScene(uint32_t lods, bool ground, const std::string& name, bool gi = false) {
+std::string sphereScene(uint32_t lods, bool ground, const std::string& name, bool gi = false,
+                        bool proxies = true) {
     gltf::Document doc;
     gltf::Material grey;
     grey.name = "grey";
@@ -66,6 +68,7 @@ std::string sphereScene(uint32_t lods, bool ground, const std::string& name, boo
     s.validateShaders = false;
     s.noSidecar = true;
     s.mesh.lodCount = lods;
+    s.mesh.proxies = proxies;
     if (gi) s.renderSettings.emplace_back("gi.enabled", "true");
     auto r = converter::convertScene(s);
     EXPECT_TRUE(r.ok()) << (r.ok() ? "" : r.error().message);
@@ -307,6 +310,75 @@ TEST(Lod, DebugViewColoursTheSphereByItsLevel) {
     EXPECT_EQ(level(), 0);
     EXPECT_PRED2(near, centre(1.3 * d1), glm::ivec3(26, 204, 51)); // level 1: green (0.1, 0.8, 0.2)
     EXPECT_EQ(level(), 1);
+}
+
+} // namespace pnb::player::test
+
+namespace pnb::player::test {
+
+// Streaming a mesh with levels (docs/FORMAT.md "MDET"): the first frame draws the coarse proxy,
+// the full detail replaces it within a few frames (through the staging ring, a few KiB a frame),
+// and the finished stream draws what the full load draws.
+TEST(Lod, StreamingDrawsTheCoarseProxyFirstThenTheFullDetail) {
+    const std::string path = sphereScene(3, false, "stream");
+    Loaded full = load(path, noShadows());
+    ASSERT_TRUE(full.renderer);
+    ASSERT_EQ(full.levels(), 4u);
+
+    StreamOptions o;
+    o.uploadBytesPerFrame = 16 << 10;
+    auto opened = SceneStream::open(path, o);
+    ASSERT_TRUE(opened.ok()) << (opened.ok() ? "" : opened.error().message);
+    RenderSettings settings = noShadows();
+    settings.warmUp = false;
+    settings.lodForce = 0; // full detail once there is detail: the images compare exactly
+    auto renderer = Renderer::create(*opened->scene, settings);
+    ASSERT_TRUE(renderer.ok());
+    const GpuScene& scene = *opened->scene;
+    uint32_t sphere = 0;
+    for (uint32_t i = 0; i < scene.items.size(); ++i)
+        if (scene.items[i].mesh == full.item().mesh) sphere = i;
+    const CameraState view = at(2.0);
+
+    // First frame: the proxy, one level: the coarsest level's triangles.
+    ASSERT_TRUE((*renderer)->render(view, kWidth, kHeight).ok());
+    EXPECT_EQ(scene.items[sphere].levelCount, 1u);
+    EXPECT_EQ((*renderer)->lastFrame().triangles, full.triangles(3));
+    int frames = 0;
+    while (!opened->stream->status().complete && frames < 500) {
+        ASSERT_TRUE(opened->stream->update(view, kWidth, kHeight).ok());
+        ASSERT_TRUE((*renderer)->render(view, kWidth, kHeight).ok());
+        const uint64_t drawn = (*renderer)->lastFrame().triangles;
+        // Never a half-uploaded mesh: the proxy's triangles or the detail's level 0, nothing else.
+        EXPECT_TRUE(drawn == full.triangles(3) || drawn == full.triangles(0)) << drawn;
+        ++frames;
+    }
+    ASSERT_TRUE(opened->stream->status().complete);
+    EXPECT_GT(frames, 3); // the detail took several frames of 16 KiB
+    EXPECT_EQ(opened->stream->status().meshesReplaced, 1u);
+    EXPECT_EQ(scene.items[sphere].levelCount, 4u);
+    EXPECT_EQ(scene.lodItems.size(), full.scene->lodItems.size());
+    ASSERT_TRUE((*renderer)->render(view, kWidth, kHeight).ok());
+    EXPECT_EQ((*renderer)->lastFrame().triangles, full.triangles(0));
+    RenderSettings forced = noShadows();
+    forced.lodForce = 0;
+    full.renderer->setSettings(forced);
+    ASSERT_TRUE(full.renderer->render(view, kWidth, kHeight).ok());
+    EXPECT_EQ(compareRgba8(*(*renderer)->capture(CaptureBuffer::Color), *full.renderer->capture(CaptureBuffer::Color)).maxAbs, 0);
+    renderer->reset(); // before the scene it draws
+}
+
+TEST(Lod, MeshProxiesChangeNothingInAFullLoad) {
+    // The same scene converted with --no-mesh-proxies renders the same image: a full load draws
+    // the MDET detail and never the proxy.
+    auto render2 = [](const std::string& path) {
+        Loaded l = load(path, noShadows());
+        EXPECT_TRUE(l.renderer->render(at(3.0), kWidth, kHeight).ok());
+        return std::move(*l.renderer->capture(CaptureBuffer::Color));
+    };
+    const std::string with = sphereScene(3, true, "proxies"), without = sphereScene(3, true, "no-proxies", false, false);
+    EXPECT_GT(std::filesystem::file_size(with), std::filesystem::file_size(without)); // proxy + MDET
+    EXPECT_EQ(compareRgba8(render2(with), render2(without)).maxAbs, 0);
 }
 
 } // namespace pnb::player::test

@@ -1,4 +1,4 @@
-// Level-of-detail selection (player/math/lod_select.h) and level pairing (lod_levels.h): the
+// Level-of-detail selection (player/math/lod_select.h) and level pairing (pnb/mesh_levels.h): the
 // rule at ordinary and extreme inputs, without a GL context.
 #include <cmath>
 #include <limits>
@@ -7,7 +7,7 @@
 
 #include <gtest/gtest.h>
 
-#include "lod_levels.h"
+#include "pnb/mesh_levels.h"
 #include "lod_select.h"
 
 namespace pnb::player {

@@ -55,6 +55,9 @@ struct MeshSettings {
     bool lodLockBorders = true; // keep open-boundary vertices of each submesh in every level, so
                                 // meshes that meet edge to edge (terrain tiles) stay crack-free
                                 // at different levels. Default: true.
+    bool proxies = true; // a mesh with levels is written as its coarse proxy (MESH) and its full
+                         // detail (MDET, after the first frame's data), so a streaming player
+                         // draws coarse geometry first (docs/FORMAT.md "MDET"). Default: true.
 };
 
 struct MeshStats {

@@ -226,6 +226,14 @@ struct Mesh {
         v(submeshes); v(bounds); v(boundingSphere);
     }
 };
+// MDET: the full-detail mesh that replaces mesh `mesh`, whose MESH chunk is then a coarse proxy
+// (docs/FORMAT.md "MDET"): with the same level-0 submeshes by material, so every draw item of
+// the proxy is one of the detail.
+struct MeshDetail {
+    uint32_t mesh = 0;
+    Mesh detail;
+    template <class V> void fields(V& v) { v(mesh); v(detail); }
+};
 uint32_t componentSizeBytes(ComponentType t);
 
 // [SECTION] LGHT — all lights (placed by nodes; a light shines down its node's -Z)
@@ -328,6 +336,7 @@ PNB_CHUNK_TRAITS(CameraList, tags::kCameras, Compression::None);
 PNB_CHUNK_TRAITS(NodeGraph, tags::kNodes, Compression::Zstd);
 PNB_CHUNK_TRAITS(CameraPath, tags::kCameraPath, Compression::None);
 PNB_CHUNK_TRAITS(TextureMip, tags::kTextureMip, Compression::None);
+PNB_CHUNK_TRAITS(MeshDetail, tags::kMeshDetail, Compression::None);
 #undef PNB_CHUNK_TRAITS
 
 // Encodes a chunk payload (deterministic: equal structs give equal bytes; blob padding is zero).

@@ -31,6 +31,7 @@ struct Scene {
     NodeGraph nodes;
     std::vector<CameraPath> cameraPaths;
     std::vector<TextureMip> textureMips;
+    std::vector<MeshDetail> meshDetails; // MDET: full detail for meshes whose MESH is a proxy
 
     std::vector<Payload> payloads; // storage of decoded chunks (owned or views of the mapping)
     uint32_t unknownChunks = 0;    // chunks with tags this reader does not know (skipped)
@@ -59,6 +60,12 @@ public:
         Status st = checkOrder(info);
         return isOk(st) ? decode(info, std::move(payload)) : st;
     }
+    // The progressive section's own order rule (FORMAT.md §4.1): no MDET after a texel level
+    // other than its texture's smallest (so a streaming reader that has seen such a level knows
+    // every mesh detail has come). `mip`: the decoded TMIP, null for an MDET. decode() applies it;
+    // a streaming reader that decodes those chunks itself calls it.
+    Status checkProgressive(const ChunkInfo& info, const TextureMip* mip);
+    bool largerTexelsSeen() const { return mLargerTexels; }
     // The string table was seen. (validateScene is the caller's: it may run on a prefix.)
     Status finish() const;
     Scene scene;
@@ -66,12 +73,22 @@ public:
 private:
     int mLastRank = -1;
     bool mSeen[16] = {};
+    bool mLargerTexels = false;
 };
 
 // Decodes every chunk. Checks the chunk order of FORMAT.md §4.1 (which makes every reference
 // point backwards), that single-instance chunks appear at most once, then validateScene().
 // Unknown tags are skipped and counted.
 Result<Scene> readScene(const Container& container);
+
+// The mesh to draw at full detail: mesh `index`'s MDET detail if the scene has one, else the
+// MESH itself. (A streaming reader draws the MESH, the proxy, until the MDET arrives.)
+const Mesh& fullDetailMesh(const Scene& scene, uint32_t index);
+
+// Checks one MDET chunk: its mesh index, the detail mesh as a mesh (§4.4), and that its level-0
+// submeshes are the proxy's by material (the same count of each material, in the same order);
+// `index` names it in the error. validateScene checks every one and that no mesh has two.
+Status validateMeshDetail(const Scene& scene, const MeshDetail& detail, size_t index);
 
 // Checks one texel chunk against its descriptor (texture index, level, size), as validateScene
 // does for each of scene.textureMips; `index` names it in the error.

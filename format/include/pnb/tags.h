@@ -41,12 +41,15 @@ inline constexpr Tag kCameras = detail::makeTag("CAMR");        // all cameras
 inline constexpr Tag kNodes = detail::makeTag("NODE");          // node graph
 inline constexpr Tag kCameraPath = detail::makeTag("PATH");     // one camera path
 inline constexpr Tag kTextureMip = detail::makeTag("TMIP");     // one mip level of a texture
+inline constexpr Tag kMeshDetail = detail::makeTag("MDET");     // a mesh's full detail (its MESH: a proxy)
 inline constexpr Tag kToc = detail::makeTag("TOCX");            // table of contents (last chunk)
 } // namespace tags
 
 // Rank of a known tag in the streamable order of FORMAT.md §4.1 (STRS 0 ... TMIP 12); -1 for
-// TOCX and tags this version does not know. Chunks of equal rank may repeat.
+// TOCX and tags this version does not know. Chunks of equal rank may repeat and interleave:
+// MDET shares TMIP's rank (the progressive section, after everything the first frame needs).
 constexpr int streamOrderRank(Tag t) {
+    if (t == tags::kMeshDetail) return 12;
     constexpr Tag order[] = {tags::kStrings,  tags::kSceneInfo, tags::kRenderSettings,
                              tags::kShader,   tags::kProgram,   tags::kTexture,
                              tags::kMaterial, tags::kMesh,      tags::kLights,

@@ -19,8 +19,10 @@
 // skipped as they streamed past, are read again from the file when needed; from a pipe they
 // cannot be (StreamStatus::lostLevels).
 //
-// Meshes are resident whole: the format puts a mesh's levels of detail in one chunk, before
-// the node graph, so the first frame has every mesh.
+// Meshes: the first frame draws each MESH chunk; a mesh the converter wrote with levels of
+// detail is there a coarse proxy (its coarsest level), and its full detail (MDET, right after
+// the textures' smallest levels) replaces it during the following frames, uploaded through the
+// same staging ring within the same per-frame bytes, before any texels.
 #pragma once
 
 #include <cstdint>
@@ -44,6 +46,7 @@ struct StreamFrameStats {
     uint64_t uploadedBytes = 0; // texels copied through the staging ring
     uint64_t evictedBytes = 0;  // texture storage given back
     uint32_t levelsCompleted = 0, evictions = 0, growths = 0, refetches = 0;
+    uint32_t meshesCompleted = 0; // proxies replaced by their full detail
 };
 
 struct StreamStatus {
@@ -56,10 +59,12 @@ struct StreamStatus {
     uint64_t fullTextureBytes = 0;     // every texture's whole chain
     uint64_t uploadedBytes = 0, evictedBytes = 0;
     uint32_t evictions = 0, refetches = 0;
+    uint32_t meshesReplaced = 0; // proxies replaced by their full detail (MDET) so far
     uint32_t lostLevels = 0; // needed again after being skipped, but the input is a pipe
     bool readDone = false;   // the forward pass reached the end of the container, intact
-    // Full quality: with a budget, every texture holds the levels the view needs; without one,
-    // every level of every texture is in (the forward pass has ended).
+    // Full quality: every mesh at its full detail, and with a budget, every texture holds the
+    // levels the view needs; without one, every level of every texture is in (the forward pass
+    // has ended).
     bool complete = false;
     StreamFrameStats frame;  // the last update()
 };

@@ -1,4 +1,6 @@
-// player/math/lod_levels.h — which submeshes of a mesh are levels of detail of which (pure CPU).
+// pnb/mesh_levels.h — which submeshes of a mesh are levels of detail of which: the pairing rule
+// of docs/FORMAT.md "MESH", for every reader and writer (the player's draw items, the
+// converter's proxies for MDET).
 //
 // The MESH chunk lists level-0 submeshes and their simplified versions side by side (Submesh::lod,
 // docs/FORMAT.md "MESH"). The pairing rule, which the converter's output follows (levels appended
@@ -14,8 +16,9 @@
 #include <vector>
 
 #include "pnb/chunks.h"
+#include "pnb/scene_builder.h"
 
-namespace pnb::player {
+namespace pnb {
 
 // One level-0 submesh and its simplified versions.
 struct SubmeshChain {
@@ -27,4 +30,14 @@ struct SubmeshChain {
 // chain. Submeshes that belong to no complete level are ignored.
 std::vector<SubmeshChain> buildLevelChains(std::span<const Submesh> submeshes);
 
-} // namespace pnb::player
+// Whether `mesh` has levels of detail a reader would use (some chain longer than one level).
+bool hasLevelChains(const Mesh& mesh);
+
+// The coarse proxy of a mesh with levels (docs/FORMAT.md "MDET"): one level-0 submesh per chain,
+// holding the chain's coarsest level's triangles but level 0's bounds (so culling and the draw
+// item's bounds do not change when the detail arrives), over only the vertices those triangles
+// use (in first-use order), in the mesh's own stream encodings (same dequantisation). Its bytes
+// are kept by `builder`. lodError of each proxy submesh is 0: it is the only level it has.
+Mesh buildCoarseProxy(const Mesh& mesh, SceneBuilder& builder);
+
+} // namespace pnb
