@@ -185,6 +185,7 @@ nlohmann::json streamingSummary(const std::vector<FrameRecord>& records, const S
         {"evictions", last.evictions},
         {"refetches", last.refetches},
         {"lost_levels", last.lostLevels},
+        {"meshes_replaced", last.meshesReplaced},
         {"stalls", stalls},
         {"frame_ms_median", median},
         {"frame_ms_p95_streaming", during.empty() ? nlohmann::json() : nlohmann::json(summarize("", during).p95)},

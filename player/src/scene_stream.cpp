@@ -283,9 +283,12 @@ PlayResult<SceneStream::Opened> SceneStream::open(const std::string& path, const
     };
     while (missing()) {
         im.loader->waitForLevel();
-        if (auto st = im.loader->status(); !st) return st.error();
         std::vector<Arrival> levels = im.loader->take();
-        if (levels.empty() && im.loader->forwardDone()) break; // a texture without texels
+        // Damage after what the first frame needs is reported by update(), like any later.
+        if (levels.empty()) {
+            if (auto st = im.loader->status(); !st) return st.error();
+            if (im.loader->forwardDone()) break; // a texture without texels
+        }
         for (Arrival& level : levels) {
             if (level.mesh) {
                 im.accept(std::move(level));

@@ -268,9 +268,10 @@ PlayResult<const Scene*> StreamLoader::waitForScene() {
     mShared->changed.wait(lock, [&] {
         return mShared->sceneReady || mShared->error.code != FormatError::None || mShared->forwardExited;
     });
+    // Ready: damage further on is status()'s to report, after the first frame.
+    if (mShared->sceneReady) return &mShared->assembler.scene;
     if (mShared->error.code != FormatError::None) return inputError(mShared->error);
-    if (!mShared->sceneReady) return PlayError{PlayErrorKind::Input, "the stream ended before the scene"};
-    return &mShared->assembler.scene;
+    return PlayError{PlayErrorKind::Input, "the stream ended before the scene"};
 }
 
 std::vector<Arrival> StreamLoader::take() {

@@ -23,7 +23,7 @@
 //                  and shadow triangles per frame (min/median/p95/max, sum); LOD switches; peak
 //                  resident memory of the process (peak_rss_bytes); with streaming, "streaming":
 //                  time to full quality, bytes read at the first frame, uploads per frame,
-//                  evictions, re-reads, stalls (frames over 2x the median frame_ms) and frame_ms
+//                  evictions, re-reads, mesh proxies replaced by their detail, stalls (frames over 2x the median frame_ms) and frame_ms
 //                  p95 while streaming and after, peak texture storage against the budget, and
 //                  peak GPU bytes (that peak plus meshes, material blocks and frame targets)
 //   frame_times.png  per-pass stacked GPU time and CPU time along the path (player/tools/
