@@ -144,6 +144,9 @@ void forwardPass(const std::shared_ptr<LoaderShared>& sh) {
             else decoded = mip.error();
         }
         lock.lock();
+        // Stopped meanwhile: nothing more goes into `arrived` (an Arrival there keeps the shared
+        // state alive, and the state keeps it: after the stop nobody would take it).
+        if (sh->stop) return false;
         if (isOk(decoded)) decoded = sh->assembler.checkProgressive(info, mesh ? nullptr : &level.mip);
         if (!isOk(decoded)) {
             sh->fail(decoded);
@@ -156,7 +159,9 @@ void forwardPass(const std::shared_ptr<LoaderShared>& sh) {
         sh->changed.notify_all();
         return true;
     });
+    std::deque<Arrival> orphans; // destroyed after the lock below is released (they take it)
     std::lock_guard lock(sh->mutex);
+    if (sh->stop) orphans.swap(sh->arrived);
     if (!isOk(st)) sh->fail(st);
     else if (!sh->stop && sh->error.code == FormatError::None) {
         if (!sh->sceneReady) { // no texels at all
@@ -186,6 +191,7 @@ void fetchLoop(const std::shared_ptr<LoaderShared>& sh) {
         auto payload = readChunkAt(sh->fd, info, ro);
         Result<TextureMip> mip = payload ? decodeLevel(sh->assembler.scene, info, *payload, 0) : Result<TextureMip>(payload.error());
         lock.lock();
+        if (sh->stop) break;
         if (!mip) {
             sh->fail(mip.error());
             break;
@@ -198,8 +204,11 @@ void fetchLoop(const std::shared_ptr<LoaderShared>& sh) {
         sh->arrived.push_back(std::move(level));
         sh->changed.notify_all();
     }
+    std::deque<Arrival> orphans; // destroyed after the lock is released (they take it)
+    if (sh->stop) orphans.swap(sh->arrived);
     sh->fetchExited = true;
     sh->changed.notify_all();
+    lock.unlock();
 }
 
 } // namespace
