@@ -251,7 +251,12 @@ def main():
             frames = [float(r["thread_cpu_ms"]) for r in csv.DictReader(f)]
         worst[warm] = max(frames)
         print(f"turn-around, warm-up {warm}: worst frame {worst[warm]:.1f} ms render-thread CPU")
-    check(worst["true"] < 25, f"with warm-up a frame along the path spent {worst['true']:.1f} ms (code generation?)")
+    # A frame that generates code costs about what the worst frame without warm-up does (tens of
+    # times a plain frame); 25 ms alone was exceeded by plain frames under ASan with other tests
+    # running (27 ms, against 1 063 ms without warm-up), so the bound is also relative.
+    bound = max(25.0, worst["false"] / 8)
+    check(worst["true"] < bound,
+          f"with warm-up a frame along the path spent {worst['true']:.1f} ms, over {bound:.1f} (code generation?)")
     check(worst["false"] > 4 * max(worst["true"], 25),
           f"without warm-up no frame shows code generation ({worst['false']:.1f} ms): the check has no power")
 
