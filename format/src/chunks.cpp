@@ -219,6 +219,15 @@ PNB_INSTANTIATE(CameraPath)
 PNB_INSTANTIATE(MeshDetail)
 #undef PNB_INSTANTIATE
 
+size_t meshIndexCount(const Mesh& mesh) {
+    return mesh.indices.size() / (mesh.indexType == IndexType::U16 ? 2 : 4);
+}
+
+uint32_t meshIndex(const Mesh& mesh, size_t k) {
+    return mesh.indexType == IndexType::U16 ? detail::loadLE<uint16_t>(&mesh.indices[k * 2])
+                                            : detail::loadLE<uint32_t>(&mesh.indices[k * 4]);
+}
+
 uint32_t componentSizeBytes(ComponentType t) {
     switch (t) {
     case ComponentType::I8:

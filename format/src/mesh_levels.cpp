@@ -39,17 +39,6 @@ bool hasLevelChains(const Mesh& mesh) {
 }
 
 Mesh buildCoarseProxy(const Mesh& mesh, SceneBuilder& builder) {
-    const size_t indexSize = mesh.indexType == IndexType::U16 ? 2 : 4;
-    auto indexAt = [&](size_t k) -> uint32_t {
-        if (indexSize == 2) {
-            uint16_t i = 0;
-            std::memcpy(&i, mesh.indices.data() + k * 2, 2);
-            return i;
-        }
-        uint32_t i = 0;
-        std::memcpy(&i, mesh.indices.data() + k * 4, 4);
-        return i;
-    };
     Mesh proxy = mesh;
     proxy.submeshes.clear();
     std::unordered_map<uint32_t, uint32_t> remap; // mesh vertex -> proxy vertex
@@ -63,7 +52,7 @@ Mesh buildCoarseProxy(const Mesh& mesh, SceneBuilder& builder) {
         sm.lod = 0;
         sm.lodError = 0;
         for (uint32_t k = coarse.firstIndex; k < coarse.firstIndex + coarse.indexCount; ++k) {
-            const uint32_t v = indexAt(k);
+            const uint32_t v = meshIndex(mesh, k);
             auto [it, added] = remap.emplace(v, uint32_t(used.size()));
             if (added) used.push_back(v);
             indices.push_back(it->second);

@@ -151,10 +151,9 @@ Status validateMesh(const Scene& s, const Mesh& m, const char* what, size_t i) {
     if (m.indices.size() % indexSize != 0)
         return makeError(FormatError::BadReference, 0,
                          "%s %zu: index data is not a whole number of indices", what, i);
-    const size_t indexCount = m.indices.size() / indexSize;
+    const size_t indexCount = meshIndexCount(m);
     for (size_t k = 0; k < indexCount; ++k) {
-        uint32_t v = indexSize == 2 ? detail::loadLE<uint16_t>(&m.indices[k * 2])
-                                    : detail::loadLE<uint32_t>(&m.indices[k * 4]);
+        uint32_t v = meshIndex(m, k);
         if (v >= m.vertexCount)
             return makeError(FormatError::BadReference, 0,
                              "%s %zu: index %zu = %u, but there are %u vertices", what, i, k, v,

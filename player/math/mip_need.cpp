@@ -51,24 +51,13 @@ double uvDensity(const Mesh& mesh, const Submesh& submesh) {
     const VertexStream* pos = findStream(mesh, VertexSemantic::Position);
     const VertexStream* uv = findStream(mesh, VertexSemantic::TexCoord0);
     if (!pos || !uv || mesh.primitive != Primitive::Triangles) return 0;
-    const size_t indexSize = mesh.indexType == IndexType::U16 ? 2 : 4;
-    const size_t indexCount = mesh.indices.size() / indexSize;
-    auto index = [&](size_t k) -> uint32_t {
-        if (indexSize == 2) {
-            uint16_t i = 0;
-            std::memcpy(&i, mesh.indices.data() + k * 2, 2);
-            return i;
-        }
-        uint32_t i = 0;
-        std::memcpy(&i, mesh.indices.data() + k * 4, 4);
-        return i;
-    };
+    const size_t indexCount = meshIndexCount(mesh);
     double area = 0, uvArea = 0;
     const size_t end = std::min<size_t>(size_t(submesh.firstIndex) + submesh.indexCount, indexCount);
     for (size_t k = submesh.firstIndex; k + 3 <= end; k += 3) {
         glm::dvec3 p[3], t[3];
         for (int c = 0; c < 3; ++c) {
-            uint32_t v = index(k + size_t(c));
+            uint32_t v = meshIndex(mesh, k + size_t(c));
             if (v >= mesh.vertexCount || !readVertex(*pos, v, p[c]) || !readVertex(*uv, v, t[c])) return 0;
         }
         area += glm::length(glm::cross(p[1] - p[0], p[2] - p[0]));

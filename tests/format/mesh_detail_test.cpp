@@ -24,17 +24,6 @@ std::vector<std::byte> writeToMemory(const Scene& scene) {
     return bytes;
 }
 
-uint32_t indexAt(const Mesh& m, size_t k) {
-    if (m.indexType == IndexType::U16) {
-        uint16_t i = 0;
-        std::memcpy(&i, m.indices.data() + k * 2, 2);
-        return i;
-    }
-    uint32_t i = 0;
-    std::memcpy(&i, m.indices.data() + k * 4, 4);
-    return i;
-}
-
 // Position of vertex v (the box room's meshes are F32).
 std::array<float, 3> position(const Mesh& m, uint32_t v) {
     std::array<float, 3> p{};
@@ -81,8 +70,8 @@ TEST(MeshDetail, TheProxyHoldsEachChainsCoarsestLevelWithLevelZerosBounds) {
         EXPECT_EQ(std::memcmp(&p.bounds, &level0.bounds, sizeof p.bounds), 0);
         ASSERT_EQ(p.indexCount, coarse.indexCount);
         for (uint32_t k = 0; k < p.indexCount; ++k) // the same triangles, renumbered
-            EXPECT_EQ(position(proxy, indexAt(proxy, p.firstIndex + k)),
-                      position(d.detail, indexAt(d.detail, coarse.firstIndex + k)));
+            EXPECT_EQ(position(proxy, meshIndex(proxy, p.firstIndex + k)),
+                      position(d.detail, meshIndex(d.detail, coarse.firstIndex + k)));
     }
     EXPECT_TRUE(isOk(validateScene(d.b.scene)));
 }

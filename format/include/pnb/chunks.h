@@ -235,6 +235,9 @@ struct MeshDetail {
     template <class V> void fields(V& v) { v(mesh); v(detail); }
 };
 uint32_t componentSizeBytes(ComponentType t);
+// The mesh's index count, and index k (U16 or U32, little-endian; precondition k < the count).
+size_t meshIndexCount(const Mesh& mesh);
+uint32_t meshIndex(const Mesh& mesh, size_t k);
 
 // [SECTION] LGHT — all lights (placed by nodes; a light shines down its node's -Z)
 enum class LightType : uint8_t { Directional, Point, Spot, Count };
