@@ -78,6 +78,20 @@ CapturedImage frame(Streamed& s, const CameraState& camera, CaptureBuffer buffer
     return std::move(*s.renderer->capture(buffer));
 }
 
+// Draws frames of `view` until the stream has what this view needs (at least one frame: the
+// status is about the view last planned for). False if it never does.
+bool settle(Streamed& s, const CameraState& view, int maxFrames = 400) {
+    for (int k = 0; k < maxFrames; ++k) {
+        frame(s, view);
+        if (s.stream->status().complete) return true;
+    }
+    return false;
+}
+
+// Looking down the street from before its start: what it needs (the CPU estimate counts the
+// panels behind and beside the camera too) fits in a quarter of the texture bytes.
+const CameraState kBudgetView = streetView(10.0);
+
 std::string copyTo(const std::string& from, const std::string& name) {
     auto to = std::filesystem::path(from).parent_path() / name;
     std::filesystem::copy_file(from, to, std::filesystem::copy_options::overwrite_existing);
@@ -116,21 +130,36 @@ TEST(Streaming, FinishedStreamDrawsTheFullLoadsImageAndEveryFrameBeforeIsFinite)
     EXPECT_EQ(compareRgba8(done, full.color).maxAbs, 0);
 }
 
-TEST(Streaming, LevelsDroppedForLackOfReadAheadAreReadAgain) {
+TEST(Streaming, LevelsSkippedWhileNotNeededAreReadAgainWhenTheViewNeedsThem) {
     NoGlErrors noGlErrors;
-    // A read-ahead smaller than one level: levels that arrive while the first frame is prepared
-    // are dropped, and fetched again from the file later; the result is still the full image.
+    // Under a budget of half the texture bytes, seen from far beyond the street's end, the
+    // finest levels of the panels nearer its start are skipped as the forward pass brings them
+    // (the spare budget caches levels of the panels nearest to the camera). Once the whole file
+    // has been read and the cache has settled, what a view inside the street needs beyond it can
+    // only come from re-reading the file (pread); the image ends at the full load's. A read-ahead
+    // smaller than one level keeps the loader at most one level ahead.
     const std::string path = texturedStreet();
-    const CameraState view = streetView(2.0);
     StreamOptions o;
+    Streamed probe = openStream(path, o);
+    ASSERT_TRUE(probe.stream);
+    o.textureBudgetBytes = probe.stream->status().fullTextureBytes / 2;
+    probe = {};
     o.readAheadBytes = 4 << 10;
     o.uploadBytesPerFrame = 96 << 10;
     Streamed s = openStream(path, o);
     ASSERT_TRUE(s.renderer);
-    for (int k = 0; k < 400 && !s.stream->status().complete; ++k) frame(s, view);
-    ASSERT_TRUE(s.stream->status().complete);
-    EXPECT_GT(s.stream->status().refetches, 0u);
-    EXPECT_EQ(compareRgba8(frame(s, view), render(path, view, kW, kH).color).maxAbs, 0);
+    const CameraState far = streetView(-80.0), near = streetView(-6.0);
+    for (int k = 0; k < 2000 && !s.stream->status().readDone; ++k) frame(s, far);
+    ASSERT_TRUE(s.stream->status().readDone);
+    ASSERT_TRUE(settle(s, far));
+    for (int k = 0; k < 30; ++k) frame(s, far); // the cache fills the spare budget
+    const uint64_t uploadedBefore = s.stream->status().uploadedBytes;
+    const uint32_t refetchesBefore = s.stream->status().refetches;
+    ASSERT_TRUE(settle(s, near));
+    EXPECT_LE(s.stream->status().neededTextureBytes, o.textureBudgetBytes);
+    EXPECT_GT(s.stream->status().uploadedBytes - uploadedBefore, uint64_t(o.readAheadBytes));
+    EXPECT_GT(s.stream->status().refetches, refetchesBefore);
+    EXPECT_EQ(compareRgba8(frame(s, near), render(path, near, kW, kH).color).maxAbs, 0);
 }
 
 TEST(Streaming, BudgetIsNeverExceededAlongAPathAndTheImageConvergesWhereItSuffices) {
@@ -159,9 +188,8 @@ TEST(Streaming, BudgetIsNeverExceededAlongAPathAndTheImageConvergesWhereItSuffic
     }
     EXPECT_GT(evictions, 0u); // the budget was short somewhere along the path
     // Parked where the budget suffices for the view: the image becomes the full load's.
-    const CameraState view = streetView(-6.0);
-    for (int k = 0; k < 200 && !s.stream->status().complete; ++k) frame(s, view);
-    ASSERT_TRUE(s.stream->status().complete);
+    const CameraState view = kBudgetView;
+    ASSERT_TRUE(settle(s, view));
     EXPECT_LE(s.stream->status().neededTextureBytes, budget);
     const CapturedImage converged = frame(s, view);
     const Rendered full = render(path, view, kW, kH);
