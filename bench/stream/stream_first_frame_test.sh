@@ -48,17 +48,17 @@ python3 - "$tmp/bench/summary.json" "$tmp/bench/frames.csv" <<'PY'
 import csv, json, sys
 s = json.load(open(sys.argv[1]))["streaming"]
 budget = 128 << 20
-assert s["texture_budget_bytes"] == budget, s
-assert 0 < s["peak_texture_bytes"] <= budget, s
+assert s["budget_bytes"] == budget, s
+assert 0 < s["peak_bytes"] <= budget, s
 assert s["first_frame_bytes_read"] < 0.10 * s["file_bytes"], s
 assert s["uploaded_bytes"] > 0, s
 rows = list(csv.DictReader(open(sys.argv[2])))
 assert len(rows) == 30
 for r in rows:
-    assert int(r["resident_texture_bytes"]) <= budget, r
+    assert int(r["resident_bytes"]) <= budget, r
     assert int(r["stream_upload_bytes"]) <= (16 << 20) + (1 << 20), r
 print("bench: peak texture storage %.1f of %d MiB, %d evictions, %.1f MiB uploaded"
-      % (s["peak_texture_bytes"] / 2**20, budget >> 20, s["evictions"], s["uploaded_bytes"] / 2**20))
+      % (s["peak_bytes"] / 2**20, budget >> 20, s["evictions"], s["uploaded_bytes"] / 2**20))
 PY
 # Damage mid-stream: a byte of the last texel chunk's payload (a level 0, after the first frame).
 small=$tmp/small.pnb

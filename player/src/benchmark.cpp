@@ -172,12 +172,13 @@ nlohmann::json streamingSummary(const std::vector<FrameRecord>& records, const S
         {"complete", last.complete},
         {"frames_streaming", during.size()},
         {"file_bytes", last.fileBytes},
-        {"texture_budget_bytes", stream.options().textureBudgetBytes},
+        {"budget_bytes", stream.options().budgetBytes},
         {"upload_bytes_per_frame_limit", stream.options().uploadBytesPerFrame},
-        {"full_texture_bytes", last.fullTextureBytes},
-        {"peak_texture_bytes", last.peakTextureBytes},
-        {"resident_texture_bytes", last.residentTextureBytes},
-        {"needed_texture_bytes", last.neededTextureBytes},
+        {"full_bytes", last.fullBytes},
+        {"peak_bytes", last.peakBytes},
+        {"resident_bytes", last.residentBytes},
+        {"resident_mesh_bytes", last.residentMeshBytes},
+        {"needed_bytes", last.neededBytes},
         {"uploaded_bytes", last.uploadedBytes},
         {"uploaded_bytes_per_frame", {{"median", summarize("", uploads).median}, {"p95", summarize("", uploads).p95},
                                       {"max", summarize("", uploads).max}}},
@@ -370,8 +371,8 @@ PlayResult<BenchResult> runBenchmark(const GpuScene& scene, Renderer& renderer,
            "shadow_triangles,shadow_casters,camera_x,camera_y,camera_z,camera_yfov_deg,thread_cpu_ms,"
            "lod_switches,frame_ms";
     if (options.stream)
-        csv << ",stream_ms,stream_upload_bytes,stream_evicted_bytes,resident_texture_bytes,"
-               "needed_texture_bytes,bytes_read,streaming";
+        csv << ",stream_ms,stream_upload_bytes,stream_evicted_bytes,resident_bytes,"
+               "needed_bytes,bytes_read,streaming";
     csv << '\n';
     for (size_t k = 0; k < records.size(); ++k) {
         const FrameRecord& r = records[k];
@@ -389,7 +390,7 @@ PlayResult<BenchResult> runBenchmark(const GpuScene& scene, Renderer& renderer,
             << r.stats.threadCpuMs << ',' << r.stats.lodSwitches << ',' << r.frameMs;
         if (options.stream)
             csv << ',' << r.streamMs << ',' << r.stream.frame.uploadedBytes << ',' << r.stream.frame.evictedBytes
-                << ',' << r.stream.residentTextureBytes << ',' << r.stream.neededTextureBytes << ','
+                << ',' << r.stream.residentBytes << ',' << r.stream.neededBytes << ','
                 << r.stream.bytesRead << ',' << (r.stream.complete ? 0 : 1);
         csv << '\n';
     }
@@ -483,9 +484,11 @@ PlayResult<BenchResult> runBenchmark(const GpuScene& scene, Renderer& renderer,
     j["peak_rss_bytes"] = uint64_t(usage.ru_maxrss) * 1024;
     if (options.stream) {
         j["streaming"] = streamingSummary(records, *options.stream, fullQualityMs, options.startup);
-        // Everything GL holds at the textures' peak: the peak texture storage, the meshes and
-        // material blocks (resident whole), the frame's targets and buffers.
-        uint64_t gpuBytes = options.stream->status().peakTextureBytes + scene.memory.meshBytes + scene.memory.uniformBytes;
+        // Everything GL holds at the budget's peak: the peak of budgeted storage (textures, LOD
+        // meshes), the other meshes and the material blocks (resident whole), the frame's
+        // targets and buffers.
+        const StreamStatus& st = options.stream->status();
+        uint64_t gpuBytes = st.peakBytes + (scene.memory.meshBytes - std::min(scene.memory.meshBytes, st.residentMeshBytes)) + scene.memory.uniformBytes;
         for (const auto& [name, bytes] : j["gpu_memory_bytes"].items())
             if (name != "meshes" && name != "textures" && name != "material_uniforms") gpuBytes += bytes.get<uint64_t>();
         j["streaming"]["peak_gpu_bytes"] = gpuBytes;

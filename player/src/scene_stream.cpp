@@ -12,6 +12,7 @@
 
 #include "lod_select.h"
 #include "mip_need.h"
+#include "pnb_player/settings.h"
 #include "scene_upload.h"
 #include "stream_loader.h"
 #include "stream_ring.h"
@@ -33,6 +34,32 @@ struct TextureUse {
     double texelsPerUnit = 0;
 };
 
+// The level chain each item of a mesh draws (DrawItem::firstLevel ..): kept for the proxy and
+// for the detail, so that swapping one for the other again appends no levels.
+struct ItemLevels {
+    uint32_t item = 0, firstLevel = 0, levelCount = 0;
+    uint64_t triangles = 0;
+};
+
+std::vector<ItemLevels> itemLevelsOf(const GpuScene& gpu, uint32_t mesh) {
+    std::vector<ItemLevels> out;
+    for (uint32_t i = 0; i < gpu.items.size(); ++i)
+        if (const DrawItem& item = gpu.items[i]; item.mesh == mesh)
+            out.push_back({i, item.firstLevel, item.levelCount, item.triangles});
+    return out;
+}
+
+void setItemLevels(GpuScene& gpu, const std::vector<ItemLevels>& levels) {
+    for (const ItemLevels& l : levels) {
+        DrawItem& item = gpu.items[l.item];
+        gpu.triangles = gpu.triangles - item.triangles + l.triangles;
+        item.firstLevel = l.firstLevel;
+        item.levelCount = l.levelCount;
+        item.triangles = l.triangles;
+    }
+    ++gpu.materialsVersion; // renderers rebuild their caster lists
+}
+
 // Bytes of `rows` rows (block rows for compressed formats: 4 pixels) of one face of a level.
 uint64_t rowBytes(const TextureDesc& d, uint32_t level, uint32_t rows) {
     return textureLevelSizeBytes(d.format, std::max(d.width >> level, 1u), rows, 1);
@@ -51,7 +78,11 @@ struct SceneStream::Impl {
     GpuScene* gpu = nullptr;
     std::unique_ptr<StreamLoader> loader;
     const Scene* scene = nullptr; // the loader's, read-only
+    // Textures 0..textureCount-1, then the meshes with levels whose detail has been seen, as
+    // two-level chains: level 1 the proxy (always resident), level 0 the detail beside it.
     std::vector<TextureResidency> residency;
+    uint32_t textureCount = 0;
+    uint64_t textureFullBytes = 0; // every texture's whole chain
     struct Pending {
         // Levels valid - 1, valid - 2, ... that have arrived (their bytes hold the loader's
         // read-ahead back until uploaded or dropped); the front is being uploaded.
@@ -71,6 +102,24 @@ struct SceneStream::Impl {
         uint64_t done = 0; // bytes copied, over the layout's segments in order
     };
     std::deque<PendingMesh> meshes;
+    struct MeshChain {
+        uint32_t mesh = 0;
+        float coarsestError = 0;       // the proxy's error against the detail, mesh units
+        std::optional<GpuMesh> parked; // the proxy, while the detail is drawn
+        std::vector<ItemLevels> proxyLevels, detailLevels; // detailLevels: once it was drawn
+        std::vector<uint32_t> items;   // the draw items of the mesh
+        bool requested = false, lost = false;
+    };
+    std::vector<MeshChain> meshChains;    // residency[textureCount + i]
+    std::vector<int32_t> chainOfMesh;     // per mesh: its index in meshChains, or -1
+    uint64_t meshChainBytes() const {
+        uint64_t sum = 0;
+        for (size_t i = 0; i < meshChains.size(); ++i) {
+            const TextureResidency& r = residency[textureCount + i];
+            sum += r.bytesFrom(r.allocated);
+        }
+        return sum;
+    }
     std::vector<std::vector<TextureUse>> uses; // per texture
     StreamRing staging;
     uint64_t frame = 0;
@@ -121,8 +170,15 @@ struct SceneStream::Impl {
     // Takes a level that arrived: kept if it is the next one texture t can use, else dropped
     // (it can be read again from a file when needed).
     void accept(Arrival level) {
-        if (level.mesh) { // never dropped: it cannot be read again from a pipe, and it is small
-            meshes.push_back({std::move(level), std::nullopt, {}, 0});
+        if (level.mesh) {
+            const uint32_t c = chainFor(*level.mesh);
+            if (level.refetched) meshChains[c].requested = false;
+            // Kept for the next plan if just seen, or if it has storage (then it is the detail
+            // to upload); else skipped (re-read when needed).
+            const TextureResidency& r = residency[textureCount + c];
+            const bool fresh = r.levelBytes[0] == 0;
+            if (fresh) residency[textureCount + c].levelBytes[0] = meshLayout(level.mesh->detail).size;
+            if (fresh || r.allocated == 0) meshes.push_back({std::move(level), std::nullopt, {}, 0});
             return;
         }
         const uint32_t t = level.mip.texture, l = level.mip.level;
@@ -130,6 +186,39 @@ struct SceneStream::Impl {
         if (level.refetched) p.requested = false;
         if (l + 1 == p.nextLevel(residency[t].valid) && (!budgeted || l >= residency[t].allocated))
             p.levels.push_back(std::move(level));
+    }
+
+    // The chain of the mesh `d` is the detail of, made when its first MDET arrives (level 0's
+    // bytes still 0: accept() fills them).
+    uint32_t chainFor(const MeshDetail& d) {
+        if (chainOfMesh[d.mesh] >= 0) return uint32_t(chainOfMesh[d.mesh]);
+        MeshChain c;
+        c.mesh = d.mesh;
+        for (const Submesh& sm : d.detail.submeshes) c.coarsestError = std::max(c.coarsestError, sm.lodError);
+        c.proxyLevels = itemLevelsOf(*gpu, d.mesh);
+        for (const ItemLevels& l : c.proxyLevels) c.items.push_back(l.item);
+        TextureResidency r;
+        r.levelBytes = {0, gpu->meshes[d.mesh].bytes};
+        r.allocated = r.valid = r.wanted = 1;
+        residency.push_back(std::move(r));
+        meshChains.push_back(std::move(c));
+        chainOfMesh[d.mesh] = int32_t(meshChains.size() - 1);
+        return uint32_t(meshChains.size() - 1);
+    }
+
+    // Gives up mesh chain c's detail: the proxy is drawn again, an upload under way is dropped.
+    void evictDetail(uint32_t c) {
+        MeshChain& mc = meshChains[c];
+        TextureResidency& r = residency[textureCount + c];
+        std::erase_if(meshes, [&](const PendingMesh& pm) { return pm.data.mesh->mesh == mc.mesh; });
+        if (r.valid == 0) {
+            GpuScene& g = *gpu;
+            g.memory.meshBytes -= g.meshes[mc.mesh].bytes;
+            g.meshes[mc.mesh] = std::move(*mc.parked);
+            mc.parked.reset();
+            setItemLevels(g, mc.proxyLevels);
+        }
+        r.allocated = r.valid = 1;
     }
 
     // Copies the front mesh detail's bytes until `budget` is spent; when all are in, its buffer
@@ -162,10 +251,20 @@ struct SceneStream::Impl {
             }
             start = end;
         }
+        // The proxy stays (parked) for when the detail is given up; GL orders the copies before
+        // the frame's draws.
         GpuScene& g = *gpu;
-        g.memory.meshBytes = g.memory.meshBytes - g.meshes[d.mesh].bytes + pm.gpu->bytes;
-        g.meshes[d.mesh] = std::move(*pm.gpu); // GL orders the copies before the frame's draws
-        replaceMeshLevels(g, d.mesh);
+        MeshChain& mc = meshChains[uint32_t(chainOfMesh[d.mesh])];
+        g.memory.meshBytes += pm.gpu->bytes;
+        mc.parked = std::move(g.meshes[d.mesh]);
+        g.meshes[d.mesh] = std::move(*pm.gpu);
+        if (mc.detailLevels.empty()) {
+            replaceMeshLevels(g, d.mesh);
+            mc.detailLevels = itemLevelsOf(g, d.mesh);
+        } else {
+            setItemLevels(g, mc.detailLevels);
+        }
+        residency[textureCount + uint32_t(chainOfMesh[d.mesh])].valid = 0;
         meshes.pop_front();
         ++f.meshesCompleted;
         return true;
@@ -239,7 +338,7 @@ PlayResult<SceneStream::Opened> SceneStream::open(const std::string& path, const
 
     // Storage: the smallest level, for the first frame; chains grow from there (update()).
     phase = Clock::now();
-    im.budgeted = options.textureBudgetBytes > 0;
+    im.budgeted = options.budgetBytes > 0;
     const Scene& sc = *im.scene;
     std::vector<uint32_t> firstLevels;
     for (const TextureDesc& d : sc.textures) {
@@ -249,10 +348,13 @@ PlayResult<SceneStream::Opened> SceneStream::open(const std::string& path, const
         r.valid = d.mipCount;
         r.wanted = r.allocated;
         firstLevels.push_back(r.allocated);
-        s.mStatus.fullTextureBytes += r.bytesFrom(0);
+        s.mStatus.fullBytes += r.bytesFrom(0);
         im.residency.push_back(std::move(r));
     }
+    im.textureFullBytes = s.mStatus.fullBytes;
     im.pending.resize(sc.textures.size());
+    im.textureCount = uint32_t(sc.textures.size());
+    im.chainOfMesh.assign(sc.meshes.size(), -1);
     auto gpu = uploadSceneWithoutTexels(sc, firstLevels, false); // proxies: details stream in
     if (!gpu) return gpu.error();
     im.gpu = gpu->get();
@@ -277,8 +379,8 @@ PlayResult<SceneStream::Opened> SceneStream::open(const std::string& path, const
 
     // The first frame's texels: each texture's smallest level, straight from the loader.
     auto missing = [&] {
-        for (const TextureResidency& r : im.residency)
-            if (r.valid == r.mipCount()) return true;
+        for (uint32_t t = 0; t < im.textureCount; ++t)
+            if (im.residency[t].valid == im.residency[t].mipCount()) return true;
         return false;
     };
     while (missing()) {
@@ -318,9 +420,9 @@ PlayResult<SceneStream::Opened> SceneStream::open(const std::string& path, const
     stats.chunks = 0;
     s.mStatus.fileBytes = im.loader->fileBytes();
     s.mStatus.bytesRead = im.loader->bytesRead();
-    s.mStatus.residentTextureBytes = residentBytes(im.residency);
-    s.mStatus.peakTextureBytes = s.mStatus.residentTextureBytes;
-    s.mStatus.neededTextureBytes = im.budgeted ? neededBytes(im.residency) : s.mStatus.fullTextureBytes;
+    s.mStatus.residentBytes = residentBytes(im.residency);
+    s.mStatus.peakBytes = s.mStatus.residentBytes;
+    s.mStatus.neededBytes = im.budgeted ? neededBytes(im.residency) : s.mStatus.fullBytes;
     if (statsOut) *statsOut = stats;
     out.scene = std::move(*gpu);
     return out;
@@ -328,10 +430,15 @@ PlayResult<SceneStream::Opened> SceneStream::open(const std::string& path, const
 
 void SceneStream::markFirstFrame() { mStatus.firstFrameBytesRead = mImpl->loader->bytesRead(); }
 
-void SceneStream::setLimits(uint64_t textureBudgetBytes, uint64_t uploadBytesPerFrame) {
-    mOptions.textureBudgetBytes = textureBudgetBytes;
-    mOptions.uploadBytesPerFrame = std::max<uint64_t>(uploadBytesPerFrame, 1);
+void StreamOptions::applySettings(const RenderSettings& settings) {
+    budgetBytes = uint64_t(settings.streamBudgetMib) << 20;
+    uploadBytesPerFrame = std::max<uint64_t>(uint64_t(double(settings.streamUploadMib) * 1048576.0), 1);
+    lodThresholdPx = settings.lodThresholdPx;
+    lodBias = settings.lodBias;
+    lodForce = settings.lodForce;
 }
+
+void SceneStream::setLimits(const RenderSettings& settings) { mOptions.applySettings(settings); }
 
 PlayResult<Done> SceneStream::update(const CameraState& camera, uint32_t width, uint32_t height) {
     (void)width;
@@ -343,9 +450,9 @@ PlayResult<Done> SceneStream::update(const CameraState& camera, uint32_t width, 
     const Scene& sc = *im.scene;
 
     // The levels this view needs; without a budget, storage for the levels that have arrived.
-    im.budgeted = mOptions.textureBudgetBytes > 0;
+    im.budgeted = mOptions.budgetBytes > 0;
     const double pixelScale = lodPixelScale(camera.yfovRadians, height);
-    for (uint32_t t = 0; t < im.residency.size(); ++t) {
+    for (uint32_t t = 0; t < im.textureCount; ++t) {
         TextureResidency& r = im.residency[t];
         if (!im.budgeted) {
             r.wanted = std::min(r.allocated, im.pending[t].nextLevel(r.valid));
@@ -359,27 +466,53 @@ PlayResult<Done> SceneStream::update(const CameraState& camera, uint32_t width, 
         }
         r.wanted = want;
     }
+    // Meshes: the detail while the LOD rule would draw an item finer than the proxy (without a
+    // budget: once it has arrived).
+    const bool allDetail = mOptions.lodForce >= 0 || mOptions.lodBias < 0;
+    for (uint32_t c = 0; c < im.meshChains.size(); ++c) {
+        const Impl::MeshChain& mc = im.meshChains[c];
+        TextureResidency& r = im.residency[im.textureCount + c];
+        bool need = r.valid == 0 || std::any_of(im.meshes.begin(), im.meshes.end(), [&](const Impl::PendingMesh& pm) {
+                        return pm.data.mesh->mesh == mc.mesh;
+                    });
+        if (im.budgeted) {
+            need = allDetail;
+            for (uint32_t i = 0; i < mc.items.size() && !need; ++i) {
+                const DrawItem& item = im.gpu->items[mc.items[i]];
+                const double d = distanceToBox(camera.position, item.boundsMin, item.boundsMax);
+                const double px = double(mc.coarsestError) * item.worldScale * pixelScale / d;
+                need = !(px <= double(mOptions.lodThresholdPx)); // NaN (d = 0): needed
+            }
+        }
+        r.wanted = need ? 0 : 1;
+    }
 
     // Storage: cut back and grow chains within the budget.
     // New storage per frame: what two frames of uploads fill (creating it costs frame time).
-    const ResidencyPlan plan = planResidency(im.residency, mOptions.textureBudgetBytes, im.frame,
+    const ResidencyPlan plan = planResidency(im.residency, mOptions.budgetBytes, im.frame,
                                              2 * mOptions.uploadBytesPerFrame);
     for (const ResidencyChange& c : plan.evictions) {
         const uint64_t before = im.residency[c.texture].bytesFrom(im.residency[c.texture].allocated);
-        if (auto r = im.reallocate(c.texture, c.allocated); !r) return r.error();
+        if (c.texture >= im.textureCount) im.evictDetail(c.texture - im.textureCount);
+        else if (auto r = im.reallocate(c.texture, c.allocated); !r) return r.error();
         st.frame.evictedBytes += before - im.residency[c.texture].bytesFrom(c.allocated);
         ++st.frame.evictions;
     }
     for (const ResidencyChange& c : plan.growths) {
-        if (auto r = im.reallocate(c.texture, c.allocated); !r) return r.error();
+        if (c.texture >= im.textureCount) im.residency[c.texture].allocated = 0; // buffer made at upload
+        else if (auto r = im.reallocate(c.texture, c.allocated); !r) return r.error();
         ++st.frame.growths;
     }
-    st.peakTextureBytes = std::max(st.peakTextureBytes, plan.peakBytes);
+    st.peakBytes = std::max(st.peakBytes, plan.peakBytes);
+    // Mesh details that arrived but were given no storage: skipped (read again when needed).
+    std::erase_if(im.meshes, [&](const Impl::PendingMesh& pm) {
+        return im.residency[im.textureCount + uint32_t(im.chainOfMesh[pm.data.mesh->mesh])].allocated != 0;
+    });
 
     // Levels read since the last frame; re-reads of levels the chains now have room for.
     for (Arrival& level : im.loader->take()) im.accept(std::move(level));
     const bool readDone = im.loader->forwardDone();
-    for (uint32_t t = 0; t < im.residency.size(); ++t) {
+    for (uint32_t t = 0; t < im.textureCount; ++t) {
         const TextureResidency& r = im.residency[t];
         Impl::Pending& p = im.pending[t];
         // The next level is wanted: storage waits for it (budget), or every level is (none).
@@ -390,6 +523,21 @@ PlayResult<Done> SceneStream::update(const CameraState& camera, uint32_t width, 
             ++st.frame.refetches;
         } else if (readDone) {
             p.lost = true; // passed on a pipe: it will not come again
+            ++st.lostLevels;
+        }
+    }
+    for (uint32_t c = 0; c < im.meshChains.size(); ++c) {
+        Impl::MeshChain& mc = im.meshChains[c];
+        const TextureResidency& r = im.residency[im.textureCount + c];
+        const bool pendingDetail = std::any_of(im.meshes.begin(), im.meshes.end(), [&](const Impl::PendingMesh& pm) {
+            return pm.data.mesh->mesh == mc.mesh;
+        });
+        if (r.allocated != 0 || r.valid == 0 || pendingDetail || mc.requested || mc.lost) continue;
+        if (im.loader->requestMeshDetail(mc.mesh)) {
+            mc.requested = true;
+            ++st.frame.refetches;
+        } else if (readDone) {
+            mc.lost = true;
             ++st.lostLevels;
         }
     }
@@ -417,7 +565,9 @@ PlayResult<Done> SceneStream::update(const CameraState& camera, uint32_t width, 
         glBindBuffer(GL_PIXEL_UNPACK_BUFFER, im.staging.buffer());
         uint64_t budget = mOptions.uploadBytesPerFrame;
         // Meshes first: until its detail is in, a mesh is drawn as its coarse proxy.
-        while (budget >= kStagingAlignment && !im.meshes.empty()) {
+        // (A detail that arrived after this frame's plan waits for the next one's.)
+        while (budget >= kStagingAlignment && !im.meshes.empty() &&
+               im.residency[im.textureCount + uint32_t(im.chainOfMesh[im.meshes.front().data.mesh->mesh])].allocated == 0) {
             auto done = im.uploadMeshBytes(budget, st.frame);
             if (!done) return done.error();
             if (!*done) break;
@@ -440,14 +590,20 @@ PlayResult<Done> SceneStream::update(const CameraState& camera, uint32_t width, 
     st.refetches += st.frame.refetches;
     st.bytesRead = im.loader->bytesRead();
     st.readDone = readDone;
-    st.residentTextureBytes = residentBytes(im.residency);
-    st.neededTextureBytes = im.budgeted ? neededBytes(im.residency) : st.fullTextureBytes;
-    // Complete: with a budget, every level the view needs is in (the rest of the file may still
-    // be read); without one, every level of every texture, so the whole file.
+    st.residentBytes = residentBytes(im.residency);
+    st.residentMeshBytes = im.meshChainBytes();
+    st.fullBytes = im.textureFullBytes;
+    for (uint32_t c = 0; c < im.meshChains.size(); ++c) st.fullBytes += im.residency[im.textureCount + c].bytesFrom(0);
+    st.neededBytes = im.budgeted ? neededBytes(im.residency) : st.fullBytes;
+    // Complete: with a budget, every level and detail the view needs is in (the rest of the file
+    // may still be read); without one, every level of every texture and every detail, so the
+    // whole file.
     st.meshesReplaced += st.frame.meshesCompleted;
     bool complete = (im.budgeted || readDone) && im.meshes.empty() && im.loader->meshDetailsDone();
-    for (uint32_t t = 0; t < im.residency.size() && complete; ++t)
+    for (uint32_t t = 0; t < im.textureCount && complete; ++t)
         complete = im.pending[t].lost || im.residency[t].valid <= (im.budgeted ? im.residency[t].wanted : 0);
+    for (uint32_t c = 0; c < im.meshChains.size() && complete; ++c)
+        complete = im.meshChains[c].lost || im.residency[im.textureCount + c].valid <= im.residency[im.textureCount + c].wanted;
     st.complete = complete;
     return Done{};
 }

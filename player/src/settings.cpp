@@ -179,8 +179,10 @@ const std::vector<Row>& rows() {
           "coarsest, if it has fewer)"},
          IntField{&S::lodForce, -1, 254}},
         {{"stream.budget_mib", "int 0..1048576",
-          "streaming: texture storage budget in MiB (0 = no limit); textures keep the mip levels "
-          "the view needs, the least recently needed are given up when it is short"},
+          "streaming: GPU storage budget in MiB for textures and level-of-detail meshes (0 = no "
+          "limit); textures keep the mip levels the view needs, meshes their full detail where "
+          "the LOD rule draws finer than their proxy; the least recently needed are given up "
+          "when it is short"},
          UIntField{&S::streamBudgetMib, 0, 1048576}},
         {{"stream.upload_mib", "float 0.0625..4096",
           "streaming: texel bytes uploaded per frame through the staging ring, MiB (more: full "

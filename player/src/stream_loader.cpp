@@ -31,8 +31,14 @@ struct LoaderShared {
     Error error{FormatError::None, 0, {}};
     uint64_t bytesRead = 0, queued = 0;
     std::deque<Arrival> arrived;
-    std::unordered_map<uint64_t, ChunkInfo> levels; // (texture << 32 | level) -> where it is
-    std::deque<uint64_t> requests;
+    // Where the forward pass saw each chunk of the progressive section, for re-reads.
+    std::unordered_map<uint64_t, ChunkInfo> levels;  // (texture << 32 | level) -> TMIP
+    std::unordered_map<uint32_t, ChunkInfo> details; // mesh -> MDET
+    struct Request {
+        std::optional<uint32_t> mesh; // an MDET; else the TMIP at `level` in `levels`
+        uint64_t level = 0;
+    };
+    std::deque<Request> requests;
     uint32_t tmipCount = 0, mdetCount = 0;
 
     ~LoaderShared() {
@@ -153,7 +159,8 @@ void forwardPass(const std::shared_ptr<LoaderShared>& sh) {
             return false;
         }
         LoaderShared::track(level, sh, bytes);
-        if (!mesh) sh->levels[levelKey(level.mip.texture, level.mip.level)] = info;
+        if (mesh) sh->details[level.mesh->mesh] = info;
+        else sh->levels[levelKey(level.mip.texture, level.mip.level)] = info;
         sh->arrived.push_back(std::move(level));
         sh->bytesRead = end;
         sh->changed.notify_all();
@@ -184,21 +191,32 @@ void fetchLoop(const std::shared_ptr<LoaderShared>& sh) {
     while (true) {
         sh->changed.wait(lock, [&] { return sh->stop || !sh->requests.empty(); });
         if (sh->stop) break;
-        const uint64_t key = sh->requests.front();
+        const LoaderShared::Request request = sh->requests.front();
         sh->requests.pop_front();
-        const ChunkInfo info = sh->levels.at(key);
+        const ChunkInfo info = request.mesh ? sh->details.at(*request.mesh) : sh->levels.at(request.level);
         lock.unlock();
-        auto payload = readChunkAt(sh->fd, info, ro);
-        Result<TextureMip> mip = payload ? decodeLevel(sh->assembler.scene, info, *payload, 0) : Result<TextureMip>(payload.error());
+        Arrival level;
+        Status decoded;
+        if (auto payload = readChunkAt(sh->fd, info, ro); !payload) {
+            decoded = payload.error();
+        } else {
+            level.payload = std::move(*payload);
+            if (request.mesh) {
+                auto d = decodeMeshDetail(sh->assembler.scene, info, level.payload, 0);
+                if (d) level.mesh = std::move(*d);
+                else decoded = d.error();
+            } else {
+                auto mip = decodeLevel(sh->assembler.scene, info, level.payload, 0);
+                if (mip) level.mip = *mip;
+                else decoded = mip.error();
+            }
+        }
         lock.lock();
         if (sh->stop) break;
-        if (!mip) {
-            sh->fail(mip.error());
+        if (!isOk(decoded)) {
+            sh->fail(decoded);
             break;
         }
-        Arrival level;
-        level.payload = std::move(*payload);
-        level.mip = *mip;
         level.refetched = true;
         LoaderShared::track(level, sh, info.header.rawSize);
         sh->arrived.push_back(std::move(level));
@@ -302,7 +320,15 @@ void StreamLoader::waitForLevel() {
 bool StreamLoader::request(uint32_t texture, uint32_t level) {
     std::lock_guard lock(mShared->mutex);
     if (!mShared->seekable || !mShared->levels.count(levelKey(texture, level))) return false;
-    mShared->requests.push_back(levelKey(texture, level));
+    mShared->requests.push_back({std::nullopt, levelKey(texture, level)});
+    mShared->changed.notify_all();
+    return true;
+}
+
+bool StreamLoader::requestMeshDetail(uint32_t mesh) {
+    std::lock_guard lock(mShared->mutex);
+    if (!mShared->seekable || !mShared->details.count(mesh)) return false;
+    mShared->requests.push_back({mesh, 0});
     mShared->changed.notify_all();
     return true;
 }

@@ -3,8 +3,8 @@
 // pass, no seeking), decodes everything before the progressive section into a Scene, then hands
 // its chunks — texel levels (TMIP) and meshes' full detail (MDET) — over one at a time through a
 // queue bounded in bytes, so it reads ahead only as far as the GL thread keeps up; and, when the
-// input is a regular file, a second thread that reads a texel level the GL thread dropped again
-// on request (pread at the offset the forward pass saw).
+// input is a regular file, a second thread that reads a texel level or a mesh's detail the GL
+// thread dropped again on request (pread at the offset the forward pass saw).
 //
 // Reading, checksums, decompression, decoding and the cross-reference checks all happen on
 // these threads; the GL thread only copies texels into staging memory and issues uploads.
@@ -65,6 +65,8 @@ public:
     // Asks the re-reading thread for (texture, level) again; it arrives through take(). False
     // when impossible: not a regular file, or the forward pass has not passed that level yet.
     bool request(uint32_t texture, uint32_t level);
+    // The same for mesh `mesh`'s full detail (MDET).
+    bool requestMeshDetail(uint32_t mesh);
 
     bool seekable() const;
     // Every MDET has arrived: the forward pass ended, or passed a texel level that MDETs may not

@@ -331,10 +331,7 @@ int main(int argc, char** argv) {
     if (args.stream == 1 || (args.stream == -1 && (window || args.scene == "-"))) {
         StreamOptions so;
         so.verifyChecksums = args.checksums;
-        if (auto early = resolveSettings({}, args.sets, nullptr)) {
-            so.textureBudgetBytes = uint64_t(early->streamBudgetMib) << 20;
-            so.uploadBytesPerFrame = uint64_t(double(early->streamUploadMib) * 1048576.0);
-        }
+        if (auto early = resolveSettings({}, args.sets, nullptr)) so.applySettings(*early);
         auto opened = SceneStream::open(args.scene, so, &load);
         if (!opened) return fail(opened.error());
         scene = std::move(opened->scene);
@@ -368,8 +365,7 @@ int main(int argc, char** argv) {
     auto renderer = Renderer::create(*scene, settings);
     if (!renderer) return fail(renderer.error());
     if (stream)
-        stream->setLimits(uint64_t(settings.streamBudgetMib) << 20,
-                          uint64_t(double(settings.streamUploadMib) * 1048576.0));
+        stream->setLimits(settings);
 
     if (!args.quiet) {
         std::printf("%s: %zu draw items, %llu triangles, %zu materials (%zu deferred layers%s), %zu lights\n",
@@ -380,8 +376,8 @@ int main(int argc, char** argv) {
             std::printf("load (streaming): first frame's data in %.2f ms = open %.2f + structure %.2f + "
                         "upload %.2f + shaders %.2f; %.1f of %.1f MiB texels resident now (budget %s)\n",
                         load.totalMs, load.openMs, load.decodeMs, load.uploadMs, load.compileMs,
-                        double(stream->status().residentTextureBytes) / 1048576.0,
-                        double(stream->status().fullTextureBytes) / 1048576.0,
+                        double(stream->status().residentBytes) / 1048576.0,
+                        double(stream->status().fullBytes) / 1048576.0,
                         settings.streamBudgetMib ? (std::to_string(settings.streamBudgetMib) + " MiB").c_str() : "none");
         else
             std::printf("load: %.2f ms total = open %.2f + read %.2f + decode %.2f + upload %.2f + "

@@ -10,7 +10,7 @@ gpu_lighting_ms, ...). Empty cells mean "no value" (e.g. a GPU timer not availab
 
 The default plot stacks the per-pass GPU times as areas and draws the CPU frame time (and the
 wall-clock frame time, frame_ms, when present) as lines, against path time. A streaming run's CSV
-(resident_texture_bytes, needed_texture_bytes, stream_upload_bytes) adds a panel below: texture
+(resident_bytes, needed_bytes, stream_upload_bytes) adds a panel below: texture
 storage resident and needed, and the bytes uploaded each frame. With --compare, the total GPU frame time of both runs is overlaid instead
 (e.g. deferred vs forward over the same camera path). The PNG is written atomically.
 
@@ -26,7 +26,7 @@ import sys
 
 REQUIRED = ("frame", "time_s", "cpu_ms", "gpu_total_ms")
 # Optional columns plotted when present (newer pnb-play; streaming runs).
-OPTIONAL = ("frame_ms", "resident_texture_bytes", "needed_texture_bytes", "stream_upload_bytes")
+OPTIONAL = ("frame_ms", "resident_bytes", "needed_bytes", "stream_upload_bytes")
 
 
 class CsvError(Exception):
@@ -105,7 +105,7 @@ def plot_single(plt, columns, passes, title):
     t = np.array(columns["time_s"])
     order = np.argsort(t, kind="stable")
     t = t[order]
-    streaming = "resident_texture_bytes" in columns
+    streaming = "resident_bytes" in columns
     if streaming:  # a second panel: texture storage and uploads (streaming runs)
         fig, (ax, sx) = plt.subplots(2, 1, figsize=(11, 8), sharex=True, height_ratios=(3, 2))
     else:
@@ -132,9 +132,9 @@ def plot_single(plt, columns, passes, title):
                 label="frame (wall)")
     if streaming:
         mib = 1.0 / 1048576.0
-        sx.plot(t, np.array(columns["resident_texture_bytes"])[order] * mib, color="tab:blue",
+        sx.plot(t, np.array(columns["resident_bytes"])[order] * mib, color="tab:blue",
                 label="textures resident (MiB)")
-        sx.plot(t, np.array(columns["needed_texture_bytes"])[order] * mib, color="tab:green",
+        sx.plot(t, np.array(columns["needed_bytes"])[order] * mib, color="tab:green",
                 linestyle="--", label="needed by the view (MiB)")
         sx.bar(t, np.array(columns["stream_upload_bytes"])[order] * mib, width=(t[-1] - t[0]) / max(len(t), 1),
                color="tab:orange", alpha=0.6, label="uploaded this frame (MiB)")

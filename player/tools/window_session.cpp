@@ -129,8 +129,7 @@ private:
     std::vector<std::string> status() const;
     void applyStreamLimits() {
         if (mStream)
-            mStream->setLimits(uint64_t(mSettings.streamBudgetMib) << 20,
-                               uint64_t(double(mSettings.streamUploadMib) * 1048576.0));
+            mStream->setLimits(mSettings);
     }
 };
 
@@ -142,8 +141,8 @@ std::vector<std::string> Session::status() const {
         s.push_back(format("REC %.1f s, %zu keys (F9 stops, K adds a key)", mRecorder.time(), mRecorder.keyCount()));
     if (mStream) {
         const StreamStatus& st = mStream->status();
-        s.push_back(format("textures %.1f MiB resident / %.1f needed%s; +%.2f MiB, %u evictions this frame%s",
-                           double(st.residentTextureBytes) / 1048576.0, double(st.neededTextureBytes) / 1048576.0,
+        s.push_back(format("stream %.1f MiB resident / %.1f needed%s; +%.2f MiB, %u evictions this frame%s",
+                           double(st.residentBytes) / 1048576.0, double(st.neededBytes) / 1048576.0,
                            mSettings.streamBudgetMib ? format(" (budget %u)", mSettings.streamBudgetMib).c_str() : "",
                            double(st.frame.uploadedBytes) / 1048576.0, st.frame.evictions,
                            st.complete ? "" : "   streaming"));

@@ -39,22 +39,18 @@ gltf::Primitive uvSphere(float radius, uint32_t rings, uint32_t segments, uint32
     return p;
 }
 
-// The sphere (material 0) at the origin, optionally a ground plane below it, and the fixture's
-// sun and lamp; converted with `lods` extra levels.
-std::string sphereScene(uint32_t lods, bool ground, const std::string& name, bool gi = false,
-                        bool proxies = true) {
+gltf::Document greyDocument() {
     gltf::Document doc;
     gltf::Material grey;
     grey.name = "grey";
     grey.baseColorFactor = {0.7f, 0.7f, 0.7f, 1};
     doc.materials.push_back(grey);
-    addObject(doc, "sphere", uvSphere(1.0f, 48, 96, 0), {0, 0, 0});
-    if (ground) {
-        // The quad faces +Z; rotated -90 degrees about x it faces +Y.
-        float h = std::sqrt(0.5f);
-        addObject(doc, "ground", quad(30, 30, 0), {0, -1.2f, 0}, {-h, 0, 0, h});
-    }
-    addLights(doc);
+    return doc;
+}
+
+// `doc` converted with `lods` extra levels (and their proxies), in the test's directory.
+std::string convertWithLods(const gltf::Document& doc, uint32_t lods, const std::string& name, bool gi,
+                            bool proxies) {
     // Under the fixture's per-process directory, which HeadlessEnvironment removes at the end.
     auto dir = std::filesystem::temp_directory_path() /
                ("pnb-render-test-" + std::to_string(::getpid())) / "lod";
@@ -73,6 +69,30 @@ std::string sphereScene(uint32_t lods, bool ground, const std::string& name, boo
     auto r = converter::convertScene(s);
     EXPECT_TRUE(r.ok()) << (r.ok() ? "" : r.error().message);
     return s.output;
+}
+
+// The sphere (material 0) at the origin, optionally a ground plane below it, and the fixture's
+// sun and lamp; converted with `lods` extra levels.
+std::string sphereScene(uint32_t lods, bool ground, const std::string& name, bool gi = false,
+                        bool proxies = true) {
+    gltf::Document doc = greyDocument();
+    addObject(doc, "sphere", uvSphere(1.0f, 48, 96, 0), {0, 0, 0});
+    if (ground) {
+        // The quad faces +Z; rotated -90 degrees about x it faces +Y.
+        float h = std::sqrt(0.5f);
+        addObject(doc, "ground", quad(30, 30, 0), {0, -1.2f, 0}, {-h, 0, 0, h});
+    }
+    addLights(doc);
+    return convertWithLods(doc, lods, name, gi, proxies);
+}
+
+// Two spheres of different tessellation (two meshes), at the origin and at `far` down -Z.
+std::string twoSpheresScene(double far, const std::string& name) {
+    gltf::Document doc = greyDocument();
+    addObject(doc, "near", uvSphere(1.0f, 48, 96, 0), {0, 0, 0});
+    addObject(doc, "far", uvSphere(1.0f, 40, 80, 0), {0, 0, -float(far)});
+    addLights(doc);
+    return convertWithLods(doc, 3, name, false, true);
 }
 
 struct Loaded {
@@ -379,6 +399,97 @@ TEST(Lod, MeshProxiesChangeNothingInAFullLoad) {
     const std::string with = sphereScene(3, true, "proxies"), without = sphereScene(3, true, "no-proxies", false, false);
     EXPECT_GT(std::filesystem::file_size(with), std::filesystem::file_size(without)); // proxy + MDET
     EXPECT_EQ(compareRgba8(render2(with), render2(without)).maxAbs, 0);
+}
+
+} // namespace pnb::player::test
+
+namespace pnb::player::test {
+
+// Under stream.budget_mib a mesh with levels keeps its full detail only where the LOD rule would
+// draw it finer than its proxy, and gives it up (the proxy drawn again) when another mesh needs
+// the room: two spheres 200 units apart, a budget with room for the proxies and one detail.
+// Walking from one to the other and back, each near sphere draws its detail and the far one its
+// proxy, the detail given up is read again from the file, the budget is never exceeded, and the
+// image is the full load's.
+TEST(Lod, UnderABudgetOnlyTheMeshesTheViewDrawsFinerThanTheirProxyKeepTheirDetail) {
+    constexpr double kFar = 200;
+    const std::string path = twoSpheresScene(kFar, "budget");
+    Loaded full = load(path, noShadows());
+    ASSERT_TRUE(full.renderer);
+    ASSERT_EQ(full.scene->items.size(), 2u);
+    const uint32_t a = full.scene->items[0].boundsMin.z > -kFar / 2 ? 0 : 1, b = 1 - a;
+    const DrawItem &itemA = full.scene->items[a], &itemB = full.scene->items[b];
+    ASSERT_EQ(itemA.levelCount, 4u);
+    ASSERT_EQ(itemB.levelCount, 4u);
+    // Where each sphere's proxy (its level 3) projects to half the threshold: detail needed.
+    const double pixelScale = lodPixelScale(0.8, kHeight);
+    const double nearA = 0.5 * full.scene->levels[itemA.firstLevel + 3].error * pixelScale;
+    const double nearB = 0.5 * full.scene->levels[itemB.firstLevel + 3].error * pixelScale;
+    ASSERT_GT(kFar, 8 * std::max(nearA, nearB)); // seen from one, the other is far beyond its switch
+    const CameraState viewA = at(nearA);
+    const CameraState viewB = lookAt({0, 0, -kFar + 1.0 + nearB}, {0, 0, -kFar}, 0.001f);
+
+    // GPU bytes: the details from the full load, the proxies from a stream's first frame.
+    const uint64_t detailA = full.scene->meshes[itemA.mesh].bytes, detailB = full.scene->meshes[itemB.mesh].bytes;
+    uint64_t proxyA = 0, proxyB = 0;
+    {
+        auto probe = SceneStream::open(path, {});
+        ASSERT_TRUE(probe.ok());
+        proxyA = probe->scene->meshes[itemA.mesh].bytes;
+        proxyB = probe->scene->meshes[itemB.mesh].bytes;
+    }
+    ASSERT_LT(std::max(proxyA, proxyB), std::min(detailA, detailB) / 2);
+    // The proxies, one detail, and a proxy more: while a detail is made, the planner counts its
+    // proxy twice (old and new chain). Not both details.
+    StreamOptions o;
+    o.budgetBytes = proxyA + proxyB + std::max(detailA, detailB) + std::max(proxyA, proxyB) + 4096;
+    ASSERT_LT(o.budgetBytes, proxyA + proxyB + detailA + detailB);
+    o.uploadBytesPerFrame = 64 << 10;
+    auto opened = SceneStream::open(path, o);
+    ASSERT_TRUE(opened.ok()) << (opened.ok() ? "" : opened.error().message);
+    RenderSettings settings = noShadows();
+    settings.warmUp = false;
+    auto renderer = Renderer::create(*opened->scene, settings);
+    ASSERT_TRUE(renderer.ok());
+    SceneStream& stream = *opened->stream;
+    const GpuScene& scene = *opened->scene;
+
+    auto settle = [&](const CameraState& view) {
+        for (int k = 0; k < 300; ++k) {
+            EXPECT_TRUE(stream.update(view, kWidth, kHeight).ok());
+            EXPECT_TRUE((*renderer)->render(view, kWidth, kHeight).ok());
+            EXPECT_LE(stream.status().peakBytes, o.budgetBytes) << "frame " << k;
+            EXPECT_LE(stream.status().residentBytes, o.budgetBytes) << "frame " << k;
+            if (stream.status().complete) return true;
+        }
+        return false;
+    };
+    ASSERT_TRUE(settle(viewA));
+    EXPECT_EQ(scene.items[a].levelCount, 4u); // the detail, by error
+    EXPECT_EQ(scene.items[b].levelCount, 1u); // the proxy
+    EXPECT_EQ(stream.status().residentMeshBytes, proxyA + proxyB + detailA);
+
+    ASSERT_TRUE(settle(viewB));
+    EXPECT_EQ(scene.items[a].levelCount, 1u);
+    EXPECT_EQ(scene.items[b].levelCount, 4u);
+    EXPECT_GE(stream.status().evictions, 1u);
+    const uint32_t refetches = stream.status().refetches;
+    EXPECT_GE(refetches, 1u); // B's detail was skipped as it streamed past
+
+    ASSERT_TRUE(settle(viewA));
+    EXPECT_EQ(scene.items[a].levelCount, 4u);
+    EXPECT_EQ(scene.items[b].levelCount, 1u);
+    EXPECT_GT(stream.status().refetches, refetches); // A's detail, read again
+    EXPECT_EQ(scene.memory.meshBytes, proxyA + proxyB + detailA);
+
+    // Drawn twice: the levels chosen (with hysteresis) no longer depend on the way here.
+    for (int k = 0; k < 2; ++k) {
+        ASSERT_TRUE((*renderer)->render(viewA, kWidth, kHeight).ok());
+        ASSERT_TRUE(full.renderer->render(viewA, kWidth, kHeight).ok());
+    }
+    EXPECT_EQ((*renderer)->lastFrame().triangles, full.renderer->lastFrame().triangles);
+    EXPECT_EQ(compareRgba8(*(*renderer)->capture(CaptureBuffer::Color), *full.renderer->capture(CaptureBuffer::Color)).maxAbs, 0);
+    renderer->reset(); // before the scene it draws
 }
 
 } // namespace pnb::player::test

@@ -125,7 +125,7 @@ TEST(Streaming, FinishedStreamDrawsTheFullLoadsImageAndEveryFrameBeforeIsFinite)
     ASSERT_TRUE(s.stream->status().complete);
     EXPECT_GT(streamingFrames, 10);       // it did stream, over many frames
     EXPECT_TRUE(differedWhileStreaming);  // with coarser mips than the final image
-    EXPECT_EQ(s.stream->status().residentTextureBytes, s.stream->status().fullTextureBytes);
+    EXPECT_EQ(s.stream->status().residentBytes, s.stream->status().fullBytes);
     const CapturedImage done = frame(s, view);
     EXPECT_EQ(compareRgba8(done, full.color).maxAbs, 0);
 }
@@ -142,7 +142,7 @@ TEST(Streaming, LevelsSkippedWhileNotNeededAreReadAgainWhenTheViewNeedsThem) {
     StreamOptions o;
     Streamed probe = openStream(path, o);
     ASSERT_TRUE(probe.stream);
-    o.textureBudgetBytes = probe.stream->status().fullTextureBytes / 2;
+    o.budgetBytes = probe.stream->status().fullBytes / 2;
     probe = {};
     o.readAheadBytes = 4 << 10;
     o.uploadBytesPerFrame = 96 << 10;
@@ -156,7 +156,7 @@ TEST(Streaming, LevelsSkippedWhileNotNeededAreReadAgainWhenTheViewNeedsThem) {
     const uint64_t uploadedBefore = s.stream->status().uploadedBytes;
     const uint32_t refetchesBefore = s.stream->status().refetches;
     ASSERT_TRUE(settle(s, near));
-    EXPECT_LE(s.stream->status().neededTextureBytes, o.textureBudgetBytes);
+    EXPECT_LE(s.stream->status().neededBytes, o.budgetBytes);
     EXPECT_GT(s.stream->status().uploadedBytes - uploadedBefore, uint64_t(o.readAheadBytes));
     EXPECT_GT(s.stream->status().refetches, refetchesBefore);
     EXPECT_EQ(compareRgba8(frame(s, near), render(path, near, kW, kH).color).maxAbs, 0);
@@ -168,10 +168,10 @@ TEST(Streaming, BudgetIsNeverExceededAlongAPathAndTheImageConvergesWhereItSuffic
     StreamOptions o;
     Streamed probe = openStream(path, o);
     ASSERT_TRUE(probe.stream);
-    const uint64_t budget = probe.stream->status().fullTextureBytes / 4;
+    const uint64_t budget = probe.stream->status().fullBytes / 4;
     probe = {};
 
-    o.textureBudgetBytes = budget;
+    o.budgetBytes = budget;
     o.uploadBytesPerFrame = 64 << 10;
     Streamed s = openStream(path, o);
     ASSERT_TRUE(s.renderer);
@@ -182,15 +182,15 @@ TEST(Streaming, BudgetIsNeverExceededAlongAPathAndTheImageConvergesWhereItSuffic
         const double z = 3.0 - 24.0 * (phase < 0.5 ? 2 * phase : 2 - 2 * phase);
         frame(s, streetView(z));
         const StreamStatus& st = s.stream->status();
-        ASSERT_LE(st.peakTextureBytes, budget) << "frame " << k;
-        ASSERT_LE(st.residentTextureBytes, budget) << "frame " << k;
+        ASSERT_LE(st.peakBytes, budget) << "frame " << k;
+        ASSERT_LE(st.residentBytes, budget) << "frame " << k;
         evictions = st.evictions;
     }
     EXPECT_GT(evictions, 0u); // the budget was short somewhere along the path
     // Parked where the budget suffices for the view: the image becomes the full load's.
     const CameraState view = kBudgetView;
     ASSERT_TRUE(settle(s, view));
-    EXPECT_LE(s.stream->status().neededTextureBytes, budget);
+    EXPECT_LE(s.stream->status().neededBytes, budget);
     const CapturedImage converged = frame(s, view);
     const Rendered full = render(path, view, kW, kH);
     EXPECT_EQ(compareRgba8(converged, full.color).maxAbs, 0);

@@ -12,9 +12,9 @@
 //                  items whose level of detail changed (lod_switches); the wall time from this
 //                  frame's start to the next one's (frame_ms: what stalls are counted on); with
 //                  streaming (BenchOptions::stream), the stream's update time (stream_ms), texel
-//                  bytes uploaded and texture storage given back (stream_upload_bytes,
-//                  stream_evicted_bytes), texture storage resident and needed by the view
-//                  (resident_texture_bytes, needed_texture_bytes), bytes of the container read so
+//                  bytes uploaded and storage given back (stream_upload_bytes,
+//                  stream_evicted_bytes), budgeted storage (textures, LOD meshes) resident and needed
+//                  (resident_bytes, needed_bytes), bytes of the container read so
 //                  far (bytes_read) and whether it was still streaming (streaming: 1 until the
 //                  stream is complete)
 //   summary.json   min/median/p95/max per pass and for CPU time; load-time split; time to first
@@ -24,7 +24,7 @@
 //                  resident memory of the process (peak_rss_bytes); with streaming, "streaming":
 //                  time to full quality, bytes read at the first frame, uploads per frame,
 //                  evictions, re-reads, mesh proxies replaced by their detail, stalls (frames over 2x the median frame_ms) and frame_ms
-//                  p95 while streaming and after, peak texture storage against the budget, and
+//                  p95 while streaming and after, peak budgeted storage (textures, LOD meshes), and
 //                  peak GPU bytes (that peak plus meshes, material blocks and frame targets)
 //   frame_times.png  per-pass stacked GPU time and CPU time along the path (player/tools/
 //                  plot_frames.py, needs python3-matplotlib; skipped with a warning otherwise)

@@ -22,7 +22,12 @@
 // Meshes: the first frame draws each MESH chunk; a mesh the converter wrote with levels of
 // detail is there a coarse proxy (its coarsest level), and its full detail (MDET, right after
 // the textures' smallest levels) replaces it during the following frames, uploaded through the
-// same staging ring within the same per-frame bytes, before any texels.
+// same staging ring within the same per-frame bytes, before any texels. Under a budget such a
+// mesh is a two-level chain beside the textures' (the proxy always resident, the detail with
+// it): the detail is needed while the LOD rule at the camera would draw any of its items finer
+// than the proxy (its coarsest level's error, projected, over lod.threshold_px); a detail not
+// needed is skipped as it streams past or given up (the proxy drawn again), and read again
+// from the file when needed.
 #pragma once
 
 #include <cstdint>
@@ -34,17 +39,27 @@
 
 namespace pnb::player {
 
+struct RenderSettings;
+
 struct StreamOptions {
     bool verifyChecksums = true;
     uint64_t uploadBytesPerFrame = uint64_t(8) << 20; // stream.upload_mib
-    uint64_t textureBudgetBytes = 0;                   // stream.budget_mib; 0: no limit
+    uint64_t budgetBytes = 0; // stream.budget_mib: texture storage + LOD meshes' buffers; 0: no limit
     uint64_t readAheadBytes = uint64_t(64) << 20;      // decoded texels waiting, at most
+    // The renderer's LOD rule (lod.threshold_px, lod.bias, lod.force): under a budget, a mesh's
+    // detail is needed where the rule would draw finer than its proxy. A negative bias or a
+    // forced level needs every detail (conservative).
+    float lodThresholdPx = 1.0f;
+    int lodBias = 0, lodForce = -1;
+
+    // Sets budgetBytes, uploadBytesPerFrame (at least 1) and the LOD rule from the settings.
+    void applySettings(const RenderSettings& settings);
 };
 
 // What one update() did.
 struct StreamFrameStats {
     uint64_t uploadedBytes = 0; // texels copied through the staging ring
-    uint64_t evictedBytes = 0;  // texture storage given back
+    uint64_t evictedBytes = 0;  // storage given back (texture levels, mesh details)
     uint32_t levelsCompleted = 0, evictions = 0, growths = 0, refetches = 0;
     uint32_t meshesCompleted = 0; // proxies replaced by their full detail
 };
@@ -53,18 +68,22 @@ struct StreamStatus {
     uint64_t fileBytes = 0;  // 0 when unknown (a pipe)
     uint64_t bytesRead = 0;  // by the forward pass so far
     uint64_t firstFrameBytesRead = 0; // when markFirstFrame() was called
-    uint64_t residentTextureBytes = 0; // texture storage alive (the budget's measure)
-    uint64_t neededTextureBytes = 0;   // storage the current view's levels need
-    uint64_t peakTextureBytes = 0;     // most storage alive at once, re-creations included
-    uint64_t fullTextureBytes = 0;     // every texture's whole chain
+    // The budget's measure: texture storage, and the buffers of the meshes with levels of detail
+    // whose full detail has been seen (proxy, and detail while resident).
+    uint64_t residentBytes = 0;     // alive now
+    uint64_t residentMeshBytes = 0; // of which the meshes'
+    uint64_t neededBytes = 0;       // what the current view needs
+    uint64_t peakBytes = 0;         // most alive at once, re-creations included
+    uint64_t fullBytes = 0;         // every texture's whole chain, every such mesh at full detail
     uint64_t uploadedBytes = 0, evictedBytes = 0;
     uint32_t evictions = 0, refetches = 0;
     uint32_t meshesReplaced = 0; // proxies replaced by their full detail (MDET) so far
-    uint32_t lostLevels = 0; // needed again after being skipped, but the input is a pipe
+    uint32_t lostLevels = 0; // texture levels or mesh details needed again after being skipped,
+                             // but the input is a pipe
     bool readDone = false;   // the forward pass reached the end of the container, intact
-    // Full quality: every mesh at its full detail, and with a budget, every texture holds the
-    // levels the view needs; without one, every level of every texture is in (the forward pass
-    // has ended).
+    // Full quality: with a budget, every texture holds the levels the view needs and every mesh
+    // whose detail it needs has it; without one, every level of every texture and every mesh's
+    // full detail is in (the forward pass has ended).
     bool complete = false;
     StreamFrameStats frame;  // the last update()
 };
@@ -91,8 +110,9 @@ public:
     // Records how much of the container had been read when the first frame was finished.
     void markFirstFrame();
     const StreamOptions& options() const { return mOptions; }
-    // Changes the budget and the per-frame bytes (stream.* settings); takes effect next update.
-    void setLimits(uint64_t textureBudgetBytes, uint64_t uploadBytesPerFrame);
+    // Takes the budget, the per-frame bytes and the LOD rule from `settings` (stream.*, lod.*);
+    // takes effect next update.
+    void setLimits(const RenderSettings& settings);
 
 private:
     struct Impl;

@@ -76,7 +76,7 @@ struct RenderSettings {
     int32_t lodForce = -1;       // lod.force: -1 = by error; N = level N (clamped to what exists)
 
     // stream.*: streaming playback (scene_stream.h, docs/PLAYER.md "Streaming").
-    uint32_t streamBudgetMib = 0;  // stream.budget_mib: texture storage budget; 0 = no limit
+    uint32_t streamBudgetMib = 0;  // stream.budget_mib: textures + LOD meshes' storage; 0 = no limit
     float streamUploadMib = 8.0f;  // stream.upload_mib: texel bytes uploaded per frame, MiB
 
     // shadows.*: see settings.cpp for each key's meaning.
