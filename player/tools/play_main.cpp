@@ -374,7 +374,7 @@ int main(int argc, char** argv) {
                     scene->hasForward ? " + forward" : "", scene->lights.size());
         if (stream)
             std::printf("load (streaming): first frame's data in %.2f ms = open %.2f + structure %.2f + "
-                        "upload %.2f + shaders %.2f; %.1f of %.1f MiB texels resident now (budget %s)\n",
+                        "upload %.2f + shaders %.2f; %.1f of %.1f MiB streamed storage resident now (budget %s)\n",
                         load.totalMs, load.openMs, load.decodeMs, load.uploadMs, load.compileMs,
                         double(stream->status().residentBytes) / 1048576.0,
                         double(stream->status().fullBytes) / 1048576.0,
