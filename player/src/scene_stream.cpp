@@ -112,6 +112,11 @@ struct SceneStream::Impl {
     };
     std::vector<MeshChain> meshChains;    // residency[textureCount + i]
     std::vector<int32_t> chainOfMesh;     // per mesh: its index in meshChains, or -1
+    // The chain of a mesh whose detail has been seen.
+    TextureResidency& meshResidency(uint32_t mesh) { return residency[textureCount + uint32_t(chainOfMesh[mesh])]; }
+    bool detailPending(uint32_t mesh) const {
+        return std::any_of(meshes.begin(), meshes.end(), [&](const PendingMesh& pm) { return pm.data.mesh->mesh == mesh; });
+    }
     uint64_t meshChainBytes() const {
         uint64_t sum = 0;
         for (size_t i = 0; i < meshChains.size(); ++i) {
@@ -171,14 +176,12 @@ struct SceneStream::Impl {
     // (it can be read again from a file when needed).
     void accept(Arrival level) {
         if (level.mesh) {
+            // Kept for the next plan if just seen, or if it has storage (then it is the detail
+            // to upload); else skipped (read again when needed).
+            const bool fresh = chainOfMesh[level.mesh->mesh] < 0;
             const uint32_t c = chainFor(*level.mesh);
             if (level.refetched) meshChains[c].requested = false;
-            // Kept for the next plan if just seen, or if it has storage (then it is the detail
-            // to upload); else skipped (re-read when needed).
-            const TextureResidency& r = residency[textureCount + c];
-            const bool fresh = r.levelBytes[0] == 0;
-            if (fresh) residency[textureCount + c].levelBytes[0] = meshLayout(level.mesh->detail).size;
-            if (fresh || r.allocated == 0) meshes.push_back({std::move(level), std::nullopt, {}, 0});
+            if (fresh || residency[textureCount + c].allocated == 0) meshes.push_back({std::move(level), std::nullopt, {}, 0});
             return;
         }
         const uint32_t t = level.mip.texture, l = level.mip.level;
@@ -188,8 +191,7 @@ struct SceneStream::Impl {
             p.levels.push_back(std::move(level));
     }
 
-    // The chain of the mesh `d` is the detail of, made when its first MDET arrives (level 0's
-    // bytes still 0: accept() fills them).
+    // The chain of the mesh `d` is the detail of, made when its first MDET arrives.
     uint32_t chainFor(const MeshDetail& d) {
         if (chainOfMesh[d.mesh] >= 0) return uint32_t(chainOfMesh[d.mesh]);
         MeshChain c;
@@ -198,7 +200,7 @@ struct SceneStream::Impl {
         c.proxyLevels = itemLevelsOf(*gpu, d.mesh);
         for (const ItemLevels& l : c.proxyLevels) c.items.push_back(l.item);
         TextureResidency r;
-        r.levelBytes = {0, gpu->meshes[d.mesh].bytes};
+        r.levelBytes = {meshLayout(d.detail).size, gpu->meshes[d.mesh].bytes};
         r.allocated = r.valid = r.wanted = 1;
         residency.push_back(std::move(r));
         meshChains.push_back(std::move(c));
@@ -264,7 +266,7 @@ struct SceneStream::Impl {
         } else {
             setItemLevels(g, mc.detailLevels);
         }
-        residency[textureCount + uint32_t(chainOfMesh[d.mesh])].valid = 0;
+        meshResidency(d.mesh).valid = 0;
         meshes.pop_front();
         ++f.meshesCompleted;
         return true;
@@ -472,9 +474,7 @@ PlayResult<Done> SceneStream::update(const CameraState& camera, uint32_t width, 
     for (uint32_t c = 0; c < im.meshChains.size(); ++c) {
         const Impl::MeshChain& mc = im.meshChains[c];
         TextureResidency& r = im.residency[im.textureCount + c];
-        bool need = r.valid == 0 || std::any_of(im.meshes.begin(), im.meshes.end(), [&](const Impl::PendingMesh& pm) {
-                        return pm.data.mesh->mesh == mc.mesh;
-                    });
+        bool need = r.valid == 0 || im.detailPending(mc.mesh);
         if (im.budgeted) {
             need = allDetail;
             for (uint32_t i = 0; i < mc.items.size() && !need; ++i) {
@@ -506,7 +506,7 @@ PlayResult<Done> SceneStream::update(const CameraState& camera, uint32_t width, 
     st.peakBytes = std::max(st.peakBytes, plan.peakBytes);
     // Mesh details that arrived but were given no storage: skipped (read again when needed).
     std::erase_if(im.meshes, [&](const Impl::PendingMesh& pm) {
-        return im.residency[im.textureCount + uint32_t(im.chainOfMesh[pm.data.mesh->mesh])].allocated != 0;
+        return im.meshResidency(pm.data.mesh->mesh).allocated != 0;
     });
 
     // Levels read since the last frame; re-reads of levels the chains now have room for.
@@ -529,10 +529,7 @@ PlayResult<Done> SceneStream::update(const CameraState& camera, uint32_t width, 
     for (uint32_t c = 0; c < im.meshChains.size(); ++c) {
         Impl::MeshChain& mc = im.meshChains[c];
         const TextureResidency& r = im.residency[im.textureCount + c];
-        const bool pendingDetail = std::any_of(im.meshes.begin(), im.meshes.end(), [&](const Impl::PendingMesh& pm) {
-            return pm.data.mesh->mesh == mc.mesh;
-        });
-        if (r.allocated != 0 || r.valid == 0 || pendingDetail || mc.requested || mc.lost) continue;
+        if (r.allocated != 0 || r.valid == 0 || im.detailPending(mc.mesh) || mc.requested || mc.lost) continue;
         if (im.loader->requestMeshDetail(mc.mesh)) {
             mc.requested = true;
             ++st.frame.refetches;
@@ -567,7 +564,7 @@ PlayResult<Done> SceneStream::update(const CameraState& camera, uint32_t width, 
         // Meshes first: until its detail is in, a mesh is drawn as its coarse proxy.
         // (A detail that arrived after this frame's plan waits for the next one's.)
         while (budget >= kStagingAlignment && !im.meshes.empty() &&
-               im.residency[im.textureCount + uint32_t(im.chainOfMesh[im.meshes.front().data.mesh->mesh])].allocated == 0) {
+               im.meshResidency(im.meshes.front().data.mesh->mesh).allocated == 0) {
             auto done = im.uploadMeshBytes(budget, st.frame);
             if (!done) return done.error();
             if (!*done) break;
