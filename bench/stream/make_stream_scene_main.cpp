@@ -35,9 +35,9 @@
 // pnb-convert's defaults otherwise) and is written as pnb-convert --lods 4 writes it: its coarse
 // proxy (buildCoarseProxy) as the MESH chunk, its full detail as an MDET chunk after every
 // texture's smallest TMIP level and before any larger one (FORMAT.md §4.1, where writeScene puts
-// them). The scene keeps only the proxies; a rock's detail is built a second time when its MDET
-// is written and dropped after, so memory does not grow with the rock count beyond the proxies
-// (about 37 KB a rock at 20000 triangles, its detail 560 KB). With --threads 2 two rocks are
+// them). The scene keeps only the proxies (about 37 KB a rock at 20000 triangles); the details
+// (560 KB a rock) wait in an unlinked temporary file beside the output until their place comes,
+// so memory does not grow with the rock count beyond the proxies. With --threads 2 two rocks are
 // processed at once (each on its own: the output is the same).
 //
 // Chunk order is FORMAT.md §4.1; the TMIP chunks come smallest level first across all textures
@@ -68,15 +68,18 @@
 #include <cstdlib>
 #include <cstring>
 #include <deque>
+#include <filesystem>
 #include <future>
 #include <mutex>
 #include <optional>
+#include <span>
 #include <string>
 #include <thread>
 #include <vector>
 
+#include <unistd.h>
+
 #include "pnb/chunks.h"
-#include "pnb/container.h"
 #include "pnb/mesh_levels.h"
 #include "pnb/scene.h"
 #include "pnb/scene_builder.h"
@@ -711,12 +714,46 @@ std::optional<int> forEachRock(uint32_t count, uint32_t triangles, unsigned thre
     return std::nullopt;
 }
 
-// A fingerprint of a mesh's bytes: the detail written late must be the mesh the proxy was made of.
-uint64_t meshFingerprint(const converter::ProcessedMesh& m) {
-    uint64_t h = checksum(m.indices);
-    for (const converter::OwnedStream& st : m.streams) h = h * 31 + checksum(st.bytes);
-    return h;
-}
+// An unlinked temporary file beside the output, holding the rocks' MDET payloads from their
+// making (with the proxies, before the scene is written) until their place in the file (after the
+// smallest texel levels): on disk rather than in memory, so RSS does not grow with the rock
+// count, and no rock is processed twice. It vanishes when closed, even if the program dies.
+class SpillFile {
+public:
+    SpillFile() = default;
+    SpillFile(const SpillFile&) = delete;
+    SpillFile& operator=(const SpillFile&) = delete;
+    ~SpillFile() {
+        if (mFile) std::fclose(mFile);
+    }
+    // False (errno set) if no file can be made in the directory of `output`.
+    bool open(const std::string& output) {
+        std::filesystem::path dir = std::filesystem::path(output).parent_path();
+        std::string name = (dir.empty() ? std::string(".") : dir.string()) +
+                           "/.pnb-make-stream-scene-rocks.XXXXXX";
+        int fd = ::mkstemp(name.data());
+        if (fd < 0) return false;
+        ::unlink(name.c_str());
+        mFile = ::fdopen(fd, "w+b");
+        if (!mFile) ::close(fd);
+        return mFile != nullptr;
+    }
+    uint64_t size() const { return mSize; }
+    bool append(std::span<const std::byte> bytes) {
+        if (std::fwrite(bytes.data(), 1, bytes.size(), mFile) != bytes.size()) return false;
+        mSize += bytes.size();
+        return true;
+    }
+    bool read(uint64_t offset, uint64_t bytes, std::vector<std::byte>& out) {
+        out.resize(bytes);
+        return ::fseeko(mFile, off_t(offset), SEEK_SET) == 0 &&
+               std::fread(out.data(), 1, out.size(), mFile) == out.size();
+    }
+
+private:
+    std::FILE* mFile = nullptr;
+    uint64_t mSize = 0;
+};
 
 // [SECTION] the texel pipeline: one producer thread, the writer on the main thread
 
@@ -898,16 +935,23 @@ int run(const Options& o) {
     const MeshData groundData = makeGround(-30.0f, 30.0f, 30.0f, streetEnd - 30.0f);
     s.meshes.push_back(toMesh(b, "ground", groundData, count));
 
-    // Rocks (--lod-rocks), after the ground: each through the converter's mesh pipeline now for
-    // its coarse proxy, which is all the scene keeps of it. The full detail is built again when
-    // its MDET is due (after every texture's smallest level): memory holds one or two rocks'
-    // details at a time, whatever the count. Rock i uses panel i's material: no texels of its own.
+    // Rocks (--lod-rocks), after the ground: each through the converter's mesh pipeline, its
+    // coarse proxy kept in the scene, its detail's MDET payload put in the spill file until its
+    // place in the file comes (after every texture's smallest level). Memory holds one or two
+    // rocks' details at a time, whatever the count. Rock i uses panel i's material: no texels of
+    // its own.
     struct Rock {
         uint32_t mesh = 0;
-        bool detailed = false;    // has levels: MESH is its proxy, MDET its detail
-        uint64_t fingerprint = 0; // of the detail, checked when it is rebuilt
+        bool detailed = false; // has levels: MESH is its proxy, MDET its detail
+        uint64_t spillOffset = 0, spillBytes = 0; // its MDET payload in the spill file
         Vec3 position{0, 0, 0};
     };
+    SpillFile spill;
+    if (o.lodRocks && !spill.open(o.output)) {
+        std::fprintf(stderr, "pnb-make-stream-scene: cannot write %s: no temporary file beside "
+                             "it: %s\n", o.output.c_str(), std::strerror(errno));
+        return kExitWrite;
+    }
     std::vector<Rock> rocks;
     std::vector<uint64_t> rockTriangles; // per level, all rocks (index 0: full detail)
     uint64_t proxyTriangles = 0;
@@ -920,7 +964,6 @@ int run(const Options& o) {
         }
         Rock r;
         r.mesh = uint32_t(s.meshes.size());
-        r.fingerprint = meshFingerprint(*pm);
         Mesh full = converter::toContainerMesh(*pm, b.intern("rock" + std::to_string(i)));
         for (const Submesh& sm : full.submeshes) {
             if (rockTriangles.size() <= sm.lod) rockTriangles.resize(sm.lod + 1u);
@@ -929,6 +972,20 @@ int run(const Options& o) {
         r.detailed = hasLevelChains(full);
         if (r.detailed) {
             s.meshes.push_back(buildCoarseProxy(full, b));
+            MeshDetail d{r.mesh, full};
+            if (Status st = validateMeshDetail(s, d, i); !isOk(st)) {
+                std::fprintf(stderr, "pnb-make-stream-scene: internal error: %s\n",
+                             st.message.c_str());
+                return kExitInternal;
+            }
+            std::vector<std::byte> payload = encodeChunk(d);
+            r.spillOffset = spill.size();
+            r.spillBytes = payload.size();
+            if (!spill.append(payload)) {
+                std::fprintf(stderr, "pnb-make-stream-scene: cannot write %s: temporary file: "
+                                     "%s\n", o.output.c_str(), std::strerror(errno));
+                return kExitWrite;
+            }
         } else {
             undetailed.push_back(std::move(*pm)); // moving keeps the bytes `full` views
             s.meshes.push_back(full);
@@ -1051,25 +1108,21 @@ int run(const Options& o) {
     if (!writer) return writeError(writer.error().message);
     if (Status st = writeScene(*writer, s); !isOk(st)) return writeError(st.message);
 
-    // The rocks' details, rebuilt (the same meshes the proxies were made of: the fingerprint
-    // says so) and written straight away.
+    // The rocks' details, from the spill file, in rock order.
     uint32_t details = 0;
-    auto writeDetail = [&](uint32_t i, ProcessedRock& pm) -> std::optional<int> {
-        if (!rocks[i].detailed) return std::nullopt;
-        if (!pm || meshFingerprint(*pm) != rocks[i].fingerprint) {
-            std::fprintf(stderr, "pnb-make-stream-scene: internal error: rock %u differs "
-                                 "from the one its proxy was made of\n", i);
-            return kExitInternal;
+    auto writeDetails = [&]() -> std::optional<int> {
+        std::vector<std::byte> payload;
+        for (const Rock& r : rocks) {
+            if (!r.detailed) continue;
+            if (!spill.read(r.spillOffset, r.spillBytes, payload))
+                return writeError(std::string("cannot read back the temporary file: ") +
+                                  std::strerror(errno));
+            if (Status st = writer->addChunk(tags::kMeshDetail, ChunkTraits<MeshDetail>::version,
+                                             payload, ChunkTraits<MeshDetail>::compression);
+                !isOk(st))
+                return writeError(st.message);
+            ++details;
         }
-        MeshDetail d{rocks[i].mesh,
-                     converter::toContainerMesh(*pm, s.meshes[rocks[i].mesh].name)};
-        if (Status st = validateMeshDetail(s, d, details); !isOk(st)) {
-            std::fprintf(stderr, "pnb-make-stream-scene: internal error: %s\n",
-                         st.message.c_str());
-            return kExitInternal;
-        }
-        if (Status st = writeChunk(*writer, d); !isOk(st)) return writeError(st.message);
-        ++details;
         return std::nullopt;
     };
 
@@ -1093,9 +1146,7 @@ int run(const Options& o) {
             if (job.level > 0) lastNonZeroEnd = writer->size();
             producer.recycle(std::move(job));
             if (n + 1 == count)
-                if (auto e = forEachRock(uint32_t(rocks.size()), o.rockTriangles, o.threads,
-                                         writeDetail))
-                    return *e;
+                if (auto e = writeDetails()) return *e;
         }
     }
     const auto commitStart = std::chrono::steady_clock::now();

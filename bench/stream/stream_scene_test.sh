@@ -89,6 +89,8 @@ expect_exit 0 "$make" "$tmp/r.pnb" "${rocks[@]}"
 cat "$tmp/out"
 expect_exit 0 "$make" "$tmp/r1.pnb" "${rocks[@]}" --threads 1 -q
 cmp "$tmp/r.pnb" "$tmp/r1.pnb" || fail "two --lod-rocks runs with the same arguments differ"
+[ "$(find "$tmp" -name '.pnb-make-stream-scene-rocks.*' | wc -l)" -eq 0 ] ||
+    fail "the rocks' temporary file was left behind"
 expect_exit 0 "$inspect" --verify "$tmp/r.pnb"
 grep -q "verify: ok" "$tmp/out" || fail "pnb-inspect --verify did not say ok (--lod-rocks)"
 "$inspect" --json "$tmp/r.pnb" >"$tmp/r.json"
