@@ -4,7 +4,7 @@
 //
 //   pnb-make-stream-scene OUT.pnb (--size SIZE | --textures N) [--texture-size N]
 //                         [--spacing M] [--speed M/S] [--no-shadows] [--no-checksums]
-//                         [--threads 1|2] [-q]
+//                         [--threads 1|2] [-q] [--lod-rocks [--rock-triangles N]]
 //
 //   --size SIZE        make the file at least SIZE bytes (suffix K, M, G = KiB, MiB, GiB; e.g.
 //                      1G, 5G, 64M): as many textures as that takes (the last one may overshoot
@@ -18,12 +18,27 @@
 //   --threads 1|2      2 (default): texels are generated on a second thread while the previous
 //                      chunk is written; 1: everything on one thread. Output is identical.
 //   -q                 no summary line
+//   --lod-rocks        a rock beside every panel, each its own mesh with levels of detail (see
+//                      below); the texture count stays what --size gives, the file grows
+//   --rock-triangles N about N triangles a rock at full detail, 100..1000000 (default 20000)
 //
 // The scene: N boxes (4 m x 4 m x 0.25 m panels) alternating on both sides of a straight street
 // along -Z, each with its own material and its own RGBA8 sRGB texture with a full mip chain; a
 // grey ground plane; one directional sun (shadows on unless --no-shadows); one camera; one camera
 // path (PATH "street") flying down the street at eye height, swaying its yaw a little. At any
 // time only the nearby panels need fine mips, so a streaming player can keep only those resident.
+//
+// With --lod-rocks, in front of every panel a rock about 1 to 1.5 m across stands on the ground:
+// its own mesh (a sphere cut by random facets and roughened, from a per-rock seed), with normals
+// and uv0, drawn with its panel's material (no texels of its own), casting shadows like the
+// panels. Each goes through the converter's mesh pipeline (processMesh, 4 levels at ratio 0.5,
+// pnb-convert's defaults otherwise) and is written as pnb-convert --lods 4 writes it: its coarse
+// proxy (buildCoarseProxy) as the MESH chunk, its full detail as an MDET chunk after every
+// texture's smallest TMIP level and before any larger one (FORMAT.md §4.1, where writeScene puts
+// them). The scene keeps only the proxies (about 37 KB a rock at 20000 triangles); the details
+// (560 KB a rock) wait in an unlinked temporary file beside the output until their place comes,
+// so memory does not grow with the rock count beyond the proxies. With --threads 2 two rocks are
+// processed at once (each on its own: the output is the same).
 //
 // Chunk order is FORMAT.md §4.1; the TMIP chunks come smallest level first across all textures
 // (every texture's coarsest level, ..., every texture's level 0 last). The shader programs are
@@ -53,16 +68,23 @@
 #include <cstdlib>
 #include <cstring>
 #include <deque>
+#include <filesystem>
+#include <future>
 #include <mutex>
 #include <optional>
+#include <span>
 #include <string>
 #include <thread>
 #include <vector>
 
+#include <unistd.h>
+
 #include "pnb/chunks.h"
+#include "pnb/mesh_levels.h"
 #include "pnb/scene.h"
 #include "pnb/scene_builder.h"
 #include "pnb/writer.h"
+#include "pnb_converter/mesh_processing.h"
 #include "pnb_converter/shader_permutations.h"
 
 namespace {
@@ -86,6 +108,9 @@ struct Options {
     bool checksums = true;
     unsigned threads = 2;
     bool quiet = false;
+    bool lodRocks = false;
+    uint32_t rockTriangles = 20000;
+    bool rockTrianglesGiven = false;
 };
 
 void printUsage(std::FILE* out) {
@@ -93,6 +118,7 @@ void printUsage(std::FILE* out) {
                  "usage: pnb-make-stream-scene OUT.pnb (--size SIZE | --textures N)\n"
                  "                             [--texture-size N] [--spacing M] [--speed M/S]\n"
                  "                             [--no-shadows] [--no-checksums] [--threads 1|2] [-q]\n"
+                 "                             [--lod-rocks [--rock-triangles N]]\n"
                  "\n"
                  "  --size SIZE       file of at least SIZE bytes (K, M, G suffix = KiB, MiB, GiB)\n"
                  "  --textures N      exactly N textured panels (1..100000)\n"
@@ -102,7 +128,10 @@ void printUsage(std::FILE* out) {
                  "  --no-shadows      the sun casts no shadows\n"
                  "  --no-checksums    write no payload checksums\n"
                  "  --threads 1|2     generate texels on a second thread (default 2)\n"
-                 "  -q                print nothing on success\n");
+                 "  -q                print nothing on success\n"
+                 "  --lod-rocks       a rock beside every panel: its own mesh with 4 levels of\n"
+                 "                    detail: a coarse proxy (MESH) + its full detail (MDET)\n"
+                 "  --rock-triangles N  about N triangles a rock, 100..1000000 (default 20000)\n");
 }
 
 int usageError(const std::string& message) {
@@ -191,6 +220,16 @@ std::optional<int> parseArgs(int argc, char** argv, Options& o) {
             if (!parseU64(value, n) || n < 1 || n > 2)
                 return usageError(std::string("bad --threads '") + value + "' (1 or 2)");
             o.threads = unsigned(n);
+        } else if (a == "--lod-rocks") {
+            o.lodRocks = true;
+        } else if (a == "--rock-triangles") {
+            if (auto e = needs("a count")) return e;
+            uint64_t n = 0;
+            if (!parseU64(value, n) || n < 100 || n > 1000000)
+                return usageError(std::string("bad --rock-triangles '") + value +
+                                  "' (100..1000000)");
+            o.rockTriangles = uint32_t(n);
+            o.rockTrianglesGiven = true;
         } else if (a == "--no-shadows") {
             o.shadows = false;
         } else if (a == "--no-checksums") {
@@ -208,6 +247,8 @@ std::optional<int> parseArgs(int argc, char** argv, Options& o) {
     if (o.output.empty()) return usageError("no output file");
     if ((o.sizeBytes == 0) == (o.textures == 0))
         return usageError("give exactly one of --size and --textures");
+    if (o.rockTrianglesGiven && !o.lodRocks)
+        return usageError("--rock-triangles needs --lod-rocks");
     return std::nullopt;
 }
 
@@ -509,6 +550,211 @@ Aabb placed(Aabb local, float yaw, Vec3 t) {
     return out;
 }
 
+// [SECTION] rocks (--lod-rocks)
+
+// splitmix64: a tiny deterministic generator, the same numbers on every platform.
+class Random {
+public:
+    explicit Random(uint64_t seed) : mState(seed) {}
+    uint64_t next() {
+        uint64_t z = (mState += 0x9E3779B97F4A7C15ull);
+        z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
+        z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
+        return z ^ (z >> 31);
+    }
+    float uniform(float lo, float hi) {
+        return lo + (hi - lo) * float(next() >> 40) / float(1 << 24);
+    }
+    Vec3 direction() { // uniform on the unit sphere
+        float z = uniform(-1, 1), a = uniform(0, 6.2831853f), r = std::sqrt(1 - z * z);
+        return {r * std::cos(a), r * std::sin(a), z};
+    }
+
+private:
+    uint64_t mState;
+};
+
+// Grid rows of a rock of about `triangles` triangles: a latitude-longitude sphere of r rows and
+// 2r columns has 4r(r - 1) (one triangle a column in each polar row, two elsewhere).
+uint32_t rockRows(uint32_t triangles) {
+    return std::max(3u, uint32_t(std::lround((1 + std::sqrt(1.0 + double(triangles))) / 2)));
+}
+
+// Rock `index`: a sphere cut by a handful of random planes (flat facets, which simplify well,
+// beside curved parts, which do not), roughened by low-amplitude waves, flattened and stretched
+// a little; about 1 to 1.5 m across, centred on the origin. Everything comes from the index, so
+// the pass that writes the proxy and the pass that writes the detail build the same mesh.
+// Positions and normals are computed once per grid point, so the seam column and the poles,
+// whose vertices are repeated for their uvs, get identical ones (nothing cracks or shades apart
+// there). uv0: longitude and latitude, v = 0 at the top, the texture upright seen from outside.
+converter::IrMesh makeRock(uint32_t index, uint32_t triangles, uint32_t material) {
+    Random rnd(0x5EED0000ull + index);
+    const float radius = rnd.uniform(0.5f, 0.62f);
+    const Vec3 stretch{rnd.uniform(1.0f, 1.18f), rnd.uniform(0.7f, 0.85f), rnd.uniform(0.9f, 1.1f)};
+    struct Cut {
+        Vec3 normal;
+        float distance;
+    };
+    std::vector<Cut> cuts(size_t(7 + rnd.next() % 5));
+    for (Cut& c : cuts) c = {rnd.direction(), radius * rnd.uniform(0.74f, 0.95f)};
+    struct Wave {
+        Vec3 axis;
+        float frequency, phase, amplitude;
+    };
+    std::array<Wave, 4> waves;
+    for (size_t k = 0; k < waves.size(); ++k)
+        waves[k] = {rnd.direction(), rnd.uniform(5, 13), rnd.uniform(0, 6.2831853f),
+                    0.012f / float(k + 1)};
+    auto surface = [&](Vec3 d) {
+        float r = radius;
+        for (const Cut& c : cuts) {
+            float facing = dot(d, c.normal);
+            if (facing > 1e-3f) r = std::min(r, c.distance / facing);
+        }
+        float rough = 1;
+        for (const Wave& w : waves)
+            rough += w.amplitude * std::sin(w.frequency * dot(d, w.axis) + w.phase);
+        r *= rough;
+        return Vec3{d.x * r * stretch.x, d.y * r * stretch.y, d.z * r * stretch.z};
+    };
+
+    // Grid points: the north pole, (rows - 1) rings of `columns`, the south pole.
+    const uint32_t rows = rockRows(triangles), columns = 2 * rows;
+    const uint32_t points = 2 + (rows - 1) * columns;
+    auto point = [&](uint32_t row, uint32_t column) -> uint32_t {
+        if (row == 0) return 0;
+        if (row == rows) return points - 1;
+        return 1 + (row - 1) * columns + column % columns;
+    };
+    std::vector<Vec3> position(points), normal(points, Vec3{0, 0, 0});
+    position[0] = surface({0, 1, 0});
+    position[points - 1] = surface({0, -1, 0});
+    for (uint32_t row = 1; row < rows; ++row) {
+        const float theta = 3.14159265f * float(row) / float(rows);
+        for (uint32_t column = 0; column < columns; ++column) {
+            const float phi = 6.2831853f * float(column) / float(columns);
+            position[point(row, column)] = surface({std::sin(theta) * std::cos(phi),
+                                                    std::cos(theta),
+                                                    std::sin(theta) * std::sin(phi)});
+        }
+    }
+    // Triangles as grid points, counter-clockwise seen from outside; area-weighted normals.
+    std::vector<std::array<uint32_t, 2>> corners; // (row, column) of every triangle corner
+    using Corner = std::array<uint32_t, 2>;
+    auto triangle = [&](Corner a, Corner b, Corner c) {
+        corners.insert(corners.end(), {a, b, c});
+        Vec3 pa = position[point(a[0], a[1])], pb = position[point(b[0], b[1])],
+             pc = position[point(c[0], c[1])];
+        Vec3 n = cross(add(pb, scale(pa, -1)), add(pc, scale(pa, -1)));
+        for (Corner k : {a, b, c}) normal[point(k[0], k[1])] = add(normal[point(k[0], k[1])], n);
+    };
+    for (uint32_t row = 0; row < rows; ++row)
+        for (uint32_t column = 0; column < columns; ++column) {
+            if (row != 0) triangle({row, column}, {row, column + 1}, {row + 1, column});
+            if (row != rows - 1)
+                triangle({row, column + 1}, {row + 1, column + 1}, {row + 1, column});
+        }
+
+    // Vertices: a grid point once per uv it is seen with (the seam column twice, the poles once
+    // per column, at the middle of the column).
+    converter::IrPrimitive p;
+    p.material = int(material);
+    std::vector<uint32_t> vertexOf(size_t(rows + 1) * (columns + 1), UINT32_MAX);
+    for (auto [row, column] : corners) {
+        uint32_t& v = vertexOf[size_t(row) * (columns + 1) + column];
+        if (v == UINT32_MAX) {
+            v = uint32_t(p.positions.size() / 3);
+            Vec3 x = position[point(row, column)], n = normal[point(row, column)];
+            n = scale(n, 1 / std::sqrt(dot(n, n)));
+            float u = float(column) / float(columns);
+            if (row == 0) u -= 0.5f / float(columns); // a top pole corner is at column + 1
+            if (row == rows) u += 0.5f / float(columns);
+            p.positions.insert(p.positions.end(), {x.x, x.y, x.z});
+            p.normals.insert(p.normals.end(), {n.x, n.y, n.z});
+            p.uv0.insert(p.uv0.end(), {1 - u, float(row) / float(rows)});
+        }
+        p.indices.push_back(v);
+    }
+    converter::IrMesh m;
+    m.name = "rock" + std::to_string(index);
+    m.primitives.push_back(std::move(p));
+    return m;
+}
+
+// Rock `index` through the converter's mesh pipeline with pnb-convert's --lods 4 settings.
+Result<converter::ProcessedMesh, converter::ConvertError>
+processRock(uint32_t index, uint32_t triangles, uint32_t material) {
+    converter::StreamNeeds needs;
+    needs.uv0 = true; // the panel's material samples its texture
+    converter::MeshSettings settings;
+    settings.lodCount = 4;
+    settings.lodRatio = 0.5f;
+    converter::MeshStats stats;
+    return converter::processMesh(makeRock(index, triangles, material), needs, settings, stats);
+}
+
+// Rocks 0..count-1 through processRock, handed to `use(index, result)` in index order. With two
+// threads, rock i + 1 is processed beside rock i (each is independent of the others, so the
+// results are the same): two rocks in memory at a time. Stops at use's first exit code.
+using ProcessedRock = Result<converter::ProcessedMesh, converter::ConvertError>;
+template <class Use>
+std::optional<int> forEachRock(uint32_t count, uint32_t triangles, unsigned threads, Use&& use) {
+    for (uint32_t i = 0; i < count; i += threads > 1 ? 2 : 1) {
+        std::future<ProcessedRock> next;
+        if (threads > 1 && i + 1 < count)
+            next = std::async(std::launch::async,
+                              [=] { return processRock(i + 1, triangles, i + 1); });
+        ProcessedRock rock = processRock(i, triangles, i);
+        if (auto e = use(i, rock)) return e; // (the future's destructor waits for its rock)
+        if (next.valid()) {
+            ProcessedRock second = next.get();
+            if (auto e = use(i + 1, second)) return e;
+        }
+    }
+    return std::nullopt;
+}
+
+// An unlinked temporary file beside the output, holding the rocks' MDET payloads from their
+// making (with the proxies, before the scene is written) until their place in the file (after the
+// smallest texel levels): on disk rather than in memory, so RSS does not grow with the rock
+// count, and no rock is processed twice. It vanishes when closed, even if the program dies.
+class SpillFile {
+public:
+    SpillFile() = default;
+    SpillFile(const SpillFile&) = delete;
+    SpillFile& operator=(const SpillFile&) = delete;
+    ~SpillFile() {
+        if (mFile) std::fclose(mFile);
+    }
+    // False (errno set) if no file can be made in the directory of `output`.
+    bool open(const std::string& output) {
+        std::filesystem::path dir = std::filesystem::path(output).parent_path();
+        std::string name = (dir.empty() ? std::string(".") : dir.string()) +
+                           "/.pnb-make-stream-scene-rocks.XXXXXX";
+        int fd = ::mkstemp(name.data());
+        if (fd < 0) return false;
+        ::unlink(name.c_str());
+        mFile = ::fdopen(fd, "w+b");
+        if (!mFile) ::close(fd);
+        return mFile != nullptr;
+    }
+    uint64_t size() const { return mSize; }
+    bool append(std::span<const std::byte> bytes) {
+        if (std::fwrite(bytes.data(), 1, bytes.size(), mFile) != bytes.size()) return false;
+        mSize += bytes.size();
+        return true;
+    }
+    bool read(uint64_t offset, uint64_t bytes, std::vector<std::byte>& out) {
+        out.resize(bytes);
+        return ::fseeko(mFile, off_t(offset), SEEK_SET) == 0 &&
+               std::fread(out.data(), 1, out.size(), mFile) == out.size();
+    }
+
+private:
+    std::FILE* mFile = nullptr;
+    uint64_t mSize = 0;
+};
+
 // [SECTION] the texel pipeline: one producer thread, the writer on the main thread
 
 // Produces the TMIP payloads in file order. With threads = 2 the next payload is built while the
@@ -689,6 +935,75 @@ int run(const Options& o) {
     const MeshData groundData = makeGround(-30.0f, 30.0f, 30.0f, streetEnd - 30.0f);
     s.meshes.push_back(toMesh(b, "ground", groundData, count));
 
+    // Rocks (--lod-rocks), after the ground: each through the converter's mesh pipeline, its
+    // coarse proxy kept in the scene, its detail's MDET payload put in the spill file until its
+    // place in the file comes (after every texture's smallest level). Memory holds one or two
+    // rocks' details at a time, whatever the count. Rock i uses panel i's material: no texels of
+    // its own.
+    struct Rock {
+        uint32_t mesh = 0;
+        bool detailed = false; // has levels: MESH is its proxy, MDET its detail
+        uint64_t spillOffset = 0, spillBytes = 0; // its MDET payload in the spill file
+        Vec3 position{0, 0, 0};
+    };
+    SpillFile spill;
+    if (o.lodRocks && !spill.open(o.output)) {
+        std::fprintf(stderr, "pnb-make-stream-scene: cannot write %s: no temporary file beside "
+                             "it: %s\n", o.output.c_str(), std::strerror(errno));
+        return kExitWrite;
+    }
+    std::vector<Rock> rocks;
+    std::vector<uint64_t> rockTriangles; // per level, all rocks (index 0: full detail)
+    uint64_t proxyTriangles = 0;
+    std::deque<converter::ProcessedMesh> undetailed; // the rare rock without levels, kept whole
+    auto addRock = [&](uint32_t i, ProcessedRock& pm) -> std::optional<int> {
+        if (!pm) {
+            std::fprintf(stderr, "pnb-make-stream-scene: internal error: rock %u: %s\n", i,
+                         pm.error().message.c_str());
+            return kExitInternal;
+        }
+        Rock r;
+        r.mesh = uint32_t(s.meshes.size());
+        Mesh full = converter::toContainerMesh(*pm, b.intern("rock" + std::to_string(i)));
+        for (const Submesh& sm : full.submeshes) {
+            if (rockTriangles.size() <= sm.lod) rockTriangles.resize(sm.lod + 1u);
+            rockTriangles[sm.lod] += sm.indexCount / 3;
+        }
+        r.detailed = hasLevelChains(full);
+        if (r.detailed) {
+            s.meshes.push_back(buildCoarseProxy(full, b));
+            MeshDetail d{r.mesh, full};
+            if (Status st = validateMeshDetail(s, d, i); !isOk(st)) {
+                std::fprintf(stderr, "pnb-make-stream-scene: internal error: %s\n",
+                             st.message.c_str());
+                return kExitInternal;
+            }
+            std::vector<std::byte> payload = encodeChunk(d);
+            r.spillOffset = spill.size();
+            r.spillBytes = payload.size();
+            if (!spill.append(payload)) {
+                std::fprintf(stderr, "pnb-make-stream-scene: cannot write %s: temporary file: "
+                                     "%s\n", o.output.c_str(), std::strerror(errno));
+                return kExitWrite;
+            }
+        } else {
+            undetailed.push_back(std::move(*pm)); // moving keeps the bytes `full` views
+            s.meshes.push_back(full);
+        }
+        for (const Submesh& sm : s.meshes.back().submeshes) proxyTriangles += sm.indexCount / 3;
+        // On the ground in front of the panel's street face, towards its end nearer the
+        // oncoming camera, sunk a little so it stands rather than touches.
+        const float side = (i % 2 == 0) ? -1.0f : 1.0f;
+        const float c = std::cos(panelYaw(i)), sn = std::sin(panelYaw(i));
+        const Vec3 face{-side * c, 0, side * sn}, along{sn, 0, c};
+        r.position = add(panelCentre(i), add(scale(face, 1.4f), along));
+        r.position.y = -0.85f * full.bounds.min.y;
+        rocks.push_back(r);
+        return std::nullopt;
+    };
+    if (o.lodRocks)
+        if (auto e = forEachRock(count, o.rockTriangles, o.threads, addRock)) return *e;
+
     // Sun: 40 degrees up, from behind the camera's start and a little to the right, so both rows
     // of panels are lit from the front and cast their shadows down the street.
     Light sun;
@@ -724,6 +1039,18 @@ int run(const Options& o) {
         n.mesh = count;
         n.worldBounds = s.meshes[count].bounds;
         n.worldSphere = s.meshes[count].boundingSphere;
+        s.nodes.nodes.push_back(n);
+        s.info.bounds.grow(n.worldBounds.min);
+        s.info.bounds.grow(n.worldBounds.max);
+    }
+    for (uint32_t i = 0; i < rocks.size(); ++i) {
+        const Mesh& m = s.meshes[rocks[i].mesh];
+        Node n;
+        n.name = m.name;
+        n.translation = rocks[i].position;
+        n.mesh = rocks[i].mesh;
+        n.worldBounds = {add(m.bounds.min, n.translation), add(m.bounds.max, n.translation)};
+        n.worldSphere = {add(m.boundingSphere.center, n.translation), m.boundingSphere.radius};
         s.nodes.nodes.push_back(n);
         s.info.bounds.grow(n.worldBounds.min);
         s.info.bounds.grow(n.worldBounds.max);
@@ -781,7 +1108,27 @@ int run(const Options& o) {
     if (!writer) return writeError(writer.error().message);
     if (Status st = writeScene(*writer, s); !isOk(st)) return writeError(st.message);
 
-    // Texels: every texture's coarsest level, then the next level of every texture, ...
+    // The rocks' details, from the spill file, in rock order.
+    uint32_t details = 0;
+    auto writeDetails = [&]() -> std::optional<int> {
+        std::vector<std::byte> payload;
+        for (const Rock& r : rocks) {
+            if (!r.detailed) continue;
+            if (!spill.read(r.spillOffset, r.spillBytes, payload))
+                return writeError(std::string("cannot read back the temporary file: ") +
+                                  std::strerror(errno));
+            if (Status st = writer->addChunk(tags::kMeshDetail, ChunkTraits<MeshDetail>::version,
+                                             payload, ChunkTraits<MeshDetail>::compression);
+                !isOk(st))
+                return writeError(st.message);
+            ++details;
+        }
+        return std::nullopt;
+    };
+
+    // Texels: every texture's coarsest level, then the rocks' details (FORMAT.md §4.1: after
+    // every smallest level, before any larger one, as writeScene places them), then the next
+    // level of every texture, ...
     uint64_t lastNonZeroEnd = 0;
     {
         MipProducer producer(count, o.textureSize, o.threads);
@@ -798,6 +1145,8 @@ int run(const Options& o) {
                 return writeError(st.message);
             if (job.level > 0) lastNonZeroEnd = writer->size();
             producer.recycle(std::move(job));
+            if (n + 1 == count)
+                if (auto e = writeDetails()) return *e;
         }
     }
     const auto commitStart = std::chrono::steady_clock::now();
@@ -814,11 +1163,19 @@ int run(const Options& o) {
                     o.textureSize, levels,
                     3 + s.shaders.size() + s.programs.size() + s.textures.size() +
                         s.materials.size() + s.meshes.size() + 3 + s.cameraPaths.size() +
-                        size_t(count) * levels,
+                        size_t(count) * levels + details,
                     (unsigned long long)lastNonZeroEnd,
                     100.0 * double(fileBytes - lastNonZeroEnd) / double(fileBytes), seconds,
                     commitSeconds,
                     double(fileBytes) / 1e6 / seconds);
+        if (!rocks.empty()) {
+            std::string perLevel;
+            for (uint64_t t : rockTriangles)
+                perLevel += (perLevel.empty() ? "" : " / ") + std::to_string(t);
+            std::printf("  %zu rocks (%u MDET), triangles by level, all rocks: %s; proxies %llu\n",
+                        rocks.size(), details, perLevel.c_str(),
+                        (unsigned long long)proxyTriangles);
+        }
     }
     return 0;
 }

@@ -468,24 +468,13 @@ Result<ConvertSummary, ConvertError> convertScene(const ConvertSettings& s,
     }
     sum.deferredLayers.assign(layers.begin(), layers.end());
     for (size_t i = 0; i < meshes.size(); ++i) {
-        ProcessedMesh& pm = *meshes[i];
-        Mesh m;
-        m.name = b.intern(pm.name.empty() ? "mesh" + std::to_string(i) : pm.name);
-        m.indexType = pm.indexType;
-        m.vertexCount = pm.vertexCount;
-        for (OwnedStream& st : pm.streams) {
-            VertexStream vs = st.desc;
-            vs.data = st.bytes;
-            m.streams.push_back(vs);
-            sum.meshBytes += st.bytes.size();
-        }
-        m.indices = pm.indices;
+        const ProcessedMesh& pm = *meshes[i];
+        Mesh m = toContainerMesh(
+            pm, b.intern(pm.name.empty() ? "mesh" + std::to_string(i) : pm.name));
+        for (const OwnedStream& st : pm.streams) sum.meshBytes += st.bytes.size();
         sum.meshBytes += pm.indices.size();
-        m.submeshes = pm.submeshes;
         for (Submesh& sm : m.submeshes)
             if (sm.material == kNone) sm.material = uint32_t(materials.defaultMaterial);
-        m.bounds = pm.bounds;
-        m.boundingSphere = pm.boundingSphere;
         sum.submeshes += m.submeshes.size();
         if (s.mesh.proxies && hasLevelChains(m)) {
             // Coarse first: the proxy for the first frame, the detail once it is drawn.

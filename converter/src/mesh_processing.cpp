@@ -483,4 +483,21 @@ Result<ProcessedMesh, ConvertError> processMesh(const IrMesh& mesh, const Stream
     return out;
 }
 
+Mesh toContainerMesh(const ProcessedMesh& pm, StringRef name) {
+    Mesh m;
+    m.name = name;
+    m.indexType = pm.indexType;
+    m.vertexCount = pm.vertexCount;
+    for (const OwnedStream& st : pm.streams) {
+        VertexStream vs = st.desc;
+        vs.data = st.bytes;
+        m.streams.push_back(vs);
+    }
+    m.indices = pm.indices;
+    m.submeshes = pm.submeshes;
+    m.bounds = pm.bounds;
+    m.boundingSphere = pm.boundingSphere;
+    return m;
+}
+
 } // namespace pnb::converter

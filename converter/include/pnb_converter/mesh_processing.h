@@ -103,4 +103,12 @@ struct ProcessedMesh {
 Result<ProcessedMesh, ConvertError> processMesh(const IrMesh& mesh, const StreamNeeds& needs,
                                                 const MeshSettings& settings, MeshStats& stats);
 
+// The container record of a processed mesh, named `name` (a StringRef of the caller's string
+// table). Its streams and indices are views of `mesh`'s bytes, so `mesh` must stay alive and
+// unchanged until the record is written. Submesh materials are copied as they are (kNone stays
+// kNone: which material such a submesh draws with is the caller's choice). A mesh with levels
+// (pnb::hasLevelChains) is written by a streaming writer as pnb::buildCoarseProxy of this
+// record in its MESH chunk and this record in an MDET chunk (MeshSettings::proxies).
+Mesh toContainerMesh(const ProcessedMesh& mesh, StringRef name);
+
 } // namespace pnb::converter
