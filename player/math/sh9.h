@@ -64,16 +64,17 @@
 #include <cstdint>
 #include <functional>
 #include <span>
+#include <vector>
 
 #include <glm/glm.hpp>
 
 namespace pnb::player {
 
-inline constexpr double kSh9K0 = 0.28209479177387814;   // 1 / (2 sqrt(pi))
-inline constexpr double kSh9K1 = 0.48860251190291992;   // sqrt(3) / (2 sqrt(pi))
-inline constexpr double kSh9K2 = 1.09254843059207907;   // sqrt(15) / (2 sqrt(pi))
-inline constexpr double kSh9K20 = 0.31539156525252005;  // sqrt(5) / (4 sqrt(pi))
-inline constexpr double kSh9K22 = 0.54627421529603953;  // sqrt(15) / (4 sqrt(pi))
+inline constexpr double kSh9K0 = 0.28209479177387814;  // 1 / (2 sqrt(pi))
+inline constexpr double kSh9K1 = 0.48860251190291992;  // sqrt(3) / (2 sqrt(pi))
+inline constexpr double kSh9K2 = 1.09254843059207907;  // sqrt(15) / (2 sqrt(pi))
+inline constexpr double kSh9K20 = 0.31539156525252005; // sqrt(5) / (4 sqrt(pi))
+inline constexpr double kSh9K22 = 0.54627421529603953; // sqrt(15) / (4 sqrt(pi))
 
 using Sh9 = std::array<double, 9>;
 // Coefficients of an RGB function: c[k] holds basis k's coefficient for (r, g, b).
@@ -106,6 +107,10 @@ Sh9Rgb sh9ProjectEquirect(std::span<const float> rgb, uint32_t width, uint32_t h
 // to [2, 512], L is called 8 * polarNodes^2 times.
 Sh9Rgb sh9ProjectFunction(const std::function<glm::dvec3(const glm::dvec3&)>& radiance,
                           uint32_t polarNodes = 32);
+
+// The n-point Gauss-Legendre rule on [-1, 1] (Newton on P_n; n clamped to [1, 4096]): exact for
+// polynomials of degree <= 2n - 1. sh9ProjectFunction's polar rule, shared with the sky.
+void gaussLegendre(uint32_t n, std::vector<double>& nodes, std::vector<double>& weights);
 
 // Window weights per band (w0, w1, w2): (1, 1, 1) or (1, 3/4, 2/5).
 std::array<double, 3> sh9WindowWeights(ShWindow window);

@@ -11,7 +11,9 @@ namespace {
 
 constexpr double kPi = std::numbers::pi;
 
-double clampOr(double v, double lo, double hi, double ifNan) { return std::isnan(v) ? ifNan : std::clamp(v, lo, hi); }
+double clampOr(double v, double lo, double hi, double ifNan) {
+    return std::isnan(v) ? ifNan : std::clamp(v, lo, hi);
+}
 
 double radicalInverse(uint32_t bits) {
     bits = (bits << 16u) | (bits >> 16u);
@@ -19,7 +21,7 @@ double radicalInverse(uint32_t bits) {
     bits = ((bits & 0x33333333u) << 2u) | ((bits & 0xCCCCCCCCu) >> 2u);
     bits = ((bits & 0x0F0F0F0Fu) << 4u) | ((bits & 0xF0F0F0F0u) >> 4u);
     bits = ((bits & 0x00FF00FFu) << 8u) | ((bits & 0xFF00FF00u) >> 8u);
-    return double(bits) * 2.3283064365386963e-10;  // / 2^32
+    return double(bits) * 2.3283064365386963e-10; // / 2^32
 }
 
 } // namespace
@@ -32,7 +34,7 @@ double ggxAlpha(double roughness) {
 double ggxD(double nDotH, double alpha) {
     double a = clampOr(alpha, 1e-4, 1.0, 1.0), a2 = a * a;
     double c = clampOr(nDotH, 0.0, 1.0, 0.0);
-    double d = c * c * (a2 - 1.0) + 1.0;  // in [a2, 1]
+    double d = c * c * (a2 - 1.0) + 1.0; // in [a2, 1]
     return a2 / (kPi * d * d);
 }
 
@@ -42,7 +44,7 @@ double smithGgxCorrelatedV(double nDotV, double nDotL, double alpha) {
     double v = std::clamp(nDotV, 1e-6, 1.0), l = std::clamp(nDotL, 1e-6, 1.0);
     double a = clampOr(alpha, 0.0, 1.0, 1.0), a2 = a * a;
     double gv = l * std::sqrt(v * v * (1.0 - a2) + a2), gl = v * std::sqrt(l * l * (1.0 - a2) + a2);
-    return 0.5 / (gv + gl);  // gv + gl >= 2 v l > 0
+    return 0.5 / (gv + gl); // gv + gl >= 2 v l > 0
 }
 
 glm::dvec2 hammersley(uint32_t i, uint32_t n) {
@@ -54,9 +56,10 @@ glm::dvec3 ggxSampleHalfVector(const glm::dvec2& xi, double alpha) {
     // Karis 2013's assignment: xi.x (i / n for Hammersley) drives phi, xi.y the polar angle.
     double x1 = clampOr(xi.x, 0.0, 1.0, 0.0), x2 = clampOr(xi.y, 0.0, 1.0, 0.0);
     double a = clampOr(alpha, 0.0, 1.0, 1.0);
-    double denom = 1.0 + (a * a - 1.0) * x2;  // >= a^2; 0 only for a = 0 and x2 = 1
+    double denom = 1.0 + (a * a - 1.0) * x2; // >= a^2; 0 only for a = 0 and x2 = 1
     double cos2 = denom > 0.0 ? (1.0 - x2) / denom : 1.0;
-    double cosT = std::sqrt(std::clamp(cos2, 0.0, 1.0)), sinT = std::sqrt(std::max(0.0, 1.0 - cosT * cosT));
+    double cosT = std::sqrt(std::clamp(cos2, 0.0, 1.0)),
+           sinT = std::sqrt(std::max(0.0, 1.0 - cosT * cosT));
     double phi = 2.0 * kPi * x1;
     return {sinT * std::cos(phi), sinT * std::sin(phi), cosT};
 }
@@ -67,7 +70,8 @@ glm::dvec3 ggxSampleHalfVector(const glm::dvec2& xi, double alpha, const glm::dv
     if (len > 0.0 && std::isfinite(len)) n = nIn / len;
     // Orthonormal basis around n (Duff et al. 2017, "Building an Orthonormal Basis, Revisited").
     double sign = std::copysign(1.0, n.z), a = -1.0 / (sign + n.z), b = n.x * n.y * a;
-    glm::dvec3 t(1.0 + sign * n.x * n.x * a, sign * b, -sign * n.x), bt(b, sign + n.y * n.y * a, -n.y);
+    glm::dvec3 t(1.0 + sign * n.x * n.x * a, sign * b, -sign * n.x),
+        bt(b, sign + n.y * n.y * a, -n.y);
     glm::dvec3 h = ggxSampleHalfVector(xi, alpha);
     return t * h.x + bt * h.y + n * h.z;
 }

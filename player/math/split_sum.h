@@ -6,8 +6,9 @@
 //
 // Formulas (n = +Z in tangent space, h the half vector, alpha = roughness^2, the perceptual
 // remapping of Burley 2012 / Karis 2013):
-//   D(h)     = alpha^2 / (pi ((n.h)^2 (alpha^2 - 1) + 1)^2)                   Trowbridge-Reitz / GGX
-//   V(v, l)  = 0.5 / (n.l sqrt((n.v)^2 (1 - a2) + a2) + n.v sqrt((n.l)^2 (1 - a2) + a2)), a2 = alpha^2
+//   D(h)     = alpha^2 / (pi ((n.h)^2 (alpha^2 - 1) + 1)^2)          (Trowbridge-Reitz / GGX)
+//   V(v, l)  = 0.5 / (n.l sqrt((n.v)^2 (1 - a2) + a2) + n.v sqrt((n.l)^2 (1 - a2) + a2)),
+//              a2 = alpha^2:
 //              Smith height-correlated visibility, G2 / (4 n.l n.v) (Heitz 2014, "Understanding the
 //              Masking-Shadowing Function", eq. 99; the form Filament uses for lighting and its
 //              DFG table). Chosen over Karis' separable Schlick-GGX (k = alpha / 2 for IBL) so the

@@ -37,7 +37,7 @@ TEST(SplitSum, HammersleyPoints) {
     EXPECT_EQ(hammersley(1, 4), glm::dvec2(0.25, 0.5));
     EXPECT_EQ(hammersley(2, 4), glm::dvec2(0.5, 0.25));
     EXPECT_EQ(hammersley(3, 4), glm::dvec2(0.75, 0.75));
-    EXPECT_EQ(hammersley(5, 0), glm::dvec2(0.0, 0.625));  // n = 0 counts as 1
+    EXPECT_EQ(hammersley(5, 0), glm::dvec2(0.0, 0.625)); // n = 0 counts as 1
 }
 
 TEST(SplitSum, GgxIsNormalisedAndTheSamplerFollowsIt) {
@@ -65,7 +65,8 @@ TEST(SplitSum, GgxIsNormalisedAndTheSamplerFollowsIt) {
     glm::dvec3 nrm = glm::normalize(glm::dvec3(-0.3, 0.2, -0.9));
     for (uint32_t i = 0; i < 64; ++i) {
         glm::dvec2 xi = hammersley(i, 64);
-        EXPECT_NEAR(glm::dot(ggxSampleHalfVector(xi, 0.4, nrm), nrm), ggxSampleHalfVector(xi, 0.4).z, 1e-12);
+        EXPECT_NEAR(glm::dot(ggxSampleHalfVector(xi, 0.4, nrm), nrm),
+                    ggxSampleHalfVector(xi, 0.4).z, 1e-12);
     }
 }
 
@@ -121,7 +122,9 @@ TEST(SplitSum, LutLayoutBoundsAndMonotonicity) {
     const uint32_t w = 16, h = 16, samples = 512;
     std::vector<float> lut = splitSumLut(w, h, samples);
     ASSERT_EQ(lut.size(), size_t(w) * h * 2);
-    auto at = [&](uint32_t i, uint32_t j) { return glm::dvec2(lut[(j * w + i) * 2], lut[(j * w + i) * 2 + 1]); };
+    auto at = [&](uint32_t i, uint32_t j) {
+        return glm::dvec2(lut[(j * w + i) * 2], lut[(j * w + i) * 2 + 1]);
+    };
     // Layout: texel (i, j) is (n.v, roughness) = ((i + 0.5)/W, (j + 0.5)/H).
     glm::dvec2 probe = splitSumBrdf(5.5 / w, 9.5 / h, samples);
     EXPECT_NEAR(at(5, 9).x, probe.x, 1e-6);
@@ -152,7 +155,8 @@ TEST(SplitSum, LutLayoutBoundsAndMonotonicity) {
 }
 
 TEST(SplitSum, GarbageInputsStayFinite) {
-    const double nan = std::numeric_limits<double>::quiet_NaN(), inf = std::numeric_limits<double>::infinity();
+    const double nan = std::numeric_limits<double>::quiet_NaN(),
+                 inf = std::numeric_limits<double>::infinity();
     for (double nv : {nan, -1.0, 0.0, 2.0, inf})
         for (double r : {nan, -1.0, 0.0, 5.0, -inf}) {
             glm::dvec2 ab = splitSumBrdf(nv, r, 0);
