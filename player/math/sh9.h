@@ -55,7 +55,8 @@
 // non-negative), a zero or non-finite direction evaluates as +Y, an empty or short image gives
 // all-zero coefficients, a non-finite angle rotates by 0.
 //
-// Does NOT do: bands above 2 (the irradiance of bands >= 3 is < 1% for any environment, R&H 2001),
+// Does NOT do: bands above 2 (R&H 2001: order 2 leaves an average irradiance error under 3%;
+// the clamped cosine test here measures 0.8% of the peak),
 // bilinear reconstruction of the image (texels are constant patches), rotation about other axes,
 // sampling the image itself (specular: split_sum.h and the prefiltered cube), sky visibility.
 #pragma once
