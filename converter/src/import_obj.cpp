@@ -210,6 +210,22 @@ private:
     std::map<std::string, MtlKeys>& mKeys;
 };
 
+// Blanks every "vw" line (tinyobjloader's skin-weight extension, which the importer ignores)
+// in place, keeping the line count: tinyobjloader converts a vw joint id to int without a range
+// check, which is undefined for a huge number (found by the obj_import fuzzer: "vw 6e21 ...").
+void blankSkinWeightLines(std::string& text) {
+    size_t pos = 0;
+    while (pos < text.size()) {
+        size_t end = text.find('\n', pos);
+        if (end == std::string::npos) end = text.size();
+        size_t at = pos;
+        while (at < end && (text[at] == ' ' || text[at] == '\t')) ++at;
+        if (end - at > 2 && text[at] == 'v' && text[at + 1] == 'w' && (text[at + 2] == ' ' || text[at + 2] == '\t'))
+            std::fill(text.begin() + std::ptrdiff_t(pos), text.begin() + std::ptrdiff_t(end), ' ');
+        pos = end + 1;
+    }
+}
+
 // The first line of `text` with a face index outside `vertexCount` positions (tinyobjloader's
 // rules: k > 0 is k - 1, k < 0 counts back from the vertices read so far), or 0. Only called
 // once something is known to be wrong. (Point and line indices are not checked: those elements
@@ -513,6 +529,7 @@ Result<IrScene, ConvertError> importObj(const std::string& path) {
     try {
         std::optional<std::string> text = readFile(path);
         if (!text) return inputError("could not be read");
+        blankSkinWeightLines(*text);
         const fs::path sourceParent = fs::path(path).parent_path();
         Context ctx;
         ctx.path = path;

@@ -492,4 +492,20 @@ TEST(ObjImport, ImportSceneSendsObjToTheObjImporterAndGltfToTheGltfImporter) {
     EXPECT_NE(upper.error().message.find("line 4"), std::string::npos) << upper.error().message;
 }
 
+// tinyobjloader's skin-weight extension ("vw") is ignored, so its lines never reach its parser,
+// which converts a joint id to int unchecked (a fuzzer finding: "vw 6e21 ..." is undefined
+// behaviour there). The lines are blanked, not removed: errors still name the right line.
+TEST(ObjImport, SkinWeightLinesAreIgnoredAndLineNumbersKept) {
+    TempDir dir("obj_vw");
+    writeFile(dir.path / "vw.obj", "v 0 0 0\n  vw 66666666666666666666 0\nv 1 0 0\nvw\t0 1 0.5\nv 0 1 0\nf 1 2 3\n");
+    auto r = importObj((dir.path / "vw.obj").string());
+    ASSERT_TRUE(r.ok()) << r.error().message;
+    ASSERT_EQ(r->meshes.size(), 1u);
+    EXPECT_EQ(r->meshes[0].primitives[0].indices.size(), 3u);
+    writeFile(dir.path / "bad.obj", "v 0 0 0\nvw 6e21 0\nv 1 0 0\nv 0 1 0\nf 1 2 9\n");
+    auto bad = importObj((dir.path / "bad.obj").string());
+    ASSERT_FALSE(bad.ok());
+    EXPECT_NE(bad.error().message.find("line 5"), std::string::npos) << bad.error().message;
+}
+
 } // namespace
