@@ -583,7 +583,7 @@ uint32_t rockRows(uint32_t triangles) {
 // Rock `index`: a sphere cut by a handful of random planes (flat facets, which simplify well,
 // beside curved parts, which do not), roughened by low-amplitude waves, flattened and stretched
 // a little; about 1 to 1.5 m across, centred on the origin. Everything comes from the index, so
-// the pass that writes the proxy and the pass that writes the detail build the same mesh.
+// the output does not depend on which thread made the rock.
 // Positions and normals are computed once per grid point, so the seam column and the poles,
 // whose vertices are repeated for their uvs, get identical ones (nothing cracks or shades apart
 // there). uv0: longitude and latitude, v = 0 at the top, the texture upright seen from outside.

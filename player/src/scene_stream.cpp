@@ -114,8 +114,12 @@ struct SceneStream::Impl {
     std::vector<int32_t> chainOfMesh;     // per mesh: its index in meshChains, or -1
     // The chain of a mesh whose detail has been seen.
     TextureResidency& meshResidency(uint32_t mesh) { return residency[textureCount + uint32_t(chainOfMesh[mesh])]; }
-    bool detailPending(uint32_t mesh) const {
-        return std::any_of(meshes.begin(), meshes.end(), [&](const PendingMesh& pm) { return pm.data.mesh->mesh == mesh; });
+    // Per mesh chain: whether its detail waits in `meshes` (one pass over the queue, not one
+    // per chain).
+    std::vector<bool> detailsQueued() const {
+        std::vector<bool> queued(meshChains.size());
+        for (const PendingMesh& pm : meshes) queued[uint32_t(chainOfMesh[pm.data.mesh->mesh])] = true;
+        return queued;
     }
     uint64_t meshChainBytes() const {
         uint64_t sum = 0;
@@ -471,10 +475,11 @@ PlayResult<Done> SceneStream::update(const CameraState& camera, uint32_t width, 
     // Meshes: the detail while the LOD rule would draw an item finer than the proxy (without a
     // budget: once it has arrived).
     const bool allDetail = mOptions.lodForce >= 0 || mOptions.lodBias < 0;
+    std::vector<bool> queued = im.detailsQueued();
     for (uint32_t c = 0; c < im.meshChains.size(); ++c) {
         const Impl::MeshChain& mc = im.meshChains[c];
         TextureResidency& r = im.residency[im.textureCount + c];
-        bool need = r.valid == 0 || im.detailPending(mc.mesh);
+        bool need = r.valid == 0 || queued[c];
         if (im.budgeted) {
             need = allDetail;
             for (uint32_t i = 0; i < mc.items.size() && !need; ++i) {
@@ -526,10 +531,11 @@ PlayResult<Done> SceneStream::update(const CameraState& camera, uint32_t width, 
             ++st.lostLevels;
         }
     }
+    queued = im.detailsQueued(); // after the drops and arrivals above (new chains too)
     for (uint32_t c = 0; c < im.meshChains.size(); ++c) {
         Impl::MeshChain& mc = im.meshChains[c];
         const TextureResidency& r = im.residency[im.textureCount + c];
-        if (r.allocated != 0 || r.valid == 0 || im.detailPending(mc.mesh) || mc.requested || mc.lost) continue;
+        if (r.allocated != 0 || r.valid == 0 || queued[c] || mc.requested || mc.lost) continue;
         if (im.loader->requestMeshDetail(mc.mesh)) {
             mc.requested = true;
             ++st.frame.refetches;
