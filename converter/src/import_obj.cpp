@@ -122,7 +122,7 @@ void scanMtlKeys(std::string_view text, std::map<std::string, MtlKeys>& out) {
     MtlKeys* current = nullptr;
     size_t pos = 0;
     while (pos < text.size()) {
-        size_t end = text.find('\n', pos);
+        size_t end = text.find_first_of("\r\n", pos); // tinyobjloader ends a line at either
         if (end == std::string_view::npos) end = text.size();
         std::string_view line = text.substr(pos, end - pos);
         pos = end + 1;
@@ -216,7 +216,7 @@ private:
 void blankSkinWeightLines(std::string& text) {
     size_t pos = 0;
     while (pos < text.size()) {
-        size_t end = text.find('\n', pos);
+        size_t end = text.find_first_of("\r\n", pos); // tinyobjloader ends a line at either
         if (end == std::string::npos) end = text.size();
         size_t at = pos;
         while (at < end && (text[at] == ' ' || text[at] == '\t')) ++at;
@@ -233,7 +233,7 @@ void blankSkinWeightLines(std::string& text) {
 size_t lineOfBadIndex(std::string_view text, size_t vertexCount) {
     size_t line = 0, seen = 0, pos = 0;
     while (pos < text.size()) {
-        size_t end = text.find('\n', pos);
+        size_t end = text.find_first_of("\r\n", pos); // tinyobjloader ends a line at either
         if (end == std::string_view::npos) end = text.size();
         std::string_view l = text.substr(pos, end - pos);
         pos = end + 1;

@@ -502,6 +502,10 @@ TEST(ObjImport, SkinWeightLinesAreIgnoredAndLineNumbersKept) {
     ASSERT_TRUE(r.ok()) << r.error().message;
     ASSERT_EQ(r->meshes.size(), 1u);
     EXPECT_EQ(r->meshes[0].primitives[0].indices.size(), 3u);
+    writeFile(dir.path / "cr.obj", "v 0 0 0\r\n vw 6e21 0\rv 1 0 0\rvw 1 1\rv 0 1 0\rf 1 2 3\r"); // CR ends lines too
+    auto cr = importObj((dir.path / "cr.obj").string());
+    ASSERT_TRUE(cr.ok()) << cr.error().message;
+    EXPECT_EQ(cr->meshes[0].primitives[0].indices.size(), 3u);
     writeFile(dir.path / "bad.obj", "v 0 0 0\nvw 6e21 0\nv 1 0 0\nv 0 1 0\nf 1 2 9\n");
     auto bad = importObj((dir.path / "bad.obj").string());
     ASSERT_FALSE(bad.ok());
