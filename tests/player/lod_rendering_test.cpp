@@ -365,7 +365,7 @@ TEST(Lod, StreamingDrawsTheCoarseProxyFirstThenTheFullDetail) {
     EXPECT_EQ(scene.items[sphere].levelCount, 1u);
     EXPECT_EQ((*renderer)->lastFrame().triangles, full.triangles(3));
     int frames = 0;
-    while (!opened->stream->status().complete && frames < 500) {
+    for (StreamTimeLimit limit; !opened->stream->status().complete && limit.left();) {
         ASSERT_TRUE(opened->stream->update(view, kWidth, kHeight).ok());
         ASSERT_TRUE((*renderer)->render(view, kWidth, kHeight).ok());
         const uint64_t drawn = (*renderer)->lastFrame().triangles;
@@ -455,7 +455,8 @@ TEST(Lod, UnderABudgetOnlyTheMeshesTheViewDrawsFinerThanTheirProxyKeepTheirDetai
     const GpuScene& scene = *opened->scene;
 
     auto settle = [&](const CameraState& view) {
-        for (int k = 0; k < 300; ++k) {
+        StreamTimeLimit limit;
+        for (int k = 0; limit.left(); ++k) {
             EXPECT_TRUE(stream.update(view, kWidth, kHeight).ok());
             EXPECT_TRUE((*renderer)->render(view, kWidth, kHeight).ok());
             EXPECT_LE(stream.status().peakBytes, o.budgetBytes) << "frame " << k;

@@ -3,6 +3,8 @@
 // materials), rendered at test resolution and read back.
 #pragma once
 
+#include <chrono>
+
 #include <string>
 
 #include <gtest/gtest.h>
@@ -11,6 +13,14 @@
 #include "pnb_player/renderer.h"
 
 namespace pnb::player::test {
+
+// A wall-time bound for loops that wait on a streaming loader thread: on a loaded machine the
+// thread can be starved for seconds, so a frame count is no bound on what it has read.
+struct StreamTimeLimit {
+    std::chrono::steady_clock::time_point end = std::chrono::steady_clock::now() + std::chrono::seconds(120);
+    bool left() const { return std::chrono::steady_clock::now() < end; }
+};
+
 
 namespace gltf = pnb::assets::gltf;
 

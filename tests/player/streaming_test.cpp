@@ -80,8 +80,8 @@ CapturedImage frame(Streamed& s, const CameraState& camera, CaptureBuffer buffer
 
 // Draws frames of `view` until the stream has what this view needs (at least one frame: the
 // status is about the view last planned for). False if it never does.
-bool settle(Streamed& s, const CameraState& view, int maxFrames = 400) {
-    for (int k = 0; k < maxFrames; ++k) {
+bool settle(Streamed& s, const CameraState& view) {
+    for (StreamTimeLimit limit; limit.left();) {
         frame(s, view);
         if (s.stream->status().complete) return true;
     }
@@ -112,7 +112,8 @@ TEST(Streaming, FinishedStreamDrawsTheFullLoadsImageAndEveryFrameBeforeIsFinite)
     ASSERT_TRUE(s.renderer);
     int streamingFrames = 0;
     bool differedWhileStreaming = false;
-    for (int k = 0; k < 400 && !s.stream->status().complete; ++k) {
+    StreamTimeLimit limit;
+    for (int k = 0; limit.left() && !s.stream->status().complete; ++k) {
         CapturedImage hdr = frame(s, view, CaptureBuffer::Hdr);
         ASSERT_TRUE(allFinite(hdr)) << "frame " << k;
         if (!s.stream->status().complete) {
@@ -149,7 +150,7 @@ TEST(Streaming, LevelsSkippedWhileNotNeededAreReadAgainWhenTheViewNeedsThem) {
     Streamed s = openStream(path, o);
     ASSERT_TRUE(s.renderer);
     const CameraState far = streetView(-80.0), near = streetView(-6.0);
-    for (int k = 0; k < 2000 && !s.stream->status().readDone; ++k) frame(s, far);
+    for (StreamTimeLimit limit; limit.left() && !s.stream->status().readDone;) frame(s, far);
     ASSERT_TRUE(s.stream->status().readDone);
     ASSERT_TRUE(settle(s, far));
     for (int k = 0; k < 30; ++k) frame(s, far); // the cache fills the spare budget
@@ -218,7 +219,8 @@ void expectStopsWithError(const std::string& path, const std::string& what) {
     Streamed s = openStream(path, o);
     ASSERT_TRUE(s.renderer);
     const CameraState view = streetView(2.0);
-    for (int k = 0; k < 400; ++k) {
+    StreamTimeLimit limit;
+    for (int k = 0; limit.left(); ++k) {
         auto u = s.stream->update(view, kW, kH);
         if (!u.ok()) {
             EXPECT_EQ(u.error().kind, PlayErrorKind::Input);
@@ -269,7 +271,7 @@ TEST(Streaming, APipeStreamsLikeAFile) {
     o.uploadBytesPerFrame = 48 << 10;
     Streamed s = openStream(fifo, o);
     const CameraState view = streetView(2.0);
-    for (int k = 0; k < 400 && s.stream && !s.stream->status().complete; ++k) frame(s, view);
+    for (StreamTimeLimit limit; limit.left() && s.stream && !s.stream->status().complete;) frame(s, view);
     writer.join();
     ASSERT_TRUE(s.stream);
     EXPECT_TRUE(s.stream->status().complete);
