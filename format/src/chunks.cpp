@@ -217,6 +217,7 @@ PNB_INSTANTIATE(CameraList)
 PNB_INSTANTIATE(NodeGraph)
 PNB_INSTANTIATE(CameraPath)
 PNB_INSTANTIATE(MeshDetail)
+PNB_INSTANTIATE(Environment)
 #undef PNB_INSTANTIATE
 
 size_t meshIndexCount(const Mesh& mesh) {

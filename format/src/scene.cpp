@@ -16,7 +16,7 @@ namespace {
 
 bool isSingleton(Tag t) {
     return t == tags::kStrings || t == tags::kSceneInfo || t == tags::kRenderSettings ||
-           t == tags::kLights || t == tags::kCameras || t == tags::kNodes;
+           t == tags::kLights || t == tags::kCameras || t == tags::kNodes || t == tags::kEnvironment;
 }
 
 template <class T> Status decodeInto(const ChunkInfo& info, Payload payload, Scene& s, T& out) {
@@ -88,6 +88,7 @@ Status SceneAssembler::decode(const ChunkInfo& info, Payload payload) {
     if (tag == tags::kCameras) return decodeInto(info, std::move(p), s, s.cameras);
     if (tag == tags::kNodes) return decodeInto(info, std::move(p), s, s.nodes);
     if (tag == tags::kCameraPath) return decodeAppend(info, std::move(p), s, s.cameraPaths);
+    if (tag == tags::kEnvironment) return decodeInto(info, std::move(p), s, s.environment.emplace());
     if (tag == tags::kTextureMip) {
         Status st = decodeAppend(info, std::move(p), s, s.textureMips);
         return isOk(st) ? checkProgressive(info, &s.textureMips.back()) : st;
@@ -249,6 +250,7 @@ Status validateScene(const Scene& s) {
                 return makeError(FormatError::BadReference, 0,
                                  "camera path %zu: key %zu time does not increase", i, k);
     }
+    if (s.environment) PNB_CHECK(validateEnvironment(s, *s.environment));
     for (size_t i = 0; i < s.textureMips.size(); ++i) PNB_CHECK(validateTextureMip(s, s.textureMips[i], i));
     std::vector<bool> detailed(s.meshes.size());
     for (size_t i = 0; i < s.meshDetails.size(); ++i) {
@@ -259,6 +261,49 @@ Status validateScene(const Scene& s) {
         detailed[s.meshDetails[i].mesh] = true;
     }
 #undef PNB_CHECK
+    return {};
+}
+
+namespace {
+
+// One of the environment's textures: absent, or of the dimension and a format the field needs.
+Status checkEnvironmentTexture(const Scene& s, uint32_t ref, const char* field, TextureDimension dimension,
+                               std::initializer_list<TextureFormat> formats) {
+    if (ref == kNone) return {};
+    if (ref >= s.textures.size()) return refError("environment", 0, field, ref, s.textures.size());
+    const TextureDesc& t = s.textures[ref];
+    bool formatOk = std::find(formats.begin(), formats.end(), t.format) != formats.end();
+    if (t.dimension != dimension || !formatOk || t.colorSpace != ColorSpace::Linear)
+        return makeError(FormatError::BadReference, 0,
+                         "environment: %s is texture %u, which is not a linear %s texture of a "
+                         "format FORMAT.md allows there",
+                         field, ref, dimension == TextureDimension::Cube ? "cube" : "2D");
+    return {};
+}
+
+} // namespace
+
+Status validateEnvironment(const Scene& s, const Environment& e) {
+    if (!refOk(e.name, s.strings.strings.size()))
+        return refError("environment", 0, "name", e.name, s.strings.strings.size());
+    const auto hdr = {TextureFormat::RGBA16F, TextureFormat::RGBA32F};
+    if (Status st = checkEnvironmentTexture(s, e.radiance, "radiance", TextureDimension::Tex2D, hdr); !isOk(st))
+        return st;
+    if (Status st = checkEnvironmentTexture(s, e.specular, "specular", TextureDimension::Cube, hdr); !isOk(st))
+        return st;
+    if (Status st = checkEnvironmentTexture(s, e.brdfLut, "brdfLut", TextureDimension::Tex2D,
+                                            {TextureFormat::RG16F, TextureFormat::RG32F});
+        !isOk(st))
+        return st;
+    if ((e.specular == kNone) != (e.brdfLut == kNone))
+        return makeError(FormatError::BadReference, 0,
+                         "environment: a specular cube needs the BRDF table and the table a cube");
+    for (const Vec3& c : e.irradianceSh)
+        if (!finite(c))
+            return makeError(FormatError::BadPayload, 0, "environment: non-finite irradiance coefficient");
+    if (!finite(e.sunDirection) || !finite(e.groundAlbedo) || !std::isfinite(e.turbidity) ||
+        !std::isfinite(e.sunIlluminance))
+        return makeError(FormatError::BadPayload, 0, "environment: non-finite sky parameter");
     return {};
 }
 
@@ -321,6 +366,7 @@ Status writeScene(Writer& w, const Scene& s, Compression bulk) {
     if (isOk(st)) st = writeChunk(w, s.cameras);
     if (isOk(st)) st = writeChunk(w, s.nodes);
     all(s.cameraPaths);
+    if (isOk(st) && s.environment) st = writeChunk(w, *s.environment);
     // The progressive section (§4.1): smallest level first across all textures, so a streaming
     // reader can show every texture coarsely before any full-resolution level arrives; the mesh
     // details once every texture's smallest level is out (the first frame has what it needs),

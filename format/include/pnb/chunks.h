@@ -314,6 +314,30 @@ struct CameraPath {
     template <class V> void fields(V& v) { v(name); v(interpolation); v(loop); v(keys); }
 };
 
+// [SECTION] ENVM — the environment: light from the sky (image-based lighting) and the background
+// (docs/FORMAT.md "ENVM"). Everything the player needs is precomputed: it samples, never filters.
+enum class EnvironmentSource : uint8_t { Image, AnalyticSky, Count };
+struct Environment {
+    StringRef name = kNone;  // the image's file name, or the sky model ("preetham")
+    EnvironmentSource source = EnvironmentSource::Image;
+    uint32_t radiance = kNone; // TEXR: 2D equirectangular radiance in nits (linear), with mips
+    uint32_t specular = kNone; // TEXR: cube of GGX-prefiltered radiance, level m at roughness
+                               // m / (mipCount - 1); kNone = no specular term
+    uint32_t brdfLut = kNone;  // TEXR: 2D split-sum scale and bias (A, B) at (NdotV, roughness)
+    // Irradiance E(n) = sum_i irradiance[i] * Y_i(n) (lux), the 9 real SH basis functions of
+    // FORMAT.md, already convolved with the clamped cosine and windowed (never negative).
+    std::array<Vec3, 9> irradianceSh{};
+    // AnalyticSky only (else zero): what the sky was computed from, so that a reader can redo it.
+    Vec3 sunDirection{0, 0, 0}; // unit, towards the sun
+    float turbidity = 0;
+    Vec3 groundAlbedo{0, 0, 0};
+    float sunIlluminance = 0;   // lux, the scene's sun light
+    template <class V> void fields(V& v) {
+        v(name); v(source); v(radiance); v(specular); v(brdfLut); v(irradianceSh);
+        v(sunDirection); v(turbidity); v(groundAlbedo); v(sunIlluminance);
+    }
+};
+
 // [SECTION] chunk traits and codecs
 
 // Tag, current payload version and default compression of each chunk struct.
@@ -340,6 +364,7 @@ PNB_CHUNK_TRAITS(NodeGraph, tags::kNodes, Compression::Zstd);
 PNB_CHUNK_TRAITS(CameraPath, tags::kCameraPath, Compression::None);
 PNB_CHUNK_TRAITS(TextureMip, tags::kTextureMip, Compression::None);
 PNB_CHUNK_TRAITS(MeshDetail, tags::kMeshDetail, Compression::None);
+PNB_CHUNK_TRAITS(Environment, tags::kEnvironment, Compression::None);
 #undef PNB_CHUNK_TRAITS
 
 // Encodes a chunk payload (deterministic: equal structs give equal bytes; blob padding is zero).

@@ -5,6 +5,7 @@
 // streamChunks() to a SceneAssembler and handles the texels (TMIP) itself, one at a time.
 #pragma once
 
+#include <optional>
 #include <string_view>
 #include <vector>
 
@@ -30,6 +31,7 @@ struct Scene {
     CameraList cameras;
     NodeGraph nodes;
     std::vector<CameraPath> cameraPaths;
+    std::optional<Environment> environment; // ENVM: sky light and background, if the scene has one
     std::vector<TextureMip> textureMips;
     std::vector<MeshDetail> meshDetails; // MDET: full detail for meshes whose MESH is a proxy
 
@@ -94,8 +96,13 @@ Status validateMeshDetail(const Scene& scene, const MeshDetail& detail, size_t i
 // does for each of scene.textureMips; `index` names it in the error.
 Status validateTextureMip(const Scene& scene, const TextureMip& mip, size_t index);
 
+// Checks the ENVM chunk: its name, its textures (dimension, a linear float format, the cube and
+// the BRDF table both or neither) and that every number is finite.
+Status validateEnvironment(const Scene& scene, const Environment& environment);
+
 // Checks every cross-reference of §4.3: string, shader, program, texture, material, mesh,
-// light, camera and parent indices; mip levels and sizes; stream sizes; index values.
+// light, camera and parent indices; mip levels and sizes; stream sizes; index values; the
+// environment's textures (shape and format) and finite irradiance.
 // `offset` in errors is 0 (the error names the chunk kind and index instead).
 Status validateScene(const Scene& scene);
 

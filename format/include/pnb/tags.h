@@ -40,21 +40,22 @@ inline constexpr Tag kLights = detail::makeTag("LGHT");         // all lights
 inline constexpr Tag kCameras = detail::makeTag("CAMR");        // all cameras
 inline constexpr Tag kNodes = detail::makeTag("NODE");          // node graph
 inline constexpr Tag kCameraPath = detail::makeTag("PATH");     // one camera path
+inline constexpr Tag kEnvironment = detail::makeTag("ENVM");    // sky light and background
 inline constexpr Tag kTextureMip = detail::makeTag("TMIP");     // one mip level of a texture
 inline constexpr Tag kMeshDetail = detail::makeTag("MDET");     // a mesh's full detail (its MESH: a proxy)
 inline constexpr Tag kToc = detail::makeTag("TOCX");            // table of contents (last chunk)
 } // namespace tags
 
-// Rank of a known tag in the streamable order of FORMAT.md §4.1 (STRS 0 ... TMIP 12); -1 for
+// Rank of a known tag in the streamable order of FORMAT.md §4.1 (STRS 0 ... TMIP 13); -1 for
 // TOCX and tags this version does not know. Chunks of equal rank may repeat and interleave:
 // MDET shares TMIP's rank (the progressive section, after everything the first frame needs).
 constexpr int streamOrderRank(Tag t) {
-    if (t == tags::kMeshDetail) return 12;
+    if (t == tags::kMeshDetail) return 13;
     constexpr Tag order[] = {tags::kStrings,  tags::kSceneInfo, tags::kRenderSettings,
                              tags::kShader,   tags::kProgram,   tags::kTexture,
                              tags::kMaterial, tags::kMesh,      tags::kLights,
                              tags::kCameras,  tags::kNodes,     tags::kCameraPath,
-                             tags::kTextureMip};
+                             tags::kEnvironment, tags::kTextureMip};
     for (int i = 0; i < int(sizeof(order) / sizeof(order[0])); ++i)
         if (order[i] == t) return i;
     return -1;

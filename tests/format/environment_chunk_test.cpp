@@ -1,0 +1,123 @@
+// ENVM (docs/FORMAT.md "ENVM"): the environment survives a write and a read, sits before the
+// progressive section, and validateScene refuses environments that would draw wrong.
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+
+#include "pnb/reader.h"
+#include "pnb/scene.h"
+#include "pnb/scene_builder.h"
+#include "pnb/writer.h"
+#include "pnb_assets/box_room.h"
+
+namespace {
+
+using namespace pnb;
+
+uint32_t addTexture(SceneBuilder& b, const char* name, TextureDimension dim, TextureFormat format,
+                    uint32_t size, uint32_t bytesPerTexel) {
+    TextureDesc t;
+    t.name = b.intern(name);
+    t.dimension = dim;
+    t.format = format;
+    t.colorSpace = ColorSpace::Linear;
+    t.width = dim == TextureDimension::Cube ? size : 2 * size;
+    t.height = size;
+    t.layers = dim == TextureDimension::Cube ? 6 : 1;
+    t.mipCount = 1;
+    uint32_t index = uint32_t(b.scene.textures.size());
+    b.scene.textures.push_back(t);
+    TextureMip m;
+    m.texture = index;
+    m.width = t.width;
+    m.height = t.height;
+    m.data = b.keep(std::vector<std::byte>(size_t(t.width) * t.height * t.layers * bytesPerTexel));
+    b.scene.textureMips.push_back(m);
+    return index;
+}
+
+// The box room with an environment of every texture kind.
+void buildLitBoxRoom(SceneBuilder& b) {
+    assets::buildBoxRoom(b);
+    Environment e;
+    e.name = b.intern("test.hdr");
+    e.radiance = addTexture(b, "env", TextureDimension::Tex2D, TextureFormat::RGBA16F, 4, 8);
+    e.specular = addTexture(b, "env_specular", TextureDimension::Cube, TextureFormat::RGBA16F, 2, 8);
+    e.brdfLut = addTexture(b, "brdf", TextureDimension::Tex2D, TextureFormat::RG16F, 2, 4);
+    for (int i = 0; i < 9; ++i) e.irradianceSh[i] = {float(i), 0.5f * float(i), 1.0f};
+    b.scene.environment = e;
+}
+
+Result<Scene> roundTrip(const Scene& scene, std::vector<std::byte>& bytes) {
+    Writer w = Writer::toMemory(&bytes, {});
+    EXPECT_TRUE(isOk(writeScene(w, scene)));
+    EXPECT_TRUE(isOk(w.commit()));
+    auto container = Container::fromMemory(bytes);
+    if (!container) return container.error();
+    return readScene(*container);
+}
+
+TEST(EnvironmentChunk, SurvivesWriteAndReadAndComesBeforeTheTexels) {
+    SceneBuilder b;
+    buildLitBoxRoom(b);
+    std::vector<std::byte> bytes;
+    auto out = roundTrip(b.scene, bytes);
+    ASSERT_TRUE(out.ok()) << out.error().describe();
+    ASSERT_TRUE(out->environment.has_value());
+    EXPECT_EQ(encodeChunk(*out->environment), encodeChunk(*b.scene.environment));
+    EXPECT_EQ(out->unknownChunks, 0u);
+    auto container = Container::fromMemory(bytes);
+    ASSERT_TRUE(container.ok());
+    int envAt = -1, firstTexel = -1, i = 0;
+    for (const ChunkInfo& c : container->chunks()) {
+        if (c.header.tag == tags::kEnvironment) envAt = i;
+        if (c.header.tag == tags::kTextureMip && firstTexel < 0) firstTexel = i;
+        ++i;
+    }
+    EXPECT_GE(envAt, 0);
+    EXPECT_LT(envAt, firstTexel) << "a streaming reader knows the environment before any texel";
+}
+
+TEST(EnvironmentChunk, ASceneWithoutOneWritesNoChunk) {
+    SceneBuilder b;
+    assets::buildBoxRoom(b);
+    std::vector<std::byte> bytes;
+    auto out = roundTrip(b.scene, bytes);
+    ASSERT_TRUE(out.ok());
+    EXPECT_FALSE(out->environment.has_value());
+    auto container = Container::fromMemory(bytes);
+    for (const ChunkInfo& c : container->chunks()) EXPECT_FALSE(c.header.tag == tags::kEnvironment);
+}
+
+TEST(EnvironmentChunk, ValidationRefusesWhatWouldDrawWrong) {
+    auto expectRefused = [](auto change, const char* words) {
+        SceneBuilder b;
+        buildLitBoxRoom(b);
+        change(b.scene);
+        Status st = validateScene(b.scene);
+        ASSERT_FALSE(isOk(st)) << words;
+        EXPECT_NE(st.message.find("environment"), std::string::npos) << st.message;
+        EXPECT_NE(st.message.find(words), std::string::npos) << st.message;
+    };
+    expectRefused([](Scene& s) { s.environment->radiance = s.environment->specular; }, "radiance");
+    expectRefused([](Scene& s) { s.environment->specular = s.environment->radiance; }, "specular");
+    expectRefused([](Scene& s) { s.environment->brdfLut = 999; }, "brdfLut");
+    expectRefused([](Scene& s) { s.textures[s.environment->radiance].colorSpace = ColorSpace::Srgb; },
+                  "radiance");
+    expectRefused([](Scene& s) { s.textures[s.environment->radiance].format = TextureFormat::RGBA8; },
+                  "radiance");
+    expectRefused([](Scene& s) { s.environment->brdfLut = kNone; }, "needs the BRDF table");
+    expectRefused([](Scene& s) { s.environment->irradianceSh[4].y = std::numeric_limits<float>::quiet_NaN(); },
+                  "non-finite");
+    expectRefused([](Scene& s) { s.environment->sunDirection.x = INFINITY; }, "non-finite");
+    SceneBuilder ok;
+    buildLitBoxRoom(ok);
+    ok.scene.environment->specular = kNone;
+    ok.scene.environment->brdfLut = kNone;
+    ok.scene.environment->radiance = kNone; // only diffuse light, black background: allowed
+    EXPECT_TRUE(isOk(validateScene(ok.scene)));
+}
+
+} // namespace
