@@ -17,6 +17,11 @@ layout(binding = 3) uniform sampler2D uGDepth;
 // Inverse of the camera-relative view-projection: NDC (reversed-Z) -> camera-relative world.
 layout(location = 0) uniform mat4 uInverseViewProjection;
 
+#ifdef IBL
+#include "include/ibl.glsl"
+#include "include/sky_visibility.glsl"
+#endif
+
 layout(location = 0) in vec2 vUv;
 layout(location = 0) out vec4 outColor;
 
@@ -41,8 +46,19 @@ void main() {
         return;
     }
 #endif
-    // Occlusion darkens indirect light only (glTF's definition): the ambient term and GI.
+#ifdef IBL
+    float sky = iblActive() ? skyVisibility(position, n) : 1.0;
+    if (iblCaptureSky()) { // CaptureBuffer::Sky: the sky irradiance this pixel receives
+        outColor = vec4(iblIrradiance(n) * sky, 1.0);
+        return;
+    }
+#endif
+    // Occlusion darkens indirect light only (glTF's definition): the ambient term (or the
+    // environment's light, which replaces it) and GI.
     vec3 indirect = uAmbient.rgb * base.rgb;
+#ifdef IBL
+    if (iblActive()) indirect = iblShade(base.rgb, metallic, roughness, n, v) * sky;
+#endif
 #ifdef GI
     indirect += giIrradiance(position, n) * base.rgb * ((1.0 - metallic) / 3.14159265);
 #endif

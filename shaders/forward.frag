@@ -6,6 +6,9 @@
 #ifdef GI
 #include "include/gi_lookup.glsl"
 #endif
+#ifdef IBL
+#include "include/ibl.glsl"
+#endif
 
 layout(location = 0) out vec4 outColor;
 
@@ -19,8 +22,18 @@ void main() {
     }
 #endif
     vec3 color = shadeLights(s.baseColor, s.metallic, s.roughness, s.normal, vPosition, v, true);
-    // Occlusion darkens indirect light only (glTF's definition): the ambient term and GI.
+#ifdef IBL
+    if (iblCaptureSky()) { // CaptureBuffer::Sky (forward surfaces: no sky visibility term)
+        outColor = vec4(iblIrradiance(s.normal), 1.0);
+        return;
+    }
+#endif
+    // Occlusion darkens indirect light only (glTF's definition): the ambient term (or the
+    // environment's light, which replaces it) and GI.
     vec3 indirect = uAmbient.rgb * s.baseColor;
+#ifdef IBL
+    if (iblActive()) indirect = iblShade(s.baseColor, s.metallic, s.roughness, s.normal, v);
+#endif
 #ifdef GI
     indirect += giIrradiance(vPosition, s.normal) * s.baseColor * ((1.0 - s.metallic) / 3.14159265);
 #endif

@@ -78,18 +78,23 @@ PlayResult<CapturedImage> Renderer::capture(CaptureBuffer buffer) {
         break;
     }
     case CaptureBuffer::Shadow:
-    case CaptureBuffer::Indirect: {
+    case CaptureBuffer::Indirect:
+    case CaptureBuffer::Sky: {
         // Lighting writes visibility, cascade and texel ratio (or indirect irradiance) instead
         // of radiance for one frame of the same view; then the frame is rendered again so the
         // output is the image again.
         img.channels = 4;
         Impl& impl = *mImpl;
         FrameStats stats = mStats;
-        bool& mode = buffer == CaptureBuffer::Shadow ? impl.shadows.capture : impl.gi.capture;
+        bool& mode = buffer == CaptureBuffer::Shadow     ? impl.shadows.capture
+                     : buffer == CaptureBuffer::Indirect ? impl.gi.capture
+                                                         : impl.ibl.capture;
         impl.capturing = mode = true;
         auto r = render(impl.lastCamera, t.width, t.height);
         if (r) img.f32 = readFloats(t.hdr.id(), GL_RGBA, 4, t.width, t.height);
-        if (buffer == CaptureBuffer::Indirect && !impl.gi.frame.active) std::fill(img.f32.begin(), img.f32.end(), 0.0f);
+        if ((buffer == CaptureBuffer::Indirect && !impl.gi.frame.active) ||
+            (buffer == CaptureBuffer::Sky && !impl.ibl.active))
+            std::fill(img.f32.begin(), img.f32.end(), 0.0f);
         mode = false;
         if (r) r = render(impl.lastCamera, t.width, t.height);
         impl.capturing = false;

@@ -9,6 +9,7 @@
 
 #include "frame_targets.h"
 #include "gi.h"
+#include "ibl.h"
 #include "shadow_maps.h"
 #include "pnb_player/renderer.h"
 #include "stream_ring.h"
@@ -69,7 +70,7 @@ struct FrameBlock {
 };
 
 struct BuiltinPrograms {
-    GlHandle fxaa, debugView, flat, shadowDebug;
+    GlHandle fxaa, debugView, flat, shadowDebug, background;
 };
 
 struct FrameContext {
@@ -85,6 +86,7 @@ struct FrameContext {
     size_t objectBlockBytes = 0;
     ShadowContext& shadows;
     GiContext& gi;
+    IblContext& ibl;
     const LodState& lod;
     size_t frameBlockOffset = 0; // this frame's FrameBlock in the ring (binding 0)
     // Renderer::warmUp's frame: nothing culled, every draw cut to its first triangle.
@@ -101,6 +103,7 @@ struct Renderer::Impl {
     DrawLists lists;   // this frame's visible draws
     ShadowContext shadows;
     GiContext gi;
+    IblContext ibl;
     LodState lod;
     uint64_t shadowsForMaterials = ~0ull; // GpuScene::materialsVersion the casters were built for
     CameraState lastCamera;               // re-rendered for CaptureBuffer::Shadow

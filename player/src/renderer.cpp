@@ -49,13 +49,14 @@ PlayResult<std::unique_ptr<Renderer>> Renderer::create(const GpuScene& scene,
     glEnable(GL_CULL_FACE);
     glCullFace(GL_BACK);
     glFrontFace(GL_CCW);
+    glEnable(GL_TEXTURE_CUBE_MAP_SEAMLESS); // the prefiltered environment's rough levels are tiny
     // Per frame: frame block, light list, one object block per item.
     // Per frame: frame block, light list, one object block per visible item and per shadow
     // caster, the shadow block, caster masks or (SDSM) caster bounds.
     size_t lightBytes = 16 + sizeof(GpuLight) * std::max<size_t>(scene.lights.size(), 1);
     size_t objectStride = (kObjectBlockBytes + impl.alignment - 1) / impl.alignment * impl.alignment;
     // GI adds its block, the RSM's frame block and one object block per item the RSM draws.
-    impl.ring.reserve(2 * sizeof(FrameBlock) + lightBytes + sizeof(ShadowBlock) + sizeof(GiBlock) +
+    impl.ring.reserve(2 * sizeof(FrameBlock) + lightBytes + sizeof(ShadowBlock) + sizeof(GiBlock) + sizeof(IblBlock) +
                           impl.alignment * 8 + scene.items.size() * (3 * objectStride + 4 + 32),
                       impl.alignment);
     impl.targets.memory.streamingBytes = impl.ring.totalBytes();
@@ -91,6 +92,11 @@ void Renderer::setSettings(const RenderSettings& settings) {
             if (t.trilinear) glTextureParameterf(t.texture.id(), GL_TEXTURE_MAX_ANISOTROPY_EXT, settings.anisotropy);
     }
     ensure(b.fxaa, settings.fxaa, "fullscreen.vert", "fxaa.frag");
+    const GpuScene& scene = *mImpl->scene;
+    ensure(b.background,
+           settings.iblEnabled && settings.iblBackground && scene.iblPrograms && scene.environment &&
+               scene.environment->radiance,
+           "fullscreen.vert", "background.frag");
     bool shadowDebug = settings.debugView == DebugView::ShadowMap || settings.debugView == DebugView::Histogram;
     ensure(b.shadowDebug, shadowDebug, "fullscreen.vert", "shadow_debug.frag");
     bool debug = settings.debugView != DebugView::None && settings.debugView != DebugView::Cascades &&
@@ -168,7 +174,7 @@ PlayResult<Done> Renderer::render(const CameraState& camera, uint32_t width, uin
     mStats.culledItems = lists.culled;
 
     FrameContext ctx{scene, mSettings, mView, impl.targets, impl.ring, lists, mStats, timer,
-                     impl.builtins, kObjectBlockBytes, impl.shadows, impl.gi, impl.lod};
+                     impl.builtins, kObjectBlockBytes, impl.shadows, impl.gi, impl.ibl, impl.lod};
     ctx.warmUp = impl.warming;
     if (impl.shadowsForMaterials != scene.materialsVersion) {
         initShadowContext(scene, impl.shadows);
@@ -176,6 +182,7 @@ PlayResult<Done> Renderer::render(const CameraState& camera, uint32_t width, uin
     }
     prepareShadows(ctx);
     prepareGi(ctx);
+    prepareIbl(ctx);
     FrameBlock fb;
     fb.viewProjection = mView.viewProjection;
     fb.view = mView.view;
@@ -219,6 +226,7 @@ PlayResult<Done> Renderer::render(const CameraState& camera, uint32_t width, uin
     glEnable(GL_FRAMEBUFFER_SRGB);
 
     runDeferredLayers(ctx);
+    runBackground(ctx);
     runForward(ctx);
     glBindVertexArray(impl.emptyVao.id());
     runTonemap(ctx);

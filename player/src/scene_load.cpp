@@ -131,9 +131,12 @@ PlayResult<Done> compileNeededPrograms(const Scene& scene, GpuScene& gpu) {
             if (scene.str(r) != "SHADOWS" && scene.str(r) != "GI") d.insert(scene.str(r));
         return d;
     };
-    gpu.giPrograms = false;
+    gpu.giPrograms = gpu.iblPrograms = false;
     for (uint32_t i = 0; i < scene.programs.size(); ++i)
-        for (StringRef r : scene.programs[i].defines) gpu.giPrograms |= scene.str(r) == "GI";
+        for (StringRef r : scene.programs[i].defines) {
+            gpu.giPrograms |= scene.str(r) == "GI";
+            gpu.iblPrograms |= scene.str(r) == "IBL";
+        }
     for (GpuMaterial& m : gpu.materials) {
         m.rsmProgram = kNone;
         if (!gpu.giPrograms || m.program == kNone || m.translucent()) continue;
@@ -374,6 +377,18 @@ PlayResult<std::unique_ptr<GpuScene>> uploadSceneWithoutTexels(const Scene& scen
         ScenePath sp{std::string(scene.str(p.name)), p};
         sp.path.name = kNone;
         gpu->paths.push_back(std::move(sp));
+    }
+    if (const auto& e = scene.environment) {
+        GpuEnvironment env;
+        env.name = std::string(scene.str(e->name));
+        auto ref = [](uint32_t r) { return r == kNone ? std::nullopt : std::optional<uint32_t>(r); };
+        env.radiance = ref(e->radiance);
+        env.specular = ref(e->specular);
+        env.brdfLut = ref(e->brdfLut);
+        for (size_t k = 0; k < 9; ++k)
+            env.irradianceSh[k] = {e->irradianceSh[k].x, e->irradianceSh[k].y, e->irradianceSh[k].z};
+        if (env.specular) env.specularLevels = scene.textures[*env.specular].mipCount;
+        gpu->environment = std::move(env);
     }
     buildSceneGraph(scene, *gpu);
     updatePipelineLayout(*gpu);

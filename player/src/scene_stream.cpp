@@ -130,6 +130,7 @@ struct SceneStream::Impl {
         return sum;
     }
     std::vector<std::vector<TextureUse>> uses; // per texture
+    std::vector<bool> everyLevel;              // per texture: the environment's, needed whole
     StreamRing staging;
     uint64_t frame = 0;
     // A budget: storage follows the view's needs, and only levels with storage are kept as they
@@ -366,8 +367,13 @@ PlayResult<SceneStream::Opened> SceneStream::open(const std::string& path, const
     im.gpu = gpu->get();
     for (uint32_t t = 0; t < sc.textures.size(); ++t) im.setBaseLevel(t);
 
-    // Which surfaces sample which texture, at how many texels per world unit.
+    // Which surfaces sample which texture, at how many texels per world unit. The environment's
+    // textures are sampled in every direction, whatever the view: they need every level.
     im.uses.resize(sc.textures.size());
+    im.everyLevel.assign(sc.textures.size(), false);
+    if (sc.environment)
+        for (uint32_t t : {sc.environment->radiance, sc.environment->specular, sc.environment->brdfLut})
+            if (t != kNone) im.everyLevel[t] = true;
     for (uint32_t i = 0; i < im.gpu->items.size(); ++i) {
         const DrawItem& item = im.gpu->items[i];
         const Mesh& mesh = sc.meshes[item.mesh];
@@ -464,7 +470,7 @@ PlayResult<Done> SceneStream::update(const CameraState& camera, uint32_t width, 
             r.wanted = std::min(r.allocated, im.pending[t].nextLevel(r.valid));
             continue;
         }
-        uint32_t want = r.mipCount() - 1;
+        uint32_t want = im.everyLevel[t] ? 0 : r.mipCount() - 1;
         for (const TextureUse& u : im.uses[t]) {
             const DrawItem& item = im.gpu->items[u.item];
             const double d = distanceToBox(camera.position, item.boundsMin, item.boundsMax);

@@ -63,6 +63,7 @@ constexpr std::string_view kFilterNames[] = {"hardware", "poisson", "pcss"};
 constexpr std::string_view kSelectNames[] = {"depth", "bounds"};
 constexpr std::string_view kPartitionNames[] = {"log", "quantile"};
 constexpr std::string_view kAtomicsNames[] = {"fixed", "float"};
+constexpr std::string_view kSkyVisibilityNames[] = {"none", "screen"};
 
 const std::vector<Row>& rows() {
     using S = RenderSettings;
@@ -159,6 +160,28 @@ const std::vector<Row>& rows() {
           "injection accumulates in 32-bit fixed point (order-independent, deterministic) or with "
           "NV_shader_atomic_float float adds"},
          enumField<&S::giAtomics>(kAtomicsNames)},
+        {{"ibl.enabled", "bool",
+          "light from the container's environment (pnb-convert --sky or --environment): diffuse "
+          "from its irradiance SH, reflections from its prefiltered cube, and the background; "
+          "off = the uniform lighting.ambient, exactly as without an environment"},
+         BoolField{&S::iblEnabled}},
+        {{"ibl.intensity", "float 0..1000", "scale of the environment's radiance (1 = as stored, nits)"},
+         FloatField{&S::iblIntensity, 0.0f, 1000.0f}},
+        {{"ibl.rotation_deg", "float -360..360",
+          "environment turned about +Y (seen from above: counter-clockwise), lighting and background"},
+         FloatField{&S::iblRotationDeg, -360.0f, 360.0f}},
+        {{"ibl.specular", "bool", "reflections of the environment (prefiltered cube + split-sum table)"},
+         BoolField{&S::iblSpecular}},
+        {{"ibl.background", "bool", "draw the environment where no surface is"},
+         BoolField{&S::iblBackground}},
+        {{"ibl.visibility", "none|screen",
+          "sky visibility: none (every surface sees the whole sky), or screen (horizons found in "
+          "the depth buffer within ibl.visibility_radius; deferred materials)"},
+         enumField<&S::iblVisibility>(kSkyVisibilityNames)},
+        {{"ibl.visibility_radius", "float >= 0",
+          "screen visibility: how far occluders are searched, scene units; 0 = 1/8 of the scene "
+          "bounds' diagonal"},
+         FloatField{&S::iblVisibilityRadius, 0.0f, 1e30f}},
         {{"debug.view",
           "none|basecolor|alpha|normal|roughness|metallic|occlusion|emissive|depth|layer|overdraw|"
           "cascades|shadowmap|histogram|gi_indirect|gi_rsm|gi_volume|lod",

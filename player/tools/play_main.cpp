@@ -248,14 +248,15 @@ PlayResult<CaptureRequest> dumpRequest(const std::string& kind, const Args& a) {
                                  {"normal", CaptureBuffer::Normal, "exr"},
                                  {"position", CaptureBuffer::Position, "exr"},
                                  {"shadow", CaptureBuffer::Shadow, "exr"},
-                                 {"indirect", CaptureBuffer::Indirect, "exr"}};
+                                 {"indirect", CaptureBuffer::Indirect, "exr"},
+                                 {"sky", CaptureBuffer::Sky, "exr"}};
     for (const Kind& k : kinds)
         if (kind == k.name)
             return CaptureRequest{k.buffer, a.frame,
                                   a.outDir + "/frame" + std::to_string(a.frame) + "_" + k.name + "." + k.ext};
     return PlayError{PlayErrorKind::Usage,
                      "--dump: unknown buffer '" + kind +
-                         "' (color, hdr, depth, lineardepth, normal, position, shadow, indirect)"};
+                         "' (color, hdr, depth, lineardepth, normal, position, shadow, indirect, sky)"};
 }
 
 // `earlier` (when set) then `next`, their metrics in one list: the --*-metrics options measure

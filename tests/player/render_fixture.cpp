@@ -4,6 +4,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <numbers>
 
 #include "pnb_player/gl_context.h"
 #include "pnb_player/benchmark.h"
@@ -59,6 +60,27 @@ void addLights(gltf::Document& doc, gltf::Float3 offset) {
     lampNode.light = 1;
     lampNode.translation = {offset[0] + 1.5f, offset[1] + 1.5f, offset[2] + 2.0f};
     doc.nodes.push_back(lampNode);
+}
+
+gltf::Primitive uvSphere(float radius, uint32_t rings, uint32_t segments, uint32_t material) {
+    gltf::Primitive p;
+    p.material = material;
+    for (uint32_t r = 0; r <= rings; ++r) {
+        float theta = float(std::numbers::pi) * float(r) / float(rings);
+        for (uint32_t s = 0; s <= segments; ++s) {
+            float phi = 2.0f * float(std::numbers::pi) * float(s) / float(segments);
+            gltf::Float3 n{std::sin(theta) * std::cos(phi), std::cos(theta), std::sin(theta) * std::sin(phi)};
+            p.normals.push_back(n);
+            p.positions.push_back({n[0] * radius, n[1] * radius, n[2] * radius});
+        }
+    }
+    for (uint32_t r = 0; r < rings; ++r)
+        for (uint32_t s = 0; s < segments; ++s) {
+            uint32_t a = r * (segments + 1) + s, b = a + segments + 1;
+            // Counter-clockwise from outside (theta grows downward, phi toward -z... from +y).
+            p.indices.insert(p.indices.end(), {a, a + 1, b, a + 1, b + 1, b});
+        }
+    return p;
 }
 
 std::string convert(const gltf::Document& doc, const std::string& name, const std::string& sidecarJson) {

@@ -35,6 +35,9 @@ using pnb::test::addObject;
 using pnb::test::box;
 using pnb::test::quad;
 
+// A UV sphere centred on the origin with exact normals, counter-clockwise from outside.
+gltf::Primitive uvSphere(float radius, uint32_t rings, uint32_t segments, uint32_t material);
+
 // A sun from the upper left and a warm point light.
 void addLights(gltf::Document& doc, gltf::Float3 offset = {0, 0, 0});
 

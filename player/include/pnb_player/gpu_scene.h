@@ -107,6 +107,15 @@ struct ScenePath {
     CameraPath path; // keys copied out of the mapping
 };
 
+// The container's environment (ENVM): what image-based lighting and the background read.
+struct GpuEnvironment {
+    std::string name;                       // the image's file name or the sky model
+    std::optional<uint32_t> radiance;       // indices into GpuScene::textures
+    std::optional<uint32_t> specular, brdfLut;
+    std::array<glm::vec3, 9> irradianceSh{}; // lux, FORMAT.md's basis, unrotated, intensity 1
+    uint32_t specularLevels = 0;            // the cube's mip count (roughness m / (levels - 1))
+};
+
 struct GpuMemory {
     uint64_t meshBytes = 0, textureBytes = 0, uniformBytes = 0;
 };
@@ -146,6 +155,9 @@ struct GpuScene {
     std::optional<uint32_t> shadowProgram, shadowMaskProgram;
     // The lighting programs were built with GI (pnb-convert --gi): gi.enabled can take effect.
     bool giPrograms = false;
+    // The lighting programs were built with IBL (a container with an environment).
+    bool iblPrograms = false;
+    std::optional<GpuEnvironment> environment;
     // Their stage sources and defines, kept so the player can link a geometry-shader variant
     // when the vertex shader cannot write gl_Layer (shadows.layer_from).
     struct KeptProgram {

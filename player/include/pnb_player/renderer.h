@@ -79,6 +79,10 @@ enum class CaptureBuffer {
             // (-1 none) and shadow-texel / screen-pixel world size; 4 floats (alpha 1)
     Indirect, // re-renders the last frame's view with lighting writing the irradiance GI adds
               // (rgb, lux like the sun's intensity; 0 without GI or geometry); 4 floats
+    Sky,      // re-renders the last frame's view with lighting writing the sky irradiance it
+              // applies: the environment's irradiance SH (rotated, times ibl.intensity) times
+              // the sky-visibility term, before albedo and material occlusion (rgb, lux);
+              // 0 without an active environment or where nothing was drawn; 4 floats
     GiVolume, // the summed light volume GI's look-up reads: width = cells, height =
               // cells * cells * cascades (x fastest, then y, then z; cascades stacked along z),
               // 12 floats per cell (R, G, B x 4 SH coefficients, radiance / sun irradiance);

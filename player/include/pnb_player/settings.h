@@ -54,6 +54,7 @@ enum class ShadowFilter { Hardware, Poisson, Pcss }; // shadows.filter
 enum class CascadeSelect { Depth, Bounds };    // shadows.select
 enum class SdsmPartition { Log, Quantile };    // shadows.sdsm_partition
 enum class GiAtomics { Fixed, Float };         // gi.atomics
+enum class SkyVisibility { None, Screen };     // ibl.visibility
 
 struct RenderSettings {
     float exposure = 1.0f;       // lighting.exposure: HDR scale before tone mapping
@@ -110,6 +111,17 @@ struct RenderSettings {
     bool giCameraOcclusion = true; // blocking geometry also from the camera's G-buffer
     float giIntensity = 1.0f;
     GiAtomics giAtomics = GiAtomics::Fixed;
+
+    // ibl.*: light from the container's environment (ENVM; docs/PLAYER.md "Sky and image-based
+    // lighting"). Without an environment none of these has an effect.
+    bool iblEnabled = true;         // ibl.enabled: off = exactly the image without an environment
+    float iblIntensity = 1.0f;      // ibl.intensity: scale of the environment's radiance
+    float iblRotationDeg = 0.0f;    // ibl.rotation_deg: environment turned about +Y
+    bool iblSpecular = true;        // ibl.specular: the prefiltered reflection term
+    bool iblBackground = true;      // ibl.background: the environment behind the scene
+    SkyVisibility iblVisibility = SkyVisibility::Screen; // ibl.visibility
+    float iblVisibilityRadius = 0.0f; // ibl.visibility_radius: scene units; 0 = 1/8 of the
+                                      // scene bounds' diagonal
 };
 
 struct SettingInfo {

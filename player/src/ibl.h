@@ -1,0 +1,35 @@
+// ibl.h — light from the container's environment (ENVM) and the background it is seen against.
+// Per frame, when the lighting programs were built with IBL (shaders/include/ibl.glsl):
+//   prepareIbl     writes the IblBlock into the ring (the irradiance SH turned by
+//                  ibl.rotation_deg and scaled by ibl.intensity on the CPU — nine multiply-adds
+//                  per colour, so the shaders never rotate SH) and binds it with the specular
+//                  cube and the BRDF table; with ibl.enabled off the block says so and nothing
+//                  else is bound;
+//   runBackground  draws the environment where the depth buffer is still clear (after the
+//                  deferred layers, before forward materials, so blended surfaces cover it).
+// A container without an environment has no IBL programs: nothing here runs or is allocated.
+#pragma once
+
+#include <glm/glm.hpp>
+
+namespace pnb::player {
+
+struct FrameContext;
+
+// std140 IblBlock (shaders/include/ibl.glsl).
+struct IblBlock {
+    glm::vec4 sh[9];
+    glm::vec4 rotation; // cos, sin, roughest specular level, specular on
+    glm::vec4 params;   // on, capture sky irradiance, screen visibility radius, specular scale
+};
+
+struct IblContext {
+    bool active = false;   // this frame lights with the environment
+    bool capture = false;  // lighting writes the sky irradiance (CaptureBuffer::Sky)
+    bool warned = false;   // "ibl.enabled, but ..." said once
+};
+
+void prepareIbl(FrameContext& ctx);    // ibl_setup.cpp
+void runBackground(FrameContext& ctx); // pass_background.cpp
+
+} // namespace pnb::player

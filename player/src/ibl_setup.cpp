@@ -1,0 +1,51 @@
+// The IblBlock of a frame: the environment's irradiance SH turned and scaled, the specular
+// cube and BRDF table bound, and the screen sky-visibility radius.
+#include <cmath>
+#include <cstdio>
+
+#include "frame_context.h"
+#include "sh9.h"
+
+namespace pnb::player {
+
+void prepareIbl(FrameContext& ctx) {
+    IblContext& ibl = ctx.ibl;
+    const GpuScene& scene = ctx.scene;
+    const RenderSettings& s = ctx.settings;
+    ibl.active = false;
+    if (!scene.iblPrograms) return; // no environment: nothing bound, nothing read
+    if (s.iblEnabled && !scene.environment && !ibl.warned) {
+        ibl.warned = true;
+        std::fprintf(stderr, "pnb-play: the lighting programs have IBL but the container has no "
+                             "environment: no sky light\n");
+    }
+    ibl.active = s.iblEnabled && scene.environment.has_value();
+    IblBlock block{};
+    if (ibl.active) {
+        const GpuEnvironment& env = *scene.environment;
+        const double angle = double(s.iblRotationDeg) * (3.14159265358979323846 / 180.0);
+        Sh9Rgb sh;
+        for (size_t k = 0; k < 9; ++k) sh.c[k] = glm::dvec3(env.irradianceSh[k]);
+        sh = sh9RotateY(sh, angle);
+        for (size_t k = 0; k < 9; ++k) block.sh[k] = glm::vec4(glm::vec3(sh.c[k] * double(s.iblIntensity)), 0.0f);
+        const bool specular = s.iblSpecular && env.specular && env.brdfLut;
+        block.rotation = {float(std::cos(angle)), float(std::sin(angle)),
+                          float(env.specularLevels > 0 ? env.specularLevels - 1 : 0), specular ? 1.0f : 0.0f};
+        float radius = 0;
+        if (s.iblVisibility == SkyVisibility::Screen) {
+            const Aabb& b = scene.bounds;
+            glm::vec3 diagonal(b.max.x - b.min.x, b.max.y - b.min.y, b.max.z - b.min.z);
+            radius = s.iblVisibilityRadius > 0 ? s.iblVisibilityRadius
+                                               : (b.min.x <= b.max.x ? glm::length(diagonal) / 8.0f : 0.0f);
+        }
+        block.params = {1.0f, ibl.capture ? 1.0f : 0.0f, radius, s.iblIntensity};
+        if (specular) {
+            glBindTextureUnit(13, scene.textures[*env.specular].texture.id());
+            glBindTextureUnit(14, scene.textures[*env.brdfLut].texture.id());
+        }
+    }
+    size_t offset = ctx.ring.push(&block, sizeof block);
+    glBindBufferRange(GL_UNIFORM_BUFFER, 7, ctx.ring.buffer(), GLintptr(offset), sizeof block);
+}
+
+} // namespace pnb::player

@@ -1,0 +1,350 @@
+// Sky and image-based lighting (issue 16), headless: scenes built in code, environments written
+// as EXR files and converted with the real converter (pnb-convert --environment / --sky).
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <numbers>
+
+#include <glm/glm.hpp>
+
+#include "pnb/reader.h"
+#include "pnb/scene.h"
+#include "pnb_converter/convert.h"
+#include "pnb_converter/environment.h"
+#include "pnb_player/gpu_scene.h"
+#include "pnb_player/image_write.h"
+#include "render_fixture.h"
+#include "sh9.h"
+#include "split_sum.h"
+
+namespace pnb::player::test {
+
+namespace {
+
+namespace fs = std::filesystem;
+constexpr uint32_t kW = 160, kH = 120;
+
+fs::path iblDir() {
+    auto dir = fs::temp_directory_path() / ("pnb-render-test-" + std::to_string(::getpid())) / "ibl";
+    fs::create_directories(dir);
+    return dir;
+}
+
+// An equirectangular radiance image (row 0 = zenith) as an EXR; `radiance(direction)` in nits.
+template <class F> std::string writeEnvironment(const std::string& name, uint32_t w, uint32_t h, F radiance) {
+    std::vector<float> rgb(size_t(w) * h * 3);
+    for (uint32_t j = 0; j < h; ++j)
+        for (uint32_t i = 0; i < w; ++i) {
+            glm::dvec3 d = equirectDirection((i + 0.5) / w, (j + 0.5) / h);
+            glm::vec3 c = radiance(d);
+            for (int k = 0; k < 3; ++k) rgb[(size_t(j) * w + i) * 3 + size_t(k)] = c[k];
+        }
+    std::string path = (iblDir() / (name + ".exr")).string();
+    EXPECT_TRUE(isOk(writeExr(path, ImageView{w, h, 3, {}, rgb})));
+    return path;
+}
+
+// `doc` converted with the environment `image` ("" = none; "sky" = the analytic sky).
+std::string convertLit(const gltf::Document& doc, const std::string& name, const std::string& image) {
+    std::string glb = (iblDir() / (name + ".glb")).string();
+    EXPECT_TRUE(isOk(pnb::writeFileAtomic(glb, gltf::encodeGlb(doc))));
+    converter::ConvertSettings s;
+    s.input = glb;
+    s.output = (iblDir() / (name + ".pnb")).string();
+    s.jobs = 1;
+    s.validateShaders = false;
+    s.noSidecar = true;
+    if (image == "sky") s.environment.sky = true;
+    else s.environment.image = image;
+    auto r = converter::convertScene(s);
+    EXPECT_TRUE(r.ok()) << (r.ok() ? "" : r.error().message);
+    return s.output;
+}
+
+// A sphere of radius 1 at the origin in `material`, and (unless `sun`) a black sun, so that the
+// environment is the only light.
+gltf::Document sphereDocument(gltf::Material material, bool sun = false) {
+    gltf::Document doc;
+    doc.materials.push_back(material);
+    addObject(doc, "sphere", uvSphere(1.0f, 48, 96, 0), {0, 0, 0});
+    gltf::Light light;
+    light.name = "sun";
+    light.intensity = sun ? 3.0f : 0.0f;
+    doc.lights.push_back(light);
+    gltf::Node node;
+    node.name = "sun";
+    node.light = 0;
+    node.rotation = gltf::lookRotation({0.4f, -1.0f, -0.6f});
+    doc.nodes.push_back(node);
+    return doc;
+}
+
+gltf::Material white(float roughness, float metallic = 0.0f) {
+    gltf::Material m;
+    m.name = "white";
+    m.baseColorFactor = {1, 1, 1, 1};
+    m.roughnessFactor = roughness;
+    m.metallicFactor = metallic;
+    return m;
+}
+
+// Looking at the sphere from +Z.
+const CameraState kView = lookAt({0, 0, 3.2}, {0, 0, 0});
+
+struct Frame {
+    CapturedImage color, hdr, sky, normal;
+};
+
+Frame renderFrame(const std::string& path, const RenderSettings& s, const CameraState& camera = kView) {
+    Frame f;
+    auto scene = loadScene(path);
+    EXPECT_TRUE(scene.ok()) << (scene.ok() ? "" : scene.error().message);
+    if (!scene) return f;
+    auto renderer = Renderer::create(**scene, s);
+    EXPECT_TRUE(renderer.ok());
+    if (!renderer) return f;
+    EXPECT_TRUE((*renderer)->render(camera, kW, kH).ok());
+    f.color = std::move(*(*renderer)->capture(CaptureBuffer::Color));
+    f.hdr = std::move(*(*renderer)->capture(CaptureBuffer::Hdr));
+    f.sky = std::move(*(*renderer)->capture(CaptureBuffer::Sky));
+    f.normal = std::move(*(*renderer)->capture(CaptureBuffer::Normal));
+    return f;
+}
+
+glm::vec3 pixel(const CapturedImage& img, uint32_t x, uint32_t y) {
+    size_t i = (size_t(y) * img.width + x) * img.channels;
+    return {img.f32[i], img.f32[i + 1], img.f32[i + 2]};
+}
+
+RenderSettings quiet() {
+    RenderSettings s;
+    s.shadowTechnique = ShadowTechnique::Off;
+    s.iblVisibility = SkyVisibility::None;
+    return s;
+}
+
+std::string whiteFurnace() {
+    static const std::string path = convertLit(
+        sphereDocument(white(0.5f)), "furnace",
+        writeEnvironment("white", 1, 1, [](glm::dvec3) { return glm::vec3(1.0f); }));
+    return path;
+}
+
+TEST(Ibl, AWhiteDielectricSphereDisappearsIntoAWhiteEnvironment) {
+    Frame f = renderFrame(whiteFurnace(), quiet());
+    ASSERT_FALSE(f.hdr.f32.empty());
+    // Background and sphere alike: the environment's 1 nit (diffuse (1 - F0 A - B) E / pi plus
+    // the specular F0 A + B of a constant environment). Rows are bottom-up; the centre is the
+    // sphere, the corner the sky.
+    glm::vec3 corner = pixel(f.hdr, 2, 2), centre = pixel(f.hdr, kW / 2, kH / 2);
+    EXPECT_NEAR(corner.x, 1.0f, 2e-3f);
+    int tested = 0;
+    for (uint32_t y = kH / 2 - 30; y <= kH / 2 + 30; y += 6)
+        for (uint32_t x = kW / 2 - 30; x <= kW / 2 + 30; x += 6) {
+            glm::vec3 n = pixel(f.normal, x, y);
+            if (glm::length(n) < 0.5f) continue; // not the sphere
+            glm::vec3 c = pixel(f.hdr, x, y);
+            for (int k = 0; k < 3; ++k) EXPECT_NEAR(c[k], 1.0f, 0.02f) << x << "," << y << " n.z " << n.z;
+            ++tested;
+        }
+    EXPECT_GT(tested, 40);
+    EXPECT_NEAR(centre.y, 1.0f, 0.02f);
+    // The sky irradiance the lighting applied: pi L for every normal.
+    glm::vec3 e = pixel(f.sky, kW / 2, kH / 2);
+    EXPECT_NEAR(e.y, std::numbers::pi_v<float>, 0.01f);
+}
+
+TEST(Ibl, WithoutTheSpecularTermTheDiffuseAloneReflectsTheEnvironment) {
+    RenderSettings s = quiet();
+    s.iblSpecular = false;
+    Frame f = renderFrame(whiteFurnace(), s);
+    ASSERT_FALSE(f.hdr.f32.empty());
+    EXPECT_NEAR(pixel(f.hdr, kW / 2, kH / 2).y, 1.0f, 0.01f);
+    // A white metal in a white environment: the split-sum specular alone, A + B (< 1: the single-
+    // scattering GGX loses energy at high roughness), from the same table the CPU computes.
+}
+
+TEST(Ibl, AWhiteMetalReflectsTheSplitSumAlbedo) {
+    static const std::string path = convertLit(
+        sphereDocument(white(0.6f, 1.0f)), "furnace-metal",
+        writeEnvironment("white-metal", 1, 1, [](glm::dvec3) { return glm::vec3(1.0f); }));
+    Frame f = renderFrame(path, quiet());
+    ASSERT_FALSE(f.hdr.f32.empty());
+    glm::vec3 n = pixel(f.normal, kW / 2, kH / 2);
+    glm::dvec2 ab = splitSumBrdf(std::clamp(double(n.z), 0.0, 1.0), 0.6, 1024);
+    EXPECT_LT(ab.x + ab.y, 0.999);
+    EXPECT_NEAR(pixel(f.hdr, kW / 2, kH / 2).y, ab.x + ab.y, 0.02);
+}
+
+TEST(Ibl, IblOffIsTodaysImage) {
+    gltf::Document doc = sphereDocument(white(0.5f), true);
+    static const std::string plain = convertLit(doc, "plain", "");
+    static const std::string lit = convertLit(doc, "plain-sky", "sky");
+    RenderSettings off;
+    off.iblEnabled = false;
+    Frame a = renderFrame(plain, off), b = renderFrame(lit, off);
+    ASSERT_FALSE(a.color.u8.empty());
+    EXPECT_EQ(compareRgba8(a.color, b.color).maxAbs, 0);
+    // And the plain container is today's image whatever ibl.* says: nothing to light with.
+    Frame c = renderFrame(plain, RenderSettings{});
+    EXPECT_EQ(compareRgba8(a.color, c.color).maxAbs, 0);
+    // With the sky on, the sphere is lit from everywhere and the background is no longer black.
+    Frame d = renderFrame(lit, RenderSettings{});
+    EXPECT_GT(compareRgba8(a.color, d.color).maxAbs, 20);
+    EXPECT_GT(pixel(d.hdr, 2, kH - 3).z, 0.0f) << "sky";
+    EXPECT_EQ(pixel(a.hdr, 2, kH - 3).z, 0.0f);
+}
+
+// Mean luminance of the sphere's left and right thirds.
+std::pair<double, double> leftRight(const Frame& f) {
+    double left = 0, right = 0;
+    int nl = 0, nr = 0;
+    for (uint32_t y = 0; y < kH; ++y)
+        for (uint32_t x = 0; x < kW; ++x) {
+            if (glm::length(pixel(f.normal, x, y)) < 0.5f) continue;
+            glm::vec3 c = pixel(f.hdr, x, y);
+            double l = 0.2126 * c.x + 0.7152 * c.y + 0.0722 * c.z;
+            if (x < kW / 2 - 12) left += l, ++nl;
+            if (x > kW / 2 + 12) right += l, ++nr;
+        }
+    return {left / std::max(nl, 1), right / std::max(nr, 1)};
+}
+
+TEST(Ibl, RotatingTheEnvironmentTurnsTheLighting) {
+    // Bright towards +X (the image's middle half), dim elsewhere.
+    static const std::string path = convertLit(
+        sphereDocument(white(0.7f)), "half",
+        writeEnvironment("half", 64, 32, [](glm::dvec3 d) { return glm::vec3(d.x > 0 ? 4.0f : 0.25f); }));
+    RenderSettings s = quiet();
+    auto [l0, r0] = leftRight(renderFrame(path, s));
+    EXPECT_GT(r0, 3.0 * l0) << "+X is to the right of a camera looking down -Z";
+    s.iblRotationDeg = 180;
+    auto [l1, r1] = leftRight(renderFrame(path, s));
+    EXPECT_GT(l1, 3.0 * r1);
+    EXPECT_NEAR(l1 / r0, 1.0, 0.05);
+    s.iblRotationDeg = 90; // +X turns to -Z, behind the sphere: both sides alike
+    auto [l2, r2] = leftRight(renderFrame(path, s));
+    EXPECT_NEAR(l2 / r2, 1.0, 0.1);
+}
+
+TEST(Ibl, TheSkyIrradianceIsTheConvertersShEverywhere) {
+    static const std::string path = convertLit(
+        sphereDocument(white(0.7f)), "gradient",
+        writeEnvironment("gradient", 64, 32, [](glm::dvec3 d) {
+            return glm::vec3(1.0 + d.y, 0.5 + 0.5 * d.x, 2.0 + d.z);
+        }));
+    auto container = Container::open(path);
+    ASSERT_TRUE(container.ok());
+    auto scene = readScene(*container);
+    ASSERT_TRUE(scene.ok());
+    ASSERT_TRUE(scene->environment.has_value());
+    Sh9Rgb sh;
+    for (size_t k = 0; k < 9; ++k) {
+        const Vec3& c = scene->environment->irradianceSh[k];
+        sh.c[k] = {c.x, c.y, c.z};
+    }
+    RenderSettings s = quiet();
+    s.iblIntensity = 2.0f;
+    s.iblRotationDeg = 30.0f;
+    Frame f = renderFrame(path, s);
+    Sh9Rgb turned = sh9RotateY(sh, 30.0 * std::numbers::pi / 180.0);
+    int tested = 0;
+    for (uint32_t y = 10; y < kH; y += 9)
+        for (uint32_t x = 10; x < kW; x += 9) {
+            glm::vec3 n = pixel(f.normal, x, y);
+            if (glm::length(n) < 0.5f) continue;
+            glm::dvec3 expect = 2.0 * sh9Evaluate(turned, glm::dvec3(n));
+            glm::vec3 got = pixel(f.sky, x, y);
+            for (int k = 0; k < 3; ++k) EXPECT_NEAR(got[k], expect[k], 1e-3 * expect[k] + 1e-3);
+            ++tested;
+        }
+    EXPECT_GT(tested, 20);
+}
+
+TEST(Ibl, AHundredThousandNitSunStaysFiniteAndNonNegative) {
+    static const std::string path = convertLit(
+        sphereDocument(white(0.3f)), "sun",
+        writeEnvironment("sun", 128, 64, [](glm::dvec3 d) {
+            return glm::vec3(glm::dot(d, glm::normalize(glm::dvec3(0.3, 0.8, 0.5))) > 0.999 ? 1e5f : 0.5f);
+        }));
+    Frame f = renderFrame(path, quiet());
+    ASSERT_TRUE(allFinite(f.hdr));
+    ASSERT_TRUE(allFinite(f.sky));
+    double peak = 0;
+    for (size_t i = 0; i < f.sky.f32.size(); ++i) {
+        EXPECT_GE(f.sky.f32[i], 0.0f);
+        peak = std::max(peak, double(f.sky.f32[i]));
+    }
+    EXPECT_GT(peak, 10.0) << "the sun lights the sphere";
+}
+
+TEST(Ibl, AnAnalyticSkyLightsFromTheSunsSideAndShowsBehindTheScene) {
+    static const std::string path = convertLit(sphereDocument(white(0.8f), true), "sky", "sky");
+    auto scene = loadScene(path);
+    ASSERT_TRUE(scene.ok());
+    ASSERT_TRUE((*scene)->environment.has_value());
+    EXPECT_TRUE((*scene)->iblPrograms);
+    Frame f = renderFrame(path, quiet(), lookAt({0, 0.5, 3.2}, {0, 0.5, 0}));
+    ASSERT_TRUE(allFinite(f.hdr));
+    // Sky above the horizon (top rows: GL rows are bottom-up) brighter than zero.
+    EXPECT_GT(pixel(f.hdr, 4, kH - 4).z, 0.0f);
+}
+
+// A street canyon: a floor 4 wide between walls 6 high, 60 long down -Z, seen from above one end.
+std::string canyon() {
+    gltf::Document doc;
+    gltf::Material grey;
+    grey.name = "grey";
+    grey.baseColorFactor = {0.5f, 0.5f, 0.5f, 1};
+    doc.materials.push_back(grey);
+    addObject(doc, "floor", box(4, 0.2f, 60, 0), {0, -0.1f, -30});
+    addObject(doc, "west", box(1, 6, 60, 0), {-2.5f, 3, -30});
+    addObject(doc, "east", box(1, 6, 60, 0), {2.5f, 3, -30});
+    gltf::Light light;
+    light.name = "sun";
+    light.intensity = 0.0f;
+    doc.lights.push_back(light);
+    gltf::Node node;
+    node.name = "sun";
+    node.light = 0;
+    node.rotation = gltf::lookRotation({0.4f, -1.0f, -0.6f});
+    doc.nodes.push_back(node);
+    static const std::string path = convertLit(
+        doc, "canyon", writeEnvironment("canyon-sky", 1, 1, [](glm::dvec3) { return glm::vec3(1.0f); }));
+    return path;
+}
+
+TEST(Ibl, ScreenVisibilityDarkensTheCanyonFloorTowardsTheViewFactor) {
+    const CameraState view = lookAt({0, 5, 4}, {0, 0, -14});
+    RenderSettings s = quiet();
+    Frame open = renderFrame(canyon(), s, view);
+    s.iblVisibility = SkyVisibility::Screen;
+    s.iblVisibilityRadius = 12.0f;
+    Frame seen = renderFrame(canyon(), s, view);
+    // The floor's middle, 10..20 units down the street: normals up.
+    double sumOpen = 0, sumSeen = 0;
+    int n = 0;
+    for (uint32_t y = 0; y < kH; ++y)
+        for (uint32_t x = kW / 2 - 4; x <= kW / 2 + 4; ++x) {
+            glm::vec3 nrm = pixel(seen.normal, x, y);
+            if (nrm.y < 0.9f) continue;
+            sumOpen += pixel(open.sky, x, y).y;
+            sumSeen += pixel(seen.sky, x, y).y;
+            ++n;
+        }
+    ASSERT_GT(n, 50);
+    const double pi = std::numbers::pi;
+    EXPECT_NEAR(sumOpen / n, pi, 0.01 * pi) << "no visibility: the whole sky";
+    // The view factor of the slot at the floor's centre line: sin(atan(2 / 6)) = 0.316; off the
+    // centre line and nearer the walls it is smaller. Screen visibility must land in that region.
+    double ratio = sumSeen / sumOpen;
+    EXPECT_LT(ratio, 0.6);
+    EXPECT_GT(ratio, 0.1);
+}
+
+} // namespace
+
+} // namespace pnb::player::test
