@@ -63,6 +63,7 @@ constexpr const char* kEncodingNames[] = {"plain", "octahedral"};
 constexpr const char* kLightTypeNames[] = {"directional", "point", "spot"};
 constexpr const char* kProjectionNames[] = {"perspective", "orthographic"};
 constexpr const char* kInterpolationNames[] = {"linear", "catmull_rom"};
+constexpr const char* kEnvironmentSourceNames[] = {"image", "analytic_sky"};
 constexpr const char* kCompressionNames[] = {"none", "zstd"};
 
 #define PNB_NAMES_MATCH(names, Enum)                                                               \
@@ -86,6 +87,7 @@ PNB_NAMES_MATCH(kEncodingNames, VertexEncoding);
 PNB_NAMES_MATCH(kLightTypeNames, LightType);
 PNB_NAMES_MATCH(kProjectionNames, Projection);
 PNB_NAMES_MATCH(kInterpolationNames, Interpolation);
+PNB_NAMES_MATCH(kEnvironmentSourceNames, EnvironmentSource);
 #undef PNB_NAMES_MATCH
 
 // The decoders reject out-of-range enums, but Compression comes straight from header flags and
@@ -724,6 +726,17 @@ void textScene(std::string& o, const Scene& s) {
                    nameOf(p.interpolation, kInterpolationNames), yesNo(p.loop)});
         }
         t.print(o);
+    }
+
+    if (const auto& e = s.environment) {
+        auto texture = [&](uint32_t t) { return t == kNone ? std::string("none") : "texture " + u64(t); };
+        o += "\nenvironment: " + nameText(s, e->name) + " (" + nameOf(e->source, kEnvironmentSourceNames) +
+             "), radiance " + texture(e->radiance) + ", specular " + texture(e->specular) + ", BRDF table " +
+             texture(e->brdfLut) + "\n";
+        o += "  irradiance SH band 0 (lux): " + vecText(e->irradianceSh[0]) + "\n";
+        if (e->source == EnvironmentSource::AnalyticSky)
+            o += "  sky: sun " + vecText(e->sunDirection) + ", turbidity " + num(e->turbidity) + ", ground " +
+                 vecText(e->groundAlbedo) + ", sun " + num(e->sunIlluminance) + " lux\n";
     }
 }
 
