@@ -19,6 +19,7 @@
 #include "pnb/user_cache_directory.h"
 #include "pnb/writer.h"
 #include "pnb_converter/camera_path.h"
+#include "pnb_converter/environment.h"
 #include "pnb_converter/importers.h"
 #include "pnb_converter/material_resolve.h"
 #include "pnb_converter/shader_permutations.h"
@@ -183,6 +184,16 @@ void describeOmissions(const ResolvedMaterials& r, const ShaderPlan& plan,
     if (!needs.shadows)
         sum.omitted.push_back("shadow programs: no shadow-casting light and caster");
     if (!needs.gi) sum.omitted.push_back("GI programs: gi.enabled is not true (pnb-convert --gi)");
+    if (!needs.ibl)
+        sum.omitted.push_back(
+            "environment (no --environment or --sky): no sky light, IBL programs, cube map or SH");
+}
+
+// The node that places light `light` (the first one, as the player takes it), or -1.
+int nodeOfLight(const IrScene& scene, size_t light) {
+    for (size_t i = 0; i < scene.nodes.size(); ++i)
+        if (scene.nodes[i].light == int(light)) return int(i);
+    return -1;
 }
 
 } // namespace
@@ -194,6 +205,12 @@ Result<ConvertSummary, ConvertError> convertScene(const ConvertSettings& s,
     auto report = [&](const char* stage, size_t done, size_t total) {
         if (progress) progress(stage, done, total);
     };
+
+    const EnvironmentSettings& env = s.environment;
+    if (env.sky && !env.image.empty())
+        return ConvertError{ConvertErrorKind::Input,
+                            "environment: both an image (" + env.image +
+                                ") and the analytic sky were asked for; choose one"};
 
     // [SECTION] import
     clock.start("import");
@@ -210,7 +227,8 @@ Result<ConvertSummary, ConvertError> convertScene(const ConvertSettings& s,
     // overlaps materials and meshes; processTextures waits for it if it is not done by then. The
     // future joins at return.
     std::future<void> decoderLoad;
-    if (std::any_of(scene.images.begin(), scene.images.end(), imageNeedsDecoderModule))
+    if (std::any_of(scene.images.begin(), scene.images.end(), imageNeedsDecoderModule) ||
+        (!env.image.empty() && imageNeedsDecoderModule(IrImage{"environment", env.image, {}, {}})))
         decoderLoad = std::async(std::launch::async, loadImageDecoder);
 
     // [SECTION] materials
@@ -394,9 +412,62 @@ Result<ConvertSummary, ConvertError> convertScene(const ConvertSettings& s,
     }
     clock.stop();
 
+    // [SECTION] environment: after the lights, since the sky follows the scene's sun (the
+    // default one if the converter added it)
+    std::optional<BakedEnvironment> environment;
+    float sunIlluminance = 0;
+    if (env.any()) {
+        clock.start("environment");
+        RadianceImage radiance;
+        std::string envName;
+        EnvironmentSource source = EnvironmentSource::Image;
+        std::optional<PreethamSkyParams> sky;
+        if (!env.image.empty()) {
+            auto loaded = loadRadianceImage(env.image);
+            if (!loaded) return loaded.error();
+            radiance = std::move(*loaded);
+            for (std::string& w : radiance.warnings) sum.warnings.push_back(std::move(w));
+            envName = fs::path(env.image).filename().string();
+            sum.dependencies.push_back(env.image);
+        } else {
+            // The sun: the first directional light that casts shadows, else the first
+            // directional (every directional casts shadows as written below, so the two agree
+            // today). Towards the sun is its node's +Z axis: lights shine down -Z.
+            int sunLight = -1;
+            for (size_t i = 0; i < scene.lights.size() && sunLight < 0; ++i)
+                if (scene.lights[i].type == LightType::Directional) sunLight = int(i);
+            PreethamSkyParams p;
+            p.turbidity = env.skyTurbidity;
+            p.groundAlbedo = glm::dvec3(env.skyGroundAlbedo);
+            if (sunLight >= 0) {
+                const IrLight& l = scene.lights[size_t(sunLight)];
+                if (int node = nodeOfLight(scene, size_t(sunLight)); node >= 0) {
+                    const Mat4d& m = world[size_t(node)];
+                    glm::dvec3 z(m.m[8], m.m[9], m.m[10]);
+                    if (glm::length(z) > 0) p.sunDirection = glm::normalize(z);
+                }
+                // The ground below the horizon reflects the sun as well as the sky, in the
+                // light's colour: both in lux, so sky and sun share one unit.
+                p.sunIlluminance = glm::dvec3(l.color.x, l.color.y, l.color.z) * double(l.intensity);
+                sunIlluminance = l.intensity;
+            }
+            sky = p;
+            radiance = bakePreethamSky(p, env.skyWidth);
+            envName = "preetham";
+            source = EnvironmentSource::AnalyticSky;
+        }
+        auto baked = bakeEnvironment(radiance, env, source, envName, s.jobs,
+                                     sky ? &*sky : nullptr);
+        if (!baked) return baked.error();
+        if (sky) baked->envm.sunIlluminance = sunIlluminance; // the light's lux, not a channel
+        environment = std::move(*baked);
+        clock.stop();
+    }
+
     // [SECTION] shaders
     clock.start("shaders");
     SceneShaderNeeds needs;
+    needs.ibl = environment.has_value();
     bool shadowLight = false;
     for (const IrLight& l : scene.lights) shadowLight |= l.type == LightType::Directional;
     for (const Material& m : materials.materials) {
@@ -453,6 +524,8 @@ Result<ConvertSummary, ConvertError> convertScene(const ConvertSettings& s,
             sum.minTexturePsnrDb =
                 sum.minTexturePsnrDb == 0 ? t.psnrDb : std::min(sum.minTexturePsnrDb, t.psnrDb);
     }
+    // The environment's textures follow the materials' (whose indices materials already hold).
+    if (environment) sum.environment = appendEnvironment(b, *environment, environment->summary.name);
     std::set<uint16_t> layers;
     for (size_t i = 0; i < materials.materials.size(); ++i) {
         Material m = materials.materials[i];

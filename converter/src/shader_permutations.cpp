@@ -81,6 +81,11 @@ ShaderPlan planShaders(std::span<const Material> materials,
         bool deferred = materials[i].shadingPath == ShadingPath::Deferred;
         anyDeferred |= deferred;
         std::vector<std::string> defines = surfaceDefines(features[i]);
+        // Image-based lighting is a lighting term: the forward program and deferred lighting
+        // get it, deferred G-buffer programs do not. It goes in before the GI G-buffer twin
+        // below is made, because FORMAT.md ("PROG") defines the twin as the forward program's
+        // defines without SHADOWS and GI, and the player finds it by exactly that comparison.
+        if (!deferred && needs.ibl) defines.push_back("IBL");
         // Forward shading samples the shadow maps itself; deferred receivers get them in the
         // lighting pass.
         // With GI the reflective shadow map draws every opaque or masked surface with the
@@ -97,6 +102,7 @@ ShaderPlan planShaders(std::span<const Material> materials,
         std::vector<std::string> defines;
         if (needs.shadows) defines.push_back("SHADOWS");
         if (needs.gi) defines.push_back("GI");
+        if (needs.ibl) defines.push_back("IBL");
         add(variant("deferred_lighting", {"fullscreen.vert", "deferred_lighting.frag"}, std::move(defines)));
     }
     if (needs.shadows) {

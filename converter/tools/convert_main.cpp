@@ -60,6 +60,14 @@ bool parseUnsigned(const char* text, uint32_t lo, uint32_t hi, uint32_t& out) {
     return true;
 }
 
+bool parseFloat(const char* text, float lo, float hi, float& out) {
+    char* end = nullptr;
+    float v = std::strtof(text, &end);
+    if (!*text || *end || !(v >= lo && v <= hi)) return false;
+    out = v;
+    return true;
+}
+
 const std::vector<Option>& options() {
     static const std::vector<Option> table = {
         {"Input and output", "-o, --output", "FILE|DIR",
@@ -118,6 +126,34 @@ const std::vector<Option>& options() {
              std::optional<uint64_t> bytes = pnb::converter::parseByteSize(a);
              c.settings.texture.maxMemoryBytes = bytes.value_or(0);
              return bytes.has_value();
+         }},
+        {"Environment", "--environment", "FILE",
+         "image-based lighting from an equirectangular HDR image (.hdr, .exr, anything "
+         "OpenImageIO reads; row 0 is the zenith, the centre column looks along +X)",
+         [](CliState& c, const char* a) { c.settings.environment.image = a; return *a != 0; }},
+        {"Environment", "--sky", nullptr,
+         "image-based lighting from the analytic Preetham sky, lit by the scene's sun (its "
+         "first directional light, or the default sun)",
+         [](CliState& c, const char*) { c.settings.environment.sky = true; return true; }},
+        {"Environment", "--sky-turbidity", "T", "haze of the sky, 2..10 (default 3)",
+         [](CliState& c, const char* a) {
+             return parseFloat(a, 2.0f, 10.0f, c.settings.environment.skyTurbidity);
+         }},
+        {"Environment", "--sky-ground-albedo", "A",
+         "reflectance of the ground below the horizon, 0..1 (default 0.2)",
+         [](CliState& c, const char* a) {
+             return parseFloat(a, 0.0f, 1.0f, c.settings.environment.skyGroundAlbedo);
+         }},
+        {"Environment", "--environment-size", "N",
+         "halve the radiance image until it is at most N texels high (default 1024)",
+         [](CliState& c, const char* a) {
+             return parseUnsigned(a, 1, 65536, c.settings.environment.maxRadianceHeight);
+         }},
+        {"Environment", "--specular-size", "N",
+         "face size of the prefiltered specular cube, a power of two 4..2048 (default 128)",
+         [](CliState& c, const char* a) {
+             uint32_t& n = c.settings.environment.specularSize;
+             return parseUnsigned(a, 4, 2048, n) && (n & (n - 1)) == 0;
          }},
         {"Container", "--compress", nullptr,
          "zstd-compress meshes and texels too (smaller file; loads can no longer be zero-copy)",
@@ -278,6 +314,17 @@ void printSummary(const ConvertSettings& s, const ConvertSummary& r) {
     std::printf("):");
     for (const std::string& p : r.programs) std::printf(" %s", p.c_str());
     std::printf("\n");
+    if (r.environment) {
+        const pnb::converter::EnvironmentSummary& e = *r.environment;
+        std::printf("  environment: %s %ux%u %s, specular cube %u^2 x %u levels %s, LUT %u^2, "
+                    "%s, %.2f s",
+                    e.name.c_str(), e.radianceWidth, e.radianceHeight,
+                    pnb::converter::textureFormatName(e.radianceFormat), e.specularSize,
+                    e.specularLevels, pnb::converter::textureFormatName(e.specularFormat),
+                    e.lutSize, bytesText(e.bytes).c_str(), e.seconds);
+        if (e.downsampled) std::printf(" (image halved %u time(s))", e.downsampled);
+        std::printf("\n");
+    }
     for (const std::string& o : r.omitted) std::printf("  not written: %s\n", o.c_str());
     if (r.defaultSun) std::printf("  added: default sun (no directional light in the source)\n");
     if (r.defaultCamera) std::printf("  added: default camera (none in the source)\n");
@@ -582,6 +629,11 @@ int main(int argc, char** argv) {
         } else {
             positional.push_back(arg);
         }
+    }
+    if (c.settings.environment.sky && !c.settings.environment.image.empty()) {
+        std::fprintf(stderr, "Error: --environment and --sky both give the environment; "
+                             "choose one\n");
+        return kExitUsage;
     }
     if (!c.testDir.empty()) return runTest(c);
     if (!c.batchList.empty() || positional.size() > 1) {

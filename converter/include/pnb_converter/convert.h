@@ -9,11 +9,13 @@
 
 #include <cstdint>
 #include <functional>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
 
 #include "pnb/error.h"
+#include "pnb_converter/environment.h"
 #include "pnb_converter/mesh_processing.h"
 #include "pnb_converter/scene_ir.h"
 #include "pnb_converter/texture_processing.h"
@@ -29,6 +31,10 @@ struct ConvertSettings {
     std::string depfile;        // write a Make-style dependency file (for Ninja); "" = none
     MeshSettings mesh;          // see mesh_processing.h for defaults
     TextureSettings texture;    // see texture_processing.h for defaults
+    // Image-based lighting (environment.h): an equirect image or the analytic sky, baked into
+    // ENVM and its textures; the lighting programs then get the define IBL. Default: none.
+    // Both an image and the sky: an Input error.
+    EnvironmentSettings environment;
     uint32_t jobs = 0;          // worker threads for meshes and textures; 0 = all cores
     bool validateShaders = true; // glslang-check every packed program. Default: true.
     // Remember programs glslang accepted (shader_validation_cache.h): in memory for the process
@@ -64,8 +70,10 @@ struct ConvertSummary {
     bool defaultSun = false, defaultCamera = false, defaultPath = false;
     double minTexturePsnrDb = 0;       // worst PSNR of compressed textures (0 = none compressed)
     uint64_t outputBytes = 0, meshBytes = 0, textureBytes = 0;
+    std::optional<EnvironmentSummary> environment; // when one was written
     std::vector<StageTiming> stages;
-    std::vector<std::string> dependencies; // files read (source, buffers, images, sidecar, path)
+    std::vector<std::string> dependencies; // files read (source, buffers, images, sidecar, path,
+                                           // environment image)
 };
 
 // Called as work progresses: stage name, items done, items in the stage.

@@ -4,7 +4,8 @@
 // "Model only what the scene requires": a program variant exists only for a feature combination
 // some material uses (no normal-map variant without a normal-mapped material), scene-level
 // programs only when something uses them (no shadow program without a shadow-casting light and
-// caster, no deferred lighting without a deferred material), and GI programs only with GI on.
+// caster, no deferred lighting without a deferred material), GI programs only with GI on, and
+// the IBL define only with an environment.
 //
 // Does NOT do: compile for a GPU (the player does), write the container.
 #pragma once
@@ -56,6 +57,7 @@ struct SceneShaderNeeds {
     bool shadows = false;       // a light casts shadows and some material casts them
     bool maskedCasters = false; // some shadow caster is alpha-masked
     bool gi = false;            // GI: lighting with GI, G-buffer variants for forward materials
+    bool ibl = false;           // an environment (ENVM) is written: lighting with IBL
 };
 
 // A program with its stage files and the sorted defines of this permutation.

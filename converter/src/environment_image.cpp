@@ -1,0 +1,100 @@
+// converter/src/environment_image.cpp — the environment's radiance image: loaded from a file
+// (through the converter's image decoders, so every format a texture may be in works here too),
+// cleaned, or baked from the analytic sky (environment.h).
+#include <cmath>
+#include <filesystem>
+
+#include "pnb_converter/environment.h"
+#include "sh9.h" // player/math: equirectDirection, the one definition of the mapping
+#include "texture_internal.h"
+
+namespace pnb::converter {
+
+namespace {
+
+namespace fs = std::filesystem;
+
+} // namespace
+
+uint64_t cleanRadiance(RadianceImage& image) {
+    uint64_t cleaned = 0;
+    const size_t n = std::min(image.rgb.size() / 3, size_t(image.width) * image.height);
+    for (size_t t = 0; t < n; ++t) {
+        bool bad = false;
+        for (int c = 0; c < 3; ++c) {
+            float& v = image.rgb[t * 3 + c];
+            // `!(v >= 0)` catches NaN too; radiance is a non-negative, finite quantity.
+            if (!(v >= 0.0f) || std::isinf(v)) {
+                v = 0.0f;
+                bad = true;
+            }
+        }
+        cleaned += bad;
+    }
+    return cleaned;
+}
+
+Result<RadianceImage, ConvertError> loadRadianceImage(const std::string& path) {
+    IrImage source;
+    source.name = fs::path(path).filename().string();
+    source.path = path;
+    // The decoders' own checks (missing file, not a regular file, undecodable, zero size, the
+    // texel limit textures have) give one-line errors that start with the image and its path.
+    auto decoded =
+        texture_detail::decodeImage(source, TextureSettings{}.maxSourceTexels, nullptr);
+    if (!decoded) {
+        ConvertError e = decoded.error();
+        e.message = "environment " + e.message;
+        return e;
+    }
+    const texture_detail::ImageF& img = decoded->image;
+    RadianceImage out;
+    out.width = img.width;
+    out.height = img.height;
+    out.rgb.resize(img.texelCount() * 3);
+    // An integer file (PNG, JPEG, 8/16-bit TIFF) holds display-encoded values, not radiance:
+    // linearise as sRGB so at least the shape of the light is right.
+    const bool encoded = !decoded->floatSource;
+    for (size_t t = 0; t < img.texelCount(); ++t)
+        for (int c = 0; c < 3; ++c) {
+            float v = img.texels[t * 4 + c];
+            out.rgb[t * 3 + c] = encoded ? texture_detail::srgbToLinear(v) : v;
+        }
+    if (encoded)
+        out.warnings.push_back("environment " + path +
+                               ": not a floating-point image; its values are taken as "
+                               "sRGB-encoded and linearised (1.0 = 1 nit)");
+    out.cleanedTexels = cleanRadiance(out);
+    if (out.cleanedTexels)
+        out.warnings.push_back("environment " + path + ": " + std::to_string(out.cleanedTexels) +
+                               " texel(s) with NaN, infinite or negative values set to 0");
+    if (!(out.width == 1 && out.height == 1) && out.width != 2 * out.height)
+        out.warnings.push_back("environment " + path + ": " + std::to_string(out.width) + "x" +
+                               std::to_string(out.height) +
+                               " is not 2:1; it is stretched over the whole sphere as an "
+                               "equirectangular image");
+    return out;
+}
+
+RadianceImage bakePreethamSky(const PreethamSkyParams& params, uint32_t width) {
+    RadianceImage out;
+    out.width = std::max(1u, width);
+    out.height = std::max(1u, out.width / 2);
+    out.rgb.resize(size_t(out.width) * out.height * 3);
+    const player::PreethamSky sky(params);
+    for (uint32_t j = 0; j < out.height; ++j)
+        for (uint32_t i = 0; i < out.width; ++i) {
+            // Texel centres: the stored texel is the radiance at its centre, which the box mips
+            // and the SH projection (texels as constant patches) then treat as its mean.
+            glm::dvec3 d = player::equirectDirection((i + 0.5) / out.width, (j + 0.5) / out.height);
+            glm::dvec3 L = sky.radiance(d);
+            float* p = &out.rgb[(size_t(j) * out.width + i) * 3];
+            p[0] = float(L.x);
+            p[1] = float(L.y);
+            p[2] = float(L.z);
+        }
+    out.cleanedTexels = cleanRadiance(out); // the model promises finite, >= 0: counted, not hidden
+    return out;
+}
+
+} // namespace pnb::converter
