@@ -163,10 +163,10 @@ TEST(Ibl, WithoutTheSpecularTermTheDiffuseAloneReflectsTheEnvironment) {
     Frame f = renderFrame(whiteFurnace(), s);
     ASSERT_FALSE(f.hdr.f32.empty());
     EXPECT_NEAR(pixel(f.hdr, kW / 2, kH / 2).y, 1.0f, 0.01f);
-    // A white metal in a white environment: the split-sum specular alone, A + B (< 1: the single-
-    // scattering GGX loses energy at high roughness), from the same table the CPU computes.
 }
 
+// A white metal in a white environment: the split-sum specular alone, A + B (< 1: single-
+// scattering GGX loses energy at high roughness), as the CPU's table has it.
 TEST(Ibl, AWhiteMetalReflectsTheSplitSumAlbedo) {
     static const std::string path = convertLit(
         sphereDocument(white(0.6f, 1.0f)), "furnace-metal",
@@ -220,10 +220,10 @@ TEST(Ibl, RotatingTheEnvironmentTurnsTheLighting) {
         writeEnvironment("half", 64, 32, [](glm::dvec3 d) { return glm::vec3(d.x > 0 ? 4.0f : 0.25f); }));
     RenderSettings s = quiet();
     auto [l0, r0] = leftRight(renderFrame(path, s));
-    EXPECT_GT(r0, 3.0 * l0) << "+X is to the right of a camera looking down -Z";
+    EXPECT_GT(r0, 1.5 * l0) << "+X is to the right of a camera looking down -Z";
     s.iblRotationDeg = 180;
     auto [l1, r1] = leftRight(renderFrame(path, s));
-    EXPECT_GT(l1, 3.0 * r1);
+    EXPECT_GT(l1, 1.5 * r1);
     EXPECT_NEAR(l1 / r0, 1.0, 0.05);
     s.iblRotationDeg = 90; // +X turns to -Z, behind the sphere: both sides alike
     auto [l2, r2] = leftRight(renderFrame(path, s));
