@@ -1,0 +1,123 @@
+// The opaque-triangle Embree scene of the Monte-Carlo tracers (triangle_scene.h).
+#include "triangle_scene.h"
+
+#include <algorithm>
+#include <cstring>
+
+#include <glm/geometric.hpp>
+#include <glm/gtc/type_ptr.hpp>
+#include <glm/mat4x4.hpp>
+#include <glm/vec4.hpp>
+
+#include "mesh_decode.h"
+#include "pnb/node_transform.h"
+#include "self_intersection.h"
+
+namespace pnb::reference::detail {
+
+TriangleScene::~TriangleScene() {
+    if (scene) rtcReleaseScene(scene);
+    if (device) rtcReleaseDevice(device);
+}
+
+TracerResult<std::unique_ptr<TriangleScene>> buildTriangleScene(const Scene& scene, glm::dvec3 origin,
+                                                                const TriangleInstanceCallback& onInstance) {
+    auto inputError = [](std::string message) { return TracerError{TracerErrorKind::Input, std::move(message)}; };
+    auto out = std::make_unique<TriangleScene>();
+    out->device = rtcNewDevice(nullptr);
+    if (!out->device) return TracerError{TracerErrorKind::Embree, "Embree could not create a device"};
+    out->scene = rtcNewScene(out->device);
+    if (!out->scene) return TracerError{TracerErrorKind::Embree, "Embree: rtcNewScene failed"};
+    // Robust: no traversal shortcuts that trade accuracy for speed; this is the reference.
+    rtcSetSceneFlags(out->scene, RTC_SCENE_FLAG_ROBUST);
+    rtcSetSceneBuildQuality(out->scene, RTC_BUILD_QUALITY_HIGH);
+
+    const std::vector<Matrix4d> worldMatrices = nodeWorldMatrices(scene.nodes);
+    std::vector<std::vector<glm::dvec4>> positions(scene.meshes.size()); // decoded on first use
+    std::vector<bool> decoded(scene.meshes.size(), false);
+    for (size_t i = 0; i < scene.nodes.nodes.size(); ++i) {
+        const Node& n = scene.nodes.nodes[i];
+        if (n.mesh == kNone) continue;
+        if (n.mesh >= scene.meshes.size())
+            return inputError(nodeName(scene, uint32_t(i)) + " refers to mesh " + std::to_string(n.mesh) + " of " +
+                              std::to_string(scene.meshes.size()));
+        const glm::dmat4 world = glm::make_mat4(worldMatrices[i].data());
+        const Mesh& mesh = fullDetailMesh(scene, n.mesh); // the MDET detail, not a proxy
+        if (mesh.primitive != Primitive::Triangles) continue;
+        const uint64_t indexCount = mesh.indices.size() / (mesh.indexType == IndexType::U16 ? 2 : 4);
+        for (const Submesh& sm : mesh.submeshes) {
+            if (sm.lod != 0 || sm.material == kNone) continue;
+            if (sm.material >= scene.materials.size())
+                return inputError(meshName(scene, n.mesh) + " refers to material " + std::to_string(sm.material) +
+                                  " of " + std::to_string(scene.materials.size()));
+            // Blend surfaces let most light through; the player's shadows ignore them too.
+            if (scene.materials[sm.material].alphaMode == AlphaMode::Blend) continue;
+            if (uint64_t(sm.firstIndex) + sm.indexCount > indexCount)
+                return inputError(meshName(scene, n.mesh) + ": submesh indices " + std::to_string(sm.firstIndex) +
+                                  "+" + std::to_string(sm.indexCount) + " run past its " +
+                                  std::to_string(indexCount) + " indices");
+            std::vector<uint32_t> indices;
+            const uint64_t end = uint64_t(sm.firstIndex) + sm.indexCount / 3 * 3;
+            for (uint64_t k = sm.firstIndex; k < end; ++k) {
+                const uint32_t index = readIndex(mesh, k);
+                if (index >= mesh.vertexCount)
+                    return inputError(meshName(scene, n.mesh) + ": index " + std::to_string(index) + " at position " +
+                                      std::to_string(k) + " is not below vertexCount " +
+                                      std::to_string(mesh.vertexCount));
+                indices.push_back(index);
+            }
+            if (indices.empty()) continue;
+            if (!decoded[n.mesh]) {
+                auto p = decodeStream(scene, n.mesh, VertexSemantic::Position, true);
+                if (!p) return p.error();
+                positions[n.mesh] = std::move(*p);
+                decoded[n.mesh] = true;
+            }
+            const auto& pos = positions[n.mesh];
+
+            RTCGeometry geometry = rtcNewGeometry(out->device, RTC_GEOMETRY_TYPE_TRIANGLE);
+            if (!geometry) return TracerError{TracerErrorKind::Embree, "Embree: rtcNewGeometry failed"};
+            auto* vertices = static_cast<float*>(rtcSetNewGeometryBuffer(
+                geometry, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), pos.size()));
+            auto* triangles = static_cast<uint32_t*>(rtcSetNewGeometryBuffer(
+                geometry, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(uint32_t), indices.size() / 3));
+            if (!vertices || !triangles) {
+                rtcReleaseGeometry(geometry);
+                return TracerError{TracerErrorKind::Embree, "Embree: allocating geometry buffers failed"};
+            }
+            std::vector<double> magnitude(pos.size());
+            for (size_t v = 0; v < pos.size(); ++v) {
+                const glm::dvec3 ws = glm::dvec3(world * glm::dvec4(glm::dvec3(pos[v]), 1.0));
+                const glm::dvec3 rel = ws - origin;
+                vertices[v * 3] = float(rel.x), vertices[v * 3 + 1] = float(rel.y), vertices[v * 3 + 2] = float(rel.z);
+                magnitude[v] = glm::length(rel);
+                out->worldBand = std::max(out->worldBand, kWorldRelativeError * glm::length(ws));
+            }
+            std::memcpy(triangles, indices.data(), indices.size() * sizeof(uint32_t));
+            auto tolerance = std::make_unique<std::vector<float>>(indices.size() / 3);
+            for (size_t t = 0; t < tolerance->size(); ++t)
+                (*tolerance)[t] = float(kVertexRelativeError * std::max({magnitude[indices[t * 3]],
+                                                                         magnitude[indices[t * 3 + 1]],
+                                                                         magnitude[indices[t * 3 + 2]]}));
+            rtcSetGeometryUserData(geometry, tolerance.get());
+            // Both queries: IndirectTracer intersects (it needs the hit), SkyTracer only asks
+            // whether anything is in the way.
+            rtcSetGeometryIntersectFilterFunction(geometry, rejectOwnSurface);
+            rtcSetGeometryOccludedFilterFunction(geometry, rejectOwnSurface);
+            rtcCommitGeometry(geometry);
+            const unsigned id = rtcAttachGeometry(out->scene, geometry);
+            rtcReleaseGeometry(geometry);
+            out->tolerances.push_back(std::move(tolerance));
+            out->triangles += indices.size() / 3;
+            ++out->instances;
+            if (onInstance)
+                if (auto e = onInstance(id, uint32_t(i), n.mesh, sm, std::move(indices))) return *e;
+        }
+    }
+    rtcCommitScene(out->scene);
+    if (rtcGetDeviceError(out->device) != RTC_ERROR_NONE)
+        return TracerError{TracerErrorKind::Embree, "Embree: building the triangle scene failed"};
+    return out;
+}
+
+} // namespace pnb::reference::detail

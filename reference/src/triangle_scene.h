@@ -1,0 +1,50 @@
+// triangle_scene.h — the Embree scene of everything that stops a ray in the Monte-Carlo tracers
+// (IndirectTracer: what light bounces off; SkyTracer: what hides the sky): every level-0 submesh
+// instance whose material is not Blend, whatever it casts into the player's shadow maps.
+// Internal to pnb_reference.
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <optional>
+#include <vector>
+
+#include <embree3/rtcore.h>
+#include <glm/vec3.hpp>
+
+#include "pnb/scene.h"
+#include "pnb_reference/shadow_tracer.h"
+
+namespace pnb::reference::detail {
+
+// An Embree device and a committed scene (robust, high build quality) whose triangles carry the
+// self-intersection filter (self_intersection.h) for both rtcIntersect and rtcOccluded.
+struct TriangleScene {
+    RTCDevice device = nullptr;
+    RTCScene scene = nullptr;
+    std::vector<std::unique_ptr<std::vector<float>>> tolerances; // the filter's per-triangle bands
+    double worldBand = 0;   // kWorldRelativeError x the largest world-space vertex magnitude
+    uint64_t triangles = 0;
+    uint32_t instances = 0; // node x submesh instances attached
+
+    TriangleScene() = default;
+    TriangleScene(const TriangleScene&) = delete;
+    TriangleScene& operator=(const TriangleScene&) = delete;
+    ~TriangleScene();
+};
+
+// Called once per attached instance, in node order then submesh order: its Embree geometry id,
+// node, mesh index and submesh, and its triangle list (3 indices per triangle, each checked to
+// be below the mesh's vertexCount). A returned error stops the build with it.
+using TriangleInstanceCallback = std::function<std::optional<TracerError>(
+    unsigned geometryId, uint32_t node, uint32_t mesh, const Submesh& submesh, std::vector<uint32_t>&& indices)>;
+
+// World transforms composed in double (pnb/node_transform.h), vertices made relative to `origin`
+// before they are rounded to float, as ShadowTracer does. Errors: Input (a node, material or
+// index out of range, a submesh past the index buffer, no position stream), Unsupported
+// (octahedral positions), Embree.
+TracerResult<std::unique_ptr<TriangleScene>> buildTriangleScene(const Scene& scene, glm::dvec3 origin,
+                                                                const TriangleInstanceCallback& onInstance = {});
+
+} // namespace pnb::reference::detail
