@@ -14,7 +14,7 @@
 #include <string>
 #include <vector>
 
-#include "gi_quality.h"
+#include "irradiance_quality.h"
 #include "lod_quality.h"
 #include "input_actions.h"
 #include "shadow_quality.h"
@@ -54,7 +54,8 @@ Run:
                           color, hdr, depth, lineardepth, normal, position (camera-relative),
                           shadow (sun visibility, cascade, texel/pixel ratio; with position
                           or shadow, frameK_frame.json holds the camera and light),
-                          indirect (the irradiance GI adds, rgb; 0 with GI off)
+                          indirect (the irradiance GI adds, rgb; 0 with GI off),
+                          sky (the sky irradiance lighting applies, rgb, lux; 0 without IBL)
   --frame K               frame for --screenshot and --dump (default 0)
   --no-plot               do not call the plot script
   --shadow-metrics N      with --bench: replay every N-th frame (and the view 1/60 s later) and compare
@@ -66,6 +67,14 @@ Run:
                           one-bounce truth (gi_rmse_pct, gi_energy_ratio, per-colour ratios,
                           gi_leak_pct, the reference's noise, gi_flicker_pct); with
                           --shadow-metrics, N must be the same
+  --sky-metrics N         with --bench, on a container with an environment: every N-th frame (and
+                          the view 1/60 s later), the sky irradiance the lighting applied (SH x
+                          ibl.visibility) against the ray-traced sky light with Embree visibility
+                          (sky_rmse_pct, sky_energy_ratio, ..., sky_flicker_pct); same N as the
+                          other metrics
+  --sky-samples S         rays per pixel of the sky truth (default 64)
+  --sky-source image|sh   the truth's radiance: the environment image (default; the whole error)
+                          or the radiance of the converter's SH (the visibility term's error alone)
   --lod-metrics N         with --bench: replay every N-th frame and compare it with the same view
                           at full detail (lod.force=0): PSNR, pixels off by > 8/255, triangles
                           (quality.csv, "quality" in summary.json); with other metrics, the same N
@@ -124,8 +133,8 @@ struct Args {
     double dt = 0, seconds = 0;
     int camera = -1;
     uint32_t frames = 0, frame = 0, width = 0, height = 0, shadowMetrics = 0, giMetrics = 0, giSamples = 64,
-             lodMetrics = 0;
-    bool giAllLights = false;
+             lodMetrics = 0, skyMetrics = 0, skySamples = 64;
+    bool giAllLights = false, skyFromSh = false;
     int stream = -1; // --stream 1, --no-stream 0, -1: by mode
 };
 
@@ -175,6 +184,13 @@ Args parseArgs(int argc, char** argv) {
         else if (s == "--lod-metrics") a.lodMetrics = parseCount("--lod-metrics", next(i));
         else if (s == "--gi-samples") a.giSamples = parseCount("--gi-samples", next(i));
         else if (s == "--gi-lights") a.giAllLights = std::string(next(i)) == "all";
+        else if (s == "--sky-metrics") a.skyMetrics = parseCount("--sky-metrics", next(i));
+        else if (s == "--sky-samples") a.skySamples = parseCount("--sky-samples", next(i));
+        else if (s == "--sky-source") {
+            std::string v = next(i);
+            if (v != "image" && v != "sh") usageError("--sky-source: image or sh, not '" + v + "'");
+            a.skyFromSh = v == "sh";
+        }
         else if (s == "--record-path") a.recordPath = next(i);
         else if (s == "--record-every") a.recordEvery = parsePositive("--record-every", next(i));
         else if (s == "--screenshot-dir") a.screenshotDir = next(i);
@@ -469,7 +485,7 @@ int main(int argc, char** argv) {
             return shadowQuality->measure(r, toward, followUp);
         };
     }
-    std::unique_ptr<GiQuality> giQuality;
+    std::unique_ptr<IrradianceQuality> giQuality, skyQuality;
     if (args.giMetrics > 0) {
         if (!args.bench) return fail({PlayErrorKind::Usage, "--gi-metrics needs --bench"});
         if (args.shadowMetrics > 0 && args.shadowMetrics != args.giMetrics)
@@ -479,12 +495,29 @@ int main(int argc, char** argv) {
         pnb::reference::IndirectSettings is;
         is.samples = std::max(1u, args.giSamples);
         is.lights = args.giAllLights ? pnb::reference::IndirectLights::All : pnb::reference::IndirectLights::Sun;
-        auto q = GiQuality::create(args.scene, first.position, is);
+        auto q = IrradianceQuality::forGi(args.scene, first.position, is);
         if (!q) return fail(q.error());
         giQuality = std::move(*q);
         bo.quality.every = args.giMetrics;
         bo.quality.measure = chainQuality(bo.quality.measure, [&](uint32_t, Renderer& r, bool followUp) {
             return giQuality->measure(r, followUp);
+        });
+    }
+    if (args.skyMetrics > 0) {
+        if (!args.bench) return fail({PlayErrorKind::Usage, "--sky-metrics needs --bench"});
+        if (bo.quality.measure && bo.quality.every != args.skyMetrics)
+            return fail({PlayErrorKind::Usage, "--sky-metrics and the other metrics must measure the same frames"});
+        if (!scene->environment)
+            return fail({PlayErrorKind::Usage, "--sky-metrics: the container has no environment (pnb-convert --sky or --environment)"});
+        pnb::reference::SkySettings ss;
+        ss.samples = std::max(1u, args.skySamples);
+        ss.source = args.skyFromSh ? pnb::reference::SkySource::Sh : pnb::reference::SkySource::Image;
+        auto q = IrradianceQuality::forSky(args.scene, first.position, ss);
+        if (!q) return fail(q.error());
+        skyQuality = std::move(*q);
+        bo.quality.every = args.skyMetrics;
+        bo.quality.measure = chainQuality(bo.quality.measure, [&](uint32_t, Renderer& r, bool followUp) {
+            return skyQuality->measure(r, followUp);
         });
     }
 
