@@ -55,8 +55,7 @@ TracerResult<std::unique_ptr<SkyTracer>> SkyTracer::build(const Scene& scene, gl
     auto start = std::chrono::steady_clock::now();
     if (!scene.environment)
         return TracerError{TracerErrorKind::Input,
-                           "the scene has no environment (ENVM chunk): sky light needs one (pnb-convert "
-                           "with an environment map or sky)"};
+                           "the scene has no environment (ENVM chunk): sky light needs one"};
     const Environment& env = *scene.environment;
     std::unique_ptr<SkyTracer> tracer(new SkyTracer);
     Impl& impl = *tracer->mImpl;

@@ -2,9 +2,11 @@
 // (`pnb-play --dump position,normal,shadow`), and how far the player's shadows are from it.
 //
 // Reads SCENE.pnb and DIR/{frame.json, position.exr, normal.exr, shadow.exr}; writes
-// OUT/{visibility.exr, visibility.png, shadow_diff.png, metrics.json}. The work is the
-// pnb_reference library (ShadowTracer, compareShadow, texelRatioByCascade); this file is the
-// image and JSON I/O around it. The input contract is docs/REFERENCE.md.
+// OUT/{visibility.exr, visibility.png, shadow_diff.png, metrics.json}; with --indirect and --sky
+// also the one-bounce and sky-light irradiance truths (and their comparison with the player's
+// indirect.exr, sky.exr). The work is the pnb_reference library (ShadowTracer, IndirectTracer,
+// SkyTracer, compareShadow, compareIndirect, texelRatioByCascade); this file is the image and
+// JSON I/O around it. The input contract is docs/REFERENCE.md.
 //
 // Exit codes: 0 ok, 1 usage, 2 input error (missing or malformed file; the message names it),
 // 3 unsupported scene data, 4 output error, 5 Embree failure.
@@ -33,6 +35,7 @@
 #include "pnb_reference/indirect_tracer.h"
 #include "pnb_reference/shadow_metrics.h"
 #include "pnb_reference/shadow_tracer.h"
+#include "pnb_reference/sky_tracer.h"
 
 namespace {
 
@@ -55,6 +58,11 @@ struct Settings {
     bool quiet = false;
     bool indirect = false;
     pnb::reference::IndirectSettings indirectSettings;
+    bool sky = false;
+    pnb::reference::SkySettings skySettings;
+    // Given on the command line (they override what frame.json records).
+    std::optional<double> skyRotationDegrees, skyIntensity;
+    std::string usageError; // an option's value that could not be used (exit 1)
 };
 
 // [SECTION] command line: a declarative table that parses and prints --help (STYLE.md §16)
@@ -89,8 +97,48 @@ const std::vector<Option>& options() {
              s.indirectSettings.lights = std::string(a) == "sun" ? pnb::reference::IndirectLights::Sun
                                                                  : pnb::reference::IndirectLights::All;
          }},
-        {"--seed", "S", "random seed of --indirect (default 1)",
-         [](Settings& s, const char* a) { s.indirectSettings.seed = uint64_t(std::atoll(a)); }},
+        {"--seed", "S", "random seed of --indirect and --sky (default 1)",
+         [](Settings& s, const char* a) { s.indirectSettings.seed = s.skySettings.seed = uint64_t(std::atoll(a)); }},
+        {"--sky", nullptr,
+         "also the sky-light irradiance (Monte Carlo, the ENVM environment hidden by the scene): "
+         "sky_reference.exr, sky_stderr.exr, and against the player's sky.exr when dumped",
+         [](Settings& s, const char*) { s.sky = true; }},
+        {"--sky-samples", "N", "cosine-weighted rays per pixel for --sky (default 256)",
+         [](Settings& s, const char* a) { s.skySettings.samples = uint32_t(std::max(1L, std::atol(a))); }},
+        {"--sky-source", "image|sh",
+         "the sky's radiance: the ENVM image (default: the truth) or the radiance of its irradiance "
+         "SH (the player's unoccluded term exactly: isolates its sky-visibility error)",
+         [](Settings& s, const char* a) {
+             const std::string v = a;
+             if (v == "image") s.skySettings.source = pnb::reference::SkySource::Image;
+             else if (v == "sh") s.skySettings.source = pnb::reference::SkySource::Sh;
+             else s.usageError = "--sky-source must be image or sh, not " + v;
+         }},
+        {"--sky-visibility", "on|off",
+         "trace what hides the sky (default on); off gives the unoccluded irradiance",
+         [](Settings& s, const char* a) {
+             const std::string v = a;
+             if (v == "on" || v == "off") s.skySettings.visibility = v == "on";
+             else s.usageError = "--sky-visibility must be on or off, not " + v;
+         }},
+        {"--sky-rotation-deg", "D",
+         "the environment turned by D degrees about +Y (as sh9RotateY: +X towards -Z); default: "
+         "frame.json's ibl_rotation_degrees, else 0",
+         [](Settings& s, const char* a) {
+             char* end = nullptr;
+             const double v = std::strtod(a, &end);
+             if (end == a || *end || !std::isfinite(v)) s.usageError = std::string("--sky-rotation-deg needs a number, not ") + a;
+             else s.skyRotationDegrees = v;
+         }},
+        {"--sky-intensity", "X",
+         "the environment's radiance scale (the player's ibl.intensity); default: frame.json's "
+         "ibl_intensity, else 1",
+         [](Settings& s, const char* a) {
+             char* end = nullptr;
+             const double v = std::strtod(a, &end);
+             if (end == a || *end || !std::isfinite(v) || v < 0) s.usageError = std::string("--sky-intensity needs a number >= 0, not ") + a;
+             else s.skyIntensity = v;
+         }},
         {"-q, --quiet", nullptr, "print errors only", [](Settings& s, const char*) { s.quiet = true; }},
         {"-h, --help", nullptr, "print this help", nullptr},
     };
@@ -111,18 +159,20 @@ bool optionMatches(const Option& o, const std::string& arg) {
 
 void printHelp() {
     std::printf(
-        "usage: pnb-reference SCENE.pnb --frame DIR [--prefix P] [--out DIR] [--indirect ...] [-q]\n\n"
+        "usage: pnb-reference SCENE.pnb --frame DIR [--prefix P] [--out DIR] [--indirect ...] [--sky ...] [-q]\n\n"
         "Ray traces (Embree) the true visibility of the shadowing directional light for every\n"
         "pixel of a frame dumped by `pnb-play --dump position,normal,shadow`, and compares the\n"
         "player's shadow factor with it. Writes visibility.exr, visibility.png and metrics.json,\n"
         "and shadow_diff.png when the frame has shadow.exr (and counts non-finite pixels of\n"
         "hdr.exr when present). With --indirect, also the one-bounce diffuse irradiance\n"
         "(Monte Carlo, with its standard error) and its comparison with the player's\n"
-        "indirect.exr (`pnb-play --dump indirect`). See docs/REFERENCE.md.\n\n"
+        "indirect.exr (`pnb-play --dump indirect`). With --sky, also the irradiance from the\n"
+        "scene's environment (ENVM) with the scene hiding the sky, and its comparison with the\n"
+        "player's sky.exr (`pnb-play --dump sky`). See docs/REFERENCE.md.\n\n"
         "options:\n");
     for (const Option& o : options()) {
         std::string left = std::string(o.name) + (o.arg ? std::string(" ") + o.arg : "");
-        std::printf("  %-16s %s\n", left.c_str(), o.help);
+        std::printf("  %-24s %s\n", left.c_str(), o.help);
     }
     std::printf("\nexit codes: 0 ok, 1 usage, 2 input error, 3 unsupported scene data,\n"
                 "            4 output error, 5 Embree failure\n");
@@ -134,6 +184,8 @@ struct Frame {
     glm::dvec3 cameraPosition{0.0};
     glm::vec3 towardLight{0.0f};
     int width = 0, height = 0;
+    // The player's environment settings, when the dump records them (optional keys).
+    std::optional<double> iblRotationDegrees, iblIntensity;
 };
 
 Expected<Frame> readFrameJson(const std::string& path) {
@@ -175,6 +227,16 @@ Expected<Frame> readFrameJson(const std::string& path) {
     double length = glm::length(l);
     if (!(length > 1e-12)) return fail("\"toward_light\" must not be zero");
     f.towardLight = glm::vec3(l / length);
+    auto optionalNumber = [&](const char* key, std::optional<double>& out) -> std::optional<Failure> {
+        auto it = j.find(key);
+        if (it == j.end()) return std::nullopt;
+        if (!it->is_number() || !std::isfinite(it->get<double>()))
+            return fail(std::string("\"") + key + "\" must be a finite number");
+        out = it->get<double>();
+        return std::nullopt;
+    };
+    if (auto e = optionalNumber("ibl_rotation_degrees", f.iblRotationDegrees)) return *e;
+    if (auto e = optionalNumber("ibl_intensity", f.iblIntensity)) return *e;
     return f;
 }
 
@@ -273,6 +335,58 @@ void put(std::vector<uint8_t>& rgb, size_t pixel, Rgb8 c) {
     rgb[pixel * 3 + 2] = c.b;
 }
 
+// A tracer's build error as an exit code and a sentence naming the scene.
+Failure tracerFailure(const std::string& scenePath, const pnb::reference::TracerError& e) {
+    int code = e.kind == TracerErrorKind::Input         ? kExitInput
+               : e.kind == TracerErrorKind::Unsupported ? kExitUnsupported
+                                                        : kExitEmbree;
+    return Failure{code, scenePath + ": " + e.message};
+}
+
+// The normals the irradiance truths integrate around: the player's shading normal where it
+// dumped one (deferred surfaces), else the surface's own from the positions (forward surfaces,
+// no normal dump).
+std::vector<glm::vec3> irradianceNormals(const std::vector<glm::vec3>& positions,
+                                         const std::vector<glm::vec3>& shadingNormals, const Frame& frame) {
+    std::vector<glm::vec3> normals = pnb::reference::normalsFromPositions(positions, frame.width, frame.height);
+    for (size_t p = 0; p < positions.size() && p < shadingNormals.size(); ++p)
+        if (glm::length(shadingNormals[p]) > 0.5f) normals[p] = shadingNormals[p];
+    return normals;
+}
+
+// The player's dumped irradiance (rgb) where the frame has a surface; NaN elsewhere, so both
+// sides count the same pixels.
+std::vector<glm::vec3> playerIrradiance(const FloatImage& image, const std::vector<glm::vec3>& positions) {
+    std::vector<glm::vec3> p(positions.size());
+    for (size_t i = 0; i < positions.size(); ++i) {
+        p[i] = {image.at(i, 0), image.at(i, 1), image.at(i, 2)};
+        const glm::vec3 q = positions[i];
+        if (!(std::isfinite(q.x) && std::isfinite(q.y) && std::isfinite(q.z))) p[i] = glm::vec3(NAN);
+    }
+    return p;
+}
+
+// compareIndirect's figures into a metrics.json object (the "indirect" and "sky" objects share
+// them).
+void putComparison(nlohmann::ordered_json& j, const pnb::reference::IndirectErrorMetrics& m) {
+    j["pixels"] = m.pixels;
+    j["player_mean_luminance"] = m.playerMean;
+    j["relative_rmse_percent"] = m.relativeRmsePercent;
+    j["reference_noise_percent"] = m.referenceNoisePercent;
+    j["corrected_rmse_percent"] = m.correctedRmsePercent;
+    j["energy_ratio"] = m.energyRatio;
+    j["channel_ratio"] = {m.channelRatio[0], m.channelRatio[1], m.channelRatio[2]};
+    j["leak_percent"] = m.leakPercent;
+}
+
+double meanLuminance(const std::vector<glm::vec3>& values, uint64_t& valid) {
+    double sum = 0;
+    valid = 0;
+    for (const glm::vec3& m : values)
+        if (std::isfinite(m.x)) sum += pnb::reference::luminance(m), ++valid;
+    return valid ? sum / double(valid) : 0.0;
+}
+
 // --indirect: the one-bounce truth at the frame's pixels, its images, and (with the player's
 // indirect.exr) the comparison. Returns the "indirect" object of metrics.json.
 Expected<nlohmann::ordered_json> runIndirect(const Settings& settings, const pnb::Scene& scene, const Frame& frame,
@@ -288,19 +402,9 @@ Expected<nlohmann::ordered_json> runIndirect(const Settings& settings, const pnb
         player = std::move(*p);
     }
     auto tracer = IndirectTracer::build(scene, frame.cameraPosition);
-    if (!tracer) {
-        const auto& e = tracer.error();
-        int code = e.kind == TracerErrorKind::Input         ? kExitInput
-                   : e.kind == TracerErrorKind::Unsupported ? kExitUnsupported
-                                                            : kExitEmbree;
-        return Failure{code, settings.scene + ": " + e.message};
-    }
+    if (!tracer) return tracerFailure(settings.scene, tracer.error());
     const size_t pixels = positions.size();
-    // Normals: the player's shading normal where it dumped one (deferred surfaces), else the
-    // surface's own from the positions (forward surfaces, no normal dump).
-    std::vector<glm::vec3> normals = pnb::reference::normalsFromPositions(positions, frame.width, frame.height);
-    for (size_t p = 0; p < pixels && p < shadingNormals.size(); ++p)
-        if (glm::length(shadingNormals[p]) > 0.5f) normals[p] = shadingNormals[p];
+    const std::vector<glm::vec3> normals = irradianceNormals(positions, shadingNormals, frame);
     std::vector<glm::vec3> mean(pixels), error(pixels);
     auto start = std::chrono::steady_clock::now();
     (*tracer)->irradiance(positions, normals, settings.indirectSettings, mean, error);
@@ -320,27 +424,11 @@ Expected<nlohmann::ordered_json> runIndirect(const Settings& settings, const pnb
                    {"textured_materials", st.texturedMaterials},
                    {"textures_factor_only", st.texturesFactorOnly}, {"lights", st.lights},
                    {"build_ms", st.buildMs}, {"trace_ms", ms}};
-    double refSum = 0;
     uint64_t valid = 0;
-    for (const glm::vec3& m : mean)
-        if (std::isfinite(m.x)) refSum += pnb::reference::luminance(m), ++valid;
-    j["reference_mean_luminance"] = valid ? refSum / double(valid) : 0.0;
+    j["reference_mean_luminance"] = meanLuminance(mean, valid);
     if (player) {
-        std::vector<glm::vec3> p(pixels);
-        for (size_t i = 0; i < pixels; ++i) {
-            p[i] = {player->at(i, 0), player->at(i, 1), player->at(i, 2)};
-            const glm::vec3 q = positions[i];
-            if (!(std::isfinite(q.x) && std::isfinite(q.y) && std::isfinite(q.z))) p[i] = glm::vec3(NAN);
-        }
-        auto m = pnb::reference::compareIndirect(p, mean, error);
-        j["pixels"] = m.pixels;
-        j["player_mean_luminance"] = m.playerMean;
-        j["relative_rmse_percent"] = m.relativeRmsePercent;
-        j["reference_noise_percent"] = m.referenceNoisePercent;
-        j["corrected_rmse_percent"] = m.correctedRmsePercent;
-        j["energy_ratio"] = m.energyRatio;
-        j["channel_ratio"] = {m.channelRatio[0], m.channelRatio[1], m.channelRatio[2]};
-        j["leak_percent"] = m.leakPercent;
+        auto m = pnb::reference::compareIndirect(playerIrradiance(*player, positions), mean, error);
+        putComparison(j, m);
         if (!settings.quiet)
             std::printf("  indirect (%s lights, %u samples): relative RMSE %.1f%% (reference noise %.1f%%, "
                         "without it %.1f%%), "
@@ -353,6 +441,93 @@ Expected<nlohmann::ordered_json> runIndirect(const Settings& settings, const pnb
     if (!settings.quiet)
         std::printf("  indirect reference: %zu pixels x %u rays in %.0f ms\n", size_t(valid),
                     settings.indirectSettings.samples, ms);
+    return j;
+}
+
+// --sky: the sky-light truth at the frame's pixels, its images, and (with the player's sky.exr)
+// the comparison. Returns the "sky" object of metrics.json.
+Expected<nlohmann::ordered_json> runSky(const Settings& settings, const pnb::Scene& scene, const Frame& frame,
+                                        const std::vector<glm::vec3>& positions,
+                                        const std::vector<glm::vec3>& shadingNormals, const std::string& in,
+                                        const std::string& outDir) {
+    using pnb::reference::SkySource;
+    using pnb::reference::SkyTracer;
+    std::error_code ec;
+    std::optional<FloatImage> player;
+    if (fs::exists(in + "sky.exr", ec)) {
+        auto p = readExr(in + "sky.exr", {"R", "G", "B"}, 3, frame);
+        if (!p) return p.error();
+        player = std::move(*p);
+    }
+    auto tracer = SkyTracer::build(scene, frame.cameraPosition);
+    if (!tracer) return tracerFailure(settings.scene, tracer.error());
+    pnb::reference::SkySettings sky = settings.skySettings;
+    if (sky.source == SkySource::Image && !(*tracer)->hasRadianceImage())
+        return Failure{kExitInput, settings.scene +
+                                       ": the environment (ENVM) has no radiance texture; --sky-source sh "
+                                       "traces the radiance of its irradiance SH instead"};
+    // The environment's rotation and intensity: the command line's, else what the player
+    // recorded in frame.json, else none. Where both exist and differ the comparison would be
+    // of two different skies: say so.
+    auto pick = [&](const std::optional<double>& option, const std::optional<double>& recorded, double fallback,
+                    const char* name, std::string& from) {
+        if (option && recorded && *option != *recorded && !settings.quiet)
+            std::fprintf(stderr, "Warning: %s %g overrides frame.json's %g: the player drew another sky\n", name,
+                         *option, *recorded);
+        from = option ? "option" : recorded ? "frame.json" : "default";
+        return option ? *option : recorded ? *recorded : fallback;
+    };
+    std::string rotationFrom, intensityFrom;
+    const double degrees = pick(settings.skyRotationDegrees, frame.iblRotationDegrees, 0.0, "--sky-rotation-deg",
+                                rotationFrom);
+    const double intensity = pick(settings.skyIntensity, frame.iblIntensity, 1.0, "--sky-intensity", intensityFrom);
+    sky.rotationRadians = float(degrees * 3.14159265358979323846 / 180.0);
+    sky.intensity = float(intensity);
+
+    const size_t pixels = positions.size();
+    const std::vector<glm::vec3> normals = irradianceNormals(positions, shadingNormals, frame);
+    std::vector<glm::vec3> mean(pixels), error(pixels);
+    auto start = std::chrono::steady_clock::now();
+    (*tracer)->irradiance(positions, normals, sky, mean, error);
+    const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+    auto a = writeImage(outDir + "/sky_reference.exr", frame.width, frame.height, 3, OIIO::TypeDesc::FLOAT,
+                        mean.data());
+    if (!a) return a.error();
+    auto b = writeImage(outDir + "/sky_stderr.exr", frame.width, frame.height, 3, OIIO::TypeDesc::FLOAT,
+                        error.data());
+    if (!b) return b.error();
+    uint64_t valid = 0;
+    const double referenceMean = meanLuminance(mean, valid);
+    const uint64_t rays = sky.visibility ? valid * sky.samples : 0; // occlusion rays
+    const auto& st = (*tracer)->stats();
+    const char* source = sky.source == SkySource::Sh ? "sh" : "image";
+    nlohmann::ordered_json j;
+    j["source"] = source;
+    j["visibility"] = sky.visibility;
+    j["samples"] = sky.samples;
+    j["seed"] = sky.seed;
+    j["rotation_degrees"] = degrees;
+    j["rotation_from"] = rotationFrom;
+    j["intensity"] = intensity;
+    j["intensity_from"] = intensityFrom;
+    j["tracer"] = {{"triangles", st.triangles}, {"instances", st.instances},
+                   {"radiance_width", st.radianceWidth}, {"radiance_height", st.radianceHeight},
+                   {"build_ms", st.buildMs}, {"trace_ms", ms}, {"rays", rays},
+                   {"rays_per_second", ms > 0 ? double(rays) / (ms / 1000.0) : 0.0}};
+    j["reference_mean_luminance"] = referenceMean;
+    if (player) {
+        auto m = pnb::reference::compareIndirect(playerIrradiance(*player, positions), mean, error);
+        putComparison(j, m);
+        if (!settings.quiet)
+            std::printf("  sky (%s, visibility %s, %u samples): relative RMSE %.1f%% (reference noise %.1f%%, "
+                        "without it %.1f%%), energy ratio %.3f (R %.3f G %.3f B %.3f), leak %.2f%%\n",
+                        source, sky.visibility ? "on" : "off", sky.samples, m.relativeRmsePercent,
+                        m.referenceNoisePercent, m.correctedRmsePercent, m.energyRatio, m.channelRatio[0],
+                        m.channelRatio[1], m.channelRatio[2], m.leakPercent);
+    }
+    if (!settings.quiet)
+        std::printf("  sky reference: %zu pixels x %u rays in %.0f ms (%.2f Mrays/s), mean %.4g lux\n",
+                    size_t(valid), sky.samples, ms, ms > 0 ? double(rays) / ms / 1000.0 : 0.0, referenceMean);
     return j;
 }
 
@@ -403,13 +578,7 @@ int run(const Settings& settings) {
 
     // Trace.
     auto tracer = ShadowTracer::build(*scene, frame->cameraPosition);
-    if (!tracer) {
-        const auto& e = tracer.error();
-        int code = e.kind == TracerErrorKind::Input         ? kExitInput
-                   : e.kind == TracerErrorKind::Unsupported ? kExitUnsupported
-                                                            : kExitEmbree;
-        return fail({code, settings.scene + ": " + e.message});
-    }
+    if (!tracer) return fail(tracerFailure(settings.scene, tracer.error()));
     const size_t pixels = size_t(frame->width) * size_t(frame->height);
     std::vector<glm::vec3> positions(pixels), normals(normal ? pixels : 0);
     for (size_t p = 0; p < pixels; ++p) {
@@ -530,6 +699,11 @@ int run(const Settings& settings) {
         if (!indirect) return fail(indirect.error());
         j["indirect"] = *indirect;
     }
+    if (settings.sky) {
+        auto sky = runSky(settings, *scene, *frame, positions, normals, in, outDir);
+        if (!sky) return fail(sky.error());
+        j["sky"] = *sky;
+    }
     auto json = writeText(outDir + "/metrics.json", j.dump(2) + "\n");
     if (!json) return fail(json.error());
 
@@ -594,6 +768,10 @@ int main(int argc, char** argv) {
             return kExitUsage;
         }
         settings.scene = arg;
+    }
+    if (!settings.usageError.empty()) {
+        std::fprintf(stderr, "Error: %s (see --help)\n", settings.usageError.c_str());
+        return kExitUsage;
     }
     if (settings.scene.empty() || settings.frameDir.empty()) {
         std::fprintf(stderr, "Error: need SCENE.pnb and --frame DIR (see --help)\n");

@@ -14,6 +14,7 @@
 #include <OpenImageIO/imageio.h>
 #include <nlohmann/json.hpp>
 
+#include "pnb/writer.h"
 #include "reference_test_util.h"
 
 namespace pnb::reference::test {
@@ -270,6 +271,101 @@ TEST_F(ReferenceCli, BadSceneOrUsage) {
     r = run("--help");
     EXPECT_EQ(r.exitCode, 0);
     EXPECT_NE(r.output.find("usage: pnb-reference"), std::string::npos);
+}
+
+// The ground + box container with an environment added: a 1 x 1 RGBA32F sky of `nits` (a
+// constant sky, so the unoccluded truth is pi x nits x intensity exactly).
+std::string withConstantSky(const std::string& scenePath, const fs::path& out, float nits) {
+    auto loaded = loadPnb(scenePath);
+    EXPECT_TRUE(loaded);
+    if (!loaded) return "";
+    Scene& scene = loaded->scene;
+    TextureDesc t;
+    t.format = TextureFormat::RGBA32F;
+    t.colorSpace = ColorSpace::Linear;
+    t.width = t.height = t.layers = t.mipCount = 1;
+    static const float texel[4] = {nits, nits, nits, 1.0f};
+    TextureMip mip;
+    mip.texture = uint32_t(scene.textures.size());
+    mip.width = mip.height = 1;
+    mip.data = std::as_bytes(std::span<const float>(texel));
+    scene.textures.push_back(t);
+    scene.textureMips.push_back(mip);
+    Environment e;
+    e.radiance = mip.texture;
+    e.irradianceSh[0] = {float(nits * 3.14159265358979 / 0.28209479177387814), 0, 0}; // pi L / Y0
+    e.irradianceSh[0].y = e.irradianceSh[0].z = e.irradianceSh[0].x;
+    scene.environment = e;
+    std::vector<std::byte> bytes;
+    Writer w = Writer::toMemory(&bytes, {});
+    Status st = writeScene(w, scene);
+    EXPECT_TRUE(isOk(st)) << st.describe();
+    EXPECT_TRUE(isOk(w.commit()));
+    std::ofstream(out, std::ios::binary).write(reinterpret_cast<const char*>(bytes.data()), std::streamsize(bytes.size()));
+    return out.string();
+}
+
+TEST_F(ReferenceCli, SkyTruthAndComparisonWithThePlayersSkyExr) {
+    TempDir dir("sky");
+    const std::string scene = withConstantSky(sScene, dir.path / "sky.pnb", 0.5f);
+    ASSERT_FALSE(scene.empty());
+    const int n = Frame::kSize, valid = n * (n - 1);
+    writeFrame(dir.path / "in", makeFrame(0), false);
+    // The player recorded an intensity of 2; its sky term is the unoccluded pi L x 2.
+    std::ofstream(dir.path / "in" / "frame.json") << R"({"camera_position": [0, 10, 10], "toward_light": [0, 2, 0],
+        "width": 32, "height": 32, "ibl_intensity": 2, "ibl_rotation_degrees": 30})";
+    const float open = float(3.14159265358979 * 0.5 * 2.0);
+    std::vector<float> player;
+    for (int p = 0; p < n * n; ++p) player.insert(player.end(), {open, open, open});
+    writeExr(dir.path / "in" / "sky.exr", n, n, 3, player);
+
+    // Visibility off: the truth is the player's unoccluded term exactly.
+    RunResult r = run(shellQuote(scene) + " --frame " + shellQuote(dir.path / "in") + " --out " +
+                      shellQuote(dir.path / "off") + " --sky --sky-visibility off --sky-samples 16");
+    ASSERT_EQ(r.exitCode, 0) << r.output;
+    EXPECT_NE(r.output.find("sky (image, visibility off"), std::string::npos) << r.output;
+    nlohmann::json m = nlohmann::json::parse(std::ifstream(dir.path / "off" / "metrics.json"), nullptr, false);
+    ASSERT_TRUE(m.contains("sky")) << m.dump(2);
+    const nlohmann::json& off = m["sky"];
+    EXPECT_EQ(off["intensity_from"], "frame.json");
+    EXPECT_DOUBLE_EQ(off["intensity"].get<double>(), 2.0);
+    EXPECT_DOUBLE_EQ(off["rotation_degrees"].get<double>(), 30.0);
+    EXPECT_EQ(off["pixels"], valid);
+    EXPECT_NEAR(off["energy_ratio"].get<double>(), 1.0, 1e-5);
+    EXPECT_LT(off["relative_rmse_percent"].get<double>(), 1e-3);
+    EXPECT_EQ(off["tracer"]["rays"], 0);
+
+    // Visibility on: the box hides sky from the ground under it, so the unoccluded player has
+    // too much light there and none is missing elsewhere.
+    r = run(shellQuote(scene) + " --frame " + shellQuote(dir.path / "in") + " --out " + shellQuote(dir.path / "on") +
+            " --sky --sky-samples 256 --sky-intensity 2");
+    ASSERT_EQ(r.exitCode, 0) << r.output;
+    m = nlohmann::json::parse(std::ifstream(dir.path / "on" / "metrics.json"), nullptr, false);
+    const nlohmann::json& on = m["sky"];
+    EXPECT_EQ(on["intensity_from"], "option");
+    EXPECT_GT(on["energy_ratio"].get<double>(), 1.01);
+    EXPECT_EQ(on["tracer"]["rays"], valid * 256);
+    int w = 0, h = 0, c = 0;
+    auto truth = readImage(dir.path / "on" / "sky_reference.exr", w, h, c);
+    auto error = readImage(dir.path / "on" / "sky_stderr.exr", w, h, c);
+    ASSERT_EQ(truth.size(), size_t(n * n * 3));
+    ASSERT_EQ(error.size(), truth.size());
+    EXPECT_TRUE(std::isnan(truth[0])) << "row 0 has no surface";
+    const size_t under = size_t(16 * n + 16) * 3, far = size_t(1 * n + 0) * 3; // (0.125, 0.125); (-3.875, -3.875)
+    EXPECT_LT(truth[under], 0.8f * open);
+    EXPECT_GT(truth[far], truth[under]);
+    EXPECT_LE(truth[far], open + 1e-4f);
+}
+
+TEST_F(ReferenceCli, SkyWithoutEnvironmentOrWithBadValuesIsAnError) {
+    TempDir dir("nosky");
+    writeFrame(dir.path, makeFrame(0), false);
+    RunResult r = run(shellQuote(sScene) + " --frame " + shellQuote(dir.path) + " --sky");
+    EXPECT_EQ(r.exitCode, 2) << r.output;
+    EXPECT_NE(r.output.find("ENVM"), std::string::npos) << r.output;
+    EXPECT_EQ(run(shellQuote(sScene) + " --frame " + shellQuote(dir.path) + " --sky --sky-source photo").exitCode, 1);
+    EXPECT_EQ(run(shellQuote(sScene) + " --frame " + shellQuote(dir.path) + " --sky --sky-visibility maybe").exitCode, 1);
+    EXPECT_EQ(run(shellQuote(sScene) + " --frame " + shellQuote(dir.path) + " --sky-rotation-deg x").exitCode, 1);
 }
 
 } // namespace
