@@ -70,7 +70,7 @@ struct FrameBlock {
 };
 
 struct BuiltinPrograms {
-    GlHandle fxaa, debugView, flat, shadowDebug, background;
+    GlHandle fxaa, debugView, flat, shadowDebug, background, depthOnly;
 };
 
 struct FrameContext {

@@ -5,12 +5,18 @@
 //                  per colour, so the shaders never rotate SH) and binds it with the specular
 //                  cube and the BRDF table; with ibl.enabled off the block says so and nothing
 //                  else is bound;
+//   renderSkyHeightMap (ibl.visibility = height) draws the scene from above into a height map
+//                  when it is missing or the geometry changed (pass_sky_height.cpp);
 //   runBackground  draws the environment where the depth buffer is still clear (after the
 //                  deferred layers, before forward materials, so blended surfaces cover it).
 // A container without an environment has no IBL programs: nothing here runs or is allocated.
 #pragma once
 
+#include <cstdint>
+
 #include <glm/glm.hpp>
+
+#include "pnb_player/gl_handles.h"
 
 namespace pnb::player {
 
@@ -20,16 +26,25 @@ struct FrameContext;
 struct IblBlock {
     glm::vec4 sh[9];
     glm::vec4 rotation; // cos, sin, roughest specular level, specular on
-    glm::vec4 params;   // on, capture sky irradiance, screen visibility radius, specular scale
+    glm::vec4 params;   // on, capture sky irradiance, visibility radius, specular scale
+    glm::vec4 heightRect;  // height map: camera-relative minimum x, z; 1 / size x, z
+    glm::vec4 heightRange; // camera-relative bottom y, top - bottom, visibility (0 none, 1
+                           // screen, 2 height), the height map's texel size
 };
 
 struct IblContext {
     bool active = false;   // this frame lights with the environment
     bool capture = false;  // lighting writes the sky irradiance (CaptureBuffer::Sky)
     bool warned = false;   // "ibl.enabled, but ..." said once
+    // The height map (pass_sky_height.cpp): world box it covers, for which scene version.
+    GlHandle heightMap, heightFb;
+    uint32_t heightResolution = 0;
+    uint64_t heightVersion = ~0ull, heightBytes = 0;
+    glm::dvec3 heightMin{0.0}, heightMax{0.0};
 };
 
 void prepareIbl(FrameContext& ctx);    // ibl_setup.cpp
+void renderSkyHeightMap(FrameContext& ctx); // pass_sky_height.cpp
 void runBackground(FrameContext& ctx); // pass_background.cpp
 
 } // namespace pnb::player

@@ -1,5 +1,6 @@
 // The IblBlock of a frame: the environment's irradiance SH turned and scaled, the specular
 // cube and BRDF table bound, and the screen sky-visibility radius.
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 
@@ -20,6 +21,12 @@ void prepareIbl(FrameContext& ctx) {
                              "environment: no sky light\n");
     }
     ibl.active = s.iblEnabled && scene.environment.has_value();
+    if (!ibl.active || s.iblVisibility != SkyVisibility::Height) { // nothing kept that is not used
+        ibl.heightMap = {};
+        ibl.heightFb = {};
+        ibl.heightResolution = 0;
+        ibl.heightBytes = 0;
+    }
     IblBlock block{};
     if (ibl.active) {
         const GpuEnvironment& env = *scene.environment;
@@ -32,13 +39,26 @@ void prepareIbl(FrameContext& ctx) {
         block.rotation = {float(std::cos(angle)), float(std::sin(angle)),
                           float(env.specularLevels > 0 ? env.specularLevels - 1 : 0), specular ? 1.0f : 0.0f};
         float radius = 0;
-        if (s.iblVisibility == SkyVisibility::Screen) {
+        if (s.iblVisibility != SkyVisibility::None) {
             const Aabb& b = scene.bounds;
             glm::vec3 diagonal(b.max.x - b.min.x, b.max.y - b.min.y, b.max.z - b.min.z);
             radius = s.iblVisibilityRadius > 0 ? s.iblVisibilityRadius
                                                : (b.min.x <= b.max.x ? glm::length(diagonal) / 8.0f : 0.0f);
         }
         block.params = {1.0f, ibl.capture ? 1.0f : 0.0f, radius, s.iblIntensity};
+        float mode = s.iblVisibility == SkyVisibility::Screen ? 1.0f : 0.0f;
+        if (s.iblVisibility == SkyVisibility::Height) {
+            renderSkyHeightMap(ctx);
+            if (ibl.heightMap) {
+                const glm::dvec3 lo = ibl.heightMin - ctx.view.position, size = ibl.heightMax - ibl.heightMin;
+                block.heightRect = {float(lo.x), float(lo.z), float(1.0 / size.x), float(1.0 / size.z)};
+                block.heightRange = {float(lo.y), float(size.y), 2.0f,
+                                     float(std::max(size.x, size.z) / double(ibl.heightResolution))};
+                glBindTextureUnit(15, ibl.heightMap.id());
+                mode = 2.0f;
+            }
+        }
+        block.heightRange.z = mode;
         if (specular) {
             glBindTextureUnit(13, scene.textures[*env.specular].texture.id());
             glBindTextureUnit(14, scene.textures[*env.brdfLut].texture.id());

@@ -57,7 +57,7 @@ PlayResult<std::unique_ptr<Renderer>> Renderer::create(const GpuScene& scene,
     size_t objectStride = (kObjectBlockBytes + impl.alignment - 1) / impl.alignment * impl.alignment;
     // GI adds its block, the RSM's frame block and one object block per item the RSM draws.
     impl.ring.reserve(2 * sizeof(FrameBlock) + lightBytes + sizeof(ShadowBlock) + sizeof(GiBlock) + sizeof(IblBlock) +
-                          impl.alignment * 8 + scene.items.size() * (3 * objectStride + 4 + 32),
+                          impl.alignment * 8 + scene.items.size() * (4 * objectStride + 4 + 32),
                       impl.alignment);
     impl.targets.memory.streamingBytes = impl.ring.totalBytes();
     return r;
@@ -97,6 +97,10 @@ void Renderer::setSettings(const RenderSettings& settings) {
            settings.iblEnabled && settings.iblBackground && scene.iblPrograms && scene.environment &&
                scene.environment->radiance,
            "fullscreen.vert", "background.frag");
+    ensure(b.depthOnly,
+           settings.iblEnabled && settings.iblVisibility == SkyVisibility::Height && scene.iblPrograms &&
+               scene.environment,
+           "flat.vert", "depth_only.frag");
     bool shadowDebug = settings.debugView == DebugView::ShadowMap || settings.debugView == DebugView::Histogram;
     ensure(b.shadowDebug, shadowDebug, "fullscreen.vert", "shadow_debug.frag");
     bool debug = settings.debugView != DebugView::None && settings.debugView != DebugView::Cascades &&
@@ -112,6 +116,7 @@ TargetMemory Renderer::targetMemory() const {
     m.shadowMapBytes = mImpl->shadows.resources.mapBytes;
     m.shadowBufferBytes = mImpl->shadows.resources.bufferBytes;
     m.giBytes = mImpl->gi.resources.bytes;
+    m.iblBytes = mImpl->ibl.heightBytes;
     return m;
 }
 

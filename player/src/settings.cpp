@@ -63,7 +63,7 @@ constexpr std::string_view kFilterNames[] = {"hardware", "poisson", "pcss"};
 constexpr std::string_view kSelectNames[] = {"depth", "bounds"};
 constexpr std::string_view kPartitionNames[] = {"log", "quantile"};
 constexpr std::string_view kAtomicsNames[] = {"fixed", "float"};
-constexpr std::string_view kSkyVisibilityNames[] = {"none", "screen"};
+constexpr std::string_view kSkyVisibilityNames[] = {"none", "screen", "height"};
 
 const std::vector<Row>& rows() {
     using S = RenderSettings;
@@ -174,14 +174,18 @@ const std::vector<Row>& rows() {
          BoolField{&S::iblSpecular}},
         {{"ibl.background", "bool", "draw the environment where no surface is"},
          BoolField{&S::iblBackground}},
-        {{"ibl.visibility", "none|screen",
-          "sky visibility: none (every surface sees the whole sky), or screen (horizons found in "
-          "the depth buffer within ibl.visibility_radius; deferred materials)"},
+        {{"ibl.visibility", "none|screen|height",
+          "sky visibility of deferred materials: none (every surface sees the whole sky), screen "
+          "(rays marched through the depth buffer), or height (rays marched through a height map "
+          "of the scene seen from above, drawn once), out to ibl.visibility_radius"},
          enumField<&S::iblVisibility>(kSkyVisibilityNames)},
         {{"ibl.visibility_radius", "float >= 0",
           "screen visibility: how far occluders are searched, scene units; 0 = 1/8 of the scene "
           "bounds' diagonal"},
          FloatField{&S::iblVisibilityRadius, 0.0f, 1e30f}},
+        {{"ibl.height_resolution", "int 64..4096",
+          "height visibility: the side of the height map over the scene's ground plan, texels"},
+         UIntField{&S::iblHeightResolution, 64, 4096}},
         {{"debug.view",
           "none|basecolor|alpha|normal|roughness|metallic|occlusion|emissive|depth|layer|overdraw|"
           "cascades|shadowmap|histogram|gi_indirect|gi_rsm|gi_volume|lod",

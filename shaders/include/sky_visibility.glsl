@@ -1,28 +1,60 @@
-// sky_visibility.glsl — how much of the sky a point sees, from the depth buffer (ibl.visibility
-// = screen; deferred lighting only: forward materials draw into the depth they would read).
-// Without it the sky lights the floor of a street canyon as brightly as a rooftop.
+// sky_visibility.glsl — how much of the sky a point sees (ibl.visibility; deferred lighting only:
+// forward materials draw into the depth they would read). Without it the sky lights the floor of
+// a street canyon as brightly as a rooftop.
 //
 // 12 rays over the hemisphere around n, cosine-distributed (so the unblocked fraction is the
-// cosine-weighted visibility the irradiance needs), each marched in 6 steps out to
-// uIblParams.z scene units; a ray is blocked when a step lands behind the depth buffer's surface
-// by less than the radius (thicker gaps are taken as passing behind an object). The ray set is
-// turned per pixel by interleaved gradient noise (Jimenez 2014), so banding becomes fine noise.
-// What it cannot see: occluders off screen or hidden behind nearer surfaces — the error measured
-// against the ray-traced sky light (docs/PLAYER.md "Sky and image-based lighting").
+// cosine-weighted visibility the irradiance needs), each marched out to uIblParams.z scene units
+// (screen: 6 steps, denser near the surface; height: 12 even steps). The ray set is turned per pixel by
+// interleaved gradient noise (Jimenez 2014), so banding becomes fine noise. A step is blocked
+//   screen: when it lands behind the depth buffer's surface by less than the radius (thicker
+//           gaps are taken as passing behind an object). Blind to occluders off screen or hidden
+//           behind nearer surfaces;
+//   height: when it is below the height map's highest surface there (the scene seen from above,
+//           pass_sky_height.cpp). Sees off screen; blind to overhangs (the sky under a roof's
+//           eaves or through a room's open side is taken as hidden by the roof).
+// Their errors against the ray-traced sky light: docs/PLAYER.md "Sky and image-based lighting".
 #ifndef PNB_SKY_VISIBILITY_GLSL
 #define PNB_SKY_VISIBILITY_GLSL
 
 // `p` camera-relative world position, `n` unit normal; uGDepth, uViewProjection and
 // uInverseViewProjection are the lighting pass's.
+layout(binding = 15) uniform sampler2D uIblHeight;
+
+// Whether camera-relative q is below the highest surface of the height map (outside it: open).
+bool belowHeightMap(vec3 q) {
+    vec2 uv = (q.xz - uIblHeightRect.xy) * uIblHeightRect.zw;
+    if (any(lessThan(uv, vec2(0.0))) || any(greaterThan(uv, vec2(1.0)))) return false;
+    return q.y < uIblHeightRange.x + textureLod(uIblHeight, uv, 0.0).r * uIblHeightRange.y;
+}
+
+// Whether camera-relative q is behind the depth buffer's surface by less than `radius`.
+bool behindDepthBuffer(vec3 q, float radius, out bool gone) {
+    gone = false;
+    vec4 clip = uViewProjection * vec4(q, 1.0);
+    vec2 uv = clip.xy / clip.w * 0.5 + 0.5;
+    if (clip.w <= 0.0 || any(lessThan(uv, vec2(0.0))) || any(greaterThan(uv, vec2(1.0)))) {
+        gone = true; // behind the eye or off screen: nothing known can block it any more
+        return false;
+    }
+    float stored = textureLod(uGDepth, uv, 0.0).r;
+    if (stored <= 0.0) return false; // sky there
+    vec4 h = uInverseViewProjection * vec4(uv * 2.0 - 1.0, stored, 1.0);
+    float behind = length(q) - length(h.xyz / h.w);
+    return behind > 0.0 && behind < radius;
+}
+
 float skyVisibility(vec3 p, vec3 n) {
     float radius = uIblParams.z;
-    if (radius <= 0.0) return 1.0;
-    const int kRays = 12, kSteps = 6;
+    int mode = int(uIblHeightRange.z + 0.5);
+    if (radius <= 0.0 || mode == 0) return 1.0;
+    const int kRays = 12, kSteps = 6, kHeightSteps = 12;
     vec3 t = normalize(abs(n.y) < 0.99 ? cross(n, vec3(0.0, 1.0, 0.0)) : cross(n, vec3(1.0, 0.0, 0.0)));
     vec3 b = cross(n, t);
     float turn = 6.2831853 * fract(52.9829189 * fract(dot(gl_FragCoord.xy, vec2(0.06711056, 0.00583715))));
     float eyeDistance = length(p);
-    vec3 origin = p + n * (1e-3 * eyeDistance + 1e-3 * radius);
+    // Off the surface: by a little (screen), or by one and a half height-map texels, so that a
+    // wall does not find its own top in the texel it stands in.
+    vec3 origin = p + n * (mode == 2 ? 1.5 * uIblHeightRange.w : 1e-3 * eyeDistance + 1e-3 * radius);
     float open = 0.0;
     for (int i = 0; i < kRays; ++i) {
         // Cosine-weighted directions: the Hammersley point (i + 1/2)/N, radical inverse.
@@ -31,18 +63,20 @@ float skyVisibility(vec3 p, vec3 n) {
         float r = sqrt(u1), phi = 6.2831853 * u2 + turn;
         vec3 dir = t * (r * cos(phi)) + b * (r * sin(phi)) + n * sqrt(max(0.0, 1.0 - u1));
         bool blocked = false;
-        for (int s = 1; s <= kSteps && !blocked; ++s) {
-            float d = radius * float(s * s) / float(kSteps * kSteps); // denser near the surface
-            vec3 q = origin + dir * d;
-            vec4 clip = uViewProjection * vec4(q, 1.0);
-            if (clip.w <= 0.0) break; // behind the eye: nothing on screen can block it
-            vec2 uv = clip.xy / clip.w * 0.5 + 0.5;
-            if (any(lessThan(uv, vec2(0.0))) || any(greaterThan(uv, vec2(1.0)))) break; // off screen
-            float stored = textureLod(uGDepth, uv, 0.0).r;
-            if (stored <= 0.0) continue; // sky there
-            vec4 h = uInverseViewProjection * vec4(uv * 2.0 - 1.0, stored, 1.0);
-            float behind = length(q) - length(h.xyz / h.w);
-            blocked = behind > 0.0 && behind < radius;
+        // Height: evenly spaced, so a wall thicker than radius / 12 is never stepped over.
+        int steps = mode == 2 ? kHeightSteps : kSteps;
+        for (int s = 1; s <= steps && !blocked; ++s) {
+            vec3 q;
+            if (mode == 2) {
+                q = origin + dir * (radius * float(s) / float(steps));
+                blocked = belowHeightMap(q);
+            } else {
+                q = origin + dir * (radius * float(s * s) / float(steps * steps)); // denser near
+                                                                                   // the surface
+                bool gone;
+                blocked = behindDepthBuffer(q, radius, gone);
+                if (gone) break;
+            }
         }
         open += blocked ? 0.0 : 1.0;
     }

@@ -317,32 +317,55 @@ std::string canyon() {
     return path;
 }
 
-TEST(Ibl, ScreenVisibilityDarkensTheCanyonFloorTowardsTheViewFactor) {
-    const CameraState view = lookAt({0, 5, 4}, {0, 0, -14});
-    RenderSettings s = quiet();
-    Frame open = renderFrame(canyon(), s, view);
-    s.iblVisibility = SkyVisibility::Screen;
-    s.iblVisibilityRadius = 12.0f;
-    Frame seen = renderFrame(canyon(), s, view);
-    // The floor's middle, 10..20 units down the street: normals up.
-    double sumOpen = 0, sumSeen = 0;
-    int n = 0;
+// Mean sky irradiance (green) over the floor's middle column of pixels (normals up).
+double canyonFloorSky(const Frame& f, int& pixels) {
+    double sum = 0;
+    pixels = 0;
     for (uint32_t y = 0; y < kH; ++y)
         for (uint32_t x = kW / 2 - 4; x <= kW / 2 + 4; ++x) {
-            glm::vec3 nrm = pixel(seen.normal, x, y);
-            if (nrm.y < 0.9f) continue;
-            sumOpen += pixel(open.sky, x, y).y;
-            sumSeen += pixel(seen.sky, x, y).y;
-            ++n;
+            if (pixel(f.normal, x, y).y < 0.9f) continue;
+            sum += pixel(f.sky, x, y).y;
+            ++pixels;
         }
+    return pixels ? sum / pixels : 0.0;
+}
+
+TEST(Ibl, SkyVisibilityDarkensTheCanyonFloorTowardsTheViewFactor) {
+    const CameraState view = lookAt({0, 5, 4}, {0, 0, -14});
+    RenderSettings s = quiet();
+    int n = 0;
+    const double open = canyonFloorSky(renderFrame(canyon(), s, view), n);
     ASSERT_GT(n, 50);
     const double pi = std::numbers::pi;
-    EXPECT_NEAR(sumOpen / n, pi, 0.01 * pi) << "no visibility: the whole sky";
-    // The view factor of the slot at the floor's centre line: sin(atan(2 / 6)) = 0.316; off the
-    // centre line and nearer the walls it is smaller. Screen visibility must land in that region.
-    double ratio = sumSeen / sumOpen;
-    EXPECT_LT(ratio, 0.6);
-    EXPECT_GT(ratio, 0.1);
+    EXPECT_NEAR(open, pi, 0.01 * pi) << "no visibility: the whole sky";
+    // The view factor of the slot seen from the floor's centre line is sin(atan(2 / 6)) = 0.316,
+    // smaller off it; both terms must land near it, far below the open sky.
+    s.iblVisibilityRadius = 12.0f;
+    for (SkyVisibility v : {SkyVisibility::Screen, SkyVisibility::Height}) {
+        s.iblVisibility = v;
+        Frame f = renderFrame(canyon(), s, view);
+        double ratio = canyonFloorSky(f, n) / open;
+        EXPECT_LT(ratio, 0.6) << int(v);
+        EXPECT_GT(ratio, 0.1) << int(v);
+        if (v == SkyVisibility::Height) {
+            EXPECT_NEAR(ratio, 0.3, 0.1) << "off screen walls count too";
+        }
+    }
+}
+
+TEST(Ibl, TheHeightMapIsDrawnOnlyForHeightVisibility) {
+    RenderSettings s = quiet();
+    s.iblVisibility = SkyVisibility::Height;
+    auto scene = loadScene(canyon());
+    ASSERT_TRUE(scene.ok());
+    auto renderer = Renderer::create(**scene, s);
+    ASSERT_TRUE(renderer.ok());
+    ASSERT_TRUE((*renderer)->render(kView, kW, kH).ok());
+    EXPECT_EQ((*renderer)->targetMemory().iblBytes, 1024u * 1024u * 4u);
+    s.iblVisibility = SkyVisibility::Screen;
+    (*renderer)->setSettings(s);
+    ASSERT_TRUE((*renderer)->render(kView, kW, kH).ok());
+    EXPECT_EQ((*renderer)->targetMemory().iblBytes, 0u);
 }
 
 } // namespace

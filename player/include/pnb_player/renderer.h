@@ -60,9 +60,10 @@ struct TargetMemory {
     uint64_t shadowMapBytes = 0; // the cascade array: resolution^2 x cascades x 4 B (D32F)
     uint64_t shadowBufferBytes = 0; // SDSM state, GPU-written block, masks, indirect draws
     uint64_t giBytes = 0;           // RSM, light and geometry volumes, injection buffers
+    uint64_t iblBytes = 0;          // the sky-visibility height map (ibl.visibility = height)
     uint64_t total() const {
         return gbufferBytes + depthBytes + hdrBytes + outputBytes + debugBytes + streamingBytes +
-               shadowMapBytes + shadowBufferBytes + giBytes;
+               shadowMapBytes + shadowBufferBytes + giBytes + iblBytes;
     }
 };
 

@@ -54,7 +54,7 @@ enum class ShadowFilter { Hardware, Poisson, Pcss }; // shadows.filter
 enum class CascadeSelect { Depth, Bounds };    // shadows.select
 enum class SdsmPartition { Log, Quantile };    // shadows.sdsm_partition
 enum class GiAtomics { Fixed, Float };         // gi.atomics
-enum class SkyVisibility { None, Screen };     // ibl.visibility
+enum class SkyVisibility { None, Screen, Height }; // ibl.visibility
 
 struct RenderSettings {
     float exposure = 1.0f;       // lighting.exposure: HDR scale before tone mapping
@@ -122,6 +122,7 @@ struct RenderSettings {
     SkyVisibility iblVisibility = SkyVisibility::Screen; // ibl.visibility
     float iblVisibilityRadius = 0.0f; // ibl.visibility_radius: scene units; 0 = 1/8 of the
                                       // scene bounds' diagonal
+    uint32_t iblHeightResolution = 1024; // ibl.height_resolution: the height map's side, texels
 };
 
 struct SettingInfo {
