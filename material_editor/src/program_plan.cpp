@@ -90,6 +90,7 @@ converter::SceneShaderNeeds Document::Impl::sceneNeeds(
     }
     for (const Setting& s : scene.settings.entries)
         if (scene.str(s.key) == "gi.enabled" && scene.str(s.value) == "true") needs.gi = true;
+    needs.ibl = scene.environment.has_value(); // as convert.cpp: lighting with IBL iff an ENVM
     return needs;
 }
 

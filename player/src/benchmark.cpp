@@ -266,14 +266,18 @@ PlayResult<BenchResult> runBenchmark(const GpuScene& scene, Renderer& renderer,
             if (!img) return img.error();
             if (auto s = saveCapture(c.path, *img); !s) return s.error();
             result.written.push_back(c.path);
-            if (c.buffer == CaptureBuffer::Position || c.buffer == CaptureBuffer::Shadow) {
+            if (c.buffer == CaptureBuffer::Position || c.buffer == CaptureBuffer::Shadow ||
+                c.buffer == CaptureBuffer::Sky) {
                 // What a ground-truth tracer needs besides the buffers (docs/REFERENCE.md).
                 std::string jsonPath = c.path.substr(0, c.path.rfind('_')) + "_frame.json";
                 glm::dvec3 eye = renderer.lastView().position;
                 glm::vec3 toward = shadowLightToward(scene);
                 nlohmann::json fj = {{"camera_position", {eye.x, eye.y, eye.z}},
                                      {"toward_light", {toward.x, toward.y, toward.z}},
-                                     {"width", options.width}, {"height", options.height}};
+                                     {"width", options.width}, {"height", options.height},
+                                     // The environment as lit (pnb-reference --sky reads them).
+                                     {"ibl_rotation_degrees", renderer.settings().iblRotationDeg},
+                                     {"ibl_intensity", renderer.settings().iblIntensity}};
                 if (auto w = writeText(jsonPath, fj.dump(2) + "\n"); !w) return w.error();
                 if (std::find(result.written.begin(), result.written.end(), jsonPath) == result.written.end())
                     result.written.push_back(jsonPath);

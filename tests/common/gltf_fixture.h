@@ -86,7 +86,8 @@ inline uint32_t addObject(gltf::Document& doc, const std::string& name, gltf::Pr
 // and returns that path. A conversion error fails the test.
 inline std::string convertDocument(const std::string& dir, const gltf::Document& doc,
                                    const std::string& name, const std::string& sidecarJson = "",
-                                   bool validateShaders = true) {
+                                   bool validateShaders = true,
+                                   const converter::EnvironmentSettings& environment = {}) {
     std::string glb = dir + "/" + name + ".glb";
     auto bytes = gltf::encodeGlb(doc);
     EXPECT_TRUE(isOk(pnb::writeFileAtomic(glb, bytes)));
@@ -95,6 +96,7 @@ inline std::string convertDocument(const std::string& dir, const gltf::Document&
     s.output = dir + "/" + name + ".pnb";
     s.jobs = 1;
     s.validateShaders = validateShaders;
+    s.environment = environment;
     if (!sidecarJson.empty()) {
         s.sidecar = dir + "/" + name + ".sidecar.json";
         std::ofstream(s.sidecar) << sidecarJson;

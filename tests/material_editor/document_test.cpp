@@ -199,16 +199,17 @@ TEST(Document, LayerOrder) {
 }
 
 // The program an edited material gets is the converter's for the same material: convert the
-// same source with a sidecar that makes the edit, and compare.
-TEST(Document, ProgramsMatchTheConverter) {
+// same source with a sidecar that makes the edit, and compare. `sky`: both with an environment
+// (the lighting programs then carry IBL).
+void expectProgramsMatchTheConverter(bool sky) {
     TempDir dir;
     const auto source = editorScene();
-    const std::string plainFile = convert(dir, source, "plain");
+    const std::string plainFile = convert(dir, source, "plain", "", sky);
     const std::string sidecar = R"({ "materials": {
         "textured": { "shading_path": "forward", "alpha_mode": "mask" },
         "plain": { "casts_shadows": false, "layer_priority": 3 },
         "glass": { "shading_path": "deferred", "layer_priority": 1 } } })";
-    const std::string placedFile = convert(dir, source, "placed", sidecar);
+    const std::string placedFile = convert(dir, source, "placed", sidecar, sky);
 
     auto doc = openDoc(plainFile);
     ASSERT_TRUE(doc);
@@ -256,7 +257,14 @@ TEST(Document, ProgramsMatchTheConverter) {
                   describeProgram(placed.scene,
                                   placed.scene.materials[materialIndex(placed.scene, name)].program))
             << name;
+    bool ibl = false;
+    for (uint32_t p = 0; p < reread.scene.programs.size(); ++p)
+        ibl |= describeProgram(reread.scene, p).find("IBL") != std::string::npos;
+    EXPECT_EQ(ibl, sky);
 }
+
+TEST(Document, ProgramsMatchTheConverter) { expectProgramsMatchTheConverter(false); }
+TEST(Document, ProgramsMatchTheConverterWithAnEnvironment) { expectProgramsMatchTheConverter(true); }
 
 TEST(Document, SceneLevelProgramsOnlyWhenAnEditNeedsThem) {
     TempDir dir;

@@ -130,8 +130,11 @@ inline gltf::Document editorScene() {
 
 // Converts `doc` (with a sidecar if given) into dir/name.pnb with the real converter.
 inline std::string convert(const TempDir& dir, const gltf::Document& doc, const std::string& name,
-                           const std::string& sidecarJson = "") {
-    return pnb::test::convertDocument(dir.path(), doc, name, sidecarJson);
+                           const std::string& sidecarJson = "", bool sky = false) {
+    converter::EnvironmentSettings environment;
+    environment.sky = sky;
+    environment.skyWidth = 64; // small: only the programs matter here
+    return pnb::test::convertDocument(dir.path(), doc, name, sidecarJson, true, environment);
 }
 
 // A container opened and decoded, kept together (the scene points into the container).
