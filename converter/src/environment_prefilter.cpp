@@ -54,6 +54,12 @@ namespace environment_detail {
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;
+// GPU Gems 3 ch. 20 (Colbert & Krivanek) biases the lod by +1: the Hammersley pattern then sees a
+// small bright source through about four times the texels. Measured on a 64x32 image with 2x2
+// 1e5-nit suns, 256 samples, roughness 1 (tests/converter/environment_test.cpp), worst texel error
+// against the exact convolution, as a fraction of the peak: 0.76 without filtering, 0.33
+// unbiased, 0.23 with the bias; it converges to the exact result as samples grow either way.
+constexpr double kLodBias = 1.0;
 
 void bilinear(const ImageF& img, double u, double v, double w, double rgb[3]) {
     const double x = u * img.width - 0.5, y = v * img.height - 0.5;
@@ -119,7 +125,7 @@ std::vector<LobeSample> lobeSamples(double roughness, uint32_t count, double tex
         // pdf(l) = D (n.h) / (4 v.h) = D / 4, since n = v makes n.h = v.h.
         const double pdf = player::ggxD(nDotH, alpha) / 4.0;
         const double sampleSolidAngle = 1.0 / (double(count) * pdf);
-        s.lod = std::max(0.0, 0.5 * std::log2(sampleSolidAngle / texelSolidAngle));
+        s.lod = std::max(0.0, 0.5 * std::log2(sampleSolidAngle / texelSolidAngle) + kLodBias);
         out.push_back(s);
     }
     return out;
