@@ -26,6 +26,7 @@
 #include "pnb_converter/environment.h"
 #include "sh9.h"
 #include "split_sum.h"
+#include "environment_internal.h"
 #include "texture_internal.h"
 
 namespace {
@@ -239,6 +240,15 @@ TEST_F(Environment, CubeFacesFollowGlOrientationAndUHalfLooksAlongPlusX) {
     EXPECT_NEAR(at(4, n - 1, n / 2, 0), 10.0f, 0.01f);
     EXPECT_NEAR(at(4, 0, n / 2, 0), 1.0f, 0.01f);
     EXPECT_NEAR(at(5, 0, n / 2, 0), 10.0f, 0.01f) << "-Z: sc = -x";
+    // The prefilter's own copy of the mapping is the player's (sh9.h).
+    for (const glm::dvec3& w : sphereDirections(200)) {
+        double uv[2], unit[3] = {w.x, w.y, w.z};
+        environment_detail::equirectUvOfUnit(unit, uv);
+        glm::dvec2 want = player::equirectUv(w);
+        double du = std::abs(uv[0] - want.x);
+        EXPECT_LT(std::min(du, 1.0 - du), 1e-12);
+        EXPECT_NEAR(uv[1], want.y, 1e-12);
+    }
     double d[3];
     cubeTexelDirection(4, n - 1, 0, n, d);
     EXPECT_GT(d[0], 0.5) << "the +Z face's last column and first row: +x, +y";
