@@ -73,7 +73,8 @@ struct EnvironmentSummary {
     uint64_t bytes = 0;          // texel bytes of the three textures, all levels
     uint64_t cleanedTexels = 0;  // non-finite or negative texels set to 0 (load and bake)
     uint32_t downsampled = 0;    // times the image was halved to fit maxRadianceHeight
-    double seconds = 0;          // the bake (mips, SH, cube, LUT), not the load
+    double seconds = 0;          // bakeEnvironment's time (mips, SH, cube, LUT); convertScene
+                                 // reports its whole stage (with the load or the sky)
 };
 
 // Loads the first three channels of an image file (grey replicated) as linear radiance and
