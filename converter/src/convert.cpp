@@ -424,7 +424,7 @@ Result<ConvertSummary, ConvertError> convertScene(const ConvertSettings& s,
         EnvironmentSource source = EnvironmentSource::Image;
         std::optional<PreethamSkyParams> sky;
         if (!env.image.empty()) {
-            auto loaded = loadRadianceImage(env.image);
+            auto loaded = loadRadianceImage(env.image, s.texture.maxMemoryBytes);
             if (!loaded) return loaded.error();
             radiance = std::move(*loaded);
             for (std::string& w : radiance.warnings) sum.warnings.push_back(std::move(w));

@@ -407,6 +407,13 @@ TEST_F(Environment, LoaderErrorsAndWarningsNameTheFile) {
     auto junk = loadRadianceImage((dir / "junk.hdr").string());
     ASSERT_FALSE(junk.ok());
     EXPECT_NE(junk.error().message.find("junk.hdr"), std::string::npos) << junk.error().message;
+    // The memory budget refuses from the header, naming the file and the budget.
+    const std::string eight = writeImage("eight.exr", constantImage(8, 4, 1, 1, 1));
+    auto refused = loadRadianceImage(eight, 32 * kEnvironmentBytesPerTexel - 1);
+    ASSERT_FALSE(refused.ok());
+    EXPECT_NE(refused.error().message.find(eight), std::string::npos) << refused.error().message;
+    EXPECT_NE(refused.error().message.find("memory budget"), std::string::npos) << refused.error().message;
+    EXPECT_TRUE(loadRadianceImage(eight, 32 * kEnvironmentBytesPerTexel).ok());
     // Any size loads; only a 2:1 image (or a 1x1 constant) goes without the aspect warning.
     for (auto [w, h, warns] : {std::tuple{1u, 1u, false}, {8u, 4u, false}, {3u, 2u, true}}) {
         auto img = loadRadianceImage(writeImage("s" + std::to_string(w) + ".hdr",
