@@ -484,6 +484,44 @@ TEST_F(Environment, SkyFollowsTheScenesSunAndLightsTowardsIt) {
     EXPECT_GT(towards.y, 1000.0) << "a daylight sky lights with thousands of lux";
 }
 
+TEST_F(Environment, SkyTakesTheSourcesFirstDirectionalLight) {
+    // A point light first, then two suns: the sky follows the first directional one, whose node
+    // shines down -Z along (0.4, -1, -0.6), so the sun is towards (-0.4, 1, 0.6).
+    assets::gltf::Document doc = assets::buildOneTriangle();
+    auto addLight = [&](assets::gltf::LightType type, float intensity, assets::gltf::Float3 forward) {
+        assets::gltf::Light l;
+        l.name = "light" + std::to_string(doc.lights.size());
+        l.type = type;
+        l.intensity = intensity;
+        doc.lights.push_back(l);
+        assets::gltf::Node n;
+        n.name = l.name;
+        n.light = int32_t(doc.lights.size() - 1);
+        n.rotation = assets::gltf::lookRotation(forward);
+        doc.nodes.push_back(n);
+    };
+    ASSERT_EQ(doc.lights.size(), 1u) << "one-triangle's own sun";
+    doc.lights[0].type = assets::gltf::LightType::Point; // now the point light that comes first
+    addLight(assets::gltf::LightType::Directional, 7.0f, {0.4f, -1.0f, -0.6f});
+    addLight(assets::gltf::LightType::Directional, 2.0f, {-1.0f, -1.0f, 0.0f});
+    ConvertSettings s;
+    s.input = writeScene("lit", doc).string();
+    s.output = (dir / "lit.pnb").string();
+    s.environment = smallSettings();
+    s.environment.sky = true;
+    auto sum = convertScene(s);
+    ASSERT_TRUE(sum.ok()) << sum.error().message;
+    EXPECT_FALSE(sum->defaultSun);
+    auto c = Container::open(s.output);
+    auto scene = readScene(*c);
+    ASSERT_TRUE(scene.ok() && scene->environment);
+    const glm::dvec3 want = glm::normalize(glm::dvec3(-0.4, 1.0, 0.6));
+    EXPECT_NEAR(scene->environment->sunDirection.x, want.x, 1e-5);
+    EXPECT_NEAR(scene->environment->sunDirection.y, want.y, 1e-5);
+    EXPECT_NEAR(scene->environment->sunDirection.z, want.z, 1e-5);
+    EXPECT_FLOAT_EQ(scene->environment->sunIlluminance, 7.0f);
+}
+
 TEST_F(Environment, OutputIsIdenticalForOneAndTwoJobs) {
     RadianceImage img = constantImage(32, 16, 1, 1, 1);
     for (size_t k = 0; k < img.rgb.size(); ++k) img.rgb[k] = float(1 + (k * 7919) % 13);

@@ -114,7 +114,8 @@ struct BakedEnvironment {
 
 // The whole bake. Errors (Input): a settings value out of range (specularSize not a power of two
 // >= 4, zero sizes or sample counts), an empty image. `sky`: the sky's inputs to store (source
-// AnalyticSky); nullptr for an image.
+// AnalyticSky); nullptr for an image. ENVM's sunIlluminance is then the largest channel of
+// sky->sunIlluminance (lux per channel); convertScene stores the sun light's intensity instead.
 Result<BakedEnvironment, ConvertError> bakeEnvironment(const RadianceImage& radiance,
                                                        const EnvironmentSettings& s,
                                                        EnvironmentSource source,
