@@ -520,6 +520,14 @@ TEST_F(Environment, SkyTakesTheSourcesFirstDirectionalLight) {
     EXPECT_NEAR(scene->environment->sunDirection.y, want.y, 1e-5);
     EXPECT_NEAR(scene->environment->sunDirection.z, want.z, 1e-5);
     EXPECT_FLOAT_EQ(scene->environment->sunIlluminance, 7.0f);
+
+    // What is stored is what the model used: it clamps turbidity to [2, 10].
+    SceneBuilder b;
+    PreethamSkyParams p;
+    p.turbidity = 40.0;
+    ASSERT_TRUE(addEnvironment(b, bakePreethamSky(p, 16), smallSettings(),
+                               EnvironmentSource::AnalyticSky, "preetham", 1, &p).ok());
+    EXPECT_FLOAT_EQ(b.scene.environment->turbidity, 10.0f);
 }
 
 TEST_F(Environment, OutputIsIdenticalForOneAndTwoJobs) {
