@@ -418,12 +418,13 @@ Result<ConvertSummary, ConvertError> convertScene(const ConvertSettings& s,
     float sunIlluminance = 0;
     if (env.any()) {
         clock.start("environment");
+        const auto environmentStart = std::chrono::steady_clock::now();
         RadianceImage radiance;
         std::string envName;
         EnvironmentSource source = EnvironmentSource::Image;
         std::optional<PreethamSkyParams> sky;
         if (!env.image.empty()) {
-            auto loaded = loadRadianceImage(env.image);
+            auto loaded = loadRadianceImage(env.image, s.texture.maxMemoryBytes);
             if (!loaded) return loaded.error();
             radiance = std::move(*loaded);
             for (std::string& w : radiance.warnings) sum.warnings.push_back(std::move(w));
@@ -460,6 +461,9 @@ Result<ConvertSummary, ConvertError> convertScene(const ConvertSettings& s,
                                      sky ? &*sky : nullptr);
         if (!baked) return baked.error();
         if (sky) baked->envm.sunIlluminance = sunIlluminance; // the light's lux, not a channel
+        // The summary's time is the whole stage: loading or baking the sky image too.
+        baked->summary.seconds =
+            std::chrono::duration<double>(std::chrono::steady_clock::now() - environmentStart).count();
         environment = std::move(*baked);
         clock.stop();
     }

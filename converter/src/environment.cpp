@@ -176,9 +176,11 @@ Result<BakedEnvironment, ConvertError> bakeEnvironment(const RadianceImage& radi
         const glm::dvec3 d = glm::length(sky->sunDirection) > 0 ? glm::normalize(sky->sunDirection)
                                                                 : glm::dvec3(0, 1, 0);
         out.envm.sunDirection = {float(d.x), float(d.y), float(d.z)};
-        out.envm.turbidity = float(sky->turbidity);
-        out.envm.groundAlbedo = {float(sky->groundAlbedo.x), float(sky->groundAlbedo.y),
-                                 float(sky->groundAlbedo.z)};
+        // What the model used (it clamps turbidity to its fit's [2, 10] and albedo to [0, 1]), so
+        // that a reader recomputing the sky from ENVM gets this one.
+        out.envm.turbidity = float(player::PreethamSky(*sky).turbidity());
+        const glm::dvec3 albedo = glm::clamp(sky->groundAlbedo, 0.0, 1.0);
+        out.envm.groundAlbedo = {float(albedo.x), float(albedo.y), float(albedo.z)};
         // The scene's sun in lux: its luminous channel is what a reader puts beside the sky.
         out.envm.sunIlluminance = float(std::max({sky->sunIlluminance.x, sky->sunIlluminance.y,
                                                   sky->sunIlluminance.z}));

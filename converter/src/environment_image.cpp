@@ -3,8 +3,10 @@
 // cleaned, or baked from the analytic sky (environment.h).
 #include <cmath>
 #include <filesystem>
+#include <optional>
 
 #include "pnb_converter/environment.h"
+#include "pnb_converter/memory_budget.h"
 #include "sh9.h" // player/math: equirectDirection, the one definition of the mapping
 #include "texture_internal.h"
 
@@ -34,14 +36,24 @@ uint64_t cleanRadiance(RadianceImage& image) {
     return cleaned;
 }
 
-Result<RadianceImage, ConvertError> loadRadianceImage(const std::string& path) {
+Result<RadianceImage, ConvertError> loadRadianceImage(const std::string& path,
+                                                      uint64_t maxMemoryBytes) {
     IrImage source;
     source.name = fs::path(path).filename().string();
     source.path = path;
+    // A header can declare any size: refuse what the budget cannot hold before reading pixels,
+    // as textures are (memory_budget.h).
+    const uint64_t budget = maxMemoryBytes ? maxMemoryBytes : defaultMemoryBudget();
+    auto admit = [budget](const texture_detail::ImageHeader& h) -> std::optional<std::string> {
+        const uint64_t need = h.texels() * kEnvironmentBytesPerTexel;
+        if (need <= budget) return std::nullopt;
+        return "declared " + std::to_string(h.width) + "x" + std::to_string(h.height) +
+               ": loading and baking it needs about " + formatBytes(need) +
+               ", more than the memory budget (--max-memory " + formatBytes(budget) + ")";
+    };
     // The decoders' own checks (missing file, not a regular file, undecodable, zero size, the
     // texel limit textures have) give one-line errors that start with the image and its path.
-    auto decoded =
-        texture_detail::decodeImage(source, TextureSettings{}.maxSourceTexels, nullptr);
+    auto decoded = texture_detail::decodeImage(source, TextureSettings{}.maxSourceTexels, admit);
     if (!decoded) {
         ConvertError e = decoded.error();
         e.message = "environment " + e.message;

@@ -11,6 +11,10 @@ namespace pnb::converter::environment_detail {
 
 using texture_detail::ImageF;
 
+// sh9.h's equirectUv for a direction known to be unit and finite, without its checks: the
+// prefilter calls it ~10^7 times (tests/converter/environment_test.cpp checks that they agree).
+void equirectUvOfUnit(const double dir[3], double uv[2]);
+
 // Trilinear lookup of an equirect mip chain (RGBA, level 0 first) in unit direction `dir` at
 // level-of-detail `lod` (clamped to the chain): bilinear within a level, wrapping in u (the
 // image is periodic in azimuth) and clamping in v (the poles), linear between levels.

@@ -73,15 +73,25 @@ struct EnvironmentSummary {
     uint64_t bytes = 0;          // texel bytes of the three textures, all levels
     uint64_t cleanedTexels = 0;  // non-finite or negative texels set to 0 (load and bake)
     uint32_t downsampled = 0;    // times the image was halved to fit maxRadianceHeight
-    double seconds = 0;          // the bake (mips, SH, cube, LUT), not the load
+    double seconds = 0;          // bakeEnvironment's time (mips, SH, cube, LUT); convertScene
+                                 // reports its whole stage (with the load or the sky)
 };
 
 // Loads the first three channels of an image file (grey replicated) as linear radiance and
 // cleans it (cleanRadiance). Files with integer samples (PNG, JPEG...) are taken as sRGB-encoded
 // and linearised, with a warning (1.0 becomes 1 nit). Errors (Input) name the path: missing,
-// unreadable, zero size. Any size is accepted (1x1 is a constant environment); a width that is
-// not twice the height warns (the image is still mapped onto the whole sphere).
-Result<RadianceImage, ConvertError> loadRadianceImage(const std::string& path);
+// unreadable, zero size, or declaring more texels than loading and baking it may hold in
+// `maxMemoryBytes` (kEnvironmentBytesPerTexel each; 0 = defaultMemoryBudget()), refused from the
+// header before any pixel is read. Any size is accepted otherwise (1x1 is a constant
+// environment); a width that is not twice the height warns (the image is still mapped onto the
+// whole sphere).
+Result<RadianceImage, ConvertError> loadRadianceImage(const std::string& path,
+                                                      uint64_t maxMemoryBytes = 0);
+
+// An upper bound of the bytes per source texel that loading and baking an image holds at its
+// peak: the decoder's native pixels (up to 16), float RGBA (16), the RGB image and its cleaned
+// copy (24), level 0 and the mips as float RGBA (22) and packed (22), the builder's copy (22).
+inline constexpr uint64_t kEnvironmentBytesPerTexel = 128;
 
 // Sets NaN, infinite and negative values to 0 (radiance is non-negative and finite) and returns
 // how many texels had one.
@@ -104,7 +114,8 @@ struct BakedEnvironment {
 
 // The whole bake. Errors (Input): a settings value out of range (specularSize not a power of two
 // >= 4, zero sizes or sample counts), an empty image. `sky`: the sky's inputs to store (source
-// AnalyticSky); nullptr for an image.
+// AnalyticSky); nullptr for an image. ENVM's sunIlluminance is then the largest channel of
+// sky->sunIlluminance (lux per channel); convertScene stores the sun light's intensity instead.
 Result<BakedEnvironment, ConvertError> bakeEnvironment(const RadianceImage& radiance,
                                                        const EnvironmentSettings& s,
                                                        EnvironmentSource source,
