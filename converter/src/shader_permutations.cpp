@@ -81,11 +81,6 @@ ShaderPlan planShaders(std::span<const Material> materials,
         bool deferred = materials[i].shadingPath == ShadingPath::Deferred;
         anyDeferred |= deferred;
         std::vector<std::string> defines = surfaceDefines(features[i]);
-        // Image-based lighting is a lighting term: the forward program and deferred lighting
-        // get it, deferred G-buffer programs do not. It goes in before the GI G-buffer twin
-        // below is made, because FORMAT.md ("PROG") defines the twin as the forward program's
-        // defines without SHADOWS and GI, and the player finds it by exactly that comparison.
-        if (!deferred && needs.ibl) defines.push_back("IBL");
         // Forward shading samples the shadow maps itself; deferred receivers get them in the
         // lighting pass.
         // With GI the reflective shadow map draws every opaque or masked surface with the
@@ -94,6 +89,10 @@ ShaderPlan planShaders(std::span<const Material> materials,
             add(variant("gbuffer", {"surface.vert", "gbuffer.frag"}, defines));
         if (!deferred && needs.shadows && materials[i].receivesShadows) defines.push_back("SHADOWS");
         if (!deferred && needs.gi) defines.push_back("GI");
+        // Image-based lighting is a lighting term: the forward program and deferred lighting
+        // get it; G-buffer programs (the deferred ones and the GI twin above, which FORMAT.md
+        // "PROG" defines as the forward program's defines without SHADOWS, GI and IBL) do not.
+        if (!deferred && needs.ibl) defines.push_back("IBL");
         plan.materialProgram.push_back(
             add(deferred ? variant("gbuffer", {"surface.vert", "gbuffer.frag"}, std::move(defines))
                          : variant("forward", {"surface.vert", "forward.frag"}, std::move(defines))));

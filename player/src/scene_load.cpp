@@ -128,7 +128,7 @@ PlayResult<Done> compileNeededPrograms(const Scene& scene, GpuScene& gpu) {
     auto defines = [&](uint32_t p) {
         std::set<std::string_view> d;
         for (StringRef r : scene.programs[p].defines)
-            if (scene.str(r) != "SHADOWS" && scene.str(r) != "GI") d.insert(scene.str(r));
+            if (scene.str(r) != "SHADOWS" && scene.str(r) != "GI" && scene.str(r) != "IBL") d.insert(scene.str(r));
         return d;
     };
     gpu.giPrograms = gpu.iblPrograms = false;
