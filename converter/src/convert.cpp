@@ -447,13 +447,23 @@ Result<ConvertSummary, ConvertError> convertScene(const ConvertSettings& s,
                     glm::dvec3 z(m.m[8], m.m[9], m.m[10]);
                     if (glm::length(z) > 0) p.sunDirection = glm::normalize(z);
                 }
-                // The ground below the horizon reflects the sun as well as the sky, in the
-                // light's colour: both in lux, so sky and sun share one unit.
-                p.sunIlluminance = glm::dvec3(l.color.x, l.color.y, l.color.z) * double(l.intensity);
                 sunIlluminance = l.intensity;
             }
+            // The model is in physical units (a clear sky is ~10^4 nits), a scene's sun in any
+            // (the default sun is 3 lux): bake it beside its physical sun, whose light the
+            // ground below the horizon reflects too, in the light's colour, then scale the
+            // whole sky by (the scene's sun) / (that physical sun). Sky and sun then keep their
+            // physical ratio under one exposure (FORMAT.md "ENVM").
+            const double physicalSun = player::preethamSunIlluminance(p.turbidity, p.sunDirection);
+            const glm::dvec3 colour = sunLight >= 0 ? glm::dvec3(scene.lights[size_t(sunLight)].color.x,
+                                                                 scene.lights[size_t(sunLight)].color.y,
+                                                                 scene.lights[size_t(sunLight)].color.z)
+                                                    : glm::dvec3(1.0);
+            p.sunIlluminance = colour * physicalSun;
             sky = p;
             radiance = bakePreethamSky(p, env.skyWidth);
+            const float scale = float(double(sunIlluminance) / physicalSun);
+            for (float& v : radiance.rgb) v *= scale;
             envName = "preetham";
             source = EnvironmentSource::AnalyticSky;
         }

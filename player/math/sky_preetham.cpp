@@ -154,4 +154,20 @@ double PreethamSky::luminance(const glm::dvec3& dir) const {
     return finiteNonNegative(1000.0 * fade_ * skyLuminanceKcd(d.y, gamma));
 }
 
+double preethamSunIlluminance(double turbidity, const glm::dvec3& sunDirection) {
+    double t = std::isfinite(turbidity) ? std::clamp(turbidity, 2.0, 10.0) : 3.0;
+    glm::dvec3 d = sunDirection;
+    double len = glm::length(d);
+    double y = (std::isfinite(len) && len > 0) ? d.y / len : 1.0;
+    double elevationDeg = std::asin(std::clamp(y, -1.0, 1.0)) * (180.0 / 3.14159265358979323846);
+    double airMass = 10.0;
+    if (elevationDeg > 5.6) {
+        double zenithDeg = 90.0 - elevationDeg;
+        airMass = 1.0 / (std::cos(zenithDeg * 3.14159265358979323846 / 180.0) +
+                         0.50572 * std::pow(96.07995 - zenithDeg, -1.6364));
+        airMass = std::min(airMass, 10.0);
+    }
+    return 128000.0 * std::exp(-(0.25 + 0.07 * (t - 3.0)) * airMass);
+}
+
 } // namespace pnb::player

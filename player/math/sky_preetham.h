@@ -62,6 +62,15 @@ glm::dvec2 preethamZenithChromaticity(double turbidity, double thetaSun);
 // non-finite input gives 0.
 glm::dvec3 xyYToLinearRec709(double x, double y, double Y);
 
+// The sun's direct illuminance on a surface facing it (lux) that goes with this sky, from a
+// simple clear-sky model, so that the sky can be put beside a scene's sun of any brightness:
+// E = 128 000 lux x exp(-a m), with m the Kasten-Young (1989) relative air mass at the sun's
+// elevation (held at 10 below 5.6 degrees, so a sun on the horizon does not make the sky
+// thousands of times brighter than its sun) and a luminous extinction per air mass of
+// 0.25 + 0.07 (T - 3) (T clamped as the sky's): about 100 klx for a zenith sun at T = 3, 49 klx
+// at 15 degrees. An approximation to the order of 10-20 %, not Preetham's spectral sun.
+double preethamSunIlluminance(double turbidity, const glm::dvec3& sunDirection);
+
 struct PreethamSkyParams {
     double turbidity = 3.0;
     glm::dvec3 sunDirection{0.0, 1.0, 0.0}; // towards the sun, world (+Y up)

@@ -481,7 +481,14 @@ TEST_F(Environment, SkyFollowsTheScenesSunAndLightsTowardsIt) {
     glm::dvec3 towards = player::sh9Evaluate(shOf(e), toSun);
     glm::dvec3 away = player::sh9Evaluate(shOf(e), -toSun);
     for (int c2 = 0; c2 < 3; ++c2) EXPECT_GT(towards[c2], away[c2]) << c2;
-    EXPECT_GT(towards.y, 1000.0) << "a daylight sky lights with thousands of lux";
+    // The sky keeps its physical ratio to the scene's sun (3 lux here): a clear sky's light on
+    // a surface facing the sun is a tenth to a half of the direct sun's, not 10^4 times it.
+    const double ratio = towards.y / e.sunIlluminance;
+    EXPECT_GT(ratio, 0.1);
+    EXPECT_LT(ratio, 0.5);
+    const double physical = player::preethamSunIlluminance(3.0, toSun);
+    EXPECT_GT(physical, 60000.0) << "a clear sun 50 degrees up";
+    EXPECT_LT(physical, 110000.0);
 }
 
 TEST_F(Environment, SkyTakesTheSourcesFirstDirectionalLight) {
