@@ -75,7 +75,8 @@ void renderSkyHeightMap(FrameContext& ctx) {
     glDepthMask(GL_TRUE);
     glDisable(GL_BLEND);
     drawItems(ctx, refs, ctx.builtins.depthOnly.id(), &GpuMaterial::program, true);
-    ibl.heightVersion = scene.materialsVersion;
+    // The warm-up frame draws cut and scissored (Renderer::warmUp): only the real one counts.
+    ibl.heightVersion = ctx.warmUp ? ~0ull : scene.materialsVersion;
     ibl.heightBytes = uint64_t(res) * res * 4;
 }
 

@@ -106,6 +106,8 @@ Frame renderFrame(const std::string& path, const RenderSettings& s, const Camera
     auto renderer = Renderer::create(**scene, s);
     EXPECT_TRUE(renderer.ok());
     if (!renderer) return f;
+    // As pnb-play does: the warm-up frame first (cut, scissored draws), then the frame.
+    EXPECT_TRUE((*renderer)->warmUp(camera, kW, kH).ok());
     EXPECT_TRUE((*renderer)->render(camera, kW, kH).ok());
     f.color = std::move(*(*renderer)->capture(CaptureBuffer::Color));
     f.hdr = std::move(*(*renderer)->capture(CaptureBuffer::Hdr));
@@ -351,6 +353,40 @@ TEST(Ibl, SkyVisibilityDarkensTheCanyonFloorTowardsTheViewFactor) {
             EXPECT_NEAR(ratio, 0.3, 0.1) << "off screen walls count too";
         }
     }
+}
+
+TEST(Ibl, AFlatRoofAtTheTopOfTheSceneHidesTheSkyInTheHeightMap) {
+    // A floor and a roof 3 above it, both 12 x 12 (the roof is the scene's top: it must not be
+    // lost on the height map's far plane); looking in from the side at the floor's middle.
+    gltf::Document doc;
+    gltf::Material grey;
+    grey.name = "grey";
+    grey.baseColorFactor = {0.5f, 0.5f, 0.5f, 1};
+    grey.doubleSided = true;
+    doc.materials.push_back(grey);
+    const float h = std::sqrt(0.5f);
+    addObject(doc, "floor", quad(12, 12, 0), {0, 0, 0}, {-h, 0, 0, h});
+    addObject(doc, "roof", quad(12, 12, 0), {0, 3, 0}, {h, 0, 0, h});
+    gltf::Light light;
+    light.name = "sun";
+    light.intensity = 0.0f;
+    doc.lights.push_back(light);
+    gltf::Node node;
+    node.name = "sun";
+    node.light = 0;
+    node.rotation = gltf::lookRotation({0.4f, -1.0f, -0.6f});
+    doc.nodes.push_back(node);
+    static const std::string path = convertLit(
+        doc, "roof", writeEnvironment("roof-sky", 1, 1, [](glm::dvec3) { return glm::vec3(1.0f); }));
+    const CameraState view = lookAt({0, 1.5, 9}, {0, 0.2, 0});
+    RenderSettings s = quiet();
+    int n = 0;
+    const double open = canyonFloorSky(renderFrame(path, s, view), n);
+    ASSERT_GT(n, 20);
+    s.iblVisibility = SkyVisibility::Height;
+    s.iblVisibilityRadius = 6.0f;
+    const double roofed = canyonFloorSky(renderFrame(path, s, view), n);
+    EXPECT_LT(roofed, 0.35 * open) << "under the roof the sky comes in from the sides only";
 }
 
 TEST(Ibl, TheHeightMapIsDrawnOnlyForHeightVisibility) {
