@@ -61,7 +61,6 @@ def main():
         run(cmd)
         lighting = {name: [] for name, _ in CONFIGS}
         background = {name: [] for name, _ in CONFIGS}
-        height = {name: [] for name, _ in CONFIGS}
         quality = {}
         for rnd in range(a.rounds):
             order = CONFIGS if rnd % 2 == 0 else list(reversed(CONFIGS))
@@ -80,8 +79,6 @@ def main():
                 lighting[name].append(g["lighting"]["median_ms"])
                 if "background" in g:
                     background[name].append(g["background"]["median_ms"])
-                if "sky_height" in g:
-                    height[name].append(g["sky_height"]["max_ms"])
                 if rnd == 0 and name != "off":
                     q = j["quality"]
                     quality[name] = {k: q[k]["mean"] for k in q if k.startswith("sky_")}
@@ -96,7 +93,6 @@ def main():
                 "lighting_ms": round(m, 3),
                 "lighting_ratio": round(m / base, 3),
                 "background_ms": round(statistics.median(background[name]), 3) if background[name] else "",
-                "height_map_ms_once": round(statistics.median(height[name]), 2) if height[name] else "",
                 "sky_energy_ratio": round(q["sky_energy_ratio"], 3) if q else "",
                 "sky_rmse_pct": round(q["sky_rmse_pct"], 1) if q else "",
                 "sky_corrected_rmse_pct": round(q["sky_corrected_rmse_pct"], 1) if q else "",

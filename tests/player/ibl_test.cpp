@@ -47,10 +47,8 @@ template <class F> std::string writeEnvironment(const std::string& name, uint32_
     return path;
 }
 
-// `doc` converted with the environment `image` ("" = none; "sky" = the analytic sky).
-std::string convertLit(const gltf::Document& doc, const std::string& name, const std::string& image) {
-    std::string glb = (iblDir() / (name + ".glb")).string();
-    EXPECT_TRUE(isOk(pnb::writeFileAtomic(glb, gltf::encodeGlb(doc))));
+// The source `glb` converted with the environment `image` ("" = none; "sky" = the analytic sky).
+std::string convertFile(const std::string& glb, const std::string& name, const std::string& image) {
     converter::ConvertSettings s;
     s.input = glb;
     s.output = (iblDir() / (name + ".pnb")).string();
@@ -62,6 +60,12 @@ std::string convertLit(const gltf::Document& doc, const std::string& name, const
     auto r = converter::convertScene(s);
     EXPECT_TRUE(r.ok()) << (r.ok() ? "" : r.error().message);
     return s.output;
+}
+
+std::string convertLit(const gltf::Document& doc, const std::string& name, const std::string& image) {
+    std::string glb = (iblDir() / (name + ".glb")).string();
+    EXPECT_TRUE(isOk(pnb::writeFileAtomic(glb, gltf::encodeGlb(doc))));
+    return convertFile(glb, name, image);
 }
 
 // A sphere of radius 1 at the origin in `material`, and (unless `sun`) a black sun, so that the
@@ -198,6 +202,19 @@ TEST(Ibl, IblOffIsTodaysImage) {
     EXPECT_GT(compareRgba8(a.color, d.color).maxAbs, 20);
     EXPECT_GT(pixel(d.hdr, 2, kH - 3).z, 0.0f) << "sky";
     EXPECT_EQ(pixel(a.hdr, 2, kH - 3).z, 0.0f);
+}
+
+TEST(Ibl, IblOffIsTodaysImageWithForwardAndBlendedMaterials) {
+    // The bundled box room: deferred walls and a forward, blended glass pane.
+    const std::string glb = std::string(PNB_SCENE_DIR) + "/box-room.glb";
+    static const std::string plain = convertFile(glb, "room-plain", "");
+    static const std::string lit = convertFile(glb, "room-sky", "sky");
+    const CameraState view = lookAt({0, 4, 8}, {0, 1.5, 0});
+    RenderSettings off;
+    off.iblEnabled = false;
+    EXPECT_EQ(compareRgba8(renderFrame(plain, off, view).color, renderFrame(lit, off, view).color).maxAbs, 0);
+    RenderSettings on;
+    EXPECT_GT(compareRgba8(renderFrame(plain, on, view).color, renderFrame(lit, on, view).color).maxAbs, 10);
 }
 
 // Mean luminance of the sphere's left and right thirds.
