@@ -7,7 +7,8 @@ read the GPU time of the lighting pass (and the background pass) per frame; the 
 irradiance the lighting applied against the Embree sky-light truth (pnb-play --sky-metrics:
 energy ratio, relative RMSE with and without the truth's own noise).
 
-Costs are ratios to the lighting pass with ibl.enabled=false measured in the same rounds.
+Costs are ratios to the lighting pass with ibl.enabled=false measured in the same rounds (the
+volume term: compare with "GI, sky without visibility", which has GI's look-up too).
 Writes OUT/<scene>/{ibl.csv, ibl.md, runs/}.
 """
 import argparse
@@ -19,12 +20,15 @@ import subprocess
 import sys
 
 CONFIGS = [
-    # name, settings
-    ("off", ["ibl.enabled=false"]),
-    ("diffuse", ["ibl.specular=false", "ibl.visibility=none"]),
-    ("diffuse+specular", ["ibl.visibility=none"]),
-    ("+screen visibility", ["ibl.visibility=screen"]),
-    ("+height visibility", ["ibl.visibility=height"]),
+    # name, settings (the scene is converted with --sky --gi; GI is off unless said)
+    ("off", ["ibl.enabled=false", "gi.enabled=false"]),
+    ("diffuse", ["ibl.specular=false", "ibl.visibility=none", "gi.enabled=false"]),
+    ("diffuse+specular", ["ibl.visibility=none", "gi.enabled=false"]),
+    ("+screen visibility", ["ibl.visibility=screen", "gi.enabled=false"]),
+    ("+height visibility", ["ibl.visibility=height", "gi.enabled=false"]),
+    # The LPV's geometry as the visibility term: against the same frame with GI and no term.
+    ("GI, sky without visibility", ["ibl.visibility=none", "gi.enabled=true"]),
+    ("GI, sky + volume visibility", ["ibl.visibility=volume", "gi.enabled=true"]),
 ]
 
 
@@ -54,7 +58,7 @@ def main():
         runs = os.path.join(out, "runs")
         os.makedirs(runs, exist_ok=True)
         pnb = os.path.join(out, scene + "-sky.pnb")
-        cmd = [a.converter, os.path.join(a.scene_dir, scene + ".glb"), "-o", pnb, "--sky", "-q"]
+        cmd = [a.converter, os.path.join(a.scene_dir, scene + ".glb"), "-o", pnb, "--sky", "--gi", "-q"]
         path = os.path.join(a.paths, scene + ".json")
         if os.path.exists(path):
             cmd += ["--path", path]

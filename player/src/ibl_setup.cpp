@@ -58,6 +58,18 @@ void prepareIbl(FrameContext& ctx) {
                 mode = 2.0f;
             }
         }
+        if (s.iblVisibility == SkyVisibility::Volume) {
+            // The LPV's geometry: its face transmittances exist while GI runs with occlusion.
+            if (ctx.gi.frame.active && s.giOcclusion) {
+                glBindTextureUnit(16, ctx.gi.resources.transmittance[0].id());
+                glBindTextureUnit(17, ctx.gi.resources.transmittance[1].id());
+                mode = 3.0f;
+            } else if (!ibl.warnedVolume) {
+                ibl.warnedVolume = true;
+                std::fprintf(stderr, "pnb-play: ibl.visibility=volume needs GI with occlusion (gi.enabled, "
+                                     "gi.occlusion, a container converted with --gi): no sky visibility\n");
+            }
+        }
         block.heightRange.z = mode;
         if (specular) {
             glBindTextureUnit(13, scene.textures[*env.specular].texture.id());

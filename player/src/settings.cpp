@@ -63,7 +63,7 @@ constexpr std::string_view kFilterNames[] = {"hardware", "poisson", "pcss"};
 constexpr std::string_view kSelectNames[] = {"depth", "bounds"};
 constexpr std::string_view kPartitionNames[] = {"log", "quantile"};
 constexpr std::string_view kAtomicsNames[] = {"fixed", "float"};
-constexpr std::string_view kSkyVisibilityNames[] = {"none", "screen", "height"};
+constexpr std::string_view kSkyVisibilityNames[] = {"none", "screen", "height", "volume"};
 
 const std::vector<Row>& rows() {
     using S = RenderSettings;
@@ -174,10 +174,12 @@ const std::vector<Row>& rows() {
          BoolField{&S::iblSpecular}},
         {{"ibl.background", "bool", "draw the environment where no surface is"},
          BoolField{&S::iblBackground}},
-        {{"ibl.visibility", "none|screen|height",
+        {{"ibl.visibility", "none|screen|height|volume",
           "sky visibility of deferred materials: none (every surface sees the whole sky), screen "
-          "(rays marched through the depth buffer), or height (rays marched through a height map "
-          "of the scene seen from above, drawn once), out to ibl.visibility_radius"},
+          "(rays marched through the depth buffer), height (through a height map of the scene "
+          "seen from above, drawn once), out to ibl.visibility_radius; or volume (through the "
+          "GI's geometry: the light propagation volumes' face transmittances; needs gi.enabled "
+          "and gi.occlusion)"},
          enumField<&S::iblVisibility>(kSkyVisibilityNames)},
         {{"ibl.visibility_radius", "float >= 0",
           "screen visibility: how far occluders are searched, scene units; 0 = 1/8 of the scene "

@@ -11,7 +11,11 @@
 //           behind nearer surfaces;
 //   height: when it is below the height map's highest surface there (the scene seen from above,
 //           pass_sky_height.cpp). Sees off screen; blind to overhangs (the sky under a roof's
-//           eaves or through a room's open side is taken as hidden by the roof).
+//           eaves or through a room's open side is taken as hidden by the roof);
+//   volume: (GI permutation, gi.occlusion) not blocked but dimmed, cell by cell, by the light
+//           propagation volumes' face transmittances (what the LPV's geometry lets through from
+//           one cell into the next; lpv_resolve.comp): the LPV's occlusion darkens sky light as
+//           it darkens the bounce. As coarse as the cells; sees what the RSM and the camera saw.
 // Their errors against the ray-traced sky light: docs/PLAYER.md "Sky and image-based lighting".
 #ifndef PNB_SKY_VISIBILITY_GLSL
 #define PNB_SKY_VISIBILITY_GLSL
@@ -43,10 +47,45 @@ bool behindDepthBuffer(vec3 q, float radius, out bool gone) {
     return behind > 0.0 && behind < radius;
 }
 
+#ifdef GI
+layout(binding = 16) uniform sampler3D uGiTransmit0; // faces from the -x, +x, -y, +y neighbours
+layout(binding = 17) uniform sampler3D uGiTransmit1; // from the -z, +z neighbours
+
+// The fraction of sky light along `dir` that the propagation volumes' geometry lets through from
+// camera-relative p: one cell of the finest cascade holding the point per step (12 at most),
+// each step passing the face it enters by (the faces of the three axes weighted by dir's squared
+// components, which sum to 1). Leaving the outer cascade: open sky.
+float volumeTransmittance(vec3 p, vec3 dir) {
+    float through = 1.0;
+    float cells = uGiGrid.x;
+    int cascades = int(uGiGrid.y);
+    vec3 x = p;
+    vec3 w = dir * dir;
+    for (int s = 0; s < 12 && through > 0.01; ++s) {
+        int c = 0;
+        vec3 q;
+        for (; c < cascades; ++c) {
+            q = (x - uGiCascade[c].xyz) / uGiCascade[c].w;
+            if (all(greaterThan(q, vec3(0.5))) && all(lessThan(q, vec3(cells - 0.5)))) break;
+        }
+        if (c == cascades) break; // outside every cascade: nothing known blocks it
+        x += dir * uGiCascade[c].w;
+        q += dir;
+        vec3 t = clamp(q, vec3(0.5), vec3(cells - 0.5));
+        vec3 uvw = (t + vec3(0.0, 0.0, float(c) * cells)) / vec3(cells, cells, cells * uGiGrid.y);
+        vec4 t0 = textureLod(uGiTransmit0, uvw, 0.0);
+        vec2 t1 = textureLod(uGiTransmit1, uvw, 0.0).rg;
+        through *= w.x * (dir.x > 0.0 ? t0.r : t0.g) + w.y * (dir.y > 0.0 ? t0.b : t0.a) +
+                   w.z * (dir.z > 0.0 ? t1.r : t1.g);
+    }
+    return through;
+}
+#endif
+
 float skyVisibility(vec3 p, vec3 n) {
     float radius = uIblParams.z;
     int mode = int(uIblHeightRange.z + 0.5);
-    if (radius <= 0.0 || mode == 0) return 1.0;
+    if (mode == 0 || (radius <= 0.0 && mode != 3)) return 1.0;
     const int kRays = 12, kSteps = 6, kHeightSteps = 12;
     vec3 t = normalize(abs(n.y) < 0.99 ? cross(n, vec3(0.0, 1.0, 0.0)) : cross(n, vec3(1.0, 0.0, 0.0)));
     vec3 b = cross(n, t);
@@ -62,6 +101,12 @@ float skyVisibility(vec3 p, vec3 n) {
         float u2 = float(bitfieldReverse(uint(i))) * 2.3283064e-10;
         float r = sqrt(u1), phi = 6.2831853 * u2 + turn;
         vec3 dir = t * (r * cos(phi)) + b * (r * sin(phi)) + n * sqrt(max(0.0, 1.0 - u1));
+#ifdef GI
+        if (mode == 3) {
+            open += volumeTransmittance(p + n * (0.5 * uGiCascade[0].w), dir);
+            continue;
+        }
+#endif
         bool blocked = false;
         // Height: evenly spaced, so a wall thicker than radius / 12 is never stepped over.
         int steps = mode == 2 ? kHeightSteps : kSteps;

@@ -48,8 +48,10 @@ template <class F> std::string writeEnvironment(const std::string& name, uint32_
 }
 
 // The source `glb` converted with the environment `image` ("" = none; "sky" = the analytic sky).
-std::string convertFile(const std::string& glb, const std::string& name, const std::string& image) {
+std::string convertFile(const std::string& glb, const std::string& name, const std::string& image,
+                        bool gi = false) {
     converter::ConvertSettings s;
+    if (gi) s.renderSettings.emplace_back("gi.enabled", "true");
     s.input = glb;
     s.output = (iblDir() / (name + ".pnb")).string();
     s.jobs = 1;
@@ -62,10 +64,25 @@ std::string convertFile(const std::string& glb, const std::string& name, const s
     return s.output;
 }
 
-std::string convertLit(const gltf::Document& doc, const std::string& name, const std::string& image) {
+std::string convertLit(const gltf::Document& doc, const std::string& name, const std::string& image,
+                       bool gi = false) {
     std::string glb = (iblDir() / (name + ".glb")).string();
     EXPECT_TRUE(isOk(pnb::writeFileAtomic(glb, gltf::encodeGlb(doc))));
-    return convertFile(glb, name, image);
+    return convertFile(glb, name, image, gi);
+}
+
+// The scene's sun, from the upper left; intensity 0 leaves the environment the only light (and
+// keeps the converter from adding its default sun).
+void addSun(gltf::Document& doc, float lux) {
+    gltf::Light light;
+    light.name = "sun";
+    light.intensity = lux;
+    doc.lights.push_back(light);
+    gltf::Node node;
+    node.name = "sun";
+    node.light = int32_t(doc.lights.size() - 1);
+    node.rotation = gltf::lookRotation({0.4f, -1.0f, -0.6f});
+    doc.nodes.push_back(node);
 }
 
 // A sphere of radius 1 at the origin in `material`, and (unless `sun`) a black sun, so that the
@@ -74,15 +91,7 @@ gltf::Document sphereDocument(gltf::Material material, bool sun = false) {
     gltf::Document doc;
     doc.materials.push_back(material);
     addObject(doc, "sphere", uvSphere(1.0f, 48, 96, 0), {0, 0, 0});
-    gltf::Light light;
-    light.name = "sun";
-    light.intensity = sun ? 3.0f : 0.0f;
-    doc.lights.push_back(light);
-    gltf::Node node;
-    node.name = "sun";
-    node.light = 0;
-    node.rotation = gltf::lookRotation({0.4f, -1.0f, -0.6f});
-    doc.nodes.push_back(node);
+    addSun(doc, sun ? 3.0f : 0.0f);
     return doc;
 }
 
@@ -313,7 +322,7 @@ TEST(Ibl, AnAnalyticSkyLightsFromTheSunsSideAndShowsBehindTheScene) {
 }
 
 // A street canyon: a floor 4 wide between walls 6 high, 60 long down -Z, seen from above one end.
-std::string canyon() {
+std::string canyon(bool gi = false) {
     gltf::Document doc;
     gltf::Material grey;
     grey.name = "grey";
@@ -322,17 +331,12 @@ std::string canyon() {
     addObject(doc, "floor", box(4, 0.2f, 60, 0), {0, -0.1f, -30});
     addObject(doc, "west", box(1, 6, 60, 0), {-2.5f, 3, -30});
     addObject(doc, "east", box(1, 6, 60, 0), {2.5f, 3, -30});
-    gltf::Light light;
-    light.name = "sun";
-    light.intensity = 0.0f;
-    doc.lights.push_back(light);
-    gltf::Node node;
-    node.name = "sun";
-    node.light = 0;
-    node.rotation = gltf::lookRotation({0.4f, -1.0f, -0.6f});
-    doc.nodes.push_back(node);
-    static const std::string path = convertLit(
-        doc, "canyon", writeEnvironment("canyon-sky", 1, 1, [](glm::dvec3) { return glm::vec3(1.0f); }));
+    addSun(doc, 0.0f);
+    static std::string converted[2]; // with and without GI, converted once per process
+    std::string& path = converted[gi ? 1 : 0];
+    if (path.empty())
+        path = convertLit(doc, gi ? "canyon-gi" : "canyon",
+                          writeEnvironment("canyon-sky", 1, 1, [](glm::dvec3) { return glm::vec3(1.0f); }), gi);
     return path;
 }
 
@@ -372,6 +376,23 @@ TEST(Ibl, SkyVisibilityDarkensTheCanyonFloorTowardsTheViewFactor) {
     }
 }
 
+TEST(Ibl, TheLightPropagationVolumesGeometryDimsTheSkyInTheCanyon) {
+    static const std::string path = canyon(true);
+    const CameraState view = lookAt({0, 5, 4}, {0, 0, -14});
+    RenderSettings s = quiet();
+    s.giEnabled = true;
+    int n = 0;
+    const double open = canyonFloorSky(renderFrame(path, s, view), n);
+    ASSERT_GT(n, 50);
+    s.iblVisibility = SkyVisibility::Volume;
+    const double dimmed = canyonFloorSky(renderFrame(path, s, view), n);
+    EXPECT_LT(dimmed, 0.85 * open);
+    EXPECT_GT(dimmed, 0.05 * open);
+    // Without GI there is no geometry to ask: the sky is not dimmed (and the player says so).
+    s.giEnabled = false;
+    EXPECT_NEAR(canyonFloorSky(renderFrame(path, s, view), n), open, 1e-3 * open);
+}
+
 TEST(Ibl, AFlatRoofAtTheTopOfTheSceneHidesTheSkyInTheHeightMap) {
     // A floor and a roof 3 above it, both 12 x 12 (the roof is the scene's top: it must not be
     // lost on the height map's far plane); looking in from the side at the floor's middle.
@@ -384,15 +405,7 @@ TEST(Ibl, AFlatRoofAtTheTopOfTheSceneHidesTheSkyInTheHeightMap) {
     const float h = std::sqrt(0.5f);
     addObject(doc, "floor", quad(12, 12, 0), {0, 0, 0}, {-h, 0, 0, h});
     addObject(doc, "roof", quad(12, 12, 0), {0, 3, 0}, {h, 0, 0, h});
-    gltf::Light light;
-    light.name = "sun";
-    light.intensity = 0.0f;
-    doc.lights.push_back(light);
-    gltf::Node node;
-    node.name = "sun";
-    node.light = 0;
-    node.rotation = gltf::lookRotation({0.4f, -1.0f, -0.6f});
-    doc.nodes.push_back(node);
+    addSun(doc, 0.0f);
     static const std::string path = convertLit(
         doc, "roof", writeEnvironment("roof-sky", 1, 1, [](glm::dvec3) { return glm::vec3(1.0f); }));
     const CameraState view = lookAt({0, 1.5, 9}, {0, 0.2, 0});

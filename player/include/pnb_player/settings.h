@@ -54,7 +54,7 @@ enum class ShadowFilter { Hardware, Poisson, Pcss }; // shadows.filter
 enum class CascadeSelect { Depth, Bounds };    // shadows.select
 enum class SdsmPartition { Log, Quantile };    // shadows.sdsm_partition
 enum class GiAtomics { Fixed, Float };         // gi.atomics
-enum class SkyVisibility { None, Screen, Height }; // ibl.visibility
+enum class SkyVisibility { None, Screen, Height, Volume }; // ibl.visibility
 
 struct RenderSettings {
     float exposure = 1.0f;       // lighting.exposure: HDR scale before tone mapping
