@@ -206,7 +206,23 @@ Result<ConvertSummary, ConvertError> convertScene(const ConvertSettings& s,
         if (progress) progress(stage, done, total);
     };
 
-    const EnvironmentSettings& env = s.environment;
+    // The sidecar first: it may name the environment (the command line's wins).
+    MaterialOverrides overrides;
+    std::string sidecar = s.sidecar;
+    if (sidecar.empty() && !s.noSidecar && fs::exists(defaultSidecarPath(s.input)))
+        sidecar = defaultSidecarPath(s.input);
+    if (!sidecar.empty() && !s.noSidecar) {
+        auto loaded = loadSidecar(sidecar);
+        if (!loaded) return loaded.error();
+        overrides = std::move(*loaded);
+    }
+    EnvironmentSettings env = s.environment;
+    if (!env.any() && overrides.environment) {
+        env.image = overrides.environment->image;
+        env.sky = overrides.environment->sky;
+        if (overrides.environment->turbidity) env.skyTurbidity = *overrides.environment->turbidity;
+        if (overrides.environment->groundAlbedo) env.skyGroundAlbedo = *overrides.environment->groundAlbedo;
+    }
     if (env.sky && !env.image.empty())
         return ConvertError{ConvertErrorKind::Input,
                             "environment: both an image (" + env.image +
@@ -233,16 +249,7 @@ Result<ConvertSummary, ConvertError> convertScene(const ConvertSettings& s,
 
     // [SECTION] materials
     clock.start("materials");
-    MaterialOverrides overrides;
-    std::string sidecar = s.sidecar;
-    if (sidecar.empty() && !s.noSidecar && fs::exists(defaultSidecarPath(s.input)))
-        sidecar = defaultSidecarPath(s.input);
-    if (!sidecar.empty() && !s.noSidecar) {
-        auto loaded = loadSidecar(sidecar);
-        if (!loaded) return loaded.error();
-        overrides = std::move(*loaded);
-        sum.dependencies.push_back(sidecar);
-    }
+    if (!sidecar.empty() && !s.noSidecar) sum.dependencies.push_back(sidecar);
     auto resolvedResult = resolveMaterials(scene, overrides);
     if (!resolvedResult) return resolvedResult.error();
     ResolvedMaterials& materials = *resolvedResult;

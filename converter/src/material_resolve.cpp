@@ -2,6 +2,8 @@
 
 #include "pnb_converter/material_resolve.h"
 
+#include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <map>
 #include <sstream>
@@ -68,8 +70,33 @@ Result<MaterialOverrides, ConvertError> loadSidecar(const std::string& path) {
     o.sourcePath = path;
     if (!doc.is_object()) return inputError(path + ": the top level must be an object");
     for (const auto& item : doc.items())
-        if (item.key() != "materials")
-            return inputError(path + ": unknown key '" + item.key() + "' (only \"materials\")");
+        if (item.key() != "materials" && item.key() != "environment")
+            return inputError(path + ": unknown key '" + item.key() + "' (only \"materials\", \"environment\")");
+    if (doc.contains("environment")) {
+        const Json& e = doc["environment"];
+        if (!e.is_object()) return inputError(path + ": \"environment\" must be an object");
+        SidecarEnvironment env;
+        for (const auto& [key, value] : e.items()) {
+            if (key == "image" && value.is_string() && !value.get<std::string>().empty()) {
+                std::filesystem::path image(value.get<std::string>());
+                env.image = (image.is_absolute() ? image : std::filesystem::path(path).parent_path() / image).string();
+            } else if (key == "sky" && value.is_boolean()) {
+                env.sky = value.get<bool>();
+            } else if ((key == "turbidity" || key == "ground_albedo") && value.is_number()) {
+                float v = value.get<float>();
+                if (!std::isfinite(v) || v < 0 || (key == "ground_albedo" && v > 1))
+                    return inputError(path + ": environment." + key + ": out of range");
+                (key == "turbidity" ? env.turbidity : env.groundAlbedo) = v;
+            } else {
+                return inputError(path + ": environment." + key +
+                                  ": unknown key or wrong type (image: a path, sky: a boolean, "
+                                  "turbidity, ground_albedo: numbers)");
+            }
+        }
+        if (env.sky && !env.image.empty())
+            return inputError(path + ": environment: both an image and the sky; choose one");
+        o.environment = std::move(env);
+    }
     if (!doc.contains("materials")) return o;
     if (!doc["materials"].is_object())
         return inputError(path + ": \"materials\" must be an object of pattern: fields");

@@ -703,3 +703,68 @@ TEST_F(Environment, CommandLineSkyEnvironmentAndTheirErrors) {
 }
 
 } // namespace
+
+namespace {
+
+// The environment named by a sidecar: an image relative to the sidecar, or the sky with its
+// parameters; the command line wins; bad keys are errors naming the sidecar.
+TEST_F(Environment, TheSidecarCanNameTheEnvironmentAndTheCommandLineWins) {
+    RadianceImage grey;
+    grey.width = 2;
+    grey.height = 1;
+    grey.rgb.assign(6, 0.5f);
+    fs::create_directories(dir / "skies");
+    writeImage("skies/grey.exr", grey);
+    auto convertWith = [&](const std::string& sidecarJson, const EnvironmentSettings& cli,
+                           std::optional<pnb::Environment>& out) -> std::string {
+        const fs::path sidecar = dir / "scene.pnb.json";
+        std::ofstream(sidecar) << sidecarJson;
+        ConvertSettings s;
+        s.input = kBoxTextured;
+        s.output = (dir / "out.pnb").string();
+        s.sidecar = sidecar.string();
+        s.environment = cli;
+        s.environment.skyWidth = 32;
+        s.environment.specularSize = 8;
+        s.environment.specularLevels = 2;
+        s.environment.prefilterSamples = 16;
+        s.environment.lutSize = 8;
+        s.environment.lutSamples = 16;
+        auto r = convertScene(s);
+        if (!r) return r.error().message;
+        auto c = Container::open(s.output);
+        auto scene = readScene(*c);
+        if (!scene) return scene.error().describe();
+        out = scene->environment;
+        return "";
+    };
+    std::optional<pnb::Environment> e;
+    ASSERT_EQ(convertWith(R"({"environment": {"image": "skies/grey.exr"}})", {}, e), "");
+    ASSERT_TRUE(e.has_value());
+    EXPECT_EQ(e->source, EnvironmentSource::Image);
+    EXPECT_NEAR(e->irradianceSh[0].x, 0.5 * kPi * 2.0 * std::sqrt(kPi), 1e-3) << "pi L in band 0 x 2 sqrt(pi)";
+    ASSERT_EQ(convertWith(R"({"environment": {"sky": true, "turbidity": 5, "ground_albedo": 0.4}})", {}, e), "");
+    ASSERT_TRUE(e.has_value());
+    EXPECT_EQ(e->source, EnvironmentSource::AnalyticSky);
+    EXPECT_FLOAT_EQ(e->turbidity, 5.0f);
+    EXPECT_FLOAT_EQ(e->groundAlbedo.x, 0.4f);
+    EnvironmentSettings cliSky;
+    cliSky.sky = true;
+    ASSERT_EQ(convertWith(R"({"environment": {"image": "skies/grey.exr"}})", cliSky, e), "");
+    EXPECT_EQ(e->source, EnvironmentSource::AnalyticSky) << "the command line wins";
+    ASSERT_EQ(convertWith(R"({"materials": {}})", {}, e), "");
+    EXPECT_FALSE(e.has_value());
+    // Each error names what is wrong: the sidecar, or the missing image the sidecar named.
+    const std::pair<const char*, const char*> bad[] = {
+        {R"({"environment": {"image": 3}})", "scene.pnb.json"},
+        {R"({"environment": {"sky": true, "image": "a.exr"}})", "scene.pnb.json"},
+        {R"({"environment": {"ground_albedo": 2}})", "scene.pnb.json"},
+        {R"({"environment": []})", "scene.pnb.json"},
+        {R"({"environment": {"image": "skies/missing.exr"}})", "missing.exr"}};
+    for (const auto& [json, named] : bad) {
+        std::string error = convertWith(json, {}, e);
+        EXPECT_NE(error.find(named), std::string::npos) << json << " -> " << error;
+    }
+}
+
+} // namespace

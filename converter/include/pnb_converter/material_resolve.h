@@ -16,8 +16,12 @@
 // Keys are wildcard patterns over material names (globMatch), applied in file order, later
 // rules winning; fields are pnb/material_fields.h names except texture slots; values are JSON
 // strings, numbers, booleans, or arrays of numbers (colours).
+// The scene's environment may come from the sidecar too (the command line's --environment or
+// --sky win over it): { "environment": { "image": "sky.exr" } } (a path relative to the
+// sidecar) or { "environment": { "sky": true, "turbidity": 4, "ground_albedo": 0.3 } }.
 #pragma once
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -35,9 +39,17 @@ struct MaterialOverride {
     std::vector<std::pair<std::string, std::string>> fields; // field name, value as text
 };
 
+// The sidecar's "environment" (absent: the sidecar says nothing about it).
+struct SidecarEnvironment {
+    std::string image;        // resolved against the sidecar's directory; "" = none
+    bool sky = false;
+    std::optional<float> turbidity, groundAlbedo;
+};
+
 struct MaterialOverrides {
     std::string sourcePath; // the sidecar file, for messages ("" if none)
     std::vector<MaterialOverride> rules;
+    std::optional<SidecarEnvironment> environment;
 };
 
 // Reads a sidecar. Errors (Input) name the file and the JSON position or the offending key.
