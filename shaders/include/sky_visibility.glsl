@@ -2,7 +2,7 @@
 // forward materials draw into the depth they would read). Without it the sky lights the floor of
 // a street canyon as brightly as a rooftop.
 //
-// 12 rays over the hemisphere around n, cosine-distributed (so the unblocked fraction is the
+// 12 rays (volume: 4) over the hemisphere around n, cosine-distributed (so the unblocked fraction is the
 // cosine-weighted visibility the irradiance needs), each marched out to uIblParams.z scene units
 // (screen: 6 steps, denser near the surface; height: 12 even steps). The ray set is turned per pixel by
 // interleaved gradient noise (Jimenez 2014), so banding becomes fine noise. A step is blocked
@@ -95,9 +95,12 @@ float skyVisibility(vec3 p, vec3 n) {
     // wall does not find its own top in the texel it stands in.
     vec3 origin = p + n * (mode == 2 ? 1.5 * uIblHeightRange.w : 1e-3 * eyeDistance + 1e-3 * radius);
     float open = 0.0;
-    for (int i = 0; i < kRays; ++i) {
+    // Volume: a ray returns a transmittance, not a yes/no, so 4 rays carry what 12 do for the
+    // binary terms.
+    const int rays = mode == 3 ? 4 : kRays;
+    for (int i = 0; i < rays; ++i) {
         // Cosine-weighted directions: the Hammersley point (i + 1/2)/N, radical inverse.
-        float u1 = (float(i) + 0.5) / float(kRays);
+        float u1 = (float(i) + 0.5) / float(rays);
         float u2 = float(bitfieldReverse(uint(i))) * 2.3283064e-10;
         float r = sqrt(u1), phi = 6.2831853 * u2 + turn;
         vec3 dir = t * (r * cos(phi)) + b * (r * sin(phi)) + n * sqrt(max(0.0, 1.0 - u1));
@@ -125,7 +128,7 @@ float skyVisibility(vec3 p, vec3 n) {
         }
         open += blocked ? 0.0 : 1.0;
     }
-    return open / float(kRays);
+    return open / float(rays);
 }
 
 #endif
