@@ -27,6 +27,7 @@ rm -f "$out"/seed-*
 "$make_sample" "$out/seed-valid-tex4.pnb" --texture-size 4 >/dev/null
 "$make_sample" "$out/seed-valid-tex8-sub1.pnb" --texture-size 8 --subdivisions 1 >/dev/null
 "$make_sample" "$out/seed-valid-tex1-sub2.pnb" --texture-size 1 --subdivisions 2 >/dev/null
+"$make_sample" "$out/seed-valid-env.pnb" --texture-size 1 --environment >/dev/null
 
 base=$out/seed-valid-tex4.pnb
 size=$(stat -c %s "$base")

@@ -167,6 +167,47 @@ uint32_t addMaterial(SceneBuilder& sb, const char* name, Vec4 color, uint32_t te
 
 } // namespace
 
+namespace {
+
+// ENVM and its three textures, every texel the same (half 1.0 = 0x3C00): see BoxRoomOptions.
+void addSampleEnvironment(SceneBuilder& sb) {
+    Scene& s = sb.scene;
+    auto texture = [&](const char* name, TextureDimension dim, TextureFormat format, uint32_t w, uint32_t h,
+                       uint32_t mips, uint32_t channels) {
+        TextureDesc t;
+        t.name = sb.intern(name);
+        t.dimension = dim;
+        t.format = format;
+        t.colorSpace = ColorSpace::Linear;
+        t.width = w;
+        t.height = h;
+        t.layers = dim == TextureDimension::Cube ? 6 : 1;
+        t.mipCount = mips;
+        t.minFilter = mips > 1 ? MinFilter::LinearMipLinear : MinFilter::Linear;
+        t.wrapU = dim == TextureDimension::Tex2D && channels == 4 ? Wrap::Repeat : Wrap::ClampToEdge;
+        t.wrapV = Wrap::ClampToEdge;
+        const uint32_t index = uint32_t(s.textures.size());
+        s.textures.push_back(t);
+        for (uint32_t l = 0; l < mips; ++l) {
+            const uint32_t lw = std::max(1u, w >> l), lh = std::max(1u, h >> l);
+            std::vector<uint16_t> texels(size_t(lw) * lh * t.layers * channels, uint16_t(0x3C00));
+            s.textureMips.push_back(TextureMip{.texture = index, .level = l, .width = lw, .height = lh,
+                                               .data = sb.keep(texels)});
+        }
+        return index;
+    };
+    Environment e;
+    e.name = sb.intern("sample");
+    e.radiance = texture("environment", TextureDimension::Tex2D, TextureFormat::RGBA16F, 4, 2, 3, 4);
+    e.specular = texture("environment_specular", TextureDimension::Cube, TextureFormat::RGBA16F, 2, 2, 2, 4);
+    e.brdfLut = texture("environment_brdf", TextureDimension::Tex2D, TextureFormat::RG16F, 2, 2, 1, 2);
+    // A constant radiance of 1 nit: irradiance pi, band 0 only (pi / Y0 = 2 pi sqrt(pi)).
+    e.irradianceSh[0] = Vec3{11.1366f, 11.1366f, 11.1366f};
+    s.environment = e;
+}
+
+} // namespace
+
 void buildBoxRoom(SceneBuilder& sb, const BoxRoomOptions& o) {
     Scene& s = sb.scene;
     const float r = o.roomSize;
@@ -285,6 +326,7 @@ void buildBoxRoom(SceneBuilder& sb, const BoxRoomOptions& o) {
         path.keys.push_back(key);
     }
     s.cameraPaths.push_back(path);
+    if (o.environment) addSampleEnvironment(sb);
 }
 
 } // namespace pnb::assets

@@ -1,6 +1,6 @@
 // pnb-make-sample: writes the bundled box-room scene to a .pnb file.
 //
-//   pnb-make-sample OUT.pnb [--subdivisions N] [--texture-size N]
+//   pnb-make-sample OUT.pnb [--subdivisions N] [--texture-size N] [--environment]
 //
 // Exit codes: 0 ok, 2 usage error, 4 output error.
 
@@ -24,8 +24,10 @@ int main(int argc, char** argv) {
                 return 2;
             }
             (a == "--subdivisions" ? options.boxSubdivisions : options.textureSize) = uint32_t(v);
+        } else if (a == "--environment") {
+            options.environment = true;
         } else if (a == "-h" || a == "--help") {
-            std::printf("usage: pnb-make-sample OUT.pnb [--subdivisions N] [--texture-size N]\n");
+            std::printf("usage: pnb-make-sample OUT.pnb [--subdivisions N] [--texture-size N] [--environment]\n");
             return 0;
         } else if (!a.empty() && a[0] != '-' && out.empty()) {
             out = a;

@@ -1,5 +1,5 @@
 // The IblBlock of a frame: the environment's irradiance SH turned and scaled, the specular
-// cube and BRDF table bound, and the screen sky-visibility radius.
+// cube and BRDF table bound, and the sky-visibility term with what it reads (height map, LPV).
 #include <algorithm>
 #include <cmath>
 #include <cstdio>

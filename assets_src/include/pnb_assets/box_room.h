@@ -17,6 +17,10 @@ struct BoxRoomOptions {
     float roomSize = 10.0f;       // metres, edge of the cubic room. Default 10.
     uint32_t textureSize = 64;    // checker texture edge, texels (power of two). Default 64.
     uint32_t boxSubdivisions = 1; // quads per box face edge; raises the triangle count. Default 1.
+    // A tiny environment (ENVM with a 4x2 radiance image, a 2x2 two-level cube and a 2x2 BRDF
+    // table of constant values): a format sample, not a lighting one (the converter bakes real
+    // ones). Default off.
+    bool environment = false;
 };
 
 // Fills `builder.scene` (which must be empty).
