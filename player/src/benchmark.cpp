@@ -451,7 +451,7 @@ PlayResult<BenchResult> runBenchmark(const GpuScene& scene, Renderer& renderer,
                              {"output", tm.outputBytes}, {"debug", tm.debugBytes},
                              {"per_frame_stream", tm.streamingBytes}, {"shadow_maps", tm.shadowMapBytes},
                              {"shadow_buffers", tm.shadowBufferBytes},
-                             {"gi", tm.giBytes}};
+                             {"gi", tm.giBytes}, {"sky_height_map", tm.iblBytes}};
     nlohmann::json gpu = nlohmann::json::object();
     for (const PassSummary& s : result.gpu) gpu[s.pass] = toJson(s);
     j["gpu_ms"] = gpu;
