@@ -1,0 +1,320 @@
+#!/usr/bin/env python3
+"""pnb-sweep: one sweep description, expanded into independent jobs with content-addressed results.
+
+A sweep (TOML or JSON, docs/SWEEP.md) names scenes, settings axes and what to measure:
+
+    name = "shadows"
+    frames = 30                      # pnb-play --bench --frames
+    size = "320x180"
+    metrics = { shadow = 15 }        # pnb-play --shadow-metrics 15 (also gi, sky, lod)
+    fixed = { "gi.enabled" = "false" }
+    [axes]
+    "shadows.technique" = ["pssm", "sdsm"]
+    "shadows.cascades" = [2, 4]
+    [[scenes]]
+    name = "street-canyon"
+    source = "build/release/scenes/street-canyon.glb"   # a .pnb is played as it is
+    convert = ["--sky"]                                  # pnb-convert options for a source
+    path = "assets_src/paths/street-canyon.json"         # optional camera path
+
+Subcommands:
+    plan SWEEP [--results DIR]      the jobs (scene x every combination of the axes), each with its
+                                    key: a hash of the scene's bytes and conversion, the settings,
+                                    the run options and the binaries' bytes. A job's results live in
+                                    DIR/<key>/; a rerun skips jobs whose results are complete, and a
+                                    changed axis value, scene or binary reruns only what it changes.
+    run --local SWEEP [--results DIR]   runs the pending jobs on this machine, one at a time (they
+                                    share the GPU; conversions are cached by their own key).
+    run-job PLAN INDEX              runs one job of a written plan (what a batch scheduler's array
+                                    task calls).
+    collect DIR [-o CSV]            one row per finished job: scene, settings, GL renderer, GPU
+                                    median per pass, metrics' means.
+
+Relative paths in a sweep are relative to the sweep file. Binaries come from --build DIR
+(default build/release next to this script's repository).
+"""
+import argparse
+import csv
+import hashlib
+import itertools
+import json
+import os
+import shutil
+import subprocess
+import sys
+import tempfile
+import tomllib
+
+REPO = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+METRIC_FLAGS = {"shadow": "--shadow-metrics", "gi": "--gi-metrics", "sky": "--sky-metrics", "lod": "--lod-metrics"}
+
+
+class SweepError(Exception):
+    pass
+
+
+def file_hash(path, cache={}):
+    """sha256 of a file's bytes (memoised per process: binaries and scenes are read once)."""
+    path = os.path.abspath(path)
+    if path not in cache:
+        h = hashlib.sha256()
+        try:
+            with open(path, "rb") as f:
+                for block in iter(lambda: f.read(1 << 20), b""):
+                    h.update(block)
+        except OSError as e:
+            raise SweepError("%s: %s" % (path, e.strerror))
+        cache[path] = h.hexdigest()
+    return cache[path]
+
+
+def read_json(path):
+    with open(path) as f:
+        return json.load(f)
+
+
+def load_sweep(path):
+    try:
+        with open(path, "rb") as f:
+            data = tomllib.load(f) if path.endswith(".toml") else json.load(f)
+    except OSError as e:
+        raise SweepError("%s: %s" % (path, e.strerror))
+    except (tomllib.TOMLDecodeError, json.JSONDecodeError) as e:
+        raise SweepError("%s: not valid %s: %s" % (path, "TOML" if path.endswith(".toml") else "JSON", e))
+    if not isinstance(data, dict):
+        raise SweepError("%s: the top level must be a table" % path)
+    known = {"name", "frames", "size", "metrics", "fixed", "axes", "scenes"}
+    for key in data:
+        if key not in known:
+            raise SweepError("%s: unknown key '%s' (known: %s)" % (path, key, ", ".join(sorted(known))))
+    base = os.path.dirname(os.path.abspath(path))
+    scenes = data.get("scenes")
+    if not isinstance(scenes, list) or not scenes:
+        raise SweepError("%s: 'scenes' must be a non-empty list of tables" % path)
+    out_scenes = []
+    for i, s in enumerate(scenes):
+        if not isinstance(s, dict) or "source" not in s:
+            raise SweepError("%s: scenes[%d] needs a 'source'" % (path, i))
+        src = os.path.join(base, s["source"])
+        if not os.path.exists(src):
+            raise SweepError("%s: scenes[%d].source: %s does not exist" % (path, i, src))
+        scene_path = s.get("path")
+        if scene_path is not None:
+            scene_path = os.path.join(base, scene_path)
+            if not os.path.exists(scene_path):
+                raise SweepError("%s: scenes[%d].path: %s does not exist" % (path, i, scene_path))
+        convert = s.get("convert", [])
+        if not isinstance(convert, list) or not all(isinstance(c, str) for c in convert):
+            raise SweepError("%s: scenes[%d].convert must be a list of strings" % (path, i))
+        out_scenes.append({"name": s.get("name", os.path.splitext(os.path.basename(src))[0]),
+                           "source": src, "convert": convert, "path": scene_path})
+    axes = data.get("axes", {})
+    if not isinstance(axes, dict) or not all(isinstance(v, list) and v for v in axes.values()):
+        raise SweepError("%s: 'axes' must map setting keys to non-empty lists of values" % path)
+    metrics = data.get("metrics", {})
+    for m, every in metrics.items():
+        if m not in METRIC_FLAGS or not isinstance(every, int) or every < 1:
+            raise SweepError("%s: metrics.%s: known metrics are %s, each with a frame interval >= 1"
+                             % (path, m, ", ".join(METRIC_FLAGS)))
+    return {"name": data.get("name", os.path.splitext(os.path.basename(path))[0]),
+            "frames": int(data.get("frames", 30)), "size": str(data.get("size", "320x180")),
+            "metrics": dict(sorted(metrics.items())),
+            "fixed": {k: value_text(v) for k, v in sorted(data.get("fixed", {}).items())},
+            "axes": {k: [value_text(v) for v in vs] for k, vs in axes.items()},
+            "scenes": out_scenes}
+
+
+def value_text(v):
+    """A setting value as pnb-play's --set takes it (TOML booleans are true/false)."""
+    if isinstance(v, bool):
+        return "true" if v else "false"
+    return str(v)
+
+
+def binaries(build):
+    convert = os.path.join(build, "converter", "pnb-convert")
+    play = os.path.join(build, "player", "pnb-play")
+    for b in (convert, play):
+        if not os.access(b, os.X_OK):
+            raise SweepError("%s: not built (cmake --build --preset release --target pnb-convert pnb-play)" % b)
+    return {"convert": convert, "play": play}
+
+
+def conversion_key(scene, bins):
+    """What a converted scene depends on: the source's bytes, the options, the converter."""
+    if scene["source"].endswith(".pnb"):
+        return None
+    h = hashlib.sha256(json.dumps({"source": file_hash(scene["source"]), "convert": scene["convert"],
+                                   "path": file_hash(scene["path"]) if scene["path"] else None,
+                                   "converter": file_hash(bins["convert"])}, sort_keys=True).encode())
+    return h.hexdigest()
+
+
+def plan(sweep, bins, results):
+    jobs = []
+    names = list(sweep["axes"].keys())
+    combos = list(itertools.product(*[sweep["axes"][k] for k in names])) or [()]
+    for scene in sweep["scenes"]:
+        ckey = conversion_key(scene, bins)
+        scene_key = ckey or file_hash(scene["source"])
+        for combo in combos:
+            settings = dict(sweep["fixed"])
+            settings.update(zip(names, combo))
+            key = hashlib.sha256(json.dumps({
+                "scene": scene_key, "settings": sorted(settings.items()), "frames": sweep["frames"],
+                "size": sweep["size"], "metrics": sweep["metrics"], "player": file_hash(bins["play"])},
+                sort_keys=True).encode()).hexdigest()[:20]
+            jobs.append({"index": len(jobs), "key": key, "scene": scene["name"], "source": scene["source"],
+                         "convert": scene["convert"], "conversion": ckey, "path": scene["path"],
+                         "settings": settings, "frames": sweep["frames"], "size": sweep["size"],
+                         "metrics": sweep["metrics"], "result": os.path.join(results, key)})
+    return {"sweep": sweep["name"], "results": results, "binaries": bins, "jobs": jobs}
+
+
+def done(job):
+    return os.path.exists(os.path.join(job["result"], "job.json"))
+
+
+def converted_scene(job, plan_data):
+    """The container to play: the source itself, or its conversion (made once, cached by key)."""
+    if job["conversion"] is None:
+        return job["source"]
+    cache = os.path.join(plan_data["results"], "converted")
+    os.makedirs(cache, exist_ok=True)
+    out = os.path.join(cache, job["conversion"] + ".pnb")
+    if not os.path.exists(out):
+        cmd = [plan_data["binaries"]["convert"], job["source"], "-o", out, "-q"] + job["convert"]
+        if job["path"]:
+            cmd += ["--path", job["path"]]
+        r = subprocess.run(cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+        if r.returncode != 0:
+            raise SweepError("conversion failed: %s\n%s" % (" ".join(cmd), r.stdout[-2000:]))
+    return out
+
+
+def run_job(plan_data, index):
+    job = plan_data["jobs"][index]
+    if done(job):
+        return "skipped"
+    scene = converted_scene(job, plan_data)
+    # Into a temporary directory beside the result, renamed when complete: an interrupted or
+    # killed job leaves no result that looks finished.
+    parent = os.path.dirname(job["result"])
+    os.makedirs(parent, exist_ok=True)
+    tmp = tempfile.mkdtemp(prefix=".%s.tmp." % job["key"], dir=parent)
+    try:
+        cmd = [plan_data["binaries"]["play"], scene, "--headless", "--bench", "--fixed-dt", "--frames",
+               str(job["frames"]), "--size", job["size"], "--out", tmp, "--no-plot", "-q"]
+        for k, v in job["settings"].items():
+            cmd += ["--set", "%s=%s" % (k, v)]
+        for m, every in job["metrics"].items():
+            cmd += [METRIC_FLAGS[m], str(every)]
+        r = subprocess.run(cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+        with open(os.path.join(tmp, "log.txt"), "w") as f:
+            f.write(" ".join(cmd) + "\n" + r.stdout)
+        if r.returncode != 0:
+            raise SweepError("job %d (%s) failed with exit code %d; log: %s" % (
+                index, job["key"], r.returncode, os.path.join(tmp, "log.txt")))
+        with open(os.path.join(tmp, "job.json"), "w") as f:
+            json.dump({k: job[k] for k in ("index", "key", "scene", "settings", "frames", "size", "metrics")},
+                      f, indent=2, sort_keys=True)
+        if os.path.exists(job["result"]):
+            shutil.rmtree(job["result"])  # an incomplete earlier attempt
+        os.rename(tmp, job["result"])
+    except BaseException:
+        if os.path.isdir(tmp) and not os.path.exists(os.path.join(tmp, "log.txt")):
+            shutil.rmtree(tmp, ignore_errors=True)
+        raise
+    return "ran"
+
+
+def collect(results):
+    rows = []
+    for key in sorted(os.listdir(results)):
+        d = os.path.join(results, key)
+        if not os.path.exists(os.path.join(d, "job.json")):
+            continue
+        job = read_json(os.path.join(d, "job.json"))
+        summary = read_json(os.path.join(d, "summary.json"))
+        row = {"key": key, "scene": job["scene"]}
+        for k, v in sorted(job["settings"].items()):
+            row["set:" + k] = v
+        row["gl_renderer"] = summary.get("gl", {}).get("renderer", "")
+        for p, s in sorted(summary.get("gpu_ms", {}).items()):
+            row["gpu_ms:" + p] = s.get("median_ms")
+        for m, s in sorted(summary.get("quality", {}).items()):
+            if isinstance(s, dict) and "mean" in s:
+                row["metric:" + m] = s["mean"]
+        rows.append(row)
+    columns = []
+    for r in rows:
+        for c in r:
+            if c not in columns:
+                columns.append(c)
+    return columns, rows
+
+
+def main(argv=None):
+    ap = argparse.ArgumentParser(prog="pnb-sweep", description=__doc__.split("\n")[0])
+    ap.add_argument("--build", default=os.path.join(REPO, "build", "release"),
+                    help="the build whose pnb-convert and pnb-play run the jobs")
+    sub = ap.add_subparsers(dest="command", required=True)
+    p = sub.add_parser("plan")
+    p.add_argument("sweep")
+    p.add_argument("--results", default=None)
+    p.add_argument("-o", "--output", help="write the plan (JSON) here")
+    r = sub.add_parser("run")
+    r.add_argument("--local", action="store_true", required=True, help="run on this machine")
+    r.add_argument("sweep")
+    r.add_argument("--results", default=None)
+    j = sub.add_parser("run-job")
+    j.add_argument("plan")
+    j.add_argument("index", type=int)
+    c = sub.add_parser("collect")
+    c.add_argument("results")
+    c.add_argument("-o", "--output", default=None)
+    a = ap.parse_args(argv)
+    try:
+        if a.command in ("plan", "run"):
+            sweep = load_sweep(a.sweep)
+            results = os.path.abspath(a.results or os.path.join("out", "sweep", sweep["name"]))
+            data = plan(sweep, binaries(os.path.abspath(a.build)), results)
+            pending = [job for job in data["jobs"] if not done(job)]
+            if a.command == "plan":
+                if a.output:
+                    with open(a.output, "w") as f:
+                        json.dump(data, f, indent=2)
+                for job in data["jobs"]:
+                    print("%3d %s %-8s %-16s %s" % (job["index"], job["key"], "done" if done(job) else "pending",
+                                                    job["scene"], " ".join("%s=%s" % kv for kv in job["settings"].items())))
+                print("%d jobs, %d pending; results in %s" % (len(data["jobs"]), len(pending), results))
+                return 0
+            for job in data["jobs"]:
+                status = run_job(data, job["index"])
+                print("job %d %s: %s" % (job["index"], job["key"], status), flush=True)
+            print("%d jobs, %d run, results in %s" % (len(data["jobs"]), len(pending), results))
+            return 0
+        if a.command == "run-job":
+            data = read_json(a.plan)
+            if not 0 <= a.index < len(data["jobs"]):
+                raise SweepError("%s: no job %d (%d jobs)" % (a.plan, a.index, len(data["jobs"])))
+            print("job %d: %s" % (a.index, run_job(data, a.index)))
+            return 0
+        if a.command == "collect":
+            columns, rows = collect(a.results)
+            out = open(a.output, "w", newline="") if a.output else sys.stdout
+            w = csv.DictWriter(out, fieldnames=columns)
+            w.writeheader()
+            w.writerows(rows)
+            if a.output:
+                out.close()
+                print("%d jobs -> %s" % (len(rows), a.output))
+            return 0
+    except SweepError as e:
+        print("pnb-sweep: %s" % e, file=sys.stderr)
+        return 1
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

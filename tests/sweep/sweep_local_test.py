@@ -1,0 +1,130 @@
+#!/usr/bin/env python3
+"""pnb-sweep's planner and local runner on a tiny sweep: jobs, content-addressed results, reruns
+that skip finished jobs, a changed axis that reruns only what changed, conversion caching, the
+plan file a batch scheduler's task runs from, collection, and errors that name what is wrong.
+
+Usage: sweep_local_test.py BUILD_DIR SCENE_DIR
+"""
+import json
+import os
+import subprocess
+import sys
+import tempfile
+import unittest
+
+REPO = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+sys.path.insert(0, os.path.join(REPO, "sweep"))
+import pnb_sweep  # noqa: E402
+
+BUILD = SCENES = None
+
+
+def sweep_toml(techniques, glb):
+    return """
+name = "tiny"
+frames = 2
+size = "64x36"
+fixed = { "gi.enabled" = false }
+[axes]
+"shadows.technique" = [%s]
+[[scenes]]
+name = "box-room"
+source = "%s"
+[[scenes]]
+name = "box-room-quantized"
+source = "%s"
+convert = ["--quantize"]
+""" % (", ".join('"%s"' % t for t in techniques), os.path.join(SCENES, "box-room.pnb"), glb)
+
+
+class SweepLocal(unittest.TestCase):
+    def setUp(self):
+        self.dir = tempfile.mkdtemp(prefix="pnb_sweep_test_")
+        self.results = os.path.join(self.dir, "results")
+        self.glb = os.path.join(SCENES, "box-room.glb")
+
+    def tearDown(self):
+        subprocess.run(["rm", "-rf", self.dir])
+
+    def write(self, name, text):
+        path = os.path.join(self.dir, name)
+        with open(path, "w") as f:
+            f.write(text)
+        return path
+
+    def sweep(self, *args):
+        return pnb_sweep.main(["--build", BUILD] + list(args))
+
+    def test_runs_skips_and_reruns_only_what_changed(self):
+        s = self.write("tiny.toml", sweep_toml(["off", "single"], self.glb))
+        self.assertEqual(self.sweep("run", "--local", s, "--results", self.results), 0)
+        done = sorted(k for k in os.listdir(self.results) if k != "converted")
+        self.assertEqual(len(done), 4, "2 scenes x 2 techniques")
+        for key in done:
+            job = pnb_sweep.read_json(os.path.join(self.results, key, "job.json"))
+            summary = pnb_sweep.read_json(os.path.join(self.results, key, "summary.json"))
+            self.assertEqual(summary["settings"]["shadows.technique"], job["settings"]["shadows.technique"])
+            self.assertEqual(job["settings"]["gi.enabled"], "false")
+        self.assertEqual(len(os.listdir(os.path.join(self.results, "converted"))), 1, "one conversion, cached")
+        mtimes = {k: os.path.getmtime(os.path.join(self.results, k, "job.json")) for k in done}
+        # A rerun finds every job finished.
+        sweep = pnb_sweep.load_sweep(s)
+        data = pnb_sweep.plan(sweep, pnb_sweep.binaries(BUILD), self.results)
+        self.assertEqual([j for j in data["jobs"] if not pnb_sweep.done(j)], [])
+        self.assertEqual(self.sweep("run", "--local", s, "--results", self.results), 0)
+        for k in done:
+            self.assertEqual(os.path.getmtime(os.path.join(self.results, k, "job.json")), mtimes[k])
+        # One more axis value: only its two jobs are new; the others keep their keys.
+        s2 = self.write("tiny2.toml", sweep_toml(["off", "single", "pssm"], self.glb))
+        data2 = pnb_sweep.plan(pnb_sweep.load_sweep(s2), pnb_sweep.binaries(BUILD), self.results)
+        pending = [j for j in data2["jobs"] if not pnb_sweep.done(j)]
+        self.assertEqual(sorted(j["settings"]["shadows.technique"] for j in pending), ["pssm", "pssm"])
+        # The plan file is what a scheduler's array task runs one job of.
+        plan_file = os.path.join(self.dir, "plan.json")
+        self.assertEqual(self.sweep("plan", s2, "--results", self.results, "-o", plan_file), 0)
+        for j in pending:
+            self.assertEqual(self.sweep("run-job", plan_file, str(j["index"])), 0)
+        self.assertTrue(all(pnb_sweep.done(j) for j in data2["jobs"]))
+        # Collected: one row per job, with the renderer and the GPU time per pass.
+        out = os.path.join(self.dir, "results.csv")
+        self.assertEqual(self.sweep("collect", self.results, "-o", out), 0)
+        with open(out) as f:
+            rows = f.read().strip().splitlines()
+        self.assertEqual(len(rows), 1 + 6)
+        self.assertIn("gl_renderer", rows[0])
+        self.assertIn("gpu_ms:total", rows[0])
+
+    def test_an_interrupted_job_is_not_finished(self):
+        s = self.write("tiny.toml", sweep_toml(["off"], self.glb))
+        data = pnb_sweep.plan(pnb_sweep.load_sweep(s), pnb_sweep.binaries(BUILD), self.results)
+        job = data["jobs"][0]
+        os.makedirs(job["result"])  # what a killed task leaves: a directory without job.json
+        with open(os.path.join(job["result"], "summary.json"), "w") as f:
+            f.write("{")
+        self.assertFalse(pnb_sweep.done(job))
+        self.assertEqual(pnb_sweep.run_job(data, 0), "ran")
+        self.assertTrue(pnb_sweep.done(job))
+
+    def test_bad_sweeps_name_the_file_and_the_key(self):
+        cases = {
+            "a.toml": ("frames = [", "not valid TOML"),
+            "b.toml": ('name = "x"\n', "'scenes'"),
+            "c.toml": ('[[scenes]]\nsource = "missing.glb"\n', "missing.glb"),
+            "d.toml": ('colour = 1\n[[scenes]]\nsource = "%s"\n' % self.glb, "unknown key 'colour'"),
+            "e.json": ('{"scenes": [{"source": "%s"}], "metrics": {"shadows": 4}}' % self.glb, "metrics.shadows"),
+        }
+        for name, (text, words) in cases.items():
+            path = self.write(name, text)
+            with self.assertRaises(pnb_sweep.SweepError) as e:
+                pnb_sweep.load_sweep(path)
+            self.assertIn(name, str(e.exception))
+            self.assertIn(words, str(e.exception))
+        r = subprocess.run([sys.executable, os.path.join(REPO, "sweep", "pnb_sweep.py"), "--build", BUILD,
+                            "plan", os.path.join(self.dir, "a.toml")], capture_output=True, text=True)
+        self.assertEqual(r.returncode, 1)
+        self.assertIn("a.toml", r.stderr)
+
+
+if __name__ == "__main__":
+    BUILD, SCENES = os.path.abspath(sys.argv[1]), os.path.abspath(sys.argv[2])
+    unittest.main(argv=sys.argv[:1], verbosity=2)
