@@ -29,6 +29,9 @@ Subcommands:
                                     task calls).
     collect DIR [-o CSV]            one row per finished job: scene, settings, GL renderer, GPU
                                     median per pass, metrics' means.
+    report DIR -o OUT               OUT/index.html (+ PNGs, results.csv): per scene the Pareto front
+                                    of each measured error against GPU time, its configurations,
+                                    and the GPU time per pass (sweep_report.py; needs matplotlib).
 
 Relative paths in a sweep are relative to the sweep file. Binaries come from --build DIR
 (default build/release next to this script's repository).
@@ -273,6 +276,9 @@ def main(argv=None):
     c = sub.add_parser("collect")
     c.add_argument("results")
     c.add_argument("-o", "--output", default=None)
+    rp = sub.add_parser("report")
+    rp.add_argument("results")
+    rp.add_argument("-o", "--output", required=True)
     a = ap.parse_args(argv)
     try:
         if a.command in ("plan", "run"):
@@ -299,6 +305,17 @@ def main(argv=None):
             if not 0 <= a.index < len(data["jobs"]):
                 raise SweepError("%s: no job %d (%d jobs)" % (a.plan, a.index, len(data["jobs"])))
             print("job %d: %s" % (a.index, run_job(data, a.index)))
+            return 0
+        if a.command == "report":
+            import sweep_report
+            columns, rows = collect(a.results)
+            if not rows:
+                raise SweepError("%s: no finished jobs to report" % a.results)
+            try:
+                page = sweep_report.write_report(columns, rows, a.output)
+            except RuntimeError as e:
+                raise SweepError(str(e))
+            print("report: %s (%d configurations)" % (page, len(rows)))
             return 0
         if a.command == "collect":
             columns, rows = collect(a.results)

@@ -93,6 +93,20 @@ class SweepLocal(unittest.TestCase):
         self.assertEqual(len(rows), 1 + 6)
         self.assertIn("gl_renderer", rows[0])
         self.assertIn("gpu_ms:total", rows[0])
+        # The report: a page that references only files written beside it.
+        report = os.path.join(self.dir, "report")
+        self.assertEqual(self.sweep("report", self.results, "-o", report), 0)
+        with open(os.path.join(report, "index.html")) as f:
+            page = f.read()
+        self.assertNotIn("http", page)
+        for scene in ("box-room", "box-room-quantized"):
+            self.assertIn("<h2>%s</h2>" % scene, page)
+            self.assertTrue(os.path.getsize(os.path.join(report, scene + "_passes.png")) > 1000)
+
+    def test_the_pareto_front_keeps_what_nothing_beats(self):
+        import sweep_report
+        points = [(1.0, 5.0), (2.0, 3.0), (3.0, 4.0), (4.0, 1.0), (2.5, 3.0), (0.5, 9.0)]
+        self.assertEqual(sorted(sweep_report.pareto_front(points)), [0, 1, 3, 5])
 
     def test_an_interrupted_job_is_not_finished(self):
         s = self.write("tiny.toml", sweep_toml(["off"], self.glb))
