@@ -25,6 +25,14 @@ Subcommands:
                                     changed axis value, scene or binary reruns only what it changes.
     run --local SWEEP [--results DIR]   runs the pending jobs on this machine, one at a time (they
                                     share the GPU; conversions are cached by their own key).
+    run --slurm SWEEP [--results DIR] [--partition P] [--gres G] [--throttle N] [--wait]
+                                    writes the plan into DIR and submits the pending jobs as one
+                                    `sbatch --array` job (one task per job, at most N at once,
+                                    per-task logs in DIR/slurm/, requeue-friendly: a task only
+                                    writes its job's directory, atomically) and a collect job
+                                    depending on it (afterany) that writes DIR/results.csv and lists
+                                    unfinished jobs in DIR/failed.txt. Run it again to resubmit
+                                    exactly the jobs that did not finish.
     run-job PLAN INDEX              runs one job of a written plan (what a batch scheduler's array
                                     task calls).
     collect DIR [-o CSV]            one row per finished job: scene, settings, GL renderer, GPU
@@ -46,6 +54,7 @@ import shutil
 import subprocess
 import sys
 import tempfile
+import time
 import tomllib
 
 REPO = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
@@ -231,6 +240,66 @@ def run_job(plan_data, index):
     return "ran"
 
 
+def slurm_submit(data, a, env=None):
+    """Submits the pending jobs of `data` as an array and the dependent collect job. Returns
+    (array job id or None, collect job id or None, pending count)."""
+    results = data["results"]
+    pending = [j["index"] for j in data["jobs"] if not done(j)]
+    if not pending:
+        return None, None, 0
+    slurm_dir = os.path.join(results, "slurm")
+    os.makedirs(slurm_dir, exist_ok=True)
+    plan_file = os.path.join(results, "plan.json")
+    with open(plan_file + ".tmp", "w") as f:
+        json.dump(data, f, indent=2)
+    os.replace(plan_file + ".tmp", plan_file)
+    me = os.path.abspath(__file__)
+    python = sys.executable
+    array = os.path.join(slurm_dir, "array.sh")
+    with open(array, "w") as f:
+        f.write("#!/bin/sh\n# One pnb-sweep job per array task (pnb_sweep.py run --slurm).\n"
+                "exec %s %s run-job %s \"$SLURM_ARRAY_TASK_ID\"\n" % (python, me, plan_file))
+    collect_script = os.path.join(slurm_dir, "collect.sh")
+    with open(collect_script, "w") as f:
+        f.write("#!/bin/sh\n# After the array, finished or not: the table and what is missing.\n"
+                "exec %s %s status %s --results %s --write-failed\n" % (python, me, plan_file, results))
+    spec = ",".join(str(i) for i in pending)
+    if a.throttle:
+        spec += "%%%d" % a.throttle
+    common = ["--parsable", "--chdir", results]
+    if a.partition:
+        common += ["--partition", a.partition]
+    array_cmd = ["sbatch"] + common + ["--job-name", "pnb-sweep-" + data["sweep"], "--array", spec,
+                                       "--requeue", "--output", os.path.join(slurm_dir, "%A_%a.out")]
+    if a.gres:
+        array_cmd += ["--gres", a.gres]
+    r = subprocess.run(array_cmd + [array], stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, env=env)
+    if r.returncode != 0:
+        raise SweepError("sbatch failed: %s" % r.stdout.strip())
+    array_id = r.stdout.strip().split(";")[0]
+    r = subprocess.run(["sbatch"] + common + ["--job-name", "pnb-sweep-collect", "--dependency",
+                                              "afterany:" + array_id, "--output",
+                                              os.path.join(slurm_dir, "collect_%j.out"), collect_script],
+                       stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, env=env)
+    if r.returncode != 0:
+        raise SweepError("sbatch (collect) failed: %s" % r.stdout.strip())
+    return array_id, r.stdout.strip().split(";")[0], len(pending)
+
+
+def slurm_wait(job_ids, env=None, timeout=3600):
+    """Polls squeue until none of `job_ids` is queued or running."""
+    end = time.time() + timeout
+    while time.time() < end:
+        r = subprocess.run(["squeue", "-h", "-o", "%i", "-j", ",".join(job_ids)], stdout=subprocess.PIPE,
+                           stderr=subprocess.DEVNULL, text=True, env=env)
+        if r.returncode == 0 and not r.stdout.strip():
+            return
+        if r.returncode != 0 and "Invalid job id" not in r.stdout:
+            pass  # finished jobs can make squeue complain: check again
+        time.sleep(1)
+    raise SweepError("jobs %s still queued after %d s" % (",".join(job_ids), timeout))
+
+
 def collect(results):
     rows = []
     for key in sorted(os.listdir(results)):
@@ -267,9 +336,20 @@ def main(argv=None):
     p.add_argument("--results", default=None)
     p.add_argument("-o", "--output", help="write the plan (JSON) here")
     r = sub.add_parser("run")
-    r.add_argument("--local", action="store_true", required=True, help="run on this machine")
+    where = r.add_mutually_exclusive_group(required=True)
+    where.add_argument("--local", action="store_true", help="run on this machine")
+    where.add_argument("--slurm", action="store_true", help="submit to Slurm (sbatch --array)")
     r.add_argument("sweep")
     r.add_argument("--results", default=None)
+    r.add_argument("--partition", default=None)
+    r.add_argument("--gres", default=None, help="e.g. gpu:1")
+    r.add_argument("--throttle", type=int, default=0, help="array tasks running at once (0: no limit)")
+    r.add_argument("--wait", action="store_true", help="with --slurm: wait for the array and collect jobs")
+    st = sub.add_parser("status")
+    st.add_argument("plan")
+    st.add_argument("--results", default=None)
+    st.add_argument("--write-failed", action="store_true",
+                    help="also write results.csv and failed.txt (the unfinished jobs) into the results")
     j = sub.add_parser("run-job")
     j.add_argument("plan")
     j.add_argument("index", type=int)
@@ -295,10 +375,42 @@ def main(argv=None):
                                                     job["scene"], " ".join("%s=%s" % kv for kv in job["settings"].items())))
                 print("%d jobs, %d pending; results in %s" % (len(data["jobs"]), len(pending), results))
                 return 0
+            if a.slurm:
+                array_id, collect_id, n = slurm_submit(data, a)
+                if not n:
+                    print("%d jobs, all finished: nothing submitted; results in %s" % (len(data["jobs"]), results))
+                    return 0
+                print("submitted %d jobs as array %s, collect %s; results in %s" % (n, array_id, collect_id, results))
+                if a.wait:
+                    slurm_wait([array_id, collect_id])
+                    missing = [j for j in data["jobs"] if not done(j)]
+                    print("%d of %d jobs finished%s" % (len(data["jobs"]) - len(missing), len(data["jobs"]),
+                                                       "; unfinished: see failed.txt" if missing else ""))
+                    return 1 if missing else 0
+                return 0
             for job in data["jobs"]:
                 status = run_job(data, job["index"])
                 print("job %d %s: %s" % (job["index"], job["key"], status), flush=True)
             print("%d jobs, %d run, results in %s" % (len(data["jobs"]), len(pending), results))
+            return 0
+        if a.command == "status":
+            data = read_json(a.plan)
+            missing = [j for j in data["jobs"] if not done(j)]
+            for j in missing:
+                print("unfinished: job %d %s %s %s" % (j["index"], j["key"], j["scene"],
+                                                       " ".join("%s=%s" % kv for kv in j["settings"].items())))
+            print("%d of %d jobs finished" % (len(data["jobs"]) - len(missing), len(data["jobs"])))
+            if a.write_failed:
+                results = a.results or data["results"]
+                with open(os.path.join(results, "failed.txt"), "w") as f:
+                    for j in missing:
+                        f.write("%d %s\n" % (j["index"], j["key"]))
+                columns, rows = collect(results)
+                if rows:
+                    with open(os.path.join(results, "results.csv"), "w", newline="") as f:
+                        w = csv.DictWriter(f, fieldnames=columns)
+                        w.writeheader()
+                        w.writerows(rows)
             return 0
         if a.command == "run-job":
             data = read_json(a.plan)
