@@ -35,6 +35,13 @@ Subcommands:
                                     exactly the jobs that did not finish.
     run-job PLAN INDEX              runs one job of a written plan (what a batch scheduler's array
                                     task calls).
+    convert (--local | --slurm) INPUTS -o OUTDIR [-- CONVERTER OPTIONS]
+                                    batch conversion: INPUTS is a directory (its .gltf, .glb, .obj)
+                                    or a file listing one input per line; each becomes
+                                    OUTDIR/<stem>.pnb with OUTDIR/<stem>.pnb.inputs recording the
+                                    hash of every file the converter read (its depfile), the
+                                    options and the converter binary; an output whose record
+                                    still matches is skipped. --slurm: one array task per input.
     collect DIR [-o CSV]            one row per finished job: scene, settings, GL renderer, GPU
                                     median per pass, metrics' means.
     report DIR -o OUT               OUT/index.html (+ PNGs, results.csv): per scene the Pareto front
@@ -65,9 +72,18 @@ class SweepError(Exception):
     pass
 
 
-def file_hash(path, cache={}):
+_hashes = {}
+
+
+def forget_hashes():
+    """Files may have changed (a long-lived caller, a test): hash them afresh."""
+    _hashes.clear()
+
+
+def file_hash(path):
     """sha256 of a file's bytes (memoised per process: binaries and scenes are read once)."""
     path = os.path.abspath(path)
+    cache = _hashes
     if path not in cache:
         h = hashlib.sha256()
         try:
@@ -300,6 +316,54 @@ def slurm_wait(job_ids, env=None, timeout=3600):
     raise SweepError("jobs %s still queued after %d s" % (",".join(job_ids), timeout))
 
 
+def conversion_inputs(spec):
+    if os.path.isdir(spec):
+        return sorted(os.path.join(spec, f) for f in os.listdir(spec)
+                      if f.lower().endswith((".gltf", ".glb", ".obj")))
+    try:
+        with open(spec) as f:
+            base = os.path.dirname(os.path.abspath(spec))
+            return [os.path.join(base, line.strip()) for line in f if line.strip() and not line.startswith("#")]
+    except OSError as e:
+        raise SweepError("%s: %s" % (spec, e.strerror))
+
+
+def conversion_record(inputs_file, options, converter):
+    """The record of a conversion: every file read with its hash, the options, the converter."""
+    deps = []
+    with open(inputs_file) as f:
+        text = f.read().replace("\\\n", " ")
+    files = text.split(":", 1)[1].split() if ":" in text else []
+    for path in sorted(set(files)):
+        deps.append([path, file_hash(path) if os.path.exists(path) else None])
+    return {"files": deps, "options": options, "converter": file_hash(converter)}
+
+
+def convert_one(inp, outdir, options, converter):
+    """Converts `inp` unless its recorded inputs still match. Returns 'skipped' or 'converted'."""
+    stem = os.path.splitext(os.path.basename(inp))[0]
+    out = os.path.join(outdir, stem + ".pnb")
+    record_file = out + ".inputs"
+    if os.path.exists(out) and os.path.exists(record_file):
+        old = read_json(record_file)
+        current = {"files": [[p, file_hash(p) if os.path.exists(p) else None] for p, _ in old["files"]],
+                   "options": options, "converter": file_hash(converter)}
+        if current == old and any(p == os.path.abspath(inp) for p, _ in old["files"]):
+            return "skipped"
+    os.makedirs(outdir, exist_ok=True)
+    depfile = out + ".d.tmp"
+    cmd = [converter, inp, "-o", out, "-q", "--depfile", depfile, "-j", "1"] + options
+    r = subprocess.run(cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+    if r.returncode != 0:
+        raise SweepError("%s: conversion failed (exit %d): %s" % (inp, r.returncode, r.stdout.strip()[-1500:]))
+    record = conversion_record(depfile, options, converter)
+    os.remove(depfile)
+    with open(record_file + ".tmp", "w") as f:
+        json.dump(record, f, indent=1)
+    os.replace(record_file + ".tmp", record_file)
+    return "converted"
+
+
 def collect(results):
     rows = []
     for key in sorted(os.listdir(results)):
@@ -353,13 +417,29 @@ def main(argv=None):
     j = sub.add_parser("run-job")
     j.add_argument("plan")
     j.add_argument("index", type=int)
+    cv = sub.add_parser("convert")
+    cwhere = cv.add_mutually_exclusive_group(required=True)
+    cwhere.add_argument("--local", action="store_true")
+    cwhere.add_argument("--slurm", action="store_true")
+    cv.add_argument("inputs")
+    cv.add_argument("-o", "--output", required=True)
+    cv.add_argument("--partition", default=None)
+    cv.add_argument("--wait", action="store_true")
+    co = sub.add_parser("convert-one")
+    co.add_argument("list")
+    co.add_argument("index", type=int)
     c = sub.add_parser("collect")
     c.add_argument("results")
     c.add_argument("-o", "--output", default=None)
     rp = sub.add_parser("report")
     rp.add_argument("results")
     rp.add_argument("-o", "--output", required=True)
+    # pnb-convert's own options follow "--" (argparse cannot take them after positionals).
+    argv = list(sys.argv[1:] if argv is None else argv)
+    extra = argv[argv.index("--") + 1:] if "--" in argv else []
+    argv = argv[:argv.index("--")] if "--" in argv else argv
     a = ap.parse_args(argv)
+    a.options = extra
     try:
         if a.command in ("plan", "run"):
             sweep = load_sweep(a.sweep)
@@ -392,6 +472,47 @@ def main(argv=None):
                 status = run_job(data, job["index"])
                 print("job %d %s: %s" % (job["index"], job["key"], status), flush=True)
             print("%d jobs, %d run, results in %s" % (len(data["jobs"]), len(pending), results))
+            return 0
+        if a.command == "convert":
+            converter = binaries(os.path.abspath(a.build))["convert"]
+            inputs = [os.path.abspath(i) for i in conversion_inputs(a.inputs)]
+            outdir = os.path.abspath(a.output)
+            if a.local:
+                counts = {"skipped": 0, "converted": 0}
+                for inp in inputs:
+                    status = convert_one(inp, outdir, a.options, converter)
+                    counts[status] += 1
+                    print("%s: %s" % (inp, status), flush=True)
+                print("%d inputs: %d converted, %d skipped (up to date)" % (len(inputs), counts["converted"],
+                                                                           counts["skipped"]))
+                return 0
+            # Slurm: the list and options in a file, one array task per input.
+            os.makedirs(os.path.join(outdir, "slurm"), exist_ok=True)
+            job_list = os.path.join(outdir, "slurm", "convert.json")
+            with open(job_list, "w") as f:
+                json.dump({"inputs": inputs, "output": outdir, "options": a.options, "converter": converter}, f)
+            script = os.path.join(outdir, "slurm", "convert.sh")
+            with open(script, "w") as f:
+                f.write("#!/bin/sh\nexec %s %s convert-one %s \"$SLURM_ARRAY_TASK_ID\"\n"
+                        % (sys.executable, os.path.abspath(__file__), job_list))
+            cmd = ["sbatch", "--parsable", "--chdir", outdir, "--job-name", "pnb-convert", "--requeue",
+                   "--array", "0-%d" % (len(inputs) - 1), "--output", os.path.join(outdir, "slurm", "%A_%a.out")]
+            if a.partition:
+                cmd += ["--partition", a.partition]
+            r = subprocess.run(cmd + [script], stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+            if r.returncode != 0:
+                raise SweepError("sbatch failed: %s" % r.stdout.strip())
+            job = r.stdout.strip().split(";")[0]
+            print("submitted %d conversions as array %s" % (len(inputs), job))
+            if a.wait:
+                slurm_wait([job])
+            return 0
+        if a.command == "convert-one":
+            spec = read_json(a.list)
+            if not 0 <= a.index < len(spec["inputs"]):
+                raise SweepError("%s: no input %d" % (a.list, a.index))
+            inp = spec["inputs"][a.index]
+            print("%s: %s" % (inp, convert_one(inp, spec["output"], spec["options"], spec["converter"])))
             return 0
         if a.command == "status":
             data = read_json(a.plan)

@@ -103,6 +103,39 @@ class SweepLocal(unittest.TestCase):
             self.assertIn("<h2>%s</h2>" % scene, page)
             self.assertTrue(os.path.getsize(os.path.join(report, scene + "_passes.png")) > 1000)
 
+    def test_batch_conversion_skips_outputs_whose_inputs_did_not_change(self):
+        import shutil
+        inputs = os.path.join(self.dir, "in")
+        os.makedirs(inputs)
+        for name in ("box-room", "grazing-plane"):
+            shutil.copy(os.path.join(SCENES, name + ".glb"), os.path.join(inputs, name + ".glb"))
+        out = os.path.join(self.dir, "converted")
+        self.assertEqual(self.sweep("convert", "--local", inputs, "-o", out), 0)
+        pnbs = sorted(f for f in os.listdir(out) if f.endswith(".pnb"))
+        self.assertEqual(pnbs, ["box-room.pnb", "grazing-plane.pnb"])
+        mtimes = {f: os.path.getmtime(os.path.join(out, f)) for f in pnbs}
+        # Unchanged inputs: nothing converted again.
+        self.assertEqual(self.sweep("convert", "--local", inputs, "-o", out), 0)
+        for f in pnbs:
+            self.assertEqual(os.path.getmtime(os.path.join(out, f)), mtimes[f], f)
+        # One input changed: only its output is made again; the other is kept.
+        shutil.copy(os.path.join(SCENES, "box-room.glb"), os.path.join(inputs, "grazing-plane.glb"))
+        pnb_sweep.forget_hashes()  # as a new process would
+        self.assertEqual(self.sweep("convert", "--local", inputs, "-o", out), 0)
+        self.assertEqual(os.path.getmtime(os.path.join(out, "box-room.pnb")), mtimes["box-room.pnb"])
+        self.assertNotEqual(os.path.getmtime(os.path.join(out, "grazing-plane.pnb")), mtimes["grazing-plane.pnb"])
+        # The outputs are what pnb-convert writes for the same input, byte for byte.
+        direct = os.path.join(self.dir, "direct.pnb")
+        subprocess.run([os.path.join(BUILD, "converter", "pnb-convert"), os.path.join(inputs, "box-room.glb"),
+                        "-o", direct, "-q"], check=True)
+        with open(direct, "rb") as a, open(os.path.join(out, "box-room.pnb"), "rb") as b:
+            self.assertEqual(a.read(), b.read())
+        # Other options: everything again. A missing input: an error naming it.
+        self.assertEqual(self.sweep("convert", "--local", inputs, "-o", out, "--", "--quantize"), 0)
+        self.assertNotEqual(os.path.getmtime(os.path.join(out, "box-room.pnb")), mtimes["box-room.pnb"])
+        listing = self.write("list.txt", "in/box-room.glb\nin/nothing.glb\n")
+        self.assertEqual(self.sweep("convert", "--local", listing, "-o", out), 1)
+
     def test_the_pareto_front_keeps_what_nothing_beats(self):
         import sweep_report
         points = [(1.0, 5.0), (2.0, 3.0), (3.0, 4.0), (4.0, 1.0), (2.5, 3.0), (0.5, 9.0)]
