@@ -339,17 +339,28 @@ def conversion_record(inputs_file, options, converter):
     return {"files": deps, "options": options, "converter": file_hash(converter)}
 
 
+def converted_path(inp, outdir):
+    return os.path.join(outdir, os.path.splitext(os.path.basename(inp))[0] + ".pnb")
+
+
+def up_to_date(inp, outdir, options, converter):
+    """Whether `inp`'s output exists and its record still matches every file it was made from."""
+    out = converted_path(inp, outdir)
+    record_file = out + ".inputs"
+    if not (os.path.exists(out) and os.path.exists(record_file)):
+        return False
+    old = read_json(record_file)
+    current = {"files": [[p, file_hash(p) if os.path.exists(p) else None] for p, _ in old["files"]],
+               "options": options, "converter": file_hash(converter)}
+    return current == old and any(p == os.path.abspath(inp) for p, _ in old["files"])
+
+
 def convert_one(inp, outdir, options, converter):
     """Converts `inp` unless its recorded inputs still match. Returns 'skipped' or 'converted'."""
-    stem = os.path.splitext(os.path.basename(inp))[0]
-    out = os.path.join(outdir, stem + ".pnb")
+    if up_to_date(inp, outdir, options, converter):
+        return "skipped"
+    out = converted_path(inp, outdir)
     record_file = out + ".inputs"
-    if os.path.exists(out) and os.path.exists(record_file):
-        old = read_json(record_file)
-        current = {"files": [[p, file_hash(p) if os.path.exists(p) else None] for p, _ in old["files"]],
-                   "options": options, "converter": file_hash(converter)}
-        if current == old and any(p == os.path.abspath(inp) for p, _ in old["files"]):
-            return "skipped"
     os.makedirs(outdir, exist_ok=True)
     depfile = out + ".d.tmp"
     cmd = [converter, inp, "-o", out, "-q", "--depfile", depfile, "-j", "1"] + options
@@ -486,7 +497,11 @@ def main(argv=None):
                 print("%d inputs: %d converted, %d skipped (up to date)" % (len(inputs), counts["converted"],
                                                                            counts["skipped"]))
                 return 0
-            # Slurm: the list and options in a file, one array task per input.
+            # Slurm: the inputs whose outputs are stale, one array task each.
+            inputs = [i for i in inputs if not up_to_date(i, outdir, a.options, converter)]
+            if not inputs:
+                print("all outputs up to date: nothing submitted")
+                return 0
             os.makedirs(os.path.join(outdir, "slurm"), exist_ok=True)
             job_list = os.path.join(outdir, "slurm", "convert.json")
             with open(job_list, "w") as f:
