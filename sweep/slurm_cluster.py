@@ -113,7 +113,8 @@ class LocalSlurmCluster:
         self.procs: dict[str, subprocess.Popen] = {}
         self.pids: dict[str, int] = {}      # daemon -> PID (Popen's, checked against the pid file)
         self.ports: dict[str, int] = {}
-        self.stopped_pids: list[int] = []
+        self.stopped_pids: list[int] = []    # the daemons stop() ended
+        self.killed_leftovers: list[int] = []  # processes of jobs that outlived the daemons
 
     # ---------------------------------------------------------------- life cycle
     def __enter__(self) -> "LocalSlurmCluster":
@@ -162,8 +163,21 @@ class LocalSlurmCluster:
             deadline = time.monotonic() + 10
             while time.monotonic() < deadline and self._queue_ids([]):
                 time.sleep(0.2)
+            # A slurmstepd (and its task) can outlive the job's COMPLETED state by a moment while
+            # it reports to slurmd: let it finish while slurmd is still there.
+            deadline = time.monotonic() + 10
+            while time.monotonic() < deadline and self._job_processes():
+                time.sleep(0.1)
         for name in ("slurmd", "slurmctld", "munged"):
             self._stop_proc(name)
+        # Whatever still runs with this cluster's SLURM_CONF is a leak: ended by its own PID and
+        # recorded (the test asserts there is none).
+        for pid in self.leftover_processes():
+            try:
+                os.kill(pid, signal.SIGKILL)
+                self.killed_leftovers.append(pid)
+            except ProcessLookupError:
+                pass
         if self.root is not None and not self.keep:
             shutil.rmtree(self.root, ignore_errors=True)
             if self._sockdir is not None and self._sockdir != self.root:
@@ -238,6 +252,20 @@ class LocalSlurmCluster:
         return found
 
     # ---------------------------------------------------------------- internals
+    def _job_processes(self) -> list[int]:
+        """leftover_processes() less the daemons and slurmctld's own helper (slurmscriptd)."""
+        daemons = set(self.pids.values())
+        jobs = []
+        for pid in self.leftover_processes():
+            try:
+                with open(f"/proc/{pid}/stat") as f:
+                    ppid = int(f.read().rpartition(")")[2].split()[1])
+            except (OSError, ValueError, IndexError):
+                continue
+            if pid not in daemons and ppid != self.pids.get("slurmctld"):
+                jobs.append(pid)
+        return jobs
+
     def _queue_ids(self, ids: list[str]) -> set[str]:
         args = ["squeue", "-h", "-o", "%i"]
         if ids:

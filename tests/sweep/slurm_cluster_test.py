@@ -157,6 +157,7 @@ class LocalSlurmClusterTest(unittest.TestCase):
             with self.assertRaises(ProcessLookupError, msg=f"{name} ({pid}) still there"):
                 os.kill(pid, 0)
         self.assertEqual(sorted(self.cluster.stopped_pids), sorted(pids.values()))
+        self.assertEqual(self.cluster.killed_leftovers, [], "job processes outlived the cluster")
         self.assertEqual(self.cluster.leftover_processes(), [])
         self.assertFalse(root.exists())
 
