@@ -113,6 +113,7 @@ class LocalSlurmCluster:
         self.procs: dict[str, subprocess.Popen] = {}
         self.pids: dict[str, int] = {}      # daemon -> PID (Popen's, checked against the pid file)
         self.ports: dict[str, int] = {}
+        self.cluster_name = f"pnb{secrets.token_hex(3)}"  # lower case, unique per instance
         self.stopped_pids: list[int] = []    # the daemons stop() ended
         self.killed_leftovers: list[int] = []  # processes of jobs that outlived the daemons
 
@@ -149,6 +150,7 @@ class LocalSlurmCluster:
                         raise
                     self._stop_proc("slurmd")
                     self._stop_proc("slurmctld")
+                    self._set_aside_attempt()
         except BaseException:
             self.stop()
             raise
@@ -296,6 +298,18 @@ class LocalSlurmCluster:
             (self.root / sub).mkdir(mode=0o700)
         (self._sockdir / "spool").mkdir(mode=0o700)
 
+    def _set_aside_attempt(self) -> None:
+        """Before a second start: the first attempt's logs renamed (so that its errors are not
+        read as the new one's) and its state removed (slurmctld starts afresh)."""
+        for name in ("slurmctld", "slurmd"):
+            for suffix in (".log", ".stdout"):
+                f = self.root / "log" / f"{name}{suffix}"
+                if f.exists():
+                    f.rename(f.with_name(f.name + ".attempt1"))
+        for f in (self.root / "state").iterdir():
+            if f.name != "munged.seed":
+                shutil.rmtree(f) if f.is_dir() else f.unlink()
+
     def _start_munged(self) -> None:
         key = self.root / "munge.key"
         fd = os.open(key, os.O_WRONLY | os.O_CREAT | os.O_EXCL, 0o400)
@@ -319,7 +333,7 @@ class LocalSlurmCluster:
         (self.root / "plugstack.conf").write_text("")  # not /etc/slurm/plugstack.conf's plugins
         r = self.root
         lines = [
-            f"ClusterName=pnb{secrets.token_hex(3)}",
+            f"ClusterName={self.cluster_name}",
             "SlurmctldHost=localhost(127.0.0.1)",
             f"SlurmctldPort={ctld_port}",
             f"SlurmdPort={d_port}",
@@ -364,13 +378,13 @@ class LocalSlurmCluster:
     def _start_slurm(self) -> None:
         log = self.root / "log"
         self._spawn("slurmctld", [self.bin["slurmctld"], "-D", "-f", str(self.conf)])
-        ping = lambda: "is UP" in self.run(["scontrol", "ping"], check=False, timeout=10).stdout
+        ping = lambda: "is UP" in self.run(["scontrol", "ping"], check=False, timeout=3).stdout
         self._wait_for("slurmctld", ping, log / "slurmctld.log")
         self._check_pid_file("slurmctld", self.root / "slurmctld.pid")
         self._spawn("slurmd", [self.bin["slurmd"], "-D", "-f", str(self.conf), "-N", self.nodename])
 
         def idle():
-            states = self.run(["sinfo", "-h", "-o", "%T"], check=False, timeout=10).stdout.split()
+            states = self.run(["sinfo", "-h", "-o", "%T"], check=False, timeout=3).stdout.split()
             bad = [s for s in states if s.rstrip("*~#!%$@^-").lower() in
                    ("down", "drained", "draining", "fail", "inval")]
             if bad:
@@ -402,8 +416,14 @@ class LocalSlurmCluster:
                 raise ClusterUnavailable(
                     f"{name} exited with {p.returncode} while starting\n  {name} log:\n"
                     f"{_tail(logfile)}\n{_tail(self.root / 'log' / f'{name}.stdout', 5)}")
-            if ready():
-                return
+            if "Address already in use" in _tail(logfile, 50):
+                raise ClusterUnavailable(f"{name}: a port was taken (Address already in use)\n"
+                                         f"  {name} log:\n{_tail(logfile)}")
+            try:
+                if ready():
+                    return
+            except subprocess.TimeoutExpired:
+                pass  # a client command that hung (e.g. another server on the port): not ready
             if time.monotonic() > deadline:
                 raise ClusterUnavailable(
                     f"{name} not ready after {self.start_timeout:.0f} s\n  {name} log:\n"
