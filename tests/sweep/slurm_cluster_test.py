@@ -17,9 +17,10 @@ import time
 import unittest
 from pathlib import Path
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[2]))
-from sweep.slurm_cluster import ClusterUnavailable, LocalSlurmCluster  # noqa: E402
-import sweep.slurm_cluster as slurm_cluster  # noqa: E402
+# sweep/ on the path, as the other sweep tests do: the module is `slurm_cluster`.
+sys.path.insert(0, str(Path(__file__).resolve().parents[2] / "sweep"))
+import slurm_cluster  # noqa: E402
+from slurm_cluster import ClusterUnavailable, LocalSlurmCluster  # noqa: E402
 
 # One task's work: its start and end times in out/<task>.txt (written whole or not at all).
 # A file named slow-<task> in the job's directory makes that task sleep far longer than the test.
