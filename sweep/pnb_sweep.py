@@ -231,8 +231,10 @@ def run_job(plan_data, index):
     os.makedirs(parent, exist_ok=True)
     tmp = tempfile.mkdtemp(prefix=".%s.tmp." % job["key"], dir=parent)
     try:
+        # The last frame's image too: the report's gallery.
         cmd = [plan_data["binaries"]["play"], scene, "--headless", "--bench", "--fixed-dt", "--frames",
-               str(job["frames"]), "--size", job["size"], "--out", tmp, "--no-plot", "-q"]
+               str(job["frames"]), "--size", job["size"], "--out", tmp, "--no-plot", "-q",
+               "--screenshot", os.path.join(tmp, "frame.png"), "--frame", str(max(job["frames"] - 1, 0))]
         for k, v in job["settings"].items():
             cmd += ["--set", "%s=%s" % (k, v)]
         for m, every in job["metrics"].items():
@@ -560,7 +562,7 @@ def main(argv=None):
             if not rows:
                 raise SweepError("%s: no finished jobs to report" % a.results)
             try:
-                page = sweep_report.write_report(columns, rows, a.output)
+                page = sweep_report.write_report(columns, rows, a.output, a.results)
             except RuntimeError as e:
                 raise SweepError(str(e))
             print("report: %s (%d configurations)" % (page, len(rows)))

@@ -1,6 +1,7 @@
 """pnb-sweep report: a self-contained HTML page (plus the PNGs and CSV it shows) from a results
 directory — per scene, the Pareto front of error against cost over every configuration swept,
-the front's configurations as a table, and the GPU time per pass of every configuration.
+the front's configurations as a table, the GPU time per pass of every configuration, and a
+gallery of each configuration's last frame.
 
 Cost is the median GPU time of a frame (pnb-play's gpu_ms.total); each headline error metric
 the jobs measured gets its own front (lower is better for all of them). No network: the page
@@ -9,6 +10,7 @@ references only files written beside it.
 import csv
 import html
 import os
+import shutil
 
 # The error each metric family is judged by (pnb-play's quality columns), lower is better.
 HEADLINE_ERRORS = [
@@ -36,7 +38,7 @@ def label(row):
     return ", ".join(parts) or "(defaults)"
 
 
-def write_report(columns, rows, out_dir):
+def write_report(columns, rows, out_dir, results_dir=None):
     """Writes out_dir/index.html, results.csv and one PNG per chart. Returns the HTML path."""
     try:
         import matplotlib
@@ -69,6 +71,8 @@ def write_report(columns, rows, out_dir):
             fx = [points[i][0] for i in front]
             fy = [points[i][1] for i in front]
             ax.plot(fx, fy, "o-", color="#c03020", label="Pareto front")
+            for i in front:
+                ax.annotate(label(measured[i]), points[i], fontsize=7, xytext=(4, 4), textcoords="offset points")
             ax.set_xlabel("GPU ms per frame (median)")
             ax.set_ylabel(title)
             ax.set_title(scene)
@@ -100,6 +104,18 @@ def write_report(columns, rows, out_dir):
             fig.savefig(os.path.join(out_dir, png), dpi=100)
             plt.close(fig)
             body.append("<h3>GPU time per pass</h3><img src=\"%s\" alt=\"per-pass time\">" % png)
+        # Gallery: each configuration's last frame, copied beside the page.
+        figures = []
+        for r in srows:
+            frame = os.path.join(results_dir, r["key"], "frame.png") if results_dir else None
+            if frame and os.path.exists(frame):
+                os.makedirs(os.path.join(out_dir, "frames"), exist_ok=True)
+                shutil.copyfile(frame, os.path.join(out_dir, "frames", r["key"] + ".png"))
+                figures.append("<figure style=\"display:inline-block;margin:4px\"><img src=\"frames/%s.png\" "
+                               "width=\"240\"><figcaption style=\"font-size:small\">%s</figcaption></figure>"
+                               % (r["key"], html.escape(label(r))))
+        if figures:
+            body.append("<h3>Last frame of each configuration</h3>" + "".join(figures))
     page = os.path.join(out_dir, "index.html")
     with open(page, "w") as f:
         f.write("<!doctype html><html><head><meta charset=\"utf-8\"><title>pnb-sweep report</title></head>"

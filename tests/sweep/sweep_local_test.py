@@ -102,6 +102,10 @@ class SweepLocal(unittest.TestCase):
         for scene in ("box-room", "box-room-quantized"):
             self.assertIn("<h2>%s</h2>" % scene, page)
             self.assertTrue(os.path.getsize(os.path.join(report, scene + "_passes.png")) > 1000)
+        frames = os.listdir(os.path.join(report, "frames"))
+        self.assertEqual(len(frames), 6, "one image per configuration in the gallery")
+        for f in frames:
+            self.assertIn('src="frames/%s"' % f, page)
 
     def test_batch_conversion_skips_outputs_whose_inputs_did_not_change(self):
         import shutil
