@@ -281,6 +281,21 @@ glm::dvec3 exactPrefilter(const RadianceImage& img, const glm::dvec3& r, double 
     return acc / weight;
 }
 
+// Level `level` (face size n) of the specular cube `cube`, red channel, beside the exact value
+// (exactPrefilter at `roughness`) of every texel, in face, row, column order.
+void levelAgainstExact(const Scene& scene, uint32_t cube, uint32_t level, uint32_t n, const RadianceImage& img,
+                       double roughness, std::vector<double>& got, std::vector<double>& want) {
+    std::vector<float> t = texels(scene, cube, level);
+    for (uint32_t face = 0; face < 6; ++face)
+        for (uint32_t j = 0; j < n; ++j)
+            for (uint32_t i = 0; i < n; ++i) {
+                double d[3];
+                cubeTexelDirection(face, i, j, n, d);
+                want.push_back(exactPrefilter(img, {d[0], d[1], d[2]}, roughness).x);
+                got.push_back(t[((size_t(face) * n + j) * n + i) * 4]);
+            }
+}
+
 TEST_F(Environment, SunPixelsStayFiniteAndMakeNoFireflies) {
     // 1 nit everywhere, two 2x2 suns of 1e5 nits (above half's 65504), and three bad texels.
     const uint32_t W = 64, H = 32;
@@ -327,18 +342,8 @@ TEST_F(Environment, SunPixelsStayFiniteAndMakeNoFireflies) {
     // The roughest level against the exact convolution, texel by texel: a firefly (one sample
     // landing on a sun at full weight) would be ~1e5 / 256 = 390 nits too bright in one texel.
     const uint32_t last = s.specularLevels - 1, n = s.specularSize >> last;
-    std::vector<float> rough = texels(b.scene, e.specular, last);
     std::vector<double> got, want;
-    for (uint32_t face = 0; face < 6; ++face)
-        for (uint32_t j = 0; j < n; ++j)
-            for (uint32_t i = 0; i < n; ++i) {
-                double d[3];
-                cubeTexelDirection(face, i, j, n, d);
-                double exact = exactPrefilter(img, {d[0], d[1], d[2]}, 1.0).x;
-                double ours = rough[((size_t(face) * n + j) * n + i) * 4];
-                got.push_back(ours);
-                want.push_back(exact);
-            }
+    levelAgainstExact(b.scene, e.specular, last, n, img, 1.0, got, want);
     // 256 samples cannot resolve a sun of 4 texels exactly: the error is measured against the
     // peak. Unfiltered sampling measured 0.76 here and a max/median of 3.7 (the exact: 1.9);
     // filtered importance sampling 0.23 and 2.0 (environment_prefilter.cpp).
@@ -379,16 +384,8 @@ TEST_F(Environment, PrefilterConvergesToTheExactGgxConvolution) {
         ASSERT_TRUE(addEnvironment(b, img, s, EnvironmentSource::Image, "x", 2).ok());
         for (uint32_t level = 1; level < 3; ++level) {
             const uint32_t n = s.specularSize >> level;
-            std::vector<float> t = texels(b.scene, b.scene.environment->specular, level);
             std::vector<double> got, want;
-            for (uint32_t face = 0; face < 6; ++face)
-                for (uint32_t j = 0; j < n; ++j)
-                    for (uint32_t i = 0; i < n; ++i) {
-                        double d[3];
-                        cubeTexelDirection(face, i, j, n, d);
-                        want.push_back(exactPrefilter(img, {d[0], d[1], d[2]}, level / 2.0).x);
-                        got.push_back(t[((size_t(face) * n + j) * n + i) * 4]);
-                    }
+            levelAgainstExact(b.scene, b.scene.environment->specular, level, n, img, level / 2.0, got, want);
             const double peak = *std::max_element(want.begin(), want.end());
             for (size_t k = 0; k < got.size(); ++k)
                 ASSERT_NEAR(got[k], want[k], 0.03 * peak) << "variant " << variant << " level " << level << " texel " << k;

@@ -16,38 +16,13 @@ namespace {
 
 using namespace pnb;
 
-uint32_t addTexture(SceneBuilder& b, const char* name, TextureDimension dim, TextureFormat format,
-                    uint32_t size, uint32_t bytesPerTexel) {
-    TextureDesc t;
-    t.name = b.intern(name);
-    t.dimension = dim;
-    t.format = format;
-    t.colorSpace = ColorSpace::Linear;
-    t.width = dim == TextureDimension::Cube ? size : 2 * size;
-    t.height = size;
-    t.layers = dim == TextureDimension::Cube ? 6 : 1;
-    t.mipCount = 1;
-    uint32_t index = uint32_t(b.scene.textures.size());
-    b.scene.textures.push_back(t);
-    TextureMip m;
-    m.texture = index;
-    m.width = t.width;
-    m.height = t.height;
-    m.data = b.keep(std::vector<std::byte>(size_t(t.width) * t.height * t.layers * bytesPerTexel));
-    b.scene.textureMips.push_back(m);
-    return index;
-}
-
-// The box room with an environment of every texture kind.
+// The box room with the asset library's sample environment (a radiance image, a cube and a
+// BRDF table), its irradiance given a value in every coefficient.
 void buildLitBoxRoom(SceneBuilder& b) {
-    assets::buildBoxRoom(b);
-    Environment e;
-    e.name = b.intern("test.hdr");
-    e.radiance = addTexture(b, "env", TextureDimension::Tex2D, TextureFormat::RGBA16F, 4, 8);
-    e.specular = addTexture(b, "env_specular", TextureDimension::Cube, TextureFormat::RGBA16F, 2, 8);
-    e.brdfLut = addTexture(b, "brdf", TextureDimension::Tex2D, TextureFormat::RG16F, 2, 4);
-    for (int i = 0; i < 9; ++i) e.irradianceSh[i] = {float(i), 0.5f * float(i), 1.0f};
-    b.scene.environment = e;
+    assets::BoxRoomOptions options;
+    options.environment = true;
+    assets::buildBoxRoom(b, options);
+    for (int i = 0; i < 9; ++i) b.scene.environment->irradianceSh[i] = {float(i), 0.5f * float(i), 1.0f};
 }
 
 Result<Scene> roundTrip(const Scene& scene, std::vector<std::byte>& bytes) {
