@@ -312,9 +312,7 @@ def slurm_wait(job_ids, env=None, timeout=3600):
                            stderr=subprocess.DEVNULL, text=True, env=env)
         if r.returncode == 0 and not r.stdout.strip():
             return
-        if r.returncode != 0 and "Invalid job id" not in r.stdout:
-            pass  # finished jobs can make squeue complain: check again
-        time.sleep(1)
+        time.sleep(1)  # still queued, or squeue failed for a moment (finished ids): ask again
     raise SweepError("jobs %s still queued after %d s" % (",".join(job_ids), timeout))
 
 
