@@ -26,6 +26,7 @@
 #include "pnb/user_cache_directory.h"
 #include "pnb_converter/convert.h"
 #include "pnb_converter/memory_budget.h"
+#include "summary_json.h"
 
 namespace {
 
@@ -41,6 +42,7 @@ struct CliState {
     bool verbose = false, quiet = false;
     std::string testDir;
     std::string batchList; // --batch LIST ("-" = standard input)
+    std::string summaryJson; // --summary-json FILE
 };
 
 // Declarative option table: it parses the command line and prints --help (STYLE.md §16).
@@ -89,6 +91,10 @@ const std::vector<Option>& options() {
         {"Input and output", "--depfile", "FILE",
          "write a Make-style dependency file listing every file read (for Ninja)",
          [](CliState& c, const char* a) { c.settings.depfile = a; return true; }},
+        {"Input and output", "--summary-json", "FILE",
+         "also write the summary (sizes, counts, quantisation and LOD errors, worst texture "
+         "PSNR, stage times) as JSON, for tools that compare conversions",
+         [](CliState& c, const char* a) { c.summaryJson = a; return true; }},
         {"Meshes", "--quantize", nullptr,
          "16-bit positions, octahedral normals, half-float UVs; prints the error introduced",
          [](CliState& c, const char*) { c.settings.mesh.quantize = true; return true; }},
@@ -472,9 +478,9 @@ int runBatch(CliState& c, std::vector<BatchItem> items) {
         std::fprintf(stderr, "Error: no inputs to convert\n");
         return kExitUsage;
     }
-    if (!c.settings.depfile.empty() || !c.settings.sidecar.empty()) {
-        std::fprintf(stderr, "Error: --depfile and --sidecar name one file each and cannot be "
-                             "used with several inputs (each input's <stem>.pnb.json sidecar "
+    if (!c.settings.depfile.empty() || !c.settings.sidecar.empty() || !c.summaryJson.empty()) {
+        std::fprintf(stderr, "Error: --depfile, --sidecar and --summary-json name one file each "
+                             "and cannot be used with several inputs (each input's <stem>.pnb.json sidecar "
                              "still applies)\n");
         return kExitUsage;
     }
@@ -660,6 +666,13 @@ int main(int argc, char** argv) {
     if (!result) {
         std::fprintf(stderr, "Error: %s\n", result.error().message.c_str());
         return exitCodeOf(result.error().kind);
+    }
+    if (!c.summaryJson.empty()) {
+        const std::string error = pnb::converter::writeSummaryJson(c.summaryJson, c.settings, *result);
+        if (!error.empty()) {
+            std::fprintf(stderr, "Error: %s (the container was written)\n", error.c_str());
+            return kExitOutput;
+        }
     }
     if (!c.quiet) {
         for (const std::string& w : result->warnings)
