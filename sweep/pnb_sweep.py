@@ -66,6 +66,12 @@ import tomllib
 
 REPO = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 METRIC_FLAGS = {"shadow": "--shadow-metrics", "gi": "--gi-metrics", "sky": "--sky-metrics", "lod": "--lod-metrics"}
+# Axis and fixed keys with this prefix are pnb-convert options, not pnb-play settings:
+# "convert.quantize" = [false, true] -> (nothing) | --quantize; "convert.max-texture-size" = [512]
+# -> --max-texture-size 512.
+CONVERT_PREFIX = "convert."
+# pnb-play's load phases (summary.json load_ms), in the order they happen.
+LOAD_PHASES = ("open", "read", "decode", "upload", "compile")
 
 
 class SweepError(Exception):
@@ -136,9 +142,21 @@ def load_sweep(path):
             raise SweepError("%s: scenes[%d].convert must be a list of strings" % (path, i))
         out_scenes.append({"name": s.get("name", os.path.splitext(os.path.basename(src))[0]),
                            "source": src, "convert": convert, "path": scene_path})
+    # One table: every combination of its axes. An array of tables: the union of each one's
+    # combinations (sweeps that are not a full product, e.g. cascades only for some techniques).
     axes = data.get("axes", {})
-    if not isinstance(axes, dict) or not all(isinstance(v, list) and v for v in axes.values()):
-        raise SweepError("%s: 'axes' must map setting keys to non-empty lists of values" % path)
+    groups = axes if isinstance(axes, list) else [axes]
+    for g in groups:
+        if not isinstance(g, dict) or not all(isinstance(v, list) and v for v in g.values()):
+            raise SweepError("%s: 'axes' must map setting keys to non-empty lists of values "
+                             "(or be an array of such tables)" % path)
+    has_convert = any(k.startswith(CONVERT_PREFIX) for g in groups for k in g) or \
+        any(k.startswith(CONVERT_PREFIX) for k in data.get("fixed", {}))
+    if has_convert:
+        for s in out_scenes:
+            if s["source"].endswith(".pnb"):
+                raise SweepError("%s: converter axes (%s*) need scenes given by their source, and %s "
+                                 "is a container" % (path, CONVERT_PREFIX, s["source"]))
     metrics = data.get("metrics", {})
     for m, every in metrics.items():
         if m not in METRIC_FLAGS or not isinstance(every, int) or every < 1:
@@ -148,7 +166,7 @@ def load_sweep(path):
             "frames": int(data.get("frames", 30)), "size": str(data.get("size", "320x180")),
             "metrics": dict(sorted(metrics.items())),
             "fixed": {k: value_text(v) for k, v in sorted(data.get("fixed", {}).items())},
-            "axes": {k: [value_text(v) for v in vs] for k, vs in axes.items()},
+            "axes": [{k: [value_text(v) for v in vs] for k, vs in g.items()} for g in groups],
             "scenes": out_scenes}
 
 
@@ -165,14 +183,30 @@ def binaries(build):
     for b in (convert, play):
         if not os.access(b, os.X_OK):
             raise SweepError("%s: not built (cmake --build --preset release --target pnb-convert pnb-play)" % b)
-    return {"convert": convert, "play": play}
+    # The load-time floor (bench/load): optional, the report says when it is missing.
+    probe = os.path.join(build, "bench", "load", "pnb_load_probe")
+    return {"convert": convert, "play": play, "probe": probe if os.access(probe, os.X_OK) else None}
 
 
-def conversion_key(scene, bins):
+def convert_options(settings):
+    """The pnb-convert options a job's convert.* settings stand for, in key order."""
+    out = []
+    for k, v in sorted(settings.items()):
+        if not k.startswith(CONVERT_PREFIX):
+            continue
+        flag = "--" + k[len(CONVERT_PREFIX):]
+        if v == "true":
+            out.append(flag)
+        elif v != "false":
+            out += [flag, v]
+    return out
+
+
+def conversion_key(scene, options, bins):
     """What a converted scene depends on: the source's bytes, the options, the converter."""
     if scene["source"].endswith(".pnb"):
         return None
-    h = hashlib.sha256(json.dumps({"source": file_hash(scene["source"]), "convert": scene["convert"],
+    h = hashlib.sha256(json.dumps({"source": file_hash(scene["source"]), "convert": options,
                                    "path": file_hash(scene["path"]) if scene["path"] else None,
                                    "converter": file_hash(bins["convert"])}, sort_keys=True).encode())
     return h.hexdigest()
@@ -180,20 +214,26 @@ def conversion_key(scene, bins):
 
 def plan(sweep, bins, results):
     jobs = []
-    names = list(sweep["axes"].keys())
-    combos = list(itertools.product(*[sweep["axes"][k] for k in names])) or [()]
-    for scene in sweep["scenes"]:
-        ckey = conversion_key(scene, bins)
-        scene_key = ckey or file_hash(scene["source"])
-        for combo in combos:
+    combos, seen = [], set()
+    for group in sweep["axes"]:
+        names = list(group.keys())
+        for combo in itertools.product(*[group[k] for k in names]):
             settings = dict(sweep["fixed"])
             settings.update(zip(names, combo))
+            if tuple(sorted(settings.items())) not in seen:  # groups may overlap
+                seen.add(tuple(sorted(settings.items())))
+                combos.append(settings)
+    for scene in sweep["scenes"]:
+        for settings in combos:
+            options = scene["convert"] + convert_options(settings)
+            ckey = conversion_key(scene, options, bins)
+            scene_key = ckey or file_hash(scene["source"])
             key = hashlib.sha256(json.dumps({
                 "scene": scene_key, "settings": sorted(settings.items()), "frames": sweep["frames"],
                 "size": sweep["size"], "metrics": sweep["metrics"], "player": file_hash(bins["play"])},
                 sort_keys=True).encode()).hexdigest()[:20]
             jobs.append({"index": len(jobs), "key": key, "scene": scene["name"], "source": scene["source"],
-                         "convert": scene["convert"], "conversion": ckey, "path": scene["path"],
+                         "convert": options, "conversion": ckey, "path": scene["path"],
                          "settings": settings, "frames": sweep["frames"], "size": sweep["size"],
                          "metrics": sweep["metrics"], "result": os.path.join(results, key)})
     return {"sweep": sweep["name"], "results": results, "binaries": bins, "jobs": jobs}
@@ -210,13 +250,22 @@ def converted_scene(job, plan_data):
     cache = os.path.join(plan_data["results"], "converted")
     os.makedirs(cache, exist_ok=True)
     out = os.path.join(cache, job["conversion"] + ".pnb")
-    if not os.path.exists(out):
-        cmd = [plan_data["binaries"]["convert"], job["source"], "-o", out, "-q"] + job["convert"]
-        if job["path"]:
-            cmd += ["--path", job["path"]]
-        r = subprocess.run(cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
-        if r.returncode != 0:
-            raise SweepError("conversion failed: %s\n%s" % (" ".join(cmd), r.stdout[-2000:]))
+    summary = out + ".summary.json"  # renamed into place last: it marks a finished conversion
+    if not (os.path.exists(out) and os.path.exists(summary)):
+        # Into a directory of its own: array tasks of one scene may convert it at the same time.
+        tmp = tempfile.mkdtemp(prefix=".%s.tmp." % job["conversion"][:12], dir=cache)
+        try:
+            cmd = [plan_data["binaries"]["convert"], job["source"], "-o", os.path.join(tmp, "scene.pnb"), "-q",
+                   "--summary-json", os.path.join(tmp, "summary.json")] + job["convert"]
+            if job["path"]:
+                cmd += ["--path", job["path"]]
+            r = subprocess.run(cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+            if r.returncode != 0:
+                raise SweepError("conversion failed: %s\n%s" % (" ".join(cmd), r.stdout[-2000:]))
+            os.replace(os.path.join(tmp, "scene.pnb"), out)
+            os.replace(os.path.join(tmp, "summary.json"), summary)
+        finally:
+            shutil.rmtree(tmp, ignore_errors=True)
     return out
 
 
@@ -231,20 +280,36 @@ def run_job(plan_data, index):
     os.makedirs(parent, exist_ok=True)
     tmp = tempfile.mkdtemp(prefix=".%s.tmp." % job["key"], dir=parent)
     try:
-        # The last frame's image too: the report's gallery.
+        # The image of the last measured frame (else the last frame): the report's gallery, beside
+        # that frame's error maps.
+        every = min(job["metrics"].values()) if job["metrics"] else 1
+        shot = max(job["frames"] - 1, 0) // every * every
         cmd = [plan_data["binaries"]["play"], scene, "--headless", "--bench", "--fixed-dt", "--frames",
                str(job["frames"]), "--size", job["size"], "--out", tmp, "--no-plot", "-q",
-               "--screenshot", os.path.join(tmp, "frame.png"), "--frame", str(max(job["frames"] - 1, 0))]
+               "--screenshot", os.path.join(tmp, "frame.png"), "--frame", str(shot)]
         for k, v in job["settings"].items():
-            cmd += ["--set", "%s=%s" % (k, v)]
+            if not k.startswith(CONVERT_PREFIX):
+                cmd += ["--set", "%s=%s" % (k, v)]
         for m, every in job["metrics"].items():
             cmd += [METRIC_FLAGS[m], str(every)]
         r = subprocess.run(cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+        log = [" ".join(cmd), r.stdout]
+        if r.returncode == 0 and plan_data["binaries"].get("probe"):
+            # The raw-bytes floor of the load just timed: the same file mapped and copied into
+            # fresh memory, right after pnb-play read it (same page-cache state).
+            fr = subprocess.run([plan_data["binaries"]["probe"], "--loader", "floor", scene],
+                                stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+            log.append(fr.stdout)
+            if fr.returncode == 0:
+                with open(os.path.join(tmp, "floor.json"), "w") as f:
+                    f.write(fr.stdout.strip().splitlines()[-1] + "\n")
         with open(os.path.join(tmp, "log.txt"), "w") as f:
-            f.write(" ".join(cmd) + "\n" + r.stdout)
+            f.write("\n".join(log))
         if r.returncode != 0:
             raise SweepError("job %d (%s) failed with exit code %d; log: %s" % (
                 index, job["key"], r.returncode, os.path.join(tmp, "log.txt")))
+        if job["conversion"] is not None:
+            shutil.copyfile(scene + ".summary.json", os.path.join(tmp, "conversion.json"))
         with open(os.path.join(tmp, "job.json"), "w") as f:
             json.dump({k: job[k] for k in ("index", "key", "scene", "settings", "frames", "size", "metrics")},
                       f, indent=2, sort_keys=True)
@@ -389,6 +454,21 @@ def collect(results):
         row["gl_renderer"] = summary.get("gl", {}).get("renderer", "")
         for p, s in sorted(summary.get("gpu_ms", {}).items()):
             row["gpu_ms:" + p] = s.get("median_ms")
+        load = summary.get("load_ms", {})
+        for p in LOAD_PHASES + ("total",):
+            if p in load:
+                row["load_ms:" + p] = load[p]
+        row["load:file_bytes"] = load.get("file_bytes", "")
+        if os.path.exists(os.path.join(d, "floor.json")):
+            row["load_ms:floor"] = read_json(os.path.join(d, "floor.json")).get("gpu_ready_ms", "")
+        if os.path.exists(os.path.join(d, "conversion.json")):
+            conv = read_json(os.path.join(d, "conversion.json"))
+            for k in ("output_bytes", "max_position_error", "max_normal_error_deg", "seconds"):
+                # An option that was off cost no error: its null is an exact 0 here.
+                row["convert:" + k] = conv.get(k) if conv.get(k) is not None else 0
+            psnr = conv.get("min_texture_psnr_db")
+            # Worst texture's RMSE in 8-bit levels (PSNR = 20 log10(255 / RMSE)); 0: uncompressed.
+            row["convert:texture_rmse8"] = 255.0 * 10 ** (-psnr / 20.0) if psnr else 0
         for m, s in sorted(summary.get("quality", {}).items()):
             if isinstance(s, dict) and "mean" in s:
                 row["metric:" + m] = s["mean"]
@@ -445,6 +525,9 @@ def main(argv=None):
     rp = sub.add_parser("report")
     rp.add_argument("results")
     rp.add_argument("-o", "--output", required=True)
+    rp.add_argument("--extremes", default=None,
+                    help="the extremes matrix to include (matrix.csv or its directory; default: the "
+                         "build's reference.extremes_matrix output, when it exists)")
     # pnb-convert's own options follow "--" (argparse cannot take them after positionals).
     argv = list(sys.argv[1:] if argv is None else argv)
     extra = argv[argv.index("--") + 1:] if "--" in argv else []
@@ -559,8 +642,15 @@ def main(argv=None):
             columns, rows = collect(a.results)
             if not rows:
                 raise SweepError("%s: no finished jobs to report" % a.results)
+            extremes = a.extremes or os.path.join(a.build, "tests", "reference", "extremes")
+            if os.path.isdir(extremes):
+                extremes = os.path.join(extremes, "matrix.csv")
+            if not os.path.exists(extremes):
+                if a.extremes:
+                    raise SweepError("%s: no extremes matrix (scripts/bench-extremes writes one)" % extremes)
+                extremes = None
             try:
-                page = sweep_report.write_report(columns, rows, a.output, a.results)
+                page = sweep_report.write_report(columns, rows, a.output, a.results, extremes)
             except RuntimeError as e:
                 raise SweepError(str(e))
             print("report: %s (%d configurations)" % (page, len(rows)))

@@ -1,25 +1,35 @@
 """pnb-sweep report: a self-contained HTML page (plus the PNGs and CSV it shows) from a results
-directory — per scene, the Pareto front of error against cost over every configuration swept,
-the front's configurations as a table, the GPU time per pass of every configuration, and a
-gallery of each configuration's last frame.
+directory. Per scene: the Pareto front of each measured error against its cost over every
+configuration swept, the front's configurations as a table, the GPU time per pass of every
+configuration, load time against the raw-bytes floor, and a gallery of each configuration's last
+measured frame beside its error maps. Then the numerical-extremes table of the ground-truth
+tests, when given.
 
-Cost is the median GPU time of a frame (pnb-play's gpu_ms.total); each headline error metric
-the jobs measured gets its own front (lower is better for all of them). No network: the page
-references only files written beside it.
+Render errors are judged against the median GPU time of a frame (pnb-play's gpu_ms.total); the
+converter's errors (quantisation, texture compression) against the container's size. Lower is
+better for every error. No network: the page references only files written beside it.
 """
 import csv
 import html
+import json
 import os
 import shutil
+import statistics
 
-# The error each metric family is judged by (pnb-play's quality columns), lower is better.
+# (column, title, cost column, cost title): each error's front is drawn against its own cost.
+GPU = ("gpu_ms:total", "GPU ms per frame (median)")
+SIZE = ("convert:output_bytes", "container MiB")
 HEADLINE_ERRORS = [
-    ("metric:misclassified_pct", "shadow pixels misclassified, %"),
-    ("metric:weighted_error_pct", "shadow error weighted by irradiance, %"),
-    ("metric:gi_corrected_rmse_pct", "GI irradiance rel. RMSE (truth noise removed), %"),
-    ("metric:sky_corrected_rmse_pct", "sky irradiance rel. RMSE (truth noise removed), %"),
-    ("metric:lod_pixels_over8_pct", "LOD pixels off by > 8/255, %"),
+    ("metric:misclassified_pct", "shadow pixels misclassified, %") + GPU,
+    ("metric:weighted_error_pct", "shadow error weighted by irradiance, %") + GPU,
+    ("metric:gi_corrected_rmse_pct", "GI irradiance rel. RMSE (truth noise removed), %") + GPU,
+    ("metric:sky_corrected_rmse_pct", "sky irradiance rel. RMSE (truth noise removed), %") + GPU,
+    ("metric:lod_pixels_over8_pct", "LOD pixels off by > 8/255, %") + GPU,
+    ("convert:max_position_error", "mesh quantisation: max position error, scene units") + SIZE,
+    ("convert:max_normal_error_deg", "mesh quantisation: max normal error, degrees") + SIZE,
+    ("convert:texture_rmse8", "texture compression: worst texture RMSE, 8-bit levels") + SIZE,
 ]
+LOAD_PHASES = ("open", "read", "decode", "upload", "compile")
 
 
 def pareto_front(points):
@@ -34,11 +44,208 @@ def pareto_front(points):
 
 
 def label(row):
-    parts = ["%s=%s" % (k[4:], v) for k, v in row.items() if k.startswith("set:")]
-    return ", ".join(parts) or "(defaults)"
+    """The row's settings as text."""
+    return ", ".join("%s=%s" % (k[4:], v) for k, v in row.items() if k.startswith("set:") and v != "") \
+        or "(defaults)"
 
 
-def write_report(columns, rows, out_dir, results_dir=None):
+def conversion_label(row):
+    """The pnb-convert options a row's convert.* settings stand for: "--quantize --max-texture-size 512"."""
+    parts = []
+    for k, v in sorted(row.items()):
+        if k.startswith("set:convert.") and v != "false":
+            parts.append("--" + k[12:] + ("" if v == "true" else " " + v))
+    return " ".join(parts) or "(no converter options)"
+
+
+def number(row, column):
+    v = row.get(column)
+    return None if v in (None, "") else float(v)
+
+
+def scale_cost(column, value):
+    return value / 2 ** 20 if column == "convert:output_bytes" else value
+
+
+def front_section(plt, scene, rows, metric, title, cost, cost_title, out_dir):
+    measured = [r for r in rows if number(r, metric) is not None and number(r, cost) is not None]
+    if cost == "convert:output_bytes":
+        # One point per conversion, and only when conversions were swept.
+        by_conversion = {}
+        for r in measured:
+            by_conversion.setdefault(conversion_label(r), r)
+        measured = list(by_conversion.values())
+        if len(measured) < 2:
+            return []
+        name = conversion_label
+    else:
+        name = label
+    if not measured:
+        return []
+    points = [(scale_cost(cost, number(r, cost)), number(r, metric)) for r in measured]
+    front = pareto_front(points)
+    png = "%s_%s.png" % (scene, metric.split(":", 1)[1])
+    fig, ax = plt.subplots(figsize=(7, 4.5))
+    ax.scatter([p[0] for p in points], [p[1] for p in points], color="#999999", label="configurations")
+    ax.plot([points[i][0] for i in front], [points[i][1] for i in front], "o-", color="#c03020",
+            label="Pareto front")
+    for i in front:
+        ax.annotate(name(measured[i]), points[i], fontsize=7, xytext=(4, 4), textcoords="offset points")
+    ax.set_xlabel(cost_title)
+    ax.set_ylabel(title, fontsize=8)
+    ax.set_title(scene)
+    ax.margins(x=0.25, y=0.1)  # room for the labels
+    ax.legend()
+    fig.tight_layout()
+    fig.savefig(os.path.join(out_dir, png), dpi=100)
+    plt.close(fig)
+    body = ["<h3>%s</h3><img src=\"%s\" alt=\"%s\">" % (html.escape(title), png, html.escape(title)),
+            "<table border=1 cellpadding=3><tr><th>configuration</th><th>%s</th><th>%s</th></tr>"
+            % (html.escape(cost_title), html.escape(title))]
+    for i in front:
+        body.append("<tr><td>%s</td><td>%.3g</td><td>%.3g</td></tr>"
+                    % (html.escape(name(measured[i])), points[i][0], points[i][1]))
+    body.append("</table>")
+    return body
+
+
+def passes_section(plt, scene, rows, columns, out_dir):
+    passes = [c for c in columns if c.startswith("gpu_ms:") and c != "gpu_ms:total"]
+    if not passes:
+        return []
+    png = "%s_passes.png" % scene
+    fig, ax = plt.subplots(figsize=(8, 1.2 + 0.4 * len(rows)))
+    left = [0.0] * len(rows)
+    for p in passes:
+        values = [number(r, p) or 0.0 for r in rows]
+        ax.barh(range(len(rows)), values, left=left, label=p.split(":", 1)[1])
+        left = [a + b for a, b in zip(left, values)]
+    ax.set_yticks(range(len(rows)))
+    ax.set_yticklabels([label(r) for r in rows], fontsize=7)
+    ax.set_xlabel("GPU ms per frame (median over the path), by pass")
+    ax.legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.0, 1.0))
+    fig.tight_layout()
+    fig.savefig(os.path.join(out_dir, png), dpi=100)
+    plt.close(fig)
+    return ["<h3>GPU time per pass along the path</h3><img src=\"%s\" alt=\"per-pass time\">" % png]
+
+
+def load_section(plt, scene, rows, out_dir):
+    """Load time per conversion: the median of every job's load by phase (each job is one fresh
+    pnb-play process on a warm page cache), min-max whiskers, and the raw-bytes floor (the same
+    file mapped and copied into fresh memory) as a black tick."""
+    groups = {}
+    for r in rows:
+        if number(r, "load_ms:total") is not None:
+            groups.setdefault(conversion_label(r), []).append(r)
+    if not groups:
+        return []
+    names = sorted(groups)
+    png = "%s_load.png" % scene
+    fig, ax = plt.subplots(figsize=(8, 1.2 + 0.45 * len(names)))
+    left = [0.0] * len(names)
+    for p in LOAD_PHASES:
+        values = [statistics.median(number(r, "load_ms:" + p) or 0.0 for r in groups[n]) for n in names]
+        ax.barh(range(len(names)), values, left=left, label=p)
+        left = [a + b for a, b in zip(left, values)]
+    table = ["<table border=1 cellpadding=3><tr><th>conversion</th><th>MiB</th><th>loads</th>"
+             "<th>load ms, median (min-max)</th><th>floor ms</th><th>x floor</th></tr>"]
+    for i, n in enumerate(names):
+        totals = [number(r, "load_ms:total") for r in groups[n]]
+        med = statistics.median(totals)
+        ax.errorbar([med], [i], xerr=[[med - min(totals)], [max(totals) - med]], color="k", capsize=3, lw=0.8)
+        floors = [number(r, "load_ms:floor") for r in groups[n] if number(r, "load_ms:floor") is not None]
+        floor = statistics.median(floors) if floors else None
+        if floor is not None:
+            ax.plot([floor, floor], [i - 0.4, i + 0.4], color="k", lw=2.5)
+        mib = (number(groups[n][0], "load:file_bytes") or 0) / 2 ** 20
+        table.append("<tr><td>%s</td><td>%.2f</td><td>%d</td><td>%.2f (%.2f-%.2f)</td><td>%s</td><td>%s</td></tr>"
+                     % (html.escape(n), mib, len(totals), med, min(totals), max(totals),
+                        "%.3f" % floor if floor is not None else "not measured",
+                        "%.1f" % (med / floor) if floor else ""))
+    table.append("</table>")
+    ax.set_yticks(range(len(names)))
+    ax.set_yticklabels(names, fontsize=7)
+    ax.set_xlabel("load ms to GPU-ready, by phase (black tick: raw-bytes floor)")
+    ax.legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.0, 1.0))
+    fig.tight_layout()
+    fig.savefig(os.path.join(out_dir, png), dpi=100)
+    plt.close(fig)
+    return ["<h3>Load time</h3><img src=\"%s\" alt=\"load time\">" % png] + table + [
+        "<p>Each bar: the median over the jobs that played this container (one pnb-play process "
+        "each, page cache warm); whiskers min-max. Floor: mmap + memcpy of the container's bytes "
+        "into fresh memory right after (pnb_load_probe --loader floor): no loader can have its "
+        "bytes faster.</p>"]
+
+
+def gallery_section(rows, results_dir, out_dir):
+    """Each configuration's last measured frame with the error maps of that frame beside it."""
+    figures = []
+    for r in rows:
+        job = os.path.join(results_dir, r["key"])
+        if not os.path.exists(os.path.join(job, "frame.png")):
+            continue
+        os.makedirs(os.path.join(out_dir, "frames"), exist_ok=True)
+        images = [("frame.png", "frame")]
+        legend = {}
+        if os.path.exists(os.path.join(job, "error_maps.json")):
+            with open(os.path.join(job, "error_maps.json")) as f:
+                maps = json.load(f).get("maps", {})
+            for kind, m in sorted(maps.items()):
+                images.append((m["file"], "%s error" % kind))
+                legend[kind] = m.get("legend", "")
+        cells = []
+        for file, caption in images:
+            if not os.path.exists(os.path.join(job, file)):
+                continue
+            dest = "%s_%s" % (r["key"], file)
+            shutil.copyfile(os.path.join(job, file), os.path.join(out_dir, "frames", dest))
+            cells.append("<img src=\"frames/%s\" width=\"200\" title=\"%s\" alt=\"%s\">"
+                         % (dest, html.escape(caption), html.escape(caption)))
+        text = html.escape(label(r))
+        if legend:
+            text += "<br>" + "<br>".join("%s: %s" % (html.escape(k), html.escape(v)) for k, v in legend.items())
+        figures.append("<figure style=\"display:inline-block;margin:4px;vertical-align:top\">%s"
+                       "<figcaption style=\"font-size:small;max-width:%dpx\">%s</figcaption></figure>"
+                       % ("".join(cells), 204 * len(cells), text))
+    if not figures:
+        return []
+    return ["<h3>Last measured frame of each configuration, with its error maps</h3>"] + figures
+
+
+def extremes_section(path):
+    """The ground-truth extremes matrix (bench/extremes/matrix.py, run by the test
+    reference.extremes_matrix and by scripts/bench-extremes): per technique, each row's error at
+    each unit scale, out-of-band cells marked."""
+    with open(path, newline="") as f:
+        cells = list(csv.DictReader(f))
+    if not cells:
+        return []
+    scales = sorted({c["scale"] for c in cells}, key=float)
+    body = ["<h2>Numerical extremes</h2>",
+            "<p>From %s: each row one scene variant (unit scale, far origin, grazing sun, tiny near "
+            "plane), each column a unit of length; cells: misclassified %% / irradiance-weighted "
+            "error %% against Embree; <b>red</b>: outside the band the test asserts, or not finite.</p>"
+            % html.escape(path)]
+    for t in sorted({c["technique"] for c in cells}):
+        body.append("<h3>%s</h3><table border=1 cellpadding=3><tr><th>row</th>%s</tr>"
+                    % (html.escape(t.upper()), "".join("<th>x%s</th>" % html.escape(s) for s in scales)))
+        for row in dict.fromkeys(c["row"] for c in cells if c["technique"] == t):
+            tds = []
+            for s in scales:
+                c = next((c for c in cells if c["row"] == row and c["scale"] == s and c["technique"] == t), None)
+                if c is None:
+                    tds.append("<td></td>")
+                    continue
+                bad = c.get("in_band") != "yes"
+                tds.append("<td%s>%.3f / %.3f</td>" % (" style=\"color:#c00000;font-weight:bold\"" if bad else "",
+                                                       float(c["misclassified_pct"]), float(c["weighted_error_pct"])))
+            body.append("<tr><td>%s</td>%s</tr>" % (html.escape(row), "".join(tds)))
+        body.append("</table>")
+    return body
+
+
+def write_report(columns, rows, out_dir, results_dir=None, extremes=None):
     """Writes out_dir/index.html, results.csv and one PNG per chart. Returns the HTML path."""
     try:
         import matplotlib
@@ -52,72 +259,27 @@ def write_report(columns, rows, out_dir, results_dir=None):
         w.writeheader()
         w.writerows(rows)
     body = ["<h1>pnb-sweep report</h1>",
-            "<p>%d configurations. Cost: median GPU time per frame. <a href=\"results.csv\">results.csv</a></p>"
-            % len(rows)]
+            "<p>%d configurations. <a href=\"results.csv\">results.csv</a></p>" % len(rows)]
     renderers = sorted({r.get("gl_renderer", "") for r in rows})
     body.append("<p>GL renderers: %s</p>" % html.escape(", ".join(renderers)))
     for scene in sorted({r["scene"] for r in rows}):
         srows = [r for r in rows if r["scene"] == scene]
         body.append("<h2>%s</h2>" % html.escape(scene))
-        for metric, title in HEADLINE_ERRORS:
-            measured = [r for r in srows if r.get(metric) not in (None, "") and r.get("gpu_ms:total") not in (None, "")]
-            if not measured:
-                continue
-            points = [(float(r["gpu_ms:total"]), float(r[metric])) for r in measured]
-            front = pareto_front(points)
-            png = "%s_%s.png" % (scene, metric.split(":", 1)[1])
-            fig, ax = plt.subplots(figsize=(6, 4))
-            ax.scatter([p[0] for p in points], [p[1] for p in points], color="#999999", label="configurations")
-            fx = [points[i][0] for i in front]
-            fy = [points[i][1] for i in front]
-            ax.plot(fx, fy, "o-", color="#c03020", label="Pareto front")
-            for i in front:
-                ax.annotate(label(measured[i]), points[i], fontsize=7, xytext=(4, 4), textcoords="offset points")
-            ax.set_xlabel("GPU ms per frame (median)")
-            ax.set_ylabel(title)
-            ax.set_title(scene)
-            ax.legend()
-            fig.tight_layout()
-            fig.savefig(os.path.join(out_dir, png), dpi=100)
-            plt.close(fig)
-            body.append("<h3>%s</h3><img src=\"%s\" alt=\"%s\">" % (html.escape(title), png, html.escape(title)))
-            body.append("<table border=1 cellpadding=3><tr><th>configuration</th><th>GPU ms</th><th>%s</th></tr>"
-                        % html.escape(title))
-            for i in front:
-                body.append("<tr><td>%s</td><td>%.2f</td><td>%.3g</td></tr>"
-                            % (html.escape(label(measured[i])), points[i][0], points[i][1]))
-            body.append("</table>")
-        passes = [c for c in columns if c.startswith("gpu_ms:") and c != "gpu_ms:total"]
-        if passes:
-            png = "%s_passes.png" % scene
-            fig, ax = plt.subplots(figsize=(7, 0.5 + 0.4 * len(srows)))
-            left = [0.0] * len(srows)
-            for p in passes:
-                values = [float(r.get(p) or 0.0) for r in srows]
-                ax.barh(range(len(srows)), values, left=left, label=p.split(":", 1)[1])
-                left = [a + b for a, b in zip(left, values)]
-            ax.set_yticks(range(len(srows)))
-            ax.set_yticklabels([label(r) for r in srows], fontsize=7)
-            ax.set_xlabel("GPU ms per frame (median), by pass")
-            ax.legend(fontsize=7, loc="lower right")
-            fig.tight_layout()
-            fig.savefig(os.path.join(out_dir, png), dpi=100)
-            plt.close(fig)
-            body.append("<h3>GPU time per pass</h3><img src=\"%s\" alt=\"per-pass time\">" % png)
-        # Gallery: each configuration's last frame, copied beside the page.
-        figures = []
-        for r in srows:
-            frame = os.path.join(results_dir, r["key"], "frame.png") if results_dir else None
-            if frame and os.path.exists(frame):
-                os.makedirs(os.path.join(out_dir, "frames"), exist_ok=True)
-                shutil.copyfile(frame, os.path.join(out_dir, "frames", r["key"] + ".png"))
-                figures.append("<figure style=\"display:inline-block;margin:4px\"><img src=\"frames/%s.png\" "
-                               "width=\"240\"><figcaption style=\"font-size:small\">%s</figcaption></figure>"
-                               % (r["key"], html.escape(label(r))))
-        if figures:
-            body.append("<h3>Last frame of each configuration</h3>" + "".join(figures))
+        for metric, title, cost, cost_title in HEADLINE_ERRORS:
+            body += front_section(plt, scene, srows, metric, title, cost, cost_title, out_dir)
+        body += passes_section(plt, scene, srows, columns, out_dir)
+        body += load_section(plt, scene, srows, out_dir)
+        if results_dir:
+            body += gallery_section(srows, results_dir, out_dir)
+    if extremes:
+        body += extremes_section(extremes)
+    else:
+        body.append("<h2>Numerical extremes</h2><p>Not included: give <code>--extremes</code> the "
+                    "matrix.csv of <code>scripts/bench-extremes</code> or of the test "
+                    "<code>reference.extremes_matrix</code>.</p>")
     page = os.path.join(out_dir, "index.html")
-    with open(page, "w") as f:
+    with open(page + ".tmp", "w") as f:
         f.write("<!doctype html><html><head><meta charset=\"utf-8\"><title>pnb-sweep report</title></head>"
                 "<body>\n%s\n</body></html>\n" % "\n".join(body))
+    os.replace(page + ".tmp", page)
     return page

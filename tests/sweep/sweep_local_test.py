@@ -52,6 +52,11 @@ class SweepLocal(unittest.TestCase):
             f.write(text)
         return path
 
+    @staticmethod
+    def read(path):
+        with open(path) as f:
+            return f.read()
+
     def sweep(self, *args):
         return pnb_sweep.main(["--build", BUILD] + list(args))
 
@@ -65,7 +70,8 @@ class SweepLocal(unittest.TestCase):
             summary = pnb_sweep.read_json(os.path.join(self.results, key, "summary.json"))
             self.assertEqual(summary["settings"]["shadows.technique"], job["settings"]["shadows.technique"])
             self.assertEqual(job["settings"]["gi.enabled"], "false")
-        self.assertEqual(len(os.listdir(os.path.join(self.results, "converted"))), 1, "one conversion, cached")
+        converted = os.listdir(os.path.join(self.results, "converted"))
+        self.assertEqual(len([f for f in converted if f.endswith(".pnb")]), 1, "one conversion, cached")
         mtimes = {k: os.path.getmtime(os.path.join(self.results, k, "job.json")) for k in done}
         # A rerun finds every job finished.
         sweep = pnb_sweep.load_sweep(s)
@@ -139,6 +145,90 @@ class SweepLocal(unittest.TestCase):
         self.assertNotEqual(os.path.getmtime(os.path.join(out, "box-room.pnb")), mtimes["box-room.pnb"])
         listing = self.write("list.txt", "in/box-room.glb\nin/nothing.glb\n")
         self.assertEqual(self.sweep("convert", "--local", listing, "-o", out), 1)
+
+    def test_converter_axes_and_axis_groups(self):
+        s = self.write("conv.toml", """
+name = "conv"
+frames = 2
+size = "64x36"
+[[axes]]
+"shadows.technique" = ["off", "single"]
+[[axes]]
+"shadows.technique" = ["off"]
+"convert.quantize" = [true, false]
+[[axes]]
+"shadows.technique" = ["off"]          # the first group's again: planned once
+[[scenes]]
+name = "box-room"
+source = "%s"
+""" % self.glb)
+        data = pnb_sweep.plan(pnb_sweep.load_sweep(s), pnb_sweep.binaries(BUILD), self.results)
+        self.assertEqual(len(data["jobs"]), 4, "2 + 2 combinations, the repeated one once")
+        by_quantize = {j["settings"].get("convert.quantize"): j for j in data["jobs"]
+                       if j["settings"]["shadows.technique"] == "off"}
+        self.assertEqual(by_quantize["true"]["convert"], ["--quantize"])
+        self.assertEqual(by_quantize["false"]["convert"], [])
+        # "false" is the option left out: the same conversion as no option at all.
+        self.assertEqual(by_quantize["false"]["conversion"], by_quantize[None]["conversion"])
+        self.assertNotEqual(by_quantize["true"]["conversion"], by_quantize[None]["conversion"])
+        self.assertEqual(self.sweep("run", "--local", s, "--results", self.results), 0)
+        converted = os.listdir(os.path.join(self.results, "converted"))
+        self.assertEqual(sorted(f for f in converted if f.endswith(".pnb")),
+                         sorted({j["conversion"] + ".pnb" for j in data["jobs"]}))
+        self.assertFalse([f for f in converted if ".tmp." in f], "no conversion left half-made")
+        for j in data["jobs"]:
+            log = self.read(os.path.join(j["result"], "log.txt")).splitlines()[0]
+            self.assertNotIn("convert.quantize", log, "converter options are not player settings")
+        columns, rows = pnb_sweep.collect(self.results)
+        quantized = [r for r in rows if r.get("set:convert.quantize") == "true"]
+        plain = [r for r in rows if r.get("set:convert.quantize") != "true"]
+        self.assertEqual((len(quantized), len(plain)), (1, 3))
+        self.assertGreater(quantized[0]["convert:max_position_error"], 0)
+        self.assertLess(quantized[0]["convert:output_bytes"], plain[0]["convert:output_bytes"])
+        for r in rows:
+            self.assertEqual(r["load:file_bytes"], r["convert:output_bytes"], "the container played")
+            self.assertGreater(r["load_ms:total"], 0)
+            for phase in pnb_sweep.LOAD_PHASES:
+                self.assertIn("load_ms:" + phase, r)
+            if pnb_sweep.binaries(BUILD)["probe"]:
+                self.assertGreater(float(r["load_ms:floor"]), 0)
+                self.assertLess(float(r["load_ms:floor"]), float(r["load_ms:total"]), "a floor below the load")
+        for r in plain:
+            self.assertEqual(r["convert:max_position_error"], 0, "not quantised: exact")
+        report = os.path.join(self.dir, "report")
+        self.assertEqual(self.sweep("report", self.results, "-o", report), 0)
+        page = self.read(os.path.join(report, "index.html"))
+        self.assertIn("mesh quantisation: max position error", page)
+        self.assertIn("--quantize", page)
+        self.assertIn("<h3>Load time</h3>", page)
+        self.assertTrue(os.path.getsize(os.path.join(report, "box-room_max_position_error.png")) > 1000)
+        self.assertTrue(os.path.getsize(os.path.join(report, "box-room_load.png")) > 1000)
+        missing = os.path.join(self.dir, "none.csv")
+        r = subprocess.run([sys.executable, os.path.join(REPO, "sweep", "pnb_sweep.py"), "--build", BUILD,
+                            "report", self.results, "-o", report, "--extremes", missing],
+                           capture_output=True, text=True)
+        self.assertEqual(r.returncode, 1)
+        self.assertIn(missing + ": no extremes matrix", r.stderr)
+        # Converter axes on a container: nothing to convert, an error naming the scene.
+        bad = self.write("bad.toml", '[axes]\n"convert.quantize" = [true]\n[[scenes]]\nsource = "%s"\n'
+                         % os.path.join(SCENES, "box-room.pnb"))
+        with self.assertRaises(pnb_sweep.SweepError) as e:
+            pnb_sweep.load_sweep(bad)
+        self.assertIn("box-room.pnb", str(e.exception))
+
+    def test_the_report_shows_the_extremes_matrix_with_its_bands(self):
+        matrix = self.write("matrix.csv", "row,scale,technique,misclassified_pct,weighted_error_pct,in_band\n"
+                            "street,1,sdsm,0.022,0.175,yes\nstreet,1e5,sdsm,0.031,0.180,yes\n"
+                            "wide-flat,1e3,sdsm,4.5,6.1,no\n")
+        columns = ["key", "scene", "set:shadows.technique", "gpu_ms:total", "metric:misclassified_pct"]
+        rows = [{"key": "a", "scene": "s", "set:shadows.technique": "pssm", "gpu_ms:total": 2.0,
+                 "metric:misclassified_pct": 0.5}]
+        import sweep_report
+        page = self.read(sweep_report.write_report(columns, rows, os.path.join(self.dir, "r"), None, matrix))
+        self.assertIn("<h2>Numerical extremes</h2>", page)
+        self.assertIn("<td>0.022 / 0.175</td>", page)
+        self.assertIn("color:#c00000;font-weight:bold\">4.500 / 6.100", page, "out of band: marked")
+        self.assertIn("<th>x1e5</th>", page)
 
     def test_the_pareto_front_keeps_what_nothing_beats(self):
         import sweep_report
