@@ -23,8 +23,10 @@ Subcommands:
                                     the run options and the binaries' bytes. A job's results live in
                                     DIR/<key>/; a rerun skips jobs whose results are complete, and a
                                     changed axis value, scene or binary reruns only what it changes.
-    run --local SWEEP [--results DIR]   runs the pending jobs on this machine, one at a time (they
-                                    share the GPU; conversions are cached by their own key).
+    run --local SWEEP [--results DIR] [-j N] [--gpu-jobs K]
+                                    runs the pending jobs on this machine: the conversions they
+                                    need first, N at once (cached by their own key), then the
+                                    jobs, K at once (default 1: they share the GPU).
     run --slurm SWEEP [--results DIR] [--partition P] [--gres G] [--throttle N] [--wait]
                                     writes the plan into DIR and submits the pending jobs as one
                                     `sbatch --array` job (one task per job, at most N at once,
@@ -279,6 +281,7 @@ def run_job(plan_data, index):
     parent = os.path.dirname(job["result"])
     os.makedirs(parent, exist_ok=True)
     tmp = tempfile.mkdtemp(prefix=".%s.tmp." % job["key"], dir=parent)
+    started = time.time()
     try:
         # The image of the last measured frame (else the last frame): the report's gallery, beside
         # that frame's error maps.
@@ -310,9 +313,11 @@ def run_job(plan_data, index):
                 index, job["key"], r.returncode, os.path.join(tmp, "log.txt")))
         if job["conversion"] is not None:
             shutil.copyfile(scene + ".summary.json", os.path.join(tmp, "conversion.json"))
+        record = {k: job[k] for k in ("index", "key", "scene", "settings", "frames", "size", "metrics")}
+        # When and where it ran (wall clock, seconds since the epoch): what a sweep's schedule took.
+        record.update(started=started, finished=time.time(), host=os.uname().nodename)
         with open(os.path.join(tmp, "job.json"), "w") as f:
-            json.dump({k: job[k] for k in ("index", "key", "scene", "settings", "frames", "size", "metrics")},
-                      f, indent=2, sort_keys=True)
+            json.dump(record, f, indent=2, sort_keys=True)
         if os.path.exists(job["result"]):
             shutil.rmtree(job["result"])  # an incomplete earlier attempt
         os.rename(tmp, job["result"])
@@ -321,6 +326,36 @@ def run_job(plan_data, index):
             shutil.rmtree(tmp, ignore_errors=True)
         raise
     return "ran"
+
+
+def run_local(data, pending, jobs, gpu_jobs):
+    """Runs `pending` on this machine: first every conversion they need, `jobs` at once (CPU
+    work), then the jobs themselves, `gpu_jobs` at once (default 1: jobs that share a GPU would
+    time each other). The first failure stops the run after the jobs in flight; finished jobs
+    keep their results."""
+    from concurrent.futures import ThreadPoolExecutor
+
+    def each(pool_size, fn, items):
+        with ThreadPoolExecutor(max_workers=max(1, pool_size)) as pool:
+            futures = [pool.submit(fn, item) for item in items]
+            try:
+                for f in futures:
+                    f.result()
+            except BaseException:
+                for f in futures:
+                    f.cancel()
+                raise
+
+    first = {}
+    for job in pending:
+        if job["conversion"] is not None:
+            first.setdefault(job["conversion"], job)
+    each(jobs, lambda job: converted_scene(job, data), list(first.values()))
+
+    def play(job):
+        status = run_job(data, job["index"])
+        print("job %d %s: %s" % (job["index"], job["key"], status), flush=True)
+    each(gpu_jobs, play, pending)
 
 
 def slurm_submit(data, a, env=None):
@@ -500,6 +535,10 @@ def main(argv=None):
     r.add_argument("--gres", default=None, help="e.g. gpu:1")
     r.add_argument("--throttle", type=int, default=0, help="array tasks running at once (0: no limit)")
     r.add_argument("--wait", action="store_true", help="with --slurm: wait for the array and collect jobs")
+    r.add_argument("-j", "--jobs", type=int, default=os.cpu_count() or 1,
+                   help="with --local: conversions at once (default: the cores)")
+    r.add_argument("--gpu-jobs", type=int, default=1,
+                   help="with --local: pnb-play jobs at once (default 1: jobs sharing a GPU time each other)")
     st = sub.add_parser("status")
     st.add_argument("plan")
     st.add_argument("--results", default=None)
@@ -562,9 +601,7 @@ def main(argv=None):
                                                        "; unfinished: see failed.txt" if missing else ""))
                     return 1 if missing else 0
                 return 0
-            for job in data["jobs"]:
-                status = run_job(data, job["index"])
-                print("job %d %s: %s" % (job["index"], job["key"], status), flush=True)
+            run_local(data, pending, a.jobs, a.gpu_jobs)
             print("%d jobs, %d run, results in %s" % (len(data["jobs"]), len(pending), results))
             return 0
         if a.command == "convert":

@@ -171,7 +171,12 @@ source = "%s"
         # "false" is the option left out: the same conversion as no option at all.
         self.assertEqual(by_quantize["false"]["conversion"], by_quantize[None]["conversion"])
         self.assertNotEqual(by_quantize["true"]["conversion"], by_quantize[None]["conversion"])
-        self.assertEqual(self.sweep("run", "--local", s, "--results", self.results), 0)
+        # Conversions two at a time, then the jobs one at a time (the default: they share the GPU).
+        self.assertEqual(self.sweep("run", "--local", s, "--results", self.results, "-j", "2"), 0)
+        spans = sorted((j["started"], j["finished"]) for j in
+                       (pnb_sweep.read_json(os.path.join(d["result"], "job.json")) for d in data["jobs"]))
+        for (_, end), (start, _) in zip(spans, spans[1:]):
+            self.assertLessEqual(end, start, "GPU jobs never overlap with --gpu-jobs 1")
         converted = os.listdir(os.path.join(self.results, "converted"))
         self.assertEqual(sorted(f for f in converted if f.endswith(".pnb")),
                          sorted({j["conversion"] + ".pnb" for j in data["jobs"]}))
