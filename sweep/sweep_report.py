@@ -1,7 +1,7 @@
 """pnb-sweep report: a self-contained HTML page (plus the PNGs and CSV it shows) from a results
 directory. Per scene: the Pareto front of each measured error against its cost over every
 configuration swept, the front's configurations as a table, the GPU time per pass of every
-configuration, load time against the raw-bytes floor, and a gallery of each configuration's last
+configuration and along the path for the front's, load time against the raw-bytes floor, and a gallery of each configuration's last
 measured frame beside its error maps. Then the numerical-extremes table of the ground-truth
 tests, when given.
 
@@ -127,7 +127,52 @@ def passes_section(plt, scene, rows, columns, out_dir):
     fig.tight_layout()
     fig.savefig(os.path.join(out_dir, png), dpi=100)
     plt.close(fig)
-    return ["<h3>GPU time per pass along the path</h3><img src=\"%s\" alt=\"per-pass time\">" % png]
+    return ["<h3>GPU time per pass, median of each configuration</h3><img src=\"%s\" alt=\"per-pass time\">" % png]
+
+
+def path_section(plt, scene, rows, results_dir, out_dir, limit=6):
+    """GPU time per pass along the camera path (frames.csv) for the configurations worth a look:
+    those on a render error's Pareto front, else the first ones, at most `limit`."""
+    chosen = []
+    for metric, _, cost, _ in HEADLINE_ERRORS:
+        if cost != GPU[0]:
+            continue
+        measured = [r for r in rows if number(r, metric) is not None and number(r, cost) is not None]
+        for i in pareto_front([(number(r, cost), number(r, metric)) for r in measured]):
+            if measured[i] not in chosen:
+                chosen.append(measured[i])
+    chosen = (chosen or rows)[:limit]
+    series = []
+    for r in chosen:
+        path = os.path.join(results_dir, r["key"], "frames.csv")
+        if os.path.exists(path):
+            with open(path, newline="") as f:
+                series.append((r, list(csv.DictReader(f))))
+    series = [(r, frames) for r, frames in series if frames]
+    if not series:
+        return []
+    passes = list(dict.fromkeys(c for _, frames in series for c in frames[0]
+                                if c.startswith("gpu_") and c.endswith("_ms") and c != "gpu_total_ms"))
+    png = "%s_path.png" % scene
+    cols = min(3, len(series))
+    rows_n = (len(series) + cols - 1) // cols
+    fig, axes = plt.subplots(rows_n, cols, figsize=(4 * cols, 2.8 * rows_n), sharey=True, squeeze=False)
+    for ax, (r, frames) in zip(axes.flat, series):
+        x = [int(f["frame"]) for f in frames]
+        ax.stackplot(x, *[[float(f.get(p) or 0) for f in frames] for p in passes],
+                     labels=[p[4:-3] for p in passes])
+        ax.set_title(label(r), fontsize=7)
+        ax.set_xlabel("frame", fontsize=7)
+    for ax in list(axes.flat)[len(series):]:
+        ax.axis("off")
+    axes.flat[0].set_ylabel("GPU ms")
+    axes.flat[0].legend(fontsize=6, loc="upper left")
+    fig.tight_layout()
+    fig.savefig(os.path.join(out_dir, png), dpi=100)
+    plt.close(fig)
+    return ["<h3>GPU time per pass along the path</h3><p>The configurations on a Pareto front above "
+            "(at most %d), frame by frame.</p><img src=\"%s\" alt=\"per-pass time along the path\">"
+            % (limit, png)]
 
 
 def load_section(plt, scene, rows, out_dir):
@@ -270,6 +315,7 @@ def write_report(columns, rows, out_dir, results_dir=None, extremes=None):
         body += passes_section(plt, scene, srows, columns, out_dir)
         body += load_section(plt, scene, srows, out_dir)
         if results_dir:
+            body += path_section(plt, scene, srows, results_dir, out_dir)
             body += gallery_section(srows, results_dir, out_dir)
     if extremes:
         body += extremes_section(extremes)

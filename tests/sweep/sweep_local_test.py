@@ -108,6 +108,7 @@ class SweepLocal(unittest.TestCase):
         for scene in ("box-room", "box-room-quantized"):
             self.assertIn("<h2>%s</h2>" % scene, page)
             self.assertTrue(os.path.getsize(os.path.join(report, scene + "_passes.png")) > 1000)
+            self.assertTrue(os.path.getsize(os.path.join(report, scene + "_path.png")) > 1000)
         frames = os.listdir(os.path.join(report, "frames"))
         self.assertEqual(len(frames), 6, "one image per configuration in the gallery")
         for f in frames:
