@@ -119,7 +119,16 @@ PlayResult<std::vector<std::pair<std::string, double>>> IrradianceQuality::measu
     out.emplace_back(mPrefix + "blue_ratio", m.channelRatio[2]);
     out.emplace_back(mPrefix + "leak_pct", m.leakPercent);
     mPrevious = std::move(player);
+    mLastTruth = std::move(truth);
+    mLastError = std::move(error);
+    mLastWidth = indirect->width;
+    mLastHeight = indirect->height;
+    mLastReferenceMean = m.referenceMean;
     return out;
+}
+
+IrradianceQuality::Frame IrradianceQuality::lastFrame() const {
+    return {mLastWidth, mLastHeight, mPrevious, mLastTruth, mLastError, mLastReferenceMean};
 }
 
 } // namespace pnb::player

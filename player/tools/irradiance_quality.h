@@ -32,6 +32,17 @@ public:
 
     PlayResult<std::vector<std::pair<std::string, double>>> measure(Renderer& renderer, bool followUp);
 
+    // The last measured frame (not a follow-up) exactly as compared: per pixel the player's and
+    // the truth's irradiance and the truth's standard error (a pixel counts where
+    // reference::comparedPixel holds), rows bottom-up as captured, and the metric's mean truth
+    // luminance. Empty (0 x 0) before the first measurement; valid until the next one.
+    struct Frame {
+        uint32_t width = 0, height = 0;
+        std::span<const glm::vec3> player, truth, standardError;
+        double referenceMean = 0;
+    };
+    Frame lastFrame() const;
+
 private:
     IrradianceQuality() = default;
     // Truth at origin-relative points with the eye at `eye` (origin-relative).
@@ -43,6 +54,9 @@ private:
     Trace mTrace;
     glm::dvec3 mOrigin{0.0};
     std::vector<glm::vec3> mPrevious; // the last measured frame's player irradiance
+    std::vector<glm::vec3> mLastTruth, mLastError; // and its truth, for lastFrame()
+    uint32_t mLastWidth = 0, mLastHeight = 0;
+    double mLastReferenceMean = 0;
 };
 
 } // namespace pnb::player

@@ -6,7 +6,8 @@
 
 namespace pnb::player {
 
-PlayResult<std::vector<std::pair<std::string, double>>> measureLodQuality(Renderer& renderer, bool followUp) {
+PlayResult<std::vector<std::pair<std::string, double>>> measureLodQuality(Renderer& renderer, bool followUp,
+                                                                          LodFrame* last) {
     std::vector<std::pair<std::string, double>> out;
     if (followUp) return out;
     const uint64_t lodTriangles = renderer.lastFrame().triangles;
@@ -23,6 +24,7 @@ PlayResult<std::vector<std::pair<std::string, double>>> measureLodQuality(Render
     if (!reference) return reference.error();
     double squared = 0;
     size_t over = 0, pixels = size_t(selected->width) * selected->height;
+    std::vector<uint8_t> worstOf(pixels);
     for (size_t p = 0; p < pixels; ++p) {
         int worst = 0;
         for (size_t c = 0; c < 3; ++c) {
@@ -31,7 +33,9 @@ PlayResult<std::vector<std::pair<std::string, double>>> measureLodQuality(Render
             worst = std::max(worst, std::abs(d));
         }
         over += worst > 8;
+        worstOf[p] = uint8_t(worst);
     }
+    if (last) *last = {selected->width, selected->height, std::move(worstOf)};
     const double mse = squared / double(std::max<size_t>(pixels * 3, 1));
     const double psnr = mse > 0 ? std::min(100.0, 10.0 * std::log10(255.0 * 255.0 / mse)) : 100.0;
     out.emplace_back("lod_psnr_db", psnr);

@@ -4,6 +4,7 @@
 // pixels off by more than 8/255, with the triangles of both renders.
 #pragma once
 
+#include <cstdint>
 #include <string>
 #include <utility>
 #include <vector>
@@ -16,6 +17,14 @@ namespace pnb::player {
 // lod_triangles, full_triangles (main view) and lod_triangle_ratio. Renders the last camera once
 // more at full detail and restores the settings; the level state is not touched (lod.force
 // bypasses it). Returns nothing for follow-up frames (no temporal metric).
-PlayResult<std::vector<std::pair<std::string, double>>> measureLodQuality(Renderer& renderer, bool followUp);
+// With `last`, a measured frame also leaves there the per-pixel array the metric counted: the
+// largest |selected - full| over R, G, B in 8-bit units (lod_pixels_over8_pct: values > 8),
+// rows bottom-up as captured.
+struct LodFrame {
+    uint32_t width = 0, height = 0;
+    std::vector<uint8_t> worst;
+};
+PlayResult<std::vector<std::pair<std::string, double>>> measureLodQuality(Renderer& renderer, bool followUp,
+                                                                          LodFrame* last = nullptr);
 
 } // namespace pnb::player

@@ -14,6 +14,7 @@
 #include <string>
 #include <vector>
 
+#include "error_maps.h"
 #include "irradiance_quality.h"
 #include "lod_quality.h"
 #include "input_actions.h"
@@ -81,6 +82,14 @@ Run:
   --gi-samples S          rays per pixel of that truth (default 64)
   --gi-lights sun|all     light the truth's bounce with the sun alone (default: what GI models)
                           or every light
+  --error-maps            with --bench and a metric above: heat-maps of the last measured frame
+                          (not its follow-up) into --out, lined up with --screenshot images:
+                          error_shadow.png (dark grey unclassified, light greys correct lit /
+                          shadowed, red false lit, blue false shadow; brighter = larger
+                          |player - truth|), error_gi.png and error_sky.png (|player - truth|
+                          luminance / mean truth luminance, magma ramp black..pale yellow up to
+                          100 %; dark grey unmeasured), error_lod.png (largest RGB difference to
+                          full detail, same ramp up to 32/255); error_maps.json: frame and legend
 
 Window (see docs/PLAYER.md):
   WASD move, Q/E down/up, Shift faster, right-drag look, O orbit (left-drag, W/S in/out)
@@ -134,7 +143,7 @@ struct Args {
     int camera = -1;
     uint32_t frames = 0, frame = 0, width = 0, height = 0, shadowMetrics = 0, giMetrics = 0, giSamples = 64,
              lodMetrics = 0, skyMetrics = 0, skySamples = 64;
-    bool giAllLights = false, skyFromSh = false;
+    bool giAllLights = false, skyFromSh = false, errorMaps = false;
     int stream = -1; // --stream 1, --no-stream 0, -1: by mode
 };
 
@@ -185,6 +194,7 @@ Args parseArgs(int argc, char** argv) {
         else if (s == "--gi-samples") a.giSamples = parseCount("--gi-samples", next(i));
         else if (s == "--gi-lights") a.giAllLights = std::string(next(i)) == "all";
         else if (s == "--sky-metrics") a.skyMetrics = parseCount("--sky-metrics", next(i));
+        else if (s == "--error-maps") a.errorMaps = true;
         else if (s == "--sky-samples") a.skySamples = parseCount("--sky-samples", next(i));
         else if (s == "--sky-source") {
             std::string v = next(i);
@@ -236,6 +246,9 @@ Args parseArgs(int argc, char** argv) {
     if (a.scene.empty()) usageError("no scene given");
     if (a.bench && a.outDir.empty()) usageError("--bench needs --out DIR");
     if (!a.dumps.empty() && a.outDir.empty()) usageError("--dump needs --out DIR");
+    if (a.errorMaps && (!a.bench || !(a.shadowMetrics || a.giMetrics || a.skyMetrics || a.lodMetrics)))
+        usageError("--error-maps needs --bench and at least one of --shadow-metrics, --gi-metrics, "
+                   "--sky-metrics, --lod-metrics (the maps show what those measure)");
     if (a.stream == 0 && a.scene == "-") usageError("'-' (standard input) is read by streaming: drop --no-stream");
     if (!a.scriptInput.empty() && (a.headless || a.bench))
         usageError("--script-input drives the window (not --headless or --bench)");
@@ -521,15 +534,23 @@ int main(int argc, char** argv) {
         });
     }
 
+    LodFrame lodFrame; // --error-maps: the last measured frame's per-pixel LOD difference
     if (args.lodMetrics > 0) {
         if (!args.bench) return fail({PlayErrorKind::Usage, "--lod-metrics needs --bench"});
         if (bo.quality.measure && bo.quality.every != args.lodMetrics)
             return fail({PlayErrorKind::Usage, "--lod-metrics and the other metrics must measure the same frames"});
         bo.quality.every = args.lodMetrics;
-        bo.quality.measure = chainQuality(bo.quality.measure, [](uint32_t, Renderer& r, bool followUp) {
-            return measureLodQuality(r, followUp);
+        bo.quality.measure = chainQuality(bo.quality.measure, [&](uint32_t, Renderer& r, bool followUp) {
+            return measureLodQuality(r, followUp, args.errorMaps ? &lodFrame : nullptr);
         });
     }
+    // --error-maps: the frame the modules' last measurement is of (they keep no follow-up).
+    uint32_t errorMapFrame = 0;
+    if (args.errorMaps && bo.quality.measure)
+        bo.quality.measure = [inner = bo.quality.measure, &errorMapFrame](uint32_t k, Renderer& r, bool followUp) {
+            if (!followUp) errorMapFrame = k;
+            return inner(k, r, followUp);
+        };
 
     if (args.bench || !window) {
         // Headless screenshot/dump/smoke run: frame times as a run of --frames would have them,
@@ -550,6 +571,16 @@ int main(int argc, char** argv) {
             };
         auto result = runBenchmark(*scene, **renderer, bo, load, gl, present);
         if (!result) return fail(result.error());
+        if (args.errorMaps) {
+            std::vector<ErrorMap> maps;
+            if (shadowQuality) maps.push_back(shadowErrorMap(shadowQuality->lastFrame()));
+            if (giQuality) maps.push_back(irradianceErrorMap("gi", giQuality->lastFrame()));
+            if (skyQuality) maps.push_back(irradianceErrorMap("sky", skyQuality->lastFrame()));
+            if (args.lodMetrics > 0) maps.push_back(lodErrorMap(lodFrame));
+            auto written = writeErrorMaps(args.outDir, errorMapFrame, maps);
+            if (!written) return fail(written.error());
+            result->written.insert(result->written.end(), written->begin(), written->end());
+        }
         if (!args.quiet) {
             std::printf("%u frames at %ux%u\n", result->frames, bo.width, bo.height);
             for (const PassSummary& p : result->gpu)

@@ -11,8 +11,9 @@ namespace pnb::player {
 
 struct ShadowQuality::Impl {
     std::unique_ptr<reference::ShadowTracer> tracer;
-    // The last measured frame, for the follow-up's flicker.
+    // The last measured frame, for the follow-up's flicker and lastFrame().
     std::vector<float> previousPlayer, previousTruth;
+    uint32_t width = 0, height = 0;
 };
 
 ShadowQuality::~ShadowQuality() = default;
@@ -101,7 +102,13 @@ PlayResult<std::vector<std::pair<std::string, double>>> ShadowQuality::measure(R
     }
     mImpl->previousPlayer = std::move(player);
     mImpl->previousTruth = std::move(truth);
+    mImpl->width = position->width;
+    mImpl->height = position->height;
     return out;
+}
+
+ShadowQuality::Frame ShadowQuality::lastFrame() const {
+    return {mImpl->width, mImpl->height, mImpl->previousPlayer, mImpl->previousTruth};
 }
 
 } // namespace pnb::player

@@ -7,7 +7,9 @@
 // frames while the truth's did not (a static scene under a moving camera should have none).
 #pragma once
 
+#include <cstdint>
 #include <memory>
+#include <span>
 #include <string>
 #include <utility>
 #include <vector>
@@ -28,6 +30,16 @@ public:
     // flicker against it is reported.
     PlayResult<std::vector<std::pair<std::string, double>>> measure(Renderer& renderer, glm::vec3 towardLight,
                                                                      bool followUp);
+
+    // The last measured frame (not a follow-up) exactly as compared: per pixel the player's
+    // shadow factor and the truth's visibility (NaN where the player left the pixel out), rows
+    // bottom-up as captured. Classify with reference::classifyShadow, as the metric does. Empty
+    // (0 x 0) before the first measurement; valid until the next one.
+    struct Frame {
+        uint32_t width = 0, height = 0;
+        std::span<const float> player, truth;
+    };
+    Frame lastFrame() const;
 
 private:
     ShadowQuality() = default;

@@ -6,14 +6,18 @@
 
 namespace pnb::reference {
 
+bool comparedPixel(const glm::vec3& player, const glm::vec3& reference, const glm::vec3& standardError) {
+    auto finite = [](const glm::vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); };
+    return finite(player) && finite(reference) && finite(standardError);
+}
+
 IndirectErrorMetrics compareIndirect(std::span<const glm::vec3> player, std::span<const glm::vec3> reference,
                                      std::span<const glm::vec3> standardError) {
     IndirectErrorMetrics m;
     if (player.size() != reference.size() || standardError.size() != reference.size()) return m;
-    auto finite = [](const glm::vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); };
     double sumP = 0, sumR = 0, sq = 0, noise = 0, channelP[3] = {0, 0, 0}, channelR[3] = {0, 0, 0};
     for (size_t i = 0; i < reference.size(); ++i) {
-        if (!finite(player[i]) || !finite(reference[i]) || !finite(standardError[i])) continue;
+        if (!comparedPixel(player[i], reference[i], standardError[i])) continue;
         ++m.pixels;
         double p = luminance(player[i]), r = luminance(reference[i]), se = luminance(standardError[i]);
         sumP += p;
@@ -38,7 +42,7 @@ IndirectErrorMetrics compareIndirect(std::span<const glm::vec3> player, std::spa
     for (int c = 0; c < 3; ++c) m.channelRatio[c] = channelR[c] > 0 ? channelP[c] / channelR[c] : 0.0;
     double leak = 0;
     for (size_t i = 0; i < reference.size(); ++i) {
-        if (!finite(player[i]) || !finite(reference[i]) || !finite(standardError[i])) continue;
+        if (!comparedPixel(player[i], reference[i], standardError[i])) continue;
         double r = luminance(reference[i]), se = luminance(standardError[i]);
         if (r < 3.0 * se + 1e-30 && r < 0.01 * m.referenceMean) leak += luminance(player[i]);
     }

@@ -22,6 +22,13 @@ double percentOf(uint64_t part, uint64_t whole) {
 
 } // namespace
 
+ShadowClass classifyShadow(float player, float reference) {
+    if (!playerValid(player) || !referenceValid(reference)) return ShadowClass::Unclassified;
+    const bool pl = lit(player), rl = lit(reference);
+    if (pl == rl) return pl ? ShadowClass::AgreeLit : ShadowClass::AgreeShadow;
+    return pl ? ShadowClass::FalseLit : ShadowClass::FalseShadow;
+}
+
 ShadowErrorMetrics compareShadow(std::span<const float> player, std::span<const float> reference,
                                  std::span<const float> weights) {
     assert(player.size() == reference.size());
@@ -35,11 +42,11 @@ ShadowErrorMetrics compareShadow(std::span<const float> player, std::span<const 
     for (size_t i = 0; i < n; ++i) {
         const bool pv = playerValid(player[i]), rv = referenceValid(reference[i]);
         if (pv != rv) ++m.coverageMismatch;
-        if (!pv || !rv) continue;
+        const ShadowClass c = classifyShadow(player[i], reference[i]);
+        if (c == ShadowClass::Unclassified) continue;
         ++m.pixels;
-        const bool pl = lit(player[i]), rl = lit(reference[i]);
-        if (pl && !rl) ++falseLit;
-        if (!pl && rl) ++falseShadow;
+        falseLit += c == ShadowClass::FalseLit;
+        falseShadow += c == ShadowClass::FalseShadow;
         absSum += std::fabs(double(player[i]) - double(reference[i]));
         if (m.weighted) {
             const double w = std::isfinite(weights[i]) && weights[i] > 0 ? weights[i] : 0.0;

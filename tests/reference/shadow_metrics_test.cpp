@@ -33,6 +33,28 @@ TEST(ShadowMetrics, CompareCountsFalseLitFalseShadowAndMeanAbsError) {
     EXPECT_EQ(m.coverageMismatch, 2u);
 }
 
+TEST(ShadowMetrics, ClassifyShadowIsWhatCompareCounts) {
+    // The same arrays: per-pixel classes (pnb-play --error-maps) and the percentages agree.
+    const std::vector<float> player = {1.0f, 0.0f, 0.75f, 0.25f, 0.5f, -1.0f, kNaN, 1.0f, 0.0f, kInf};
+    const std::vector<float> truth = {1.0f, 0.0f, 0.0f, 1.0f, 1.0f, kNaN, kNaN, kNaN, 1.0f, 0.0f};
+    using C = ShadowClass;
+    const C want[] = {C::AgreeLit, C::AgreeShadow, C::FalseLit,     C::FalseShadow,  C::AgreeLit,
+                      C::Unclassified, C::Unclassified, C::Unclassified, C::FalseShadow, C::Unclassified};
+    uint64_t classified = 0, wrong = 0;
+    for (size_t i = 0; i < player.size(); ++i) {
+        const C c = classifyShadow(player[i], truth[i]);
+        EXPECT_EQ(c, want[i]) << "pixel " << i;
+        classified += c != C::Unclassified;
+        wrong += c == C::FalseLit || c == C::FalseShadow;
+    }
+    // -0 is a valid (shadowed) player value; a negative one is not.
+    EXPECT_EQ(classifyShadow(-0.0f, 0.0f), C::AgreeShadow);
+    EXPECT_EQ(classifyShadow(-1e-6f, 1.0f), C::Unclassified);
+    const ShadowErrorMetrics m = compareShadow(player, truth);
+    EXPECT_EQ(m.pixels, classified);
+    EXPECT_DOUBLE_EQ(m.misclassifiedPercent, 100.0 * double(wrong) / double(classified));
+}
+
 TEST(ShadowMetrics, CompareOfNothingIsZero) {
     ShadowErrorMetrics m = compareShadow({}, {});
     EXPECT_EQ(m.pixels, 0u);

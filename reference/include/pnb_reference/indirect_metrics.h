@@ -30,6 +30,10 @@ struct IndirectErrorMetrics {
     double leakPercent = 0;
 };
 
+// Whether one pixel counts in compareIndirect: all three values finite (a per-pixel view of a
+// frame, pnb-play --error-maps, uses this for the same pixel set).
+bool comparedPixel(const glm::vec3& player, const glm::vec3& reference, const glm::vec3& standardError);
+
 // `player`, `reference`, `standardError` are per pixel (same size; NaN = no surface).
 IndirectErrorMetrics compareIndirect(std::span<const glm::vec3> player, std::span<const glm::vec3> reference,
                                      std::span<const glm::vec3> standardError);

@@ -45,6 +45,12 @@ struct ShadowErrorMetrics {
     double weightedFalseShadowPercent = 0; // the part where the player is darker
 };
 
+// How one pixel counts in compareShadow: left out (either input has no geometry), agreeing
+// (lit or shadowed in both), or misclassified one way or the other. compareShadow counts with
+// this, so a per-pixel view of a frame (pnb-play --error-maps) matches its percentages exactly.
+enum class ShadowClass : uint8_t { Unclassified, AgreeLit, AgreeShadow, FalseLit, FalseShadow };
+ShadowClass classifyShadow(float player, float reference);
+
 // The player's shadow factor (1 lit .. 0 shadowed; negative or NaN = no geometry) against the
 // reference visibility (1 / 0; NaN = no geometry). `weights` (optional: empty, or one per pixel;
 // non-finite or negative counts as 0) adds the irradiance-weighted figures, see above.
