@@ -295,6 +295,8 @@ def run_job(plan_data, index):
                 cmd += ["--set", "%s=%s" % (k, v)]
         for m, every in job["metrics"].items():
             cmd += [METRIC_FLAGS[m], str(every)]
+        if job["metrics"]:
+            cmd.append("--error-maps")  # beside frame.png in the report's gallery
         r = subprocess.run(cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
         log = [" ".join(cmd), r.stdout]
         if r.returncode == 0 and plan_data["binaries"].get("probe"):

@@ -235,10 +235,10 @@ def gallery_section(rows, results_dir, out_dir):
         legend = {}
         if os.path.exists(os.path.join(job, "error_maps.json")):
             with open(os.path.join(job, "error_maps.json")) as f:
-                maps = json.load(f).get("maps", {})
-            for kind, m in sorted(maps.items()):
-                images.append((m["file"], "%s error" % kind))
-                legend[kind] = m.get("legend", "")
+                maps = json.load(f).get("maps", [])  # pnb-play --error-maps (docs/PLAYER.md)
+            for m in maps:
+                images.append((m["file"], "%s error" % m["metric"]))
+                legend[m["metric"]] = "; ".join("%s: %s" % (e["colour"], e["meaning"]) for e in m.get("legend", []))
         cells = []
         for file, caption in images:
             if not os.path.exists(os.path.join(job, file)):

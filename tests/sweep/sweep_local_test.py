@@ -152,6 +152,7 @@ class SweepLocal(unittest.TestCase):
 name = "conv"
 frames = 2
 size = "64x36"
+metrics = { shadow = 1 }
 [[axes]]
 "shadows.technique" = ["off", "single"]
 [[axes]]
@@ -207,6 +208,13 @@ source = "%s"
         self.assertIn("mesh quantisation: max position error", page)
         self.assertIn("--quantize", page)
         self.assertIn("<h3>Load time</h3>", page)
+        # The gallery: each job's last measured frame beside that frame's shadow error map, with
+        # the map's legend.
+        for j in data["jobs"]:
+            for image in ("frame.png", "error_shadow.png"):
+                self.assertIn('src="frames/%s_%s"' % (j["key"], image), page)
+                self.assertTrue(os.path.exists(os.path.join(report, "frames", "%s_%s" % (j["key"], image))))
+        self.assertIn("false lit", page)
         self.assertTrue(os.path.getsize(os.path.join(report, "box-room_max_position_error.png")) > 1000)
         self.assertTrue(os.path.getsize(os.path.join(report, "box-room_load.png")) > 1000)
         missing = os.path.join(self.dir, "none.csv")
