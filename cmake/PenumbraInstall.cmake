@@ -69,6 +69,15 @@ install(FILES ${pnb_docs} DESTINATION ${PNB_INSTALL_DOCDIR}/docs)
 install(PROGRAMS ${PROJECT_SOURCE_DIR}/player/tools/plot_frames.py
     DESTINATION ${PNB_INSTALL_DATADIR})
 
+# pnb-sweep: the Python runner in share/penumbra/sweep, and bin/pnb-sweep that runs it with the
+# tools beside it (python3 >= 3.11; the report needs python3-matplotlib).
+install(PROGRAMS ${PROJECT_SOURCE_DIR}/sweep/pnb_sweep.py DESTINATION ${PNB_INSTALL_DATADIR}/sweep)
+install(FILES ${PROJECT_SOURCE_DIR}/sweep/sweep_report.py ${PROJECT_SOURCE_DIR}/sweep/slurm_cluster.py
+    DESTINATION ${PNB_INSTALL_DATADIR}/sweep)
+file(RELATIVE_PATH PNB_BIN_TO_DATA /${CMAKE_INSTALL_BINDIR} /${PNB_INSTALL_DATADIR})
+configure_file(${PROJECT_SOURCE_DIR}/cmake/pnb-sweep.in ${PROJECT_BINARY_DIR}/pnb-sweep @ONLY)
+install(PROGRAMS ${PROJECT_BINARY_DIR}/pnb-sweep DESTINATION ${CMAKE_INSTALL_BINDIR})
+
 # --- CPack: the Debian package "penumbra".
 # Depends = the shared libraries the tools load (dpkg-shlibdeps, from dpkg-dev) + the -dev
 # packages PenumbraConfig.cmake's find_dependency() calls need + libEGL, each looked up with
@@ -128,9 +137,14 @@ set(CPACK_PACKAGING_INSTALL_PREFIX /usr)
 set(CPACK_DEBIAN_FILE_NAME DEB-DEFAULT)
 set(CPACK_DEBIAN_PACKAGE_SECTION devel)
 set(CPACK_DEBIAN_PACKAGE_SHLIBDEPS ON)
-set(CPACK_DEBIAN_PACKAGE_DEPENDS "${PNB_DEB_DEPENDS}")
-# Mesa's drivers (llvmpipe when there is no GPU) and pnb-play's benchmark plots (optional: it
-# warns and goes on without them).
+# python3 >= 3.11 (tomllib): pnb-sweep.
+if(PNB_DEB_DEPENDS)
+    set(CPACK_DEBIAN_PACKAGE_DEPENDS "${PNB_DEB_DEPENDS}, python3 (>= 3.11)")
+else()
+    set(CPACK_DEBIAN_PACKAGE_DEPENDS "python3 (>= 3.11)")
+endif()
+# Mesa's drivers (llvmpipe when there is no GPU); pnb-play's benchmark plots and pnb-sweep's
+# report (optional: pnb-play warns and goes on without them); pnb-sweep run --slurm's clients.
 set(CPACK_DEBIAN_PACKAGE_RECOMMENDS "libgl1-mesa-dri")
-set(CPACK_DEBIAN_PACKAGE_SUGGESTS "python3-matplotlib")
+set(CPACK_DEBIAN_PACKAGE_SUGGESTS "python3-matplotlib, slurm-client")
 include(CPack)

@@ -180,12 +180,14 @@ def value_text(v):
 
 
 def binaries(build):
-    convert = os.path.join(build, "converter", "pnb-convert")
-    play = os.path.join(build, "player", "pnb-play")
+    """The tools of a build tree, or of a directory that holds them (an installed bin/)."""
+    flat = not os.path.isdir(os.path.join(build, "player")) and os.path.exists(os.path.join(build, "pnb-play"))
+    convert = os.path.join(build, "pnb-convert" if flat else "converter/pnb-convert")
+    play = os.path.join(build, "pnb-play" if flat else "player/pnb-play")
     for b in (convert, play):
         if not os.access(b, os.X_OK):
             raise SweepError("%s: not built (cmake --build --preset release --target pnb-convert pnb-play)" % b)
-    # The load-time floor (bench/load): optional, the report says when it is missing.
+    # The load-time floor (bench/load, not installed): optional, the report says when it is missing.
     probe = os.path.join(build, "bench", "load", "pnb_load_probe")
     return {"convert": convert, "play": play, "probe": probe if os.access(probe, os.X_OK) else None}
 
@@ -520,8 +522,10 @@ def collect(results):
 
 def main(argv=None):
     ap = argparse.ArgumentParser(prog="pnb-sweep", description=__doc__.split("\n")[0])
-    ap.add_argument("--build", default=os.path.join(REPO, "build", "release"),
-                    help="the build whose pnb-convert and pnb-play run the jobs")
+    # Installed, the pnb-sweep wrapper names its own bin/ in PNB_SWEEP_TOOLS.
+    ap.add_argument("--build", default=os.environ.get("PNB_SWEEP_TOOLS") or os.path.join(REPO, "build", "release"),
+                    help="the build tree (or a directory holding the tools, like an installed bin/) whose "
+                         "pnb-convert and pnb-play run the jobs")
     sub = ap.add_subparsers(dest="command", required=True)
     p = sub.add_parser("plan")
     p.add_argument("sweep")

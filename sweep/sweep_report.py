@@ -82,31 +82,40 @@ def front_section(plt, scene, rows, metric, title, cost, cost_title, out_dir):
         name = label
     if not measured:
         return []
-    points = [(scale_cost(cost, number(r, cost)), number(r, metric)) for r in measured]
-    front = pareto_front(points)
+    # One front per GL renderer: results from several GPUs (one results directory, one sweep per
+    # GPU model) are compared, never mixed into one front.
+    renderers = sorted({r.get("gl_renderer", "") for r in measured})
     png = "%s_%s.png" % (scene, metric.split(":", 1)[1])
     fig, ax = plt.subplots(figsize=(7, 4.5))
-    ax.scatter([p[0] for p in points], [p[1] for p in points], color="#999999", label="configurations")
-    ax.plot([points[i][0] for i in front], [points[i][1] for i in front], "o-", color="#c03020",
-            label="Pareto front")
-    for i in front:
-        ax.annotate(name(measured[i]), points[i], fontsize=7, xytext=(4, 4), textcoords="offset points")
+    head = "<th>GL renderer</th>" if len(renderers) > 1 else ""
+    table = ["<table border=1 cellpadding=3><tr>%s<th>configuration</th><th>%s</th><th>%s</th></tr>"
+             % (head, html.escape(cost_title), html.escape(title))]
+    colours = ["#c03020", "#2060c0", "#20a040", "#a040c0", "#c08020"]
+    for n, renderer in enumerate(renderers):
+        mine = [r for r in measured if r.get("gl_renderer", "") == renderer]
+        points = [(scale_cost(cost, number(r, cost)), number(r, metric)) for r in mine]
+        front = pareto_front(points)
+        colour = colours[n % len(colours)]
+        tag = (" (%s)" % renderer) if len(renderers) > 1 else ""
+        ax.scatter([p[0] for p in points], [p[1] for p in points], color=colour, alpha=0.35, s=14,
+                   label="configurations" + tag)
+        ax.plot([points[i][0] for i in front], [points[i][1] for i in front], "o-", color=colour,
+                label="Pareto front" + tag)
+        for i in front:
+            ax.annotate(name(mine[i]), points[i], fontsize=7, xytext=(4, 4), textcoords="offset points")
+            table.append("<tr>%s<td>%s</td><td>%.3g</td><td>%.3g</td></tr>"
+                         % ("<td>%s</td>" % html.escape(renderer) if head else "",
+                            html.escape(name(mine[i])), points[i][0], points[i][1]))
+    table.append("</table>")
     ax.set_xlabel(cost_title)
     ax.set_ylabel(title, fontsize=8)
     ax.set_title(scene)
     ax.margins(x=0.25, y=0.1)  # room for the labels
-    ax.legend()
+    ax.legend(fontsize=7)
     fig.tight_layout()
     fig.savefig(os.path.join(out_dir, png), dpi=100)
     plt.close(fig)
-    body = ["<h3>%s</h3><img src=\"%s\" alt=\"%s\">" % (html.escape(title), png, html.escape(title)),
-            "<table border=1 cellpadding=3><tr><th>configuration</th><th>%s</th><th>%s</th></tr>"
-            % (html.escape(cost_title), html.escape(title))]
-    for i in front:
-        body.append("<tr><td>%s</td><td>%.3g</td><td>%.3g</td></tr>"
-                    % (html.escape(name(measured[i])), points[i][0], points[i][1]))
-    body.append("</table>")
-    return body
+    return ["<h3>%s</h3><img src=\"%s\" alt=\"%s\">" % (html.escape(title), png, html.escape(title))] + table
 
 
 def passes_section(plt, scene, rows, columns, out_dir):

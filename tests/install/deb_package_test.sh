@@ -31,16 +31,18 @@ names=$(echo "$depends" | tr ',|' '\n' | sed 's/^ *//; s/[ (].*//')
 # From dpkg-shlibdeps: the C++ runtime every tool loads, and two of the libraries they use;
 # libegl1 (dlopened by epoxy) by hand; the -dev packages of the exported link interfaces, for
 # find_package(Penumbra).
-# libopenimageio2.4 comes from the image codec module pnb-convert loads on demand.
+# libopenimageio2.4 comes from the image codec module pnb-convert loads on demand; python3 runs
+# pnb-sweep.
 for pkg in libstdc++6 libzstd1 libassimp5 libopenimageio2.4 libegl1 libzstd-dev libxxhash-dev libepoxy-dev \
-    libglfw3-dev libglm-dev nlohmann-json3-dev zlib1g-dev; do
+    libglfw3-dev libglm-dev nlohmann-json3-dev zlib1g-dev python3; do
     echo "$names" | grep -qxF "$pkg" || fail "Depends lacks $pkg: $depends"
 done
 
 contents=$(dpkg-deb -c "$deb")
 for f in ./usr/bin/pnb-convert ./usr/bin/pnb-play ./usr/lib/cmake/Penumbra/PenumbraConfig.cmake \
     ./usr/lib/cmake/Penumbra/PnbAddScene.cmake ./usr/include/pnb/reader.h \
-    ./usr/share/doc/penumbra/README.md ./usr/lib/penumbra/libpnb_image_oiio.so; do
+    ./usr/share/doc/penumbra/README.md ./usr/lib/penumbra/libpnb_image_oiio.so ./usr/bin/pnb-sweep \
+    ./usr/share/penumbra/sweep/pnb_sweep.py; do
     echo "$contents" | grep -qE " $f\$" || fail "the package lacks $f"
 done
 echo "deb_package_test: ok"

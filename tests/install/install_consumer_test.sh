@@ -28,7 +28,7 @@ fail() {
 config=$(find "$prefix" -path '*/cmake/Penumbra/PenumbraConfig.cmake')
 [ -n "$config" ] || fail "no PenumbraConfig.cmake under the prefix"
 for f in bin/pnb-convert bin/pnb-play bin/pnb-edit bin/pnb-inspect bin/pnb-reference \
-    bin/pnb-make-scene bin/pnb-make-sample include/pnb/reader.h include/pnb_player/renderer.h \
+    bin/pnb-make-scene bin/pnb-make-sample bin/pnb-sweep include/pnb/reader.h include/pnb_player/renderer.h \
     share/doc/penumbra/README.md share/doc/penumbra/docs/FORMAT.md share/penumbra/plot_frames.py; do
     [ -e "$prefix/$f" ] || fail "$f not installed"
 done
@@ -110,5 +110,21 @@ if "${PNB_PYTHON:-/usr/bin/python3}" -c 'import matplotlib' 2>/dev/null; then
     }
 fi
 [ ! -e "$tmp/bench/.plot_frames.py" ] || fail "pnb-play left its plot script behind"
+
+# pnb-sweep, installed: runs a sweep with the prefix's tools (not the build tree's) from here.
+printf 'name = "installed"\nframes = 2\nsize = "64x36"\n[axes]\n"shadows.technique" = ["off", "pssm"]\n[[scenes]]\nsource = "%s"\n' \
+    "$scene" >"$tmp/sweep.toml"
+PNB_PYTHON=${PNB_PYTHON:-/usr/bin/python3} "$prefix/bin/pnb-sweep" plan "$tmp/sweep.toml" \
+    --results "$tmp/sweep" -o "$tmp/plan.json" >"$tmp/sweep.log" 2>&1 || {
+    cat "$tmp/sweep.log" >&2
+    fail "installed pnb-sweep plan"
+}
+grep -q "\"play\": \"$prefix/bin/pnb-play\"" "$tmp/plan.json" || fail "pnb-sweep does not use the installed pnb-play"
+PNB_PYTHON=${PNB_PYTHON:-/usr/bin/python3} "$prefix/bin/pnb-sweep" run --local "$tmp/sweep.toml" \
+    --results "$tmp/sweep" >>"$tmp/sweep.log" 2>&1 || {
+    cat "$tmp/sweep.log" >&2
+    fail "installed pnb-sweep run --local"
+}
+[ "$(ls "$tmp"/sweep/*/job.json | wc -l)" = 2 ] || fail "pnb-sweep did not finish its 2 jobs"
 
 echo "install_consumer_test: ok (installed to a temporary prefix, consumer built and ran)"

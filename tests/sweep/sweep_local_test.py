@@ -244,6 +244,21 @@ source = "%s"
         self.assertIn("color:#c00000;font-weight:bold\">4.500 / 6.100", page, "out of band: marked")
         self.assertIn("<th>x1e5</th>", page)
 
+    def test_several_gpus_get_a_front_each(self):
+        import sweep_report
+        columns = ["key", "scene", "set:shadows.technique", "gl_renderer", "gpu_ms:total", "metric:misclassified_pct"]
+        rows = []
+        for renderer, speed in (("GPU A", 1.0), ("GPU B", 10.0)):
+            for t, ms, err in (("single", 1.0, 5.0), ("pssm", 2.0, 1.0), ("sdsm", 3.0, 2.0)):
+                rows.append({"key": renderer + t, "scene": "s", "set:shadows.technique": t, "gl_renderer": renderer,
+                             "gpu_ms:total": ms * speed, "metric:misclassified_pct": err})
+        page = self.read(sweep_report.write_report(columns, rows, os.path.join(self.dir, "r")))
+        # On B every configuration is 10x slower: A's fast ones would hide B's whole front if mixed.
+        for renderer in ("GPU A", "GPU B"):
+            self.assertIn("<td>%s</td><td>shadows.technique=single</td>" % renderer, page)
+            self.assertIn("<td>%s</td><td>shadows.technique=pssm</td>" % renderer, page)
+            self.assertNotIn("<td>%s</td><td>shadows.technique=sdsm</td>" % renderer, page)
+
     def test_the_pareto_front_keeps_what_nothing_beats(self):
         import sweep_report
         points = [(1.0, 5.0), (2.0, 3.0), (3.0, 4.0), (4.0, 1.0), (2.5, 3.0), (0.5, 9.0)]
