@@ -17,6 +17,9 @@ A sweep (TOML or JSON, docs/SWEEP.md) names scenes, settings axes and what to me
     convert = ["--sky"]                                  # pnb-convert options for a source
     path = "assets_src/paths/street-canyon.json"         # optional camera path
 
+`axes` may be an array of tables ([[axes]]): the union of each one's combinations. Keys
+"convert.OPTION" are pnb-convert options swept like settings ("convert.quantize" = [false, true]).
+
 Subcommands:
     plan SWEEP [--results DIR]      the jobs (scene x every combination of the axes), each with its
                                     key: a hash of the scene's bytes and conversion, the settings,
@@ -45,10 +48,13 @@ Subcommands:
                                     options and the converter binary; an output whose record
                                     still matches is skipped. --slurm: one array task per input.
     collect DIR [-o CSV]            one row per finished job: scene, settings, GL renderer, GPU
-                                    median per pass, metrics' means.
-    report DIR -o OUT               OUT/index.html (+ PNGs, results.csv): per scene the Pareto front
-                                    of each measured error against GPU time, its configurations,
-                                    and the GPU time per pass (sweep_report.py; needs matplotlib).
+                                    median per pass, metrics' means, load phases and floor, the
+                                    conversion's size and errors.
+    report DIR -o OUT [--extremes CSV]  OUT/index.html (+ PNGs, results.csv): per scene the Pareto
+                                    fronts of each measured error against its cost (per GL
+                                    renderer), the GPU time per pass, load time against its floor,
+                                    the last measured frames with their error maps; the extremes
+                                    table (sweep_report.py; needs matplotlib).
 
 Relative paths in a sweep are relative to the sweep file. Binaries come from --build DIR
 (default build/release next to this script's repository).
@@ -66,14 +72,14 @@ import tempfile
 import time
 import tomllib
 
+from sweep_report import LOAD_PHASES  # pnb-play's load phases, in the order they happen
+
 REPO = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 METRIC_FLAGS = {"shadow": "--shadow-metrics", "gi": "--gi-metrics", "sky": "--sky-metrics", "lod": "--lod-metrics"}
 # Axis and fixed keys with this prefix are pnb-convert options, not pnb-play settings:
 # "convert.quantize" = [false, true] -> (nothing) | --quantize; "convert.max-texture-size" = [512]
 # -> --max-texture-size 512.
 CONVERT_PREFIX = "convert."
-# pnb-play's load phases (summary.json load_ms), in the order they happen.
-LOAD_PHASES = ("open", "read", "decode", "upload", "compile")
 
 
 class SweepError(Exception):
@@ -681,7 +687,6 @@ def main(argv=None):
             print("job %d: %s" % (a.index, run_job(data, a.index)))
             return 0
         if a.command == "report":
-            import sweep_report
             columns, rows = collect(a.results)
             if not rows:
                 raise SweepError("%s: no finished jobs to report" % a.results)
@@ -693,7 +698,8 @@ def main(argv=None):
                     raise SweepError("%s: no extremes matrix (scripts/bench-extremes writes one)" % extremes)
                 extremes = None
             try:
-                page = sweep_report.write_report(columns, rows, a.output, a.results, extremes)
+                from sweep_report import write_report
+                page = write_report(columns, rows, a.output, a.results, extremes)
             except RuntimeError as e:
                 raise SweepError(str(e))
             print("report: %s (%d configurations)" % (page, len(rows)))

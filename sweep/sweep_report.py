@@ -29,7 +29,7 @@ HEADLINE_ERRORS = [
     ("convert:max_normal_error_deg", "mesh quantisation: max normal error, degrees") + SIZE,
     ("convert:texture_rmse8", "texture compression: worst texture RMSE, 8-bit levels") + SIZE,
 ]
-LOAD_PHASES = ("open", "read", "decode", "upload", "compile")
+LOAD_PHASES = ("open", "read", "decode", "upload", "compile")  # pnb-play's summary.json load_ms
 
 
 def pareto_front(points):
