@@ -485,9 +485,12 @@ def convert_one(inp, outdir, options, converter):
     return "converted"
 
 
-def collect(results):
+def collect(results, keys=None):
+    """One row per finished job in `results` (`keys`: only those jobs)."""
     rows = []
     for key in sorted(os.listdir(results)):
+        if keys is not None and key not in keys:
+            continue
         d = os.path.join(results, key)
         if not os.path.exists(os.path.join(d, "job.json")):
             continue
@@ -575,6 +578,10 @@ def main(argv=None):
     c.add_argument("-o", "--output", default=None)
     rp = sub.add_parser("report")
     rp.add_argument("results")
+    for p_ in (c, rp):
+        # A results directory keeps every job ever run into it (other sweeps, older binaries).
+        p_.add_argument("--sweep", action="append", default=[],
+                        help="only the jobs these sweep files plan now, with these binaries (repeatable)")
     rp.add_argument("-o", "--output", required=True)
     rp.add_argument("--extremes", default=None,
                     help="the extremes matrix to include (matrix.csv or its directory; default: the "
@@ -686,8 +693,13 @@ def main(argv=None):
                 raise SweepError("%s: no job %d (%d jobs)" % (a.plan, a.index, len(data["jobs"])))
             print("job %d: %s" % (a.index, run_job(data, a.index)))
             return 0
+        if a.command in ("collect", "report") and a.sweep:
+            bins = binaries(os.path.abspath(a.build))
+            a.keys = {j["key"] for f in a.sweep for j in plan(load_sweep(f), bins, os.path.abspath(a.results))["jobs"]}
+        else:
+            a.keys = None
         if a.command == "report":
-            columns, rows = collect(a.results)
+            columns, rows = collect(a.results, a.keys)
             if not rows:
                 raise SweepError("%s: no finished jobs to report" % a.results)
             extremes = a.extremes or os.path.join(a.build, "tests", "reference", "extremes")
@@ -705,7 +717,7 @@ def main(argv=None):
             print("report: %s (%d configurations)" % (page, len(rows)))
             return 0
         if a.command == "collect":
-            columns, rows = collect(a.results)
+            columns, rows = collect(a.results, a.keys)
             out = open(a.output, "w", newline="") if a.output else sys.stdout
             w = csv.DictWriter(out, fieldnames=columns)
             w.writeheader()

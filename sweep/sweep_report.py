@@ -75,7 +75,8 @@ def front_section(plt, scene, rows, metric, title, cost, cost_title, out_dir):
         for r in measured:
             by_conversion.setdefault(conversion_label(r), r)
         measured = list(by_conversion.values())
-        if len(measured) < 2:
+        # Nothing to trade when no conversion cost any of this error (no textures to compress).
+        if len(measured) < 2 or not any(number(r, metric) for r in measured):
             return []
         name = conversion_label
     else:

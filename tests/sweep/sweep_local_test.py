@@ -99,6 +99,10 @@ class SweepLocal(unittest.TestCase):
         self.assertEqual(len(rows), 1 + 6)
         self.assertIn("gl_renderer", rows[0])
         self.assertIn("gpu_ms:total", rows[0])
+        # --sweep: only the jobs one sweep file plans (the directory holds both sweeps' jobs).
+        self.assertEqual(self.sweep("collect", self.results, "--sweep", s, "-o", out), 0)
+        with open(out) as f:
+            self.assertEqual(len(f.read().strip().splitlines()), 1 + 4)
         # The report: a page that references only files written beside it.
         report = os.path.join(self.dir, "report")
         self.assertEqual(self.sweep("report", self.results, "-o", report), 0)
