@@ -43,10 +43,16 @@ def pareto_front(points):
     return front
 
 
-def label(row):
-    """The row's settings as text."""
-    return ", ".join("%s=%s" % (k[4:], v) for k, v in row.items() if k.startswith("set:") and v != "") \
-        or "(defaults)"
+def labeller(rows):
+    """A function naming a row by the settings that vary among `rows` ("technique=pssm,
+    cascades=4"): what is the same for all of them says nothing and makes labels unreadable."""
+    keys = [k for k in dict.fromkeys(k for r in rows for k in r if k.startswith("set:"))
+            if len({r.get(k, "") for r in rows}) > 1]
+
+    def name(row):
+        return ", ".join("%s=%s" % (k.rsplit(".", 1)[-1], row[k]) for k in keys if row.get(k, "") != "") \
+            or "(defaults)"
+    return name
 
 
 def conversion_label(row):
@@ -67,6 +73,17 @@ def scale_cost(column, value):
     return value / 2 ** 20 if column == "convert:output_bytes" else value
 
 
+def log_if_wide(ax, axis, values):
+    """A log scale where values span more than 50x (a shadows-off point at 56 % would flatten
+    every technique at 0.1 %); zeros are drawn at half the smallest positive value."""
+    positive = [v for v in values if v > 0]
+    if not positive or max(positive) / min(positive) <= 50:
+        return values
+    (ax.set_yscale if axis == "y" else ax.set_xscale)("log")
+    low = min(positive) / 2
+    return [v if v > 0 else low for v in values]
+
+
 def front_section(plt, scene, rows, metric, title, cost, cost_title, out_dir):
     measured = [r for r in rows if number(r, metric) is not None and number(r, cost) is not None]
     if cost == "convert:output_bytes":
@@ -80,7 +97,7 @@ def front_section(plt, scene, rows, metric, title, cost, cost_title, out_dir):
             return []
         name = conversion_label
     else:
-        name = label
+        name = labeller(rows)
     if not measured:
         return []
     # One front per GL renderer: results from several GPUs (one results directory, one sweep per
@@ -89,29 +106,34 @@ def front_section(plt, scene, rows, metric, title, cost, cost_title, out_dir):
     png = "%s_%s.png" % (scene, metric.split(":", 1)[1])
     fig, ax = plt.subplots(figsize=(7, 4.5))
     head = "<th>GL renderer</th>" if len(renderers) > 1 else ""
-    table = ["<table border=1 cellpadding=3><tr>%s<th>configuration</th><th>%s</th><th>%s</th></tr>"
+    table = ["<table border=1 cellpadding=3><tr><th>#</th>%s<th>configuration</th><th>%s</th><th>%s</th></tr>"
              % (head, html.escape(cost_title), html.escape(title))]
     colours = ["#c03020", "#2060c0", "#20a040", "#a040c0", "#c08020"]
+    xs = log_if_wide(ax, "x", [scale_cost(cost, number(r, cost)) for r in measured])
+    ys = log_if_wide(ax, "y", [number(r, metric) for r in measured])
+    at = {id(r): (x, y) for r, x, y in zip(measured, xs, ys)}
+    n_front = 0
     for n, renderer in enumerate(renderers):
         mine = [r for r in measured if r.get("gl_renderer", "") == renderer]
         points = [(scale_cost(cost, number(r, cost)), number(r, metric)) for r in mine]
         front = pareto_front(points)
         colour = colours[n % len(colours)]
         tag = (" (%s)" % renderer) if len(renderers) > 1 else ""
-        ax.scatter([p[0] for p in points], [p[1] for p in points], color=colour, alpha=0.35, s=14,
+        ax.scatter([at[id(r)][0] for r in mine], [at[id(r)][1] for r in mine], color=colour, alpha=0.35, s=14,
                    label="configurations" + tag)
-        ax.plot([points[i][0] for i in front], [points[i][1] for i in front], "o-", color=colour,
+        ax.plot([at[id(mine[i])][0] for i in front], [at[id(mine[i])][1] for i in front], "o-", color=colour,
                 label="Pareto front" + tag)
+        # Numbers on the chart, names in the table: fronts of 10+ configurations stay readable.
         for i in front:
-            ax.annotate(name(mine[i]), points[i], fontsize=7, xytext=(4, 4), textcoords="offset points")
-            table.append("<tr>%s<td>%s</td><td>%.3g</td><td>%.3g</td></tr>"
-                         % ("<td>%s</td>" % html.escape(renderer) if head else "",
+            n_front += 1
+            ax.annotate(str(n_front), at[id(mine[i])], fontsize=7, xytext=(3, 3), textcoords="offset points")
+            table.append("<tr><td>%d</td>%s<td>%s</td><td>%.3g</td><td>%.3g</td></tr>"
+                         % (n_front, "<td>%s</td>" % html.escape(renderer) if head else "",
                             html.escape(name(mine[i])), points[i][0], points[i][1]))
     table.append("</table>")
     ax.set_xlabel(cost_title)
     ax.set_ylabel(title, fontsize=8)
     ax.set_title(scene)
-    ax.margins(x=0.25, y=0.1)  # room for the labels
     ax.legend(fontsize=7)
     fig.tight_layout()
     fig.savefig(os.path.join(out_dir, png), dpi=100)
@@ -131,7 +153,7 @@ def passes_section(plt, scene, rows, columns, out_dir):
         ax.barh(range(len(rows)), values, left=left, label=p.split(":", 1)[1])
         left = [a + b for a, b in zip(left, values)]
     ax.set_yticks(range(len(rows)))
-    ax.set_yticklabels([label(r) for r in rows], fontsize=7)
+    ax.set_yticklabels([labeller(rows)(r) for r in rows], fontsize=7)
     ax.set_xlabel("GPU ms per frame (median over the path), by pass")
     ax.legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.0, 1.0))
     fig.tight_layout()
@@ -152,6 +174,7 @@ def path_section(plt, scene, rows, results_dir, out_dir, limit=6):
             if measured[i] not in chosen:
                 chosen.append(measured[i])
     chosen = (chosen or rows)[:limit]
+    name = labeller(rows)
     series = []
     for r in chosen:
         path = os.path.join(results_dir, r["key"], "frames.csv")
@@ -171,7 +194,7 @@ def path_section(plt, scene, rows, results_dir, out_dir, limit=6):
         x = [int(f["frame"]) for f in frames]
         ax.stackplot(x, *[[float(f.get(p) or 0) for f in frames] for p in passes],
                      labels=[p[4:-3] for p in passes])
-        ax.set_title(label(r), fontsize=7)
+        ax.set_title(name(r), fontsize=7)
         ax.set_xlabel("frame", fontsize=7)
     for ax in list(axes.flat)[len(series):]:
         ax.axis("off")
@@ -236,6 +259,7 @@ def load_section(plt, scene, rows, out_dir):
 def gallery_section(rows, results_dir, out_dir):
     """Each configuration's last measured frame with the error maps of that frame beside it."""
     figures = []
+    name = labeller(rows)
     for r in rows:
         job = os.path.join(results_dir, r["key"])
         if not os.path.exists(os.path.join(job, "frame.png")):
@@ -257,7 +281,7 @@ def gallery_section(rows, results_dir, out_dir):
             shutil.copyfile(os.path.join(job, file), os.path.join(out_dir, "frames", dest))
             cells.append("<img src=\"frames/%s\" width=\"200\" title=\"%s\" alt=\"%s\">"
                          % (dest, html.escape(caption), html.escape(caption)))
-        text = html.escape(label(r))
+        text = html.escape(name(r))
         if legend:
             text += "<br>" + "<br>".join("%s: %s" % (html.escape(k), html.escape(v)) for k, v in legend.items())
         figures.append("<figure style=\"display:inline-block;margin:4px;vertical-align:top\">%s"
