@@ -109,27 +109,26 @@ def front_section(plt, scene, rows, metric, title, cost, cost_title, out_dir):
     table = ["<table border=1 cellpadding=3><tr><th>#</th>%s<th>configuration</th><th>%s</th><th>%s</th></tr>"
              % (head, html.escape(cost_title), html.escape(title))]
     colours = ["#c03020", "#2060c0", "#20a040", "#a040c0", "#c08020"]
-    xs = log_if_wide(ax, "x", [scale_cost(cost, number(r, cost)) for r in measured])
-    ys = log_if_wide(ax, "y", [number(r, metric) for r in measured])
-    at = {id(r): (x, y) for r, x, y in zip(measured, xs, ys)}
+    values = [(scale_cost(cost, number(r, cost)), number(r, metric)) for r in measured]
+    # Where each point is drawn (a log axis puts zeros at a floor); the table keeps the values.
+    drawn = list(zip(log_if_wide(ax, "x", [v[0] for v in values]), log_if_wide(ax, "y", [v[1] for v in values])))
     n_front = 0
     for n, renderer in enumerate(renderers):
-        mine = [r for r in measured if r.get("gl_renderer", "") == renderer]
-        points = [(scale_cost(cost, number(r, cost)), number(r, metric)) for r in mine]
-        front = pareto_front(points)
+        mine = [i for i, r in enumerate(measured) if r.get("gl_renderer", "") == renderer]
+        front = [mine[k] for k in pareto_front([values[i] for i in mine])]
         colour = colours[n % len(colours)]
         tag = (" (%s)" % renderer) if len(renderers) > 1 else ""
-        ax.scatter([at[id(r)][0] for r in mine], [at[id(r)][1] for r in mine], color=colour, alpha=0.35, s=14,
+        ax.scatter([drawn[i][0] for i in mine], [drawn[i][1] for i in mine], color=colour, alpha=0.35, s=14,
                    label="configurations" + tag)
-        ax.plot([at[id(mine[i])][0] for i in front], [at[id(mine[i])][1] for i in front], "o-", color=colour,
+        ax.plot([drawn[i][0] for i in front], [drawn[i][1] for i in front], "o-", color=colour,
                 label="Pareto front" + tag)
         # Numbers on the chart, names in the table: fronts of 10+ configurations stay readable.
         for i in front:
             n_front += 1
-            ax.annotate(str(n_front), at[id(mine[i])], fontsize=7, xytext=(3, 3), textcoords="offset points")
+            ax.annotate(str(n_front), drawn[i], fontsize=7, xytext=(3, 3), textcoords="offset points")
             table.append("<tr><td>%d</td>%s<td>%s</td><td>%.3g</td><td>%.3g</td></tr>"
                          % (n_front, "<td>%s</td>" % html.escape(renderer) if head else "",
-                            html.escape(name(mine[i])), points[i][0], points[i][1]))
+                            html.escape(name(measured[i])), values[i][0], values[i][1]))
     table.append("</table>")
     ax.set_xlabel(cost_title)
     ax.set_ylabel(title, fontsize=8)
