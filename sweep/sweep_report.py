@@ -151,8 +151,9 @@ def passes_section(plt, scene, rows, columns, out_dir):
         values = [number(r, p) or 0.0 for r in rows]
         ax.barh(range(len(rows)), values, left=left, label=p.split(":", 1)[1])
         left = [a + b for a, b in zip(left, values)]
+    name = labeller(rows)
     ax.set_yticks(range(len(rows)))
-    ax.set_yticklabels([labeller(rows)(r) for r in rows], fontsize=7)
+    ax.set_yticklabels([name(r) for r in rows], fontsize=7)
     ax.set_xlabel("GPU ms per frame (median over the path), by pass")
     ax.legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.0, 1.0))
     fig.tight_layout()
@@ -257,7 +258,7 @@ def load_section(plt, scene, rows, out_dir):
 
 def gallery_section(rows, results_dir, out_dir):
     """Each configuration's last measured frame with the error maps of that frame beside it."""
-    figures = []
+    figures, legend = [], {}
     name = labeller(rows)
     for r in rows:
         job = os.path.join(results_dir, r["key"])
@@ -265,7 +266,6 @@ def gallery_section(rows, results_dir, out_dir):
             continue
         os.makedirs(os.path.join(out_dir, "frames"), exist_ok=True)
         images = [("frame.png", "frame")]
-        legend = {}
         if os.path.exists(os.path.join(job, "error_maps.json")):
             with open(os.path.join(job, "error_maps.json")) as f:
                 maps = json.load(f).get("maps", [])  # pnb-play --error-maps (docs/PLAYER.md)
@@ -281,14 +281,15 @@ def gallery_section(rows, results_dir, out_dir):
             cells.append("<img src=\"frames/%s\" width=\"200\" title=\"%s\" alt=\"%s\">"
                          % (dest, html.escape(caption), html.escape(caption)))
         text = html.escape(name(r))
-        if legend:
-            text += "<br>" + "<br>".join("%s: %s" % (html.escape(k), html.escape(v)) for k, v in legend.items())
         figures.append("<figure style=\"display:inline-block;margin:4px;vertical-align:top\">%s"
                        "<figcaption style=\"font-size:small;max-width:%dpx\">%s</figcaption></figure>"
                        % ("".join(cells), 204 * len(cells), text))
     if not figures:
         return []
-    return ["<h3>Last measured frame of each configuration, with its error maps</h3>"] + figures
+    # Every job writes the same legends: said once, above the images.
+    keys = "".join("<li>%s: %s</li>" % (html.escape(k), html.escape(v)) for k, v in legend.items())
+    return ["<h3>Last measured frame of each configuration, with its error maps</h3>"] + \
+        (["<ul style=\"font-size:small\">%s</ul>" % keys] if keys else []) + figures
 
 
 def extremes_section(path):
