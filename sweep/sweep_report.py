@@ -22,8 +22,10 @@ SIZE = ("convert:output_bytes", "container MiB")
 HEADLINE_ERRORS = [
     ("metric:misclassified_pct", "shadow pixels misclassified, %") + GPU,
     ("metric:weighted_error_pct", "shadow error weighted by irradiance, %") + GPU,
-    ("metric:gi_corrected_rmse_pct", "GI irradiance rel. RMSE (truth noise removed), %") + GPU,
-    ("metric:sky_corrected_rmse_pct", "sky irradiance rel. RMSE (truth noise removed), %") + GPU,
+    # Indirect light is judged against the best constant ambient in the same pixels (< 1: better
+    # than a constant; both RMSEs with the truth's noise removed), the scorecard's headline.
+    ("metric:gi_rmse_over_constant", "GI irradiance RMSE / best constant's", ) + GPU,
+    ("metric:sky_rmse_over_constant", "sky irradiance RMSE / best constant's") + GPU,
     ("metric:lod_pixels_over8_pct", "LOD pixels off by > 8/255, %") + GPU,
     ("convert:max_position_error", "mesh quantisation: max position error, scene units") + SIZE,
     ("convert:max_normal_error_deg", "mesh quantisation: max normal error, degrees") + SIZE,
@@ -270,8 +272,8 @@ def gallery_section(rows, results_dir, out_dir):
             with open(os.path.join(job, "error_maps.json")) as f:
                 maps = json.load(f).get("maps", [])  # pnb-play --error-maps (docs/PLAYER.md)
             for m in maps:
-                images.append((m["file"], "%s error" % m["metric"]))
-                legend[m["metric"]] = "; ".join("%s: %s" % (e["colour"], e["meaning"]) for e in m.get("legend", []))
+                images.append((m["file"], "%s: %s" % (m["metric"], m["file"])))
+                legend[m["file"]] = "; ".join("%s: %s" % (e["colour"], e["meaning"]) for e in m.get("legend", []))
         cells = []
         for file, caption in images:
             if not os.path.exists(os.path.join(job, file)):

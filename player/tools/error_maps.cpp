@@ -153,6 +153,55 @@ ErrorMap irradianceErrorMap(const std::string& metric, const IrradianceQuality::
     return m;
 }
 
+Rgb8 divergingColour(double t) {
+    if (!(std::fabs(t) <= 1.0)) t = std::isnan(t) ? 0.0 : (t > 0 ? 1.0 : -1.0);
+    // White at 0, to (33, 102, 172) at -1 and (178, 24, 43) at +1 (ColorBrewer RdBu's ends).
+    const Rgb8 end = t < 0 ? Rgb8{33, 102, 172} : Rgb8{178, 24, 43};
+    const double f = std::fabs(t);
+    return {toByte(255.0 + f * (end.r - 255.0)), toByte(255.0 + f * (end.g - 255.0)),
+            toByte(255.0 + f * (end.b - 255.0))};
+}
+
+ErrorMap irradianceSideBySide(const std::string& metric, const IrradianceQuality::Frame& frame) {
+    const size_t pixels = size_t(frame.width) * frame.height;
+    if (pixels == 0 || frame.player.size() != pixels || frame.truth.size() != pixels ||
+        frame.standardError.size() != pixels)
+        return {};
+    const uint32_t w = frame.width, h = frame.height;
+    ErrorMap m = blank(metric, 3 * w, h);
+    m.file = "compare_" + metric + ".png";
+    const double mean = frame.referenceMean > 0 ? frame.referenceMean : 1.0;
+    auto at = [&](size_t i, uint32_t panel, Rgb8 c) {
+        const size_t x = i % w, y = i / w;
+        const size_t o = ((h - 1 - y) * size_t(3 * w) + panel * w + x) * 3;
+        m.rgb[o] = c.r;
+        m.rgb[o + 1] = c.g;
+        m.rgb[o + 2] = c.b;
+    };
+    for (size_t i = 0; i < pixels; ++i) {
+        if (!reference::comparedPixel(frame.player[i], frame.truth[i], frame.standardError[i])) {
+            for (uint32_t panel = 0; panel < 3; ++panel) at(i, panel, kMapOutside);
+            continue;
+        }
+        const double p = reference::luminance(frame.player[i]), t = reference::luminance(frame.truth[i]);
+        at(i, 0, rampColour(p / (2.0 * mean)));
+        at(i, 1, rampColour(t / (2.0 * mean)));
+        at(i, 2, divergingColour((p - t) / mean));
+    }
+    const std::string what = metric == "gi" ? "indirect (GI) irradiance" : "sky irradiance";
+    m.encoding = "three panels: the player's " + what + " | the truth's | (player - truth) / mean truth "
+                 "(Rec. 709 luminance); the first two on one ramp from 0 to twice the mean truth";
+    m.legend = {{colourName(kMapOutside), "not measured (no geometry)"},
+                {"panels 1-2", kRampName + " (clamp = 2 x the frame's mean truth luminance)"},
+                {colourName(divergingColour(-1.0)), "panel 3: player darker by the mean truth or more"},
+                {colourName(divergingColour(0.0)), "panel 3: player = truth"},
+                {colourName(divergingColour(1.0)), "panel 3: player brighter by the mean truth or more"}};
+    m.clamp = 2.0;
+    m.clampMeaning = "panels 1-2: 2 x the mean truth luminance; panel 3: +-1 x the mean truth luminance";
+    m.stats = {{"reference_mean_luminance", frame.referenceMean}};
+    return m;
+}
+
 ErrorMap lodErrorMap(const LodFrame& frame) {
     const size_t pixels = size_t(frame.width) * frame.height;
     if (pixels == 0 || frame.worst.size() != pixels) return {};

@@ -54,6 +54,13 @@ struct ErrorMap {
 ErrorMap shadowErrorMap(const ShadowQuality::Frame& frame);
 // `metric`: "gi" or "sky" (the file name and the legend's wording).
 ErrorMap irradianceErrorMap(const std::string& metric, const IrradianceQuality::Frame& frame);
+// The same frame side by side, three panels of the frame's size (compare_<metric>.png): the
+// player's and the truth's luminance on one ramp (0 .. 2 x the mean truth), then the signed
+// difference (player - truth) / mean truth on a diverging ramp (blue too dark, white right, red
+// too bright; clamped at +-1). What the scorecard's numbers summarise, as a picture.
+ErrorMap irradianceSideBySide(const std::string& metric, const IrradianceQuality::Frame& frame);
+// The diverging ramp of the side-by-side's third panel: t in [-1, 1] (clamped, NaN: 0).
+Rgb8 divergingColour(double t);
 ErrorMap lodErrorMap(const LodFrame& frame);
 
 // Writes every map's PNG into `outDir` and error_maps.json beside them (`frame`: the measured

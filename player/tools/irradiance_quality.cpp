@@ -118,6 +118,12 @@ PlayResult<std::vector<std::pair<std::string, double>>> IrradianceQuality::measu
     out.emplace_back(mPrefix + "green_ratio", m.channelRatio[1]);
     out.emplace_back(mPrefix + "blue_ratio", m.channelRatio[2]);
     out.emplace_back(mPrefix + "leak_pct", m.leakPercent);
+    out.emplace_back(mPrefix + "zero_rmse_pct", m.zeroRmsePercent);
+    out.emplace_back(mPrefix + "best_constant_rmse_pct", m.bestConstantRmsePercent);
+    out.emplace_back(mPrefix + "best_scale", m.bestScale);
+    out.emplace_back(mPrefix + "scaled_rmse_pct", m.scaledRmsePercent);
+    out.emplace_back(mPrefix + "correlation", m.correlation);
+    out.emplace_back(mPrefix + "rmse_over_constant", m.rmseOverBestConstant);
     mPrevious = std::move(player);
     mLastTruth = std::move(truth);
     mLastError = std::move(error);

@@ -575,7 +575,9 @@ int main(int argc, char** argv) {
             std::vector<ErrorMap> maps;
             if (shadowQuality) maps.push_back(shadowErrorMap(shadowQuality->lastFrame()));
             if (giQuality) maps.push_back(irradianceErrorMap("gi", giQuality->lastFrame()));
+            if (giQuality) maps.push_back(irradianceSideBySide("gi", giQuality->lastFrame()));
             if (skyQuality) maps.push_back(irradianceErrorMap("sky", skyQuality->lastFrame()));
+            if (skyQuality) maps.push_back(irradianceSideBySide("sky", skyQuality->lastFrame()));
             if (args.lodMetrics > 0) maps.push_back(lodErrorMap(lodFrame));
             auto written = writeErrorMaps(args.outDir, errorMapFrame, maps);
             if (!written) return fail(written.error());

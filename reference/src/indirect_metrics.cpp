@@ -47,6 +47,33 @@ IndirectErrorMetrics compareIndirect(std::span<const glm::vec3> player, std::spa
         if (r < 3.0 * se + 1e-30 && r < 0.01 * m.referenceMean) leak += luminance(player[i]);
     }
     m.leakPercent = sumP > 0 ? 100.0 * leak / sumP : 0.0;
+
+    // The scorecard's baselines (second pass: they need the means).
+    double zero = 0, constant = 0, pp = 0, pr = 0, varP = 0, cov = 0;
+    for (size_t i = 0; i < reference.size(); ++i) {
+        if (!comparedPixel(player[i], reference[i], standardError[i])) continue;
+        double p = luminance(player[i]), r = luminance(reference[i]);
+        zero += r * r;
+        constant += (r - m.referenceMean) * (r - m.referenceMean);
+        pp += p * p;
+        pr += p * r;
+        varP += (p - m.playerMean) * (p - m.playerMean);
+        cov += (p - m.playerMean) * (r - m.referenceMean);
+    }
+    m.bestScale = pp > 0 ? pr / pp : 0.0;
+    // sum (s p - r)^2 = s^2 pp - 2 s pr + rr, with rr = zero.
+    const double scaled = m.bestScale * m.bestScale * pp - 2.0 * m.bestScale * pr + zero;
+    auto corrected = [&](double sumSquares) {
+        return m.referenceMean > 0 ? 100.0 * std::sqrt(std::max(0.0, (sumSquares - noise) / n)) / m.referenceMean
+                                   : 0.0;
+    };
+    m.zeroRmsePercent = corrected(zero);
+    m.bestConstantRmsePercent = corrected(constant);
+    m.scaledRmsePercent = corrected(std::max(0.0, scaled));
+    const double varR = constant - noise; // the truth's own variance, its noise taken out
+    m.correlation = varP > 0 && varR > 0 ? std::clamp(cov / std::sqrt(varP * varR), -1.0, 1.0) : 0.0;
+    m.rmseOverBestConstant =
+        m.bestConstantRmsePercent > 0 ? m.correctedRmsePercent / m.bestConstantRmsePercent : 0.0;
     return m;
 }
 

@@ -377,6 +377,21 @@ void putComparison(nlohmann::ordered_json& j, const pnb::reference::IndirectErro
     j["energy_ratio"] = m.energyRatio;
     j["channel_ratio"] = {m.channelRatio[0], m.channelRatio[1], m.channelRatio[2]};
     j["leak_percent"] = m.leakPercent;
+    // The scorecard (noise removed like corrected_rmse_percent): the baselines in the same pixels.
+    j["zero_rmse_percent"] = m.zeroRmsePercent;
+    j["best_constant_rmse_percent"] = m.bestConstantRmsePercent;
+    j["best_scale"] = m.bestScale;
+    j["scaled_rmse_percent"] = m.scaledRmsePercent;
+    j["correlation"] = m.correlation;
+    j["rmse_over_best_constant"] = m.rmseOverBestConstant;
+}
+
+// One line of the scorecard under the comparison's line.
+void printScorecard(const pnb::reference::IndirectErrorMetrics& m) {
+    std::printf("    scorecard: RMSE / best constant %.3f (constant %.1f%%, zero %.1f%%, player x %.3g %.1f%%), "
+                "correlation %.3f\n",
+                m.rmseOverBestConstant, m.bestConstantRmsePercent, m.zeroRmsePercent, m.bestScale,
+                m.scaledRmsePercent, m.correlation);
 }
 
 double meanLuminance(const std::vector<glm::vec3>& values, uint64_t& valid) {
@@ -437,6 +452,7 @@ Expected<nlohmann::ordered_json> runIndirect(const Settings& settings, const pnb
                         settings.indirectSettings.samples, m.relativeRmsePercent, m.referenceNoisePercent,
                         m.correctedRmsePercent,
                         m.energyRatio, m.channelRatio[0], m.channelRatio[1], m.channelRatio[2], m.leakPercent);
+        if (!settings.quiet) printScorecard(m);
     }
     if (!settings.quiet)
         std::printf("  indirect reference: %zu pixels x %u rays in %.0f ms\n", size_t(valid),
@@ -524,6 +540,7 @@ Expected<nlohmann::ordered_json> runSky(const Settings& settings, const pnb::Sce
                         source, sky.visibility ? "on" : "off", sky.samples, m.relativeRmsePercent,
                         m.referenceNoisePercent, m.correctedRmsePercent, m.energyRatio, m.channelRatio[0],
                         m.channelRatio[1], m.channelRatio[2], m.leakPercent);
+        if (!settings.quiet) printScorecard(m);
     }
     if (!settings.quiet)
         std::printf("  sky reference: %zu pixels x %u rays in %.0f ms (%.2f Mrays/s), mean %.4g lux\n",

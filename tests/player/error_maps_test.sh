@@ -174,9 +174,24 @@ import numpy as np
 from maps import *
 d = sys.argv[1]
 j = maps_json(d)
-assert j["frame"] == 5 and [m["file"] for m in j["maps"]] == ["error_gi.png", "error_sky.png"], j
+files = [m["file"] for m in j["maps"]]
+assert j["frame"] == 5 and files == ["error_gi.png", "compare_gi.png", "error_sky.png", "compare_sky.png"], j
 row, rows = quality_row(d, 5)
-for m in j["maps"]:
+for metric in ("gi", "sky"):
+    # The scorecard's headline is the noise-removed RMSE over the best constant's, same pixels.
+    ratio = row[metric + "_corrected_rmse_pct"] / row[metric + "_best_constant_rmse_pct"]
+    assert abs(row[metric + "_rmse_over_constant"] - ratio) <= 1e-4 * ratio, (metric, row)
+    assert -1 <= row[metric + "_correlation"] <= 1 and row[metric + "_zero_rmse_pct"] > 0, row
+    # The side-by-side: player | truth | difference, each panel the frame's size, unmeasured
+    # pixels the same in all three and in the error map.
+    side = png(d + "/compare_%s.png" % metric)
+    assert side.shape == (72, 3 * 128, 3), side.shape
+    outside = [(side[:, k * 128:(k + 1) * 128] == OUTSIDE).all(axis=2) for k in range(3)]
+    heat = (png(d + "/error_%s.png" % metric) == OUTSIDE).all(axis=2)
+    assert all((o == heat).all() for o in outside), metric
+    # The player's panel differs from the truth's: they are two images, not one drawn twice.
+    assert (side[:, :128] != side[:, 128:256]).any(), metric
+for m in [m for m in j["maps"] if m["file"].startswith("error_")]:
     img = png(d + "/" + m["file"])
     assert img.shape == (72, 128, 3), (m["file"], img.shape)
     assert m["frame"] == 5 and m["clamp"] == 1.0 and m["legend"], m

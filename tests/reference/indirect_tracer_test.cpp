@@ -187,5 +187,43 @@ TEST(IndirectMetrics, RmseEnergyChannelsAndLeak) {
                 100.0 * std::sqrt(((lum0 - 1) * (lum0 - 1) + 0.25) / 3.0 - se * se) / (2.0 / 3.0), 1e-5);
 }
 
+// The scorecard's baselines on fields whose answers are known: a pattern right up to scale, the
+// best constant itself, no light at all, and an anti-correlated guess.
+TEST(IndirectMetrics, ScorecardBaselines) {
+    std::vector<glm::vec3> truth = {glm::vec3(1), glm::vec3(2), glm::vec3(3), glm::vec3(6)};
+    std::vector<glm::vec3> noNoise(truth.size(), glm::vec3(0));
+    const double mean = 3.0, varTruth = (4 + 1 + 0 + 9) / 4.0;
+
+    std::vector<glm::vec3> doubled;
+    for (auto v : truth) doubled.push_back(2.0f * v);
+    IndirectErrorMetrics twice = compareIndirect(doubled, truth, noNoise);
+    EXPECT_NEAR(twice.bestScale, 0.5, 1e-6);
+    EXPECT_NEAR(twice.scaledRmsePercent, 0.0, 1e-3);
+    EXPECT_NEAR(twice.correlation, 1.0, 1e-9);
+    EXPECT_NEAR(twice.bestConstantRmsePercent, 100.0 * std::sqrt(varTruth) / mean, 1e-4);
+    EXPECT_NEAR(twice.zeroRmsePercent, 100.0 * std::sqrt((1 + 4 + 9 + 36) / 4.0) / mean, 1e-4);
+    EXPECT_NEAR(twice.rmseOverBestConstant, twice.correctedRmsePercent / twice.bestConstantRmsePercent, 1e-12);
+    EXPECT_GT(twice.rmseOverBestConstant, 1.0); // twice the light is worse than the mean
+
+    IndirectErrorMetrics constant = compareIndirect(std::vector<glm::vec3>(4, glm::vec3(3)), truth, noNoise);
+    EXPECT_NEAR(constant.rmseOverBestConstant, 1.0, 1e-6);
+    EXPECT_EQ(constant.correlation, 0.0); // a constant has no pattern to correlate
+
+    IndirectErrorMetrics zero = compareIndirect(std::vector<glm::vec3>(4, glm::vec3(0)), truth, noNoise);
+    EXPECT_NEAR(zero.correctedRmsePercent, zero.zeroRmsePercent, 1e-6);
+    EXPECT_EQ(zero.bestScale, 0.0);
+
+    std::vector<glm::vec3> reversed(truth.rbegin(), truth.rend());
+    EXPECT_LT(compareIndirect(reversed, truth, noNoise).correlation, -0.5);
+
+    // The truth's noise is taken out of every baseline alike: a noisy truth (standard error 0.5)
+    // lowers the best constant's error, not raise it, and leaves the correlation at 1.
+    std::vector<glm::vec3> noise(truth.size(), glm::vec3(0.5f));
+    IndirectErrorMetrics noisy = compareIndirect(doubled, truth, noise);
+    const double se = luminance(glm::vec3(0.5f));
+    EXPECT_NEAR(noisy.bestConstantRmsePercent, 100.0 * std::sqrt(varTruth - se * se) / mean, 1e-4);
+    EXPECT_NEAR(noisy.correlation, 1.0, 1e-9); // clamped: noise removal can overshoot 1
+}
+
 } // namespace
 } // namespace pnb::reference::test

@@ -28,13 +28,29 @@ struct IndirectErrorMetrics {
     // Light where there is none: the player's luminance in pixels whose reference is below
     // 3 standard errors and below 1 % of the reference mean, as a percent of the player's total.
     double leakPercent = 0;
+
+    // The scorecard: the same error (noise removed, as correctedRmsePercent) for the baselines a
+    // real-time indirect light has to beat, in the same pixels. An indirect light whose error is
+    // not below the best constant's gives the user nothing for its cost.
+    double zeroRmsePercent = 0;          // no indirect light at all
+    double bestConstantRmsePercent = 0;  // the truth's mean everywhere (the best constant ambient)
+    double bestScale = 0;                // least-squares factor s minimising sum (s p - r)^2
+    double scaledRmsePercent = 0;        // the player times bestScale: its pattern's error alone
+    // Pearson correlation of player and truth luminance, the truth's noise variance taken out of
+    // its variance (so few rays do not lower it); 0 where either is constant. Below ~0.8 the
+    // spatial pattern is wrong, whatever the scale.
+    double correlation = 0;
+    // The headline: correctedRmsePercent / bestConstantRmsePercent (< 1: better than a constant).
+    double rmseOverBestConstant = 0;
 };
 
 // Whether one pixel counts in compareIndirect: all three values finite (a per-pixel view of a
 // frame, pnb-play --error-maps, uses this for the same pixel set).
 bool comparedPixel(const glm::vec3& player, const glm::vec3& reference, const glm::vec3& standardError);
 
-// `player`, `reference`, `standardError` are per pixel (same size; NaN = no surface).
+// `player`, `reference`, `standardError` are per pixel (same size; NaN = no surface). Every
+// "noise removed" figure subtracts the mean squared standard error from the mean squared error:
+// E[(p - r^)^2] = (p - r)^2 + Var(r^) for a truth r^ independent of the player.
 IndirectErrorMetrics compareIndirect(std::span<const glm::vec3> player, std::span<const glm::vec3> reference,
                                      std::span<const glm::vec3> standardError);
 
