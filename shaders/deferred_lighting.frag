@@ -40,16 +40,19 @@ void main() {
     float roughness = floor(roughnessBits / 2.0) / 32767.0;
     bool receivesShadows = mod(roughnessBits, 2.0) > 0.5;
     vec3 v = normalize(-position);
+    // The captures describe the surface whose depth the frame kept (the truth is traced there):
+    // a translucent layer writes no depth, so it leaves the value below it (alpha 0).
+    float captureAlpha = base.a < 1.0 ? 0.0 : 1.0;
 #ifdef GI
     if (giCaptureIrradiance()) { // CaptureBuffer::Indirect: the irradiance GI adds, per pixel
-        outColor = vec4(giIrradiance(position, n), 1.0);
+        outColor = vec4(giIrradiance(position, n), captureAlpha);
         return;
     }
 #endif
 #ifdef IBL
     float sky = iblActive() ? skyVisibility(position, n) : 1.0;
     if (iblCaptureSky()) { // CaptureBuffer::Sky: the sky irradiance this pixel receives
-        outColor = vec4(iblIrradiance(n) * sky, 1.0);
+        outColor = vec4(iblIrradiance(n) * sky, captureAlpha);
         return;
     }
 #endif

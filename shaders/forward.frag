@@ -17,14 +17,16 @@ void main() {
     vec3 v = normalize(-vPosition); // camera at the origin of camera-relative space
 #ifdef GI
     if (giCaptureIrradiance()) { // CaptureBuffer::Indirect: the irradiance GI adds, per pixel
-        outColor = vec4(giIrradiance(vPosition, s.normal), 1.0);
+        // Blended surfaces write no depth: the value below them, whose depth the frame kept,
+        // stays (the truth is traced at that surface).
+        outColor = vec4(giIrradiance(vPosition, s.normal), s.alpha < 1.0 ? 0.0 : 1.0);
         return;
     }
 #endif
     vec3 color = shadeLights(s.baseColor, s.metallic, s.roughness, s.normal, vPosition, v, true);
 #ifdef IBL
     if (iblCaptureSky()) { // CaptureBuffer::Sky (forward surfaces: no sky visibility term)
-        outColor = vec4(iblIrradiance(s.normal), 1.0);
+        outColor = vec4(iblIrradiance(s.normal), s.alpha < 1.0 ? 0.0 : 1.0);
         return;
     }
 #endif

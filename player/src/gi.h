@@ -1,7 +1,9 @@
 // gi.h — one-bounce diffuse global illumination from the sun: reflective shadow map (RSM) ->
 // injection into cascaded light propagation volumes (L1 SH per colour) and a geometry volume ->
 // propagation -> look-up in lighting (shaders/include/gi_lookup.glsl). Seed 004; Kaplanyan &
-// Dachsbacher 2010.
+// Dachsbacher 2010. gi.technique = probes replaces injection and propagation by a grid of
+// probes that gather the RSM's clustered lights through an occupancy grid (pass_gi_probes.cpp)
+// into the same volume format, so lighting reads both alike.
 //
 // Per frame, when gi.enabled and the container's lighting was built with GI:
 //   prepareGi      places the cascades (player/math/lpv_math), fits the RSM over the outer one
@@ -39,22 +41,33 @@ struct GiBlock {
     glm::vec4 irradiance;              // sun irradiance rgb x gi.intensity
 };
 
+// What each technique allocates (gi.technique): only its own. Both: the RSM and the `sum`
+// volumes lighting reads (L1 SH per colour, cascades stacked along z).
 struct GiResources {
+    GiTechnique technique = GiTechnique::Lpv;
     uint32_t cells = 0, cascades = 0, rsmResolution = 0;
     bool floatAtomics = false;
     // RSM: RT0 base colour (sRGB), RT1 normal + material (as the G-buffer), depth.
     GlHandle rsmColor, rsmNormal, rsmDepth, rsmFb;
-    // Volumes, cascades stacked along z (cells x cells x cells*cascades), RGBA16F per colour:
-    // two propagation buffers and the sum the look-up reads. Geometry: (cells+1)^3 per cascade.
-    std::array<GlHandle, 3> source, next, sum;
+    std::array<GlHandle, 3> sum;
+    // LPV: volumes (cells x cells x cells*cascades), RGBA16F per colour: two propagation
+    // buffers beside the sum. Geometry: (cells+1)^3 per cascade.
+    std::array<GlHandle, 3> source, next;
     GlHandle geometry;
     std::array<GlHandle, 2> transmittance; // per cell, the six faces' transmittance (RGBA8 x 2)
     GlHandle lightAccumulation, geometryAccumulation; // injection's atomic buffers
     GlHandle injectRsm, injectCamera, resolveLight, resolveGeometry, resolveTransmittance, propagate,
         propagateOccluded;
+    // Probes (cells = probes per side, cascades = 1): the occupancy grid over the probes' box,
+    // drawn again only when the geometry or the box changes; the clustered VPLs.
+    uint32_t voxelSide = 0, vplSide = 0;
+    GlHandle voxels, voxelFb, vpls, voxelize, clusterVpls, gatherProbes;
+    uint64_t voxelVersion = ~0ull;
+    glm::dvec3 voxelOrigin{0.0};
+    double voxelCell = 0;
     uint64_t bytes = 0;
 
-    PlayResult<Done> ensure(uint32_t cells, uint32_t cascades, uint32_t rsmResolution, bool floatAtomics);
+    PlayResult<Done> ensure(const RenderSettings& settings, uint32_t cascades);
 };
 
 // This frame's GI state (prepareGi).
@@ -84,6 +97,8 @@ void runGiInject(FrameContext& ctx);               // pass_gi_inject.cpp: RSM te
 void runGiCameraGeometry(FrameContext& ctx);       // pass_gi_inject.cpp: G-buffer surfels
 void runGiResolve(FrameContext& ctx, bool cameraGeometry); // pass_gi_inject.cpp: -> volumes
 void runGiPropagate(FrameContext& ctx);            // pass_gi_propagate.cpp
+// gi.technique = probes, after the RSM: occupancy grid when stale, VPLs, gather into `sum`.
+void runGiProbes(FrameContext& ctx);               // pass_gi_probes.cpp
 // The rest of the frame's GI once the camera's G-buffer is there (or will not be): camera
 // geometry, resolve, propagation. Runs once per frame (clears GiFrame::pending).
 void finishGi(FrameContext& ctx);

@@ -1,5 +1,8 @@
 // GI's GPU objects, created for the current gi.* sizes and dropped with GI (gi.h).
+#include <span>
 #include <string_view>
+#include <utility>
+#include <vector>
 
 #include "gi.h"
 #include "program_compile.h"
@@ -38,32 +41,60 @@ GlHandle storage(uint64_t bytes, const char* label) {
     return b;
 }
 
+GlHandle voxelGrid(uint32_t side) {
+    GlHandle t = createTexture(GL_TEXTURE_3D);
+    glTextureStorage3D(t.id(), 1, GL_R8UI, GLsizei(side), GLsizei(side), GLsizei(side));
+    glTextureParameteri(t.id(), GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+    glTextureParameteri(t.id(), GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+    glObjectLabel(GL_TEXTURE, t.id(), -1, "gi probe voxels");
+    return t;
+}
+
+PlayResult<Done> compileStages(std::span<const std::pair<GlHandle*, std::pair<const char*, std::string_view>>> stages,
+                               bool floatAtomics) {
+    for (const auto& [program, what] : stages) {
+        std::vector<std::string_view> defines;
+        if (floatAtomics) defines.push_back("FLOAT_ATOMICS");
+        if (!what.second.empty()) defines.push_back(what.second);
+        auto p = compileEmbeddedCompute(what.first, defines);
+        if (!p) return p.error();
+        *program = std::move(*p);
+    }
+    return Done{};
+}
+
 } // namespace
 
-PlayResult<Done> GiResources::ensure(uint32_t cellCount, uint32_t cascadeCount, uint32_t rsm,
-                                     bool useFloatAtomics) {
-    if (useFloatAtomics != floatAtomics || !injectRsm) {
+PlayResult<Done> GiResources::ensure(const RenderSettings& s, uint32_t cascadeCount) {
+    const GiTechnique want = s.giTechnique;
+    const uint32_t cellCount = want == GiTechnique::Probes ? s.giProbeCells : s.giCells;
+    const bool useFloatAtomics = want == GiTechnique::Lpv && s.giAtomics == GiAtomics::Float;
+    if (want != technique) {
+        *this = GiResources{}; // the other technique's objects go
+        technique = want;
+    }
+    const uint32_t rsm = s.giRsmResolution;
+    if (want == GiTechnique::Lpv && (useFloatAtomics != floatAtomics || !injectRsm)) {
         floatAtomics = useFloatAtomics;
-        std::vector<std::string_view> common;
-        if (floatAtomics) common.push_back("FLOAT_ATOMICS");
-        struct Stage {
-            GlHandle* program;
-            const char* file;
-            std::string_view define;
-        } stages[] = {{&injectRsm, "lpv_inject.comp", "SOURCE_RSM"},
-                      {&injectCamera, "lpv_inject.comp", "SOURCE_CAMERA"},
-                      {&resolveLight, "lpv_resolve.comp", "RESOLVE_LIGHT"},
-                      {&resolveGeometry, "lpv_resolve.comp", "RESOLVE_GEOMETRY"},
-                      {&resolveTransmittance, "lpv_resolve.comp", "RESOLVE_TRANSMITTANCE"},
-                      {&propagate, "lpv_propagate.comp", "PLAIN"},
-                      {&propagateOccluded, "lpv_propagate.comp", "OCCLUSION"}};
-        for (Stage& st : stages) {
-            std::vector<std::string_view> defines = common;
-            defines.push_back(st.define);
-            auto p = compileEmbeddedCompute(st.file, defines);
-            if (!p) return p.error();
-            *st.program = std::move(*p);
-        }
+        const std::pair<GlHandle*, std::pair<const char*, std::string_view>> stages[] = {
+            {&injectRsm, {"lpv_inject.comp", "SOURCE_RSM"}},
+            {&injectCamera, {"lpv_inject.comp", "SOURCE_CAMERA"}},
+            {&resolveLight, {"lpv_resolve.comp", "RESOLVE_LIGHT"}},
+            {&resolveGeometry, {"lpv_resolve.comp", "RESOLVE_GEOMETRY"}},
+            {&resolveTransmittance, {"lpv_resolve.comp", "RESOLVE_TRANSMITTANCE"}},
+            {&propagate, {"lpv_propagate.comp", "PLAIN"}},
+            {&propagateOccluded, {"lpv_propagate.comp", "OCCLUSION"}}};
+        if (auto ok = compileStages(stages, floatAtomics); !ok) return ok.error();
+    }
+    if (want == GiTechnique::Probes && !gatherProbes) {
+        const std::pair<GlHandle*, std::pair<const char*, std::string_view>> stages[] = {
+            {&clusterVpls, {"gi_vpls.comp", ""}}, {&gatherProbes, {"gi_probe_gather.comp", ""}}};
+        if (auto ok = compileStages(stages, false); !ok) return ok.error();
+        auto v = compileEmbeddedProgram("flat.vert", "gi_voxelize.frag");
+        if (!v) return v.error();
+        voxelize = std::move(*v);
+        voxelFb = createFramebuffer();
+        glNamedFramebufferDrawBuffer(voxelFb.id(), GL_NONE);
     }
     if (rsm != rsmResolution) {
         rsmResolution = rsm;
@@ -84,24 +115,41 @@ PlayResult<Done> GiResources::ensure(uint32_t cellCount, uint32_t cascadeCount, 
         const uint32_t depth = cells * cascades, corners = cells + 1;
         const char* names[3][3] = {{"lpv source r", "lpv source g", "lpv source b"},
                                    {"lpv next r", "lpv next g", "lpv next b"},
-                                   {"lpv sum r", "lpv sum g", "lpv sum b"}};
-        for (int ch = 0; ch < 3; ++ch) {
-            source[size_t(ch)] = volume(cells, depth, names[0][ch]);
-            next[size_t(ch)] = volume(cells, depth, names[1][ch]);
-            sum[size_t(ch)] = volume(cells, depth, names[2][ch]);
+                                   {"gi sum r", "gi sum g", "gi sum b"}};
+        for (int ch = 0; ch < 3; ++ch) sum[size_t(ch)] = volume(cells, depth, names[2][ch]);
+        if (want == GiTechnique::Lpv) {
+            for (int ch = 0; ch < 3; ++ch) {
+                source[size_t(ch)] = volume(cells, depth, names[0][ch]);
+                next[size_t(ch)] = volume(cells, depth, names[1][ch]);
+            }
+            geometry = volume(corners, corners * cascades, "lpv geometry");
+            transmittance[0] = volume(cells, depth, "lpv transmittance -x +x -y +y", GL_RGBA8);
+            transmittance[1] = volume(cells, depth, "lpv transmittance -z +z", GL_RGBA8);
+            uint64_t cellsTotal = uint64_t(cells) * cells * depth;
+            uint64_t cornersTotal = uint64_t(corners) * corners * corners * cascades;
+            lightAccumulation = storage(cellsTotal * 12 * 4, "lpv light accumulation");
+            geometryAccumulation = storage(cornersTotal * 2 * 4 * 4, "lpv geometry accumulation");
         }
-        geometry = volume(corners, corners * cascades, "lpv geometry");
-        transmittance[0] = volume(cells, depth, "lpv transmittance -x +x -y +y", GL_RGBA8);
-        transmittance[1] = volume(cells, depth, "lpv transmittance -z +z", GL_RGBA8);
-        uint64_t cellsTotal = uint64_t(cells) * cells * depth;
-        uint64_t cornersTotal = uint64_t(corners) * corners * corners * cascades;
-        lightAccumulation = storage(cellsTotal * 12 * 4, "lpv light accumulation");
-        geometryAccumulation = storage(cornersTotal * 2 * 4 * 4, "lpv geometry accumulation");
     }
     const uint64_t cellsTotal = uint64_t(cells) * cells * cells * cascades;
+    const uint64_t rsmBytes = uint64_t(rsmResolution) * rsmResolution * (4 + 8 + 4);
+    if (want == GiTechnique::Probes) {
+        if (s.giVoxels != voxelSide) {
+            voxelSide = s.giVoxels;
+            voxels = voxelGrid(voxelSide);
+            voxelVersion = ~0ull;
+        }
+        if (s.giVpls != vplSide) {
+            vplSide = s.giVpls;
+            vpls = storage(uint64_t(vplSide) * vplSide * 48, "gi probe vpls");
+        }
+        bytes = rsmBytes + cellsTotal * 3 * 8 + uint64_t(voxelSide) * voxelSide * voxelSide +
+                uint64_t(vplSide) * vplSide * 48;
+        return Done{};
+    }
     const uint64_t cornersTotal = uint64_t(cells + 1) * (cells + 1) * (cells + 1) * cascades;
-    bytes = uint64_t(rsmResolution) * rsmResolution * (4 + 8 + 4) + cellsTotal * (9 * 8 + 2 * 4) +
-            cornersTotal * 8 + cellsTotal * 12 * 4 + cornersTotal * 2 * 4 * 4;
+    bytes = rsmBytes + cellsTotal * (9 * 8 + 2 * 4) + cornersTotal * 8 + cellsTotal * 12 * 4 +
+            cornersTotal * 2 * 4 * 4;
     return Done{};
 }
 

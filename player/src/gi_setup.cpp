@@ -61,15 +61,17 @@ void prepareGi(FrameContext& ctx) {
     }
     if (s.giEnabled && scene.giPrograms && sun >= 0) {
         glm::dvec3 forward = -glm::dvec3(ctx.view.view[0][2], ctx.view.view[1][2], ctx.view.view[2][2]);
-        f.cascades = placeCascades(std::min(s.giCascades, kMaxGiCascades), s.giCells, s.giCellSize,
-                                   ctx.shadows.sceneMin, ctx.shadows.sceneMax, ctx.view.position, forward);
+        // Probes: one grid (the outer cascade's box, or following the camera with gi.cell_size).
+        const bool probes = s.giTechnique == GiTechnique::Probes;
+        f.cascades = placeCascades(probes ? 1u : std::min(s.giCascades, kMaxGiCascades),
+                                   probes ? s.giProbeCells : s.giCells, s.giCellSize, ctx.shadows.sceneMin,
+                                   ctx.shadows.sceneMax, ctx.view.position, forward);
     }
     if (f.cascades.empty()) {
         gi.resources = GiResources{}; // GI off: nothing allocated, nothing compiled
         return;
     }
-    auto ok = gi.resources.ensure(s.giCells, uint32_t(f.cascades.size()), s.giRsmResolution,
-                                  s.giAtomics == GiAtomics::Float);
+    auto ok = gi.resources.ensure(s, uint32_t(f.cascades.size()));
     if (!ok) {
         std::fprintf(stderr, "pnb-play: GI off: %s\n", ok.error().message.c_str());
         gi.resources = GiResources{};
@@ -127,7 +129,7 @@ void prepareGi(FrameContext& ctx) {
     GiBlock block{};
     for (size_t c = 0; c < f.cascades.size(); ++c)
         block.cascade[c] = glm::vec4(glm::vec3(f.cascades[c].origin - cam), float(f.cascades[c].cellSize));
-    block.grid = {float(s.giCells), float(f.cascades.size()), s.giCellSize > 0 ? 1.0f : 0.0f,
+    block.grid = {float(gi.resources.cells), float(f.cascades.size()), s.giCellSize > 0 ? 1.0f : 0.0f,
                   gi.capture || s.debugView == DebugView::GiIndirect ? 1.0f : 0.0f};
     glm::vec3 irradiance = glm::vec3(light.desc.color.x, light.desc.color.y, light.desc.color.z) *
                            (light.desc.intensity * s.giIntensity);

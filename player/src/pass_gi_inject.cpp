@@ -28,6 +28,11 @@ void setCascades(GLuint program, const GiFrame& f, const glm::dvec3& camera) {
 void runGiInject(FrameContext& ctx) {
     GiFrame& f = ctx.gi.frame;
     if (!f.active) return;
+    if (ctx.settings.giTechnique == GiTechnique::Probes) {
+        runGiProbes(ctx); // no camera surfels, no propagation: lighting can read it now
+        bindGiForLighting(ctx);
+        return;
+    }
     const GiResources& r = ctx.gi.resources;
     ctx.timer.mark("gi_inject");
     const uint32_t zero = 0;

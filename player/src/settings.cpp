@@ -63,6 +63,7 @@ constexpr std::string_view kFilterNames[] = {"hardware", "poisson", "pcss"};
 constexpr std::string_view kSelectNames[] = {"depth", "bounds"};
 constexpr std::string_view kPartitionNames[] = {"log", "quantile"};
 constexpr std::string_view kAtomicsNames[] = {"fixed", "float"};
+constexpr std::string_view kGiTechniqueNames[] = {"lpv", "probes"};
 constexpr std::string_view kSkyVisibilityNames[] = {"none", "screen", "height", "volume"};
 
 const std::vector<Row>& rows() {
@@ -136,6 +137,11 @@ const std::vector<Row>& rows() {
           "one-bounce indirect light from the sun: reflective shadow map, cascaded light "
           "propagation volumes (needs a container converted with GI: pnb-convert --gi)"},
          BoolField{&S::giEnabled}},
+        {{"gi.technique", "lpv|probes",
+          "lpv: light propagation volumes (cheap, diffuse, reaches a few cells); probes: a grid of "
+          "irradiance probes gathering every clustered RSM light they see through an occupancy grid "
+          "(gi.probe_cells, gi.voxels, gi.vpls; gi.cascades, cells, iterations, occlusion unused)"},
+         enumField<&S::giTechnique>(kGiTechniqueNames)},
         {{"gi.cascades", "int 1..4", "nested propagation volumes, each twice the previous' cell"},
          UIntField{&S::giCascades, 1, 4}},
         {{"gi.cells", "int 8..128", "cells along each side of every cascade"},
@@ -160,6 +166,14 @@ const std::vector<Row>& rows() {
           "injection accumulates in 32-bit fixed point (order-independent, deterministic) or with "
           "NV_shader_atomic_float float adds"},
          enumField<&S::giAtomics>(kAtomicsNames)},
+        {{"gi.probe_cells", "int 4..64", "probes: probes along each side of the grid over the scene"},
+         UIntField{&S::giProbeCells, 4, 64}},
+        {{"gi.voxels", "int 16..256",
+          "probes: occupancy voxels along each side of the grid (the visibility's resolution)"},
+         UIntField{&S::giVoxels, 16, 256}},
+        {{"gi.vpls", "int 4..128",
+          "probes: virtual point lights along each side of the RSM (its texels clustered in blocks)"},
+         UIntField{&S::giVpls, 4, 128}},
         {{"ibl.enabled", "bool",
           "light from the container's environment (pnb-convert --sky or --environment): diffuse "
           "from its irradiance SH, reflections from its prefiltered cube, and the background; "

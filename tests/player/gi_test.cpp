@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <functional>
 #include <numeric>
+#include <tuple>
 
 #include <gtest/gtest.h>
 
@@ -441,9 +442,10 @@ TEST(GiPipeline, ASunBelowTheHorizonLightsNothingInsideTheRoom) {
     EXPECT_GT(meanIndirect(up.indirect), 0.0);
     // The truth is 0: the floor stops the sun and its underside reflects downwards. The volume's
     // diffusion carries some of that light sideways, up outside the walls and in through the
-    // open side: measured 5.7 % of the sunlit room's indirect light (7.5 % before the geometry
+    // open side: measured 8.4 % of the sunlit room's indirect light (5.7 % while the captures
+    // showed the glass pane's light instead of the boxes' behind it; 7.5 % before the geometry
     // lobe was scaled to block a full face).
-    EXPECT_LT(meanIndirect(down.indirect), 0.08 * meanIndirect(up.indirect));
+    EXPECT_LT(meanIndirect(down.indirect), 0.11 * meanIndirect(up.indirect));
 }
 
 TEST(GiPipeline, AMillionUnitsFromTheOriginGivesTheSameIndirectLight) {
@@ -547,8 +549,9 @@ namespace {
 
 // The player's indirect light against the one-bounce truth (sun only: what the LPV models) at
 // the exact pixels it drew, default settings.
-reference::IndirectErrorMetrics accuracy(const std::string& path, const CameraState& view) {
-    GiFrameResult r = renderGi(path, view, giSettings(), 96, 72);
+reference::IndirectErrorMetrics accuracy(const std::string& path, const CameraState& view,
+                                         const RenderSettings& settings = giSettings()) {
+    GiFrameResult r = renderGi(path, view, settings, 96, 72);
     auto container = Container::open(path);
     EXPECT_TRUE(container.ok());
     auto scene = readScene(*container);
@@ -575,8 +578,10 @@ reference::IndirectErrorMetrics accuracy(const std::string& path, const CameraSt
     std::vector<glm::vec3> truth(pixels), error(pixels);
     (*tracer)->irradiance(points, normals, s, truth, error);
     reference::IndirectErrorMetrics m = reference::compareIndirect(player, truth, error);
-    std::printf("  rmse %.1f %% (truth noise %.1f %%), energy %.3f, leak %.2f %%\n", m.relativeRmsePercent,
-                m.referenceNoisePercent, m.energyRatio, m.leakPercent);
+    std::printf("  rmse %.1f %% (truth noise %.1f %%), energy %.3f, leak %.2f %%, rmse / best constant %.3f, "
+                "correlation %.3f\n",
+                m.relativeRmsePercent, m.referenceNoisePercent, m.energyRatio, m.leakPercent, m.rmseOverBestConstant,
+                m.correlation);
     return m;
 }
 
@@ -602,6 +607,97 @@ TEST(GiAccuracy, BoxRoomAgainstTheOneBounceTruth) {
     EXPECT_GT(m.energyRatio, 0.35);
     EXPECT_LT(m.energyRatio, 0.8);
     EXPECT_LT(m.leakPercent, 12.0);
+}
+
+// gi.technique = probes: a grid of probes gathering the RSM's clustered lights through the
+// scene's occupancy grid. Measured against the same truth in the same pixels as the LPV, it has to
+// beat both the LPV and the best constant ambient (docs/PLAYER.md, Global illumination).
+RenderSettings probeSettings() {
+    RenderSettings s = giSettings();
+    s.giTechnique = GiTechnique::Probes;
+    return s;
+}
+
+void expectProbesBeatLpv(const std::string& path, const CameraState& view) {
+    reference::IndirectErrorMetrics lpv = accuracy(path, view);
+    reference::IndirectErrorMetrics probes = accuracy(path, view, probeSettings());
+    EXPECT_GT(probes.pixels, 3000u);
+    EXPECT_EQ(probes.pixels, lpv.pixels);
+    // Measured at 96x72, 128 rays (box room / atrium): RMSE over the best constant's 0.536 / 0.588
+    // (LPV 1.076 / 0.752), correlation 0.846 / 0.872 (LPV 0.577 / 0.732), energy 0.970 / 0.755,
+    // leak 1.6 / 0.5 %. The atrium's light is short: probes inside columns and walls darken the
+    // trilinear look-up next to them.
+    EXPECT_LT(probes.rmseOverBestConstant, 0.75);
+    EXPECT_LT(probes.rmseOverBestConstant, 0.85 * lpv.rmseOverBestConstant);
+    EXPECT_GT(probes.correlation, 0.8);
+    EXPECT_GT(probes.energyRatio, 0.7);
+    EXPECT_LT(probes.energyRatio, 1.25);
+    EXPECT_LT(probes.leakPercent, 2.5);
+}
+
+TEST(GiProbes, BoxRoomCloserToTheTruthThanLpvAndTheBestConstant) {
+    expectProbesBeatLpv(giBoxRoom(), lookAt({0, 5, 14}, {0, 4, 0}));
+}
+
+TEST(GiProbes, AtriumCloserToTheTruthThanLpvAndTheBestConstant) {
+    static const std::string atrium = convertWithGi(std::string(PNB_SCENE_DIR) + "/atrium.glb", "atrium");
+    expectProbesBeatLpv(atrium, lookAt({-9.5, 7.2, 9.5}, {2, 1, -2}));
+}
+
+TEST(GiProbes, AllocateOnlyTheirOwnAndSwitchBackToLpv) {
+    RenderSettings probes = probeSettings();
+    GiFrameResult p = renderGi(giBoxRoom(), kView, probes, 64, 48);
+    GiFrameResult l = renderGi(giBoxRoom(), kView, giSettings(), 64, 48);
+    ASSERT_TRUE(allFinite(p.indirect));
+    EXPECT_GT(meanIndirect(p.indirect), 0.0);
+    // The volume lighting reads: gi.probe_cells^3 probes, one grid (LPV: gi.cells^3 x cascades).
+    EXPECT_EQ(p.volume.width, probes.giProbeCells);
+    EXPECT_EQ(p.volume.height, probes.giProbeCells * probes.giProbeCells);
+    // RSM 256^2 (1 MiB), 16^3 probes, 64^3 voxels, 32^2 VPLs: no propagation volumes, geometry
+    // volume or atomic buffers (the LPV's 3 x 32^3 cells).
+    const uint64_t expected = 256ull * 256 * 16 + 16ull * 16 * 16 * 3 * 8 + 64ull * 64 * 64 + 32ull * 32 * 48;
+    EXPECT_EQ(p.memory.giBytes, expected);
+    EXPECT_LT(p.memory.giBytes, l.memory.giBytes / 4);
+    // One renderer switching technique frees the other's objects and gives the same images.
+    auto scene = loadScene(giBoxRoom());
+    ASSERT_TRUE(scene.ok());
+    auto renderer = Renderer::create(**scene, probes);
+    ASSERT_TRUE(renderer.ok());
+    ASSERT_TRUE((*renderer)->render(kView, 64, 48).ok());
+    (*renderer)->setSettings(giSettings());
+    ASSERT_TRUE((*renderer)->render(kView, 64, 48).ok());
+    EXPECT_EQ((*renderer)->targetMemory().giBytes, l.memory.giBytes);
+    auto back = (*renderer)->capture(CaptureBuffer::Indirect);
+    ASSERT_TRUE(back.ok());
+    EXPECT_EQ(back->f32, l.indirect.f32);
+}
+
+TEST(GiProbes, TheFloorHidesASunBelowTheHorizon) {
+    std::string below = giVariant("sun-below", [](gltf::Document& doc) {
+        for (gltf::Node& n : doc.nodes)
+            if (n.name == "sun") n.rotation = {0.70710678f, 0, 0, 0.70710678f}; // shines along +Y
+    });
+    RenderSettings s = probeSettings();
+    GiFrameResult up = renderGi(giBoxRoom(), kView, s), down = renderGi(below, kView, s);
+    ASSERT_TRUE(allFinite(down.indirect));
+    EXPECT_GT(meanIndirect(up.indirect), 0.0);
+    // The truth is 0: the floor's underside reflects downwards and the occupancy grid holds the
+    // floor between that light and every probe in the room. What remains is the look-up's
+    // trilinear blend with the probes under the floor, near its edges: measured 5.1 % of the
+    // sunlit room's indirect light (LPV: 8.4 %).
+    EXPECT_LT(meanIndirect(down.indirect), 0.07 * meanIndirect(up.indirect));
+}
+
+TEST(GiProbes, ExtremesStayFinite) {
+    RenderSettings s = probeSettings();
+    for (auto [cells, voxels, vpls] : {std::tuple{4u, 16u, 4u}, std::tuple{64u, 16u, 4u}, std::tuple{4u, 256u, 128u}}) {
+        s.giProbeCells = cells;
+        s.giVoxels = voxels;
+        s.giVpls = vpls;
+        GiFrameResult r = renderGi(giBoxRoom(), kView, s, 32, 24);
+        EXPECT_TRUE(allFinite(r.indirect)) << cells << " " << voxels << " " << vpls;
+        EXPECT_GT(meanIndirect(r.indirect), 0.0) << cells << " " << voxels << " " << vpls;
+    }
 }
 
 } // namespace

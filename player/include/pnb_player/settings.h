@@ -54,6 +54,7 @@ enum class ShadowFilter { Hardware, Poisson, Pcss }; // shadows.filter
 enum class CascadeSelect { Depth, Bounds };    // shadows.select
 enum class SdsmPartition { Log, Quantile };    // shadows.sdsm_partition
 enum class GiAtomics { Fixed, Float };         // gi.atomics
+enum class GiTechnique { Lpv, Probes };        // gi.technique
 enum class SkyVisibility { None, Screen, Height, Volume }; // ibl.visibility
 
 struct RenderSettings {
@@ -102,6 +103,9 @@ struct RenderSettings {
     // gi.*: one-bounce diffuse indirect light from the sun through cascaded Light Propagation
     // Volumes (seed 004; see settings.cpp and docs/PLAYER.md "Global illumination").
     bool giEnabled = false;
+    // lpv: the cheap one (RSM -> propagation volumes); probes: a grid of irradiance probes that
+    // gather the RSM's lights directly with voxel visibility (docs/PLAYER.md "Global illumination").
+    GiTechnique giTechnique = GiTechnique::Lpv;
     uint32_t giCascades = 3;
     uint32_t giCells = 32;
     float giCellSize = 0.0f;      // finest cell in scene units; 0 = outer cascade fits the scene
@@ -111,6 +115,9 @@ struct RenderSettings {
     bool giCameraOcclusion = true; // blocking geometry also from the camera's G-buffer
     float giIntensity = 1.0f;
     GiAtomics giAtomics = GiAtomics::Fixed;
+    uint32_t giProbeCells = 16;   // probes: probes along each side of the grid over the scene
+    uint32_t giVoxels = 64;       // probes: occupancy voxels along each side (visibility)
+    uint32_t giVpls = 32;         // probes: virtual point lights along each side of the RSM
 
     // ibl.*: light from the container's environment (ENVM; docs/PLAYER.md "Sky and image-based
     // lighting"). Without an environment none of these has an effect.

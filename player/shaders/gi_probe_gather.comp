@@ -1,0 +1,106 @@
+#version 450 core
+// gi_probe_gather.comp — irradiance probes that gather every virtual point light they can see
+// (gi.technique = probes): one work group per probe at a grid cell's centre (dispatched as the
+// grid), its threads sharing
+// the VPLs (gi_vpls.comp). A VPL y with normal n_y and flux Phi (over the sun's irradiance) lights
+// the probe x with irradiance Phi max(0, n_y . w) / (pi (r^2 + a)) straight on, w = (x - y) / r,
+// where a (the VPL's area over 2 pi) keeps the bound of a lit disc instead of the point light's
+// 1/r^2 pole; visibility is a 3D-DDA walk through the scene's occupancy grid (gi_voxelize.frag):
+// any solid voxel between them blocks it, but the one the probe is in (a probe inside a wall
+// still sees both sides). The result is stored as the L1
+// SH of radiance over travel direction, the LPV's own format, so lighting's look-up
+// (shaders/include/gi_lookup.glsl) reads probes and propagation volumes alike.
+// There is no propagation: light reaches the far wall in one step, at 1/r^2, and nowhere else.
+layout(local_size_x = 64) in;
+
+struct Vpl {
+    vec4 position; // camera-relative world, w: lit area
+    vec4 normal;
+    vec4 flux;     // rgb over the sun's irradiance
+};
+layout(std430, binding = 0) readonly buffer Vpls { Vpl uVpls[]; };
+layout(binding = 0) uniform usampler3D uVoxels;
+
+layout(rgba16f, binding = 0) writeonly uniform image3D uSumR;
+layout(rgba16f, binding = 1) writeonly uniform image3D uSumG;
+layout(rgba16f, binding = 2) writeonly uniform image3D uSumB;
+
+layout(location = 0) uniform vec4 uGrid;   // camera-relative minimum corner, probe spacing
+layout(location = 1) uniform ivec3 uCounts; // probes per side, VPLs, voxels per side
+
+const float kShY0 = 0.282094792, kShY1 = 0.488602512;
+const float kInvPi = 0.318309886;
+
+shared vec4 sSum[3][64];
+
+vec4 basis(vec3 w) { return vec4(kShY0, -kShY1 * w.y, kShY1 * w.z, -kShY1 * w.x); }
+
+bool solid(ivec3 v) { return texelFetch(uVoxels, v, 0).r != 0u; }
+
+// Whether the segment from a to b (in voxel units) crosses a solid voxel other than the ones a and
+// b are in (Amanatides & Woo's traversal).
+bool blocked(vec3 a, vec3 b, int side) {
+    vec3 d = b - a;
+    ivec3 v = ivec3(floor(a)), end = ivec3(floor(b));
+    ivec3 stepDir = ivec3(sign(d));
+    vec3 inv = 1.0 / max(abs(d), vec3(1e-12));
+    vec3 next = (vec3(v) + max(vec3(stepDir), vec3(0.0)) - a) * sign(d) * inv; // t of the next boundary
+    next = mix(next, vec3(2.0), equal(stepDir, ivec3(0)));
+    vec3 delta = inv;
+    for (int i = 0; i < 3 * 256; ++i) {
+        // Into the next voxel at the nearest boundary; past b's position it is clear.
+        if (min(min(next.x, next.y), next.z) >= 1.0) return false;
+        if (next.x <= next.y && next.x <= next.z) {
+            v.x += stepDir.x;
+            next.x += delta.x;
+        } else if (next.y <= next.z) {
+            v.y += stepDir.y;
+            next.y += delta.y;
+        } else {
+            v.z += stepDir.z;
+            next.z += delta.z;
+        }
+        if (v == end) return false;
+        if (any(lessThan(v, ivec3(0))) || any(greaterThanEqual(v, ivec3(side)))) return false;
+        if (solid(v)) return true;
+    }
+    return false;
+}
+
+void main() {
+    ivec3 id = ivec3(gl_WorkGroupID);
+    int n = uCounts.x;
+    vec3 x = uGrid.xyz + (vec3(id) + 0.5) * uGrid.w;
+    float voxel = uGrid.w * float(n) / float(uCounts.z);
+    vec3 xv = (x - uGrid.xyz) / voxel;
+    vec4 acc[3] = vec4[](vec4(0.0), vec4(0.0), vec4(0.0));
+    for (int i = int(gl_LocalInvocationID.x); i < uCounts.y; i += 64) {
+        Vpl l = uVpls[i];
+        if (l.flux.x + l.flux.y + l.flux.z <= 0.0) continue;
+        vec3 d = x - l.position.xyz;
+        float r2 = dot(d, d);
+        vec3 w = d * inversesqrt(max(r2, 1e-30));
+        float cosine = dot(l.normal.xyz, w);
+        if (cosine <= 0.0) continue;
+        // From a voxel and a half in front of the surface: out of the layer of voxels its surface
+        // marked wherever in its voxel it lies, or a ray grazing along the surface (a floor's light
+        // towards the foot of a wall) would run through its own surface's voxels.
+        vec3 yv = (l.position.xyz + l.normal.xyz * (1.5 * voxel) - uGrid.xyz) / voxel;
+        if (blocked(yv, xv, uCounts.z)) continue;
+        float e = cosine * kInvPi / (r2 + l.position.w * (0.5 * kInvPi));
+        vec4 y = basis(w);
+        for (int ch = 0; ch < 3; ++ch) acc[ch] += (l.flux[ch] * e) * y;
+    }
+    for (int ch = 0; ch < 3; ++ch) sSum[ch][gl_LocalInvocationID.x] = acc[ch];
+    barrier();
+    for (uint s = 32u; s > 0u; s >>= 1) {
+        if (gl_LocalInvocationID.x < s)
+            for (int ch = 0; ch < 3; ++ch) sSum[ch][gl_LocalInvocationID.x] += sSum[ch][gl_LocalInvocationID.x + s];
+        barrier();
+    }
+    if (gl_LocalInvocationID.x == 0u) {
+        imageStore(uSumR, id, sSum[0][0]);
+        imageStore(uSumG, id, sSum[1][0]);
+        imageStore(uSumB, id, sSum[2][0]);
+    }
+}

@@ -1,0 +1,116 @@
+// gi.technique = probes (gi.h): after the RSM, (1) the scene's occupancy grid over the probes'
+// box, drawn only when the geometry, materials or the box change (gi_voxelize.frag: three
+// orthographic draws, one along each axis); (2) the RSM's texels clustered into gi.vpls^2
+// virtual point lights (gi_vpls.comp); (3) every probe gathers every VPL it can see through the
+// grid (gi_probe_gather.comp) into the volumes lighting reads. No propagation, no camera surfels:
+// nothing here depends on the view but the box when it follows the camera (gi.cell_size > 0).
+#include <glm/gtc/matrix_transform.hpp>
+#include <glm/gtc/type_ptr.hpp>
+
+#include "frame_context.h"
+
+namespace pnb::player {
+
+namespace {
+
+// Grid-relative world [0, extent]^3 -> clip: x, y the other two axes, depth (0..1) along `axis`.
+glm::dmat4 axisView(int axis, double extent) {
+    glm::dmat4 m(0.0);
+    const int horizontal = axis == 0 ? 2 : 0, vertical = axis == 1 ? 2 : 1;
+    m[horizontal][0] = 2.0 / extent;
+    m[3][0] = -1.0;
+    m[vertical][1] = 2.0 / extent;
+    m[3][1] = -1.0;
+    m[axis][2] = 1.0 / extent;
+    m[3][3] = 1.0;
+    return m;
+}
+
+void voxelizeScene(FrameContext& ctx, const LpvCascade& box) {
+    GiResources& r = ctx.gi.resources;
+    const GpuScene& scene = ctx.scene;
+    const double cell = box.cellSize * double(box.cells) / double(r.voxelSide);
+    if (r.voxelVersion == scene.materialsVersion && r.voxelOrigin == box.origin && r.voxelCell == cell) return;
+    ctx.timer.mark("gi_voxelize");
+    const uint8_t zero = 0;
+    glClearTexImage(r.voxels.id(), 0, GL_RED_INTEGER, GL_UNSIGNED_BYTE, &zero);
+    const glm::dmat4 toGrid = glm::translate(glm::dmat4(1.0), -box.origin);
+    std::vector<DrawRef> refs;
+    for (uint32_t i = 0; i < scene.items.size(); ++i) {
+        if (scene.materials[scene.items[i].material].translucent()) continue; // light passes glass
+        DrawRef ref;
+        ref.item = i;
+        ref.objectOffset = pushObjectBlock(scene, scene.items[i], toGrid, ctx.ring, 0.0f);
+        ref.level = drawLevel(scene, ctx.lod, i);
+        refs.push_back(ref);
+    }
+    const GLsizei side = GLsizei(r.voxelSide);
+    glNamedFramebufferParameteri(r.voxelFb.id(), GL_FRAMEBUFFER_DEFAULT_WIDTH, side);
+    glNamedFramebufferParameteri(r.voxelFb.id(), GL_FRAMEBUFFER_DEFAULT_HEIGHT, side);
+    glBindFramebuffer(GL_FRAMEBUFFER, r.voxelFb.id());
+    glViewport(0, 0, side, side);
+    glDisable(GL_DEPTH_TEST);
+    glDisable(GL_BLEND);
+    glBindImageTexture(0, r.voxels.id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_R8UI);
+    const GLuint p = r.voxelize.id();
+    glProgramUniform1i(p, 1, GLint(side));
+    for (int axis = 0; axis < 3; ++axis) {
+        FrameBlock fb{};
+        fb.viewProjection = glm::mat4(axisView(axis, box.cellSize * double(box.cells)));
+        fb.view = glm::mat4(1.0f);
+        fb.viewport = {float(side), float(side), 1.0f / float(side), 1.0f / float(side)};
+        const size_t offset = ctx.ring.push(&fb, sizeof fb);
+        glBindBufferRange(GL_UNIFORM_BUFFER, 0, ctx.ring.buffer(), GLintptr(offset), sizeof fb);
+        glProgramUniform1i(p, 0, axis);
+        drawItems(ctx, refs, p, &GpuMaterial::program, true);
+    }
+    glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT);
+    glBindBufferRange(GL_UNIFORM_BUFFER, 0, ctx.ring.buffer(), GLintptr(ctx.frameBlockOffset), sizeof(FrameBlock));
+    glEnable(GL_DEPTH_TEST);
+    // The warm-up frame draws cut (Renderer::warmUp): only a real frame's grid is kept.
+    r.voxelVersion = ctx.warmUp ? ~0ull : scene.materialsVersion;
+    r.voxelOrigin = box.origin;
+    r.voxelCell = cell;
+}
+
+} // namespace
+
+void runGiProbes(FrameContext& ctx) {
+    const GiFrame& f = ctx.gi.frame;
+    GiResources& r = ctx.gi.resources;
+    const LpvCascade& box = f.cascades.front();
+    voxelizeScene(ctx, box);
+
+    ctx.timer.mark("gi_vpls");
+    const GLuint cluster = r.clusterVpls.id();
+    const glm::mat4 inverse(glm::inverse(f.rsm.matrix));
+    const GLint block = GLint((r.rsmResolution + r.vplSide - 1) / r.vplSide);
+    glProgramUniformMatrix4fv(cluster, 0, 1, GL_FALSE, glm::value_ptr(inverse));
+    glProgramUniform3f(cluster, 1, float(f.toward.x), float(f.toward.y), float(f.toward.z));
+    glProgramUniform3i(cluster, 2, GLint(r.rsmResolution), block, GLint(r.vplSide));
+    glProgramUniform1f(cluster, 3, float(f.rsmTexelArea));
+    glBindTextureUnit(0, r.rsmColor.id());
+    glBindTextureUnit(1, r.rsmNormal.id());
+    glBindTextureUnit(2, r.rsmDepth.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, r.vpls.id());
+    glUseProgram(cluster);
+    const GLuint groups = (r.vplSide + 7) / 8;
+    glDispatchCompute(groups, groups, 1);
+    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+
+    ctx.timer.mark("gi_gather");
+    const GLuint gather = r.gatherProbes.id();
+    const glm::vec3 origin(box.origin - ctx.view.position);
+    glProgramUniform4f(gather, 0, origin.x, origin.y, origin.z, float(box.cellSize));
+    glProgramUniform3i(gather, 1, GLint(r.cells), GLint(r.vplSide * r.vplSide), GLint(r.voxelSide));
+    glBindTextureUnit(0, r.voxels.id());
+    for (GLuint ch = 0; ch < 3; ++ch)
+        glBindImageTexture(ch, r.sum[ch].id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA16F);
+    glUseProgram(gather);
+    glDispatchCompute(r.cells, r.cells, r.cells);
+    glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT);
+    for (GLuint unit = 0; unit < 3; ++unit) glBindTextureUnit(unit, 0);
+    glUseProgram(0);
+}
+
+} // namespace pnb::player
