@@ -63,6 +63,9 @@ struct GiResources {
     uint32_t voxelSide = 0, vplSide = 0;
     GlHandle voxels, voxelFb, vpls, voxelize, clusterVpls, gatherProbes;
     uint64_t voxelVersion = ~0ull;
+    // What the probes were last gathered from (sun, grid, sizes, scene versions, RSM items' levels
+    // of detail): equal this frame = the volume is still right (gi.probe_cache).
+    std::vector<uint64_t> probeInputs;
     glm::dvec3 voxelOrigin{0.0};
     double voxelCell = 0;
     uint64_t bytes = 0;
@@ -82,6 +85,8 @@ struct GiFrame {
     std::vector<size_t> rsmObjectOffsets;
     size_t rsmFrameOffset = 0, blockOffset = 0;
     float lightScale = 0, geometryScale = 0; // fixed-point units per 1.0
+    std::vector<uint64_t> probeInputs; // probes: this frame's inputs (GiResources::probeInputs)
+    bool probesCurrent = false;        // probes: the volume already holds them (no RSM, no gather)
 };
 
 struct GiContext {

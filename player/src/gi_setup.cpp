@@ -1,5 +1,6 @@
 // GI's per-frame set-up: the cascades, the RSM's fit, what it draws, the GiBlock (gi.h).
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <cstdio>
 #include <limits>
@@ -112,6 +113,19 @@ void prepareGi(FrameContext& ctx) {
         if (!ctx.warmUp && (ihi.x < rlo.x || ilo.x > rhi.x || ihi.y < rlo.y || ilo.y > rhi.y)) continue;
         f.rsmItems.push_back(i);
         f.rsmObjectOffsets.push_back(pushObjectBlock(scene, item, toCamera, ctx.ring, 0.0f));
+    }
+    // Probes: what the gather depends on. Not the camera: the volume holds world directions and
+    // the grid's place is in the list.
+    f.probeInputs.clear();
+    f.probesCurrent = false;
+    if (s.giTechnique == GiTechnique::Probes) {
+        auto put = [&](double v) { f.probeInputs.push_back(std::bit_cast<uint64_t>(v)); };
+        for (int k = 0; k < 3; ++k) put(f.toward[k]), put(outer.origin[k]);
+        put(outer.cellSize);
+        f.probeInputs.insert(f.probeInputs.end(), {outer.cells, res, s.giVpls, s.giVoxels, scene.materialsVersion,
+                                                   scene.texelsVersion});
+        for (uint32_t i : f.rsmItems) f.probeInputs.push_back(drawLevel(scene, ctx.lod, i));
+        f.probesCurrent = s.giProbeCache && !ctx.warmUp && f.probeInputs == gi.resources.probeInputs;
     }
     FrameBlock rsmFrame{};
     rsmFrame.viewProjection = glm::mat4(f.rsm.matrix);

@@ -11,7 +11,7 @@ namespace pnb::player {
 
 void runGiRsm(FrameContext& ctx) {
     const GiFrame& f = ctx.gi.frame;
-    if (!f.active) return;
+    if (!f.active || f.probesCurrent) return;
     const GiResources& r = ctx.gi.resources;
     ctx.timer.mark("gi_rsm");
     std::vector<DrawRef> refs;

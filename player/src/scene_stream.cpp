@@ -142,6 +142,7 @@ struct SceneStream::Impl {
         const GpuTexture& tex = gpu->textures[t];
         const uint32_t valid = std::min(residency[t].valid, tex.mipCount - 1);
         glTextureParameteri(tex.texture.id(), GL_TEXTURE_BASE_LEVEL, GLint(valid - tex.firstLevel));
+        ++gpu->texelsVersion; // what a surface's colour samples may have changed (GI probes' cache)
     }
 
     // New storage for levels `first`.. of texture t; the complete levels both chains have are

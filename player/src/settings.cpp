@@ -174,6 +174,10 @@ const std::vector<Row>& rows() {
         {{"gi.vpls", "int 4..128",
           "probes: virtual point lights along each side of the RSM (its texels clustered in blocks)"},
          UIntField{&S::giVpls, 4, 128}},
+        {{"gi.probe_cache", "bool",
+          "probes: the RSM, VPLs and gather run again only when the sun, geometry, textures or the "
+          "probe grid change (false: every frame, which is what a turning sun costs)"},
+         BoolField{&S::giProbeCache}},
         {{"ibl.enabled", "bool",
           "light from the container's environment (pnb-convert --sky or --environment): diffuse "
           "from its irradiance SH, reflections from its prefiltered cube, and the background; "

@@ -700,5 +700,49 @@ TEST(GiProbes, ExtremesStayFinite) {
     }
 }
 
+TEST(GiProbes, TheCacheGivesTheSameLightAndFollowsMaterialEdits) {
+    auto container = Container::open(giBoxRoom());
+    ASSERT_TRUE(container.ok());
+    auto scene = readScene(*container);
+    ASSERT_TRUE(scene.ok());
+    auto gpu = uploadScene(*scene);
+    ASSERT_TRUE(gpu.ok());
+    RenderSettings cached = probeSettings(), fresh = probeSettings();
+    fresh.giProbeCache = false;
+    auto a = Renderer::create(**gpu, cached), b = Renderer::create(**gpu, fresh);
+    ASSERT_TRUE(a.ok() && b.ok());
+    auto indirect = [](Renderer& r, const CameraState& view) {
+        EXPECT_TRUE(r.render(view, 64, 48).ok());
+        auto c = r.capture(CaptureBuffer::Indirect);
+        EXPECT_TRUE(c.ok());
+        return c ? c->f32 : std::vector<float>{};
+    };
+    const CameraState elsewhere = lookAt({3, 2, 6}, {0, 1, 0});
+    std::vector<float> first = indirect(**a, kView);
+    indirect(**a, elsewhere); // a camera move alone keeps the probes
+    std::vector<float> again = indirect(**a, kView), everyFrame = indirect(**b, kView);
+    EXPECT_EQ(again, first);
+    ASSERT_EQ(everyFrame.size(), first.size());
+    double worst = 0, total = 0;
+    for (size_t i = 0; i < first.size(); ++i)
+        if (std::isfinite(first[i])) worst = std::max(worst, double(std::fabs(first[i] - everyFrame[i]))), total += first[i];
+    EXPECT_LT(worst, 1e-3 * total / double(first.size()) + 1e-6); // the RSM drawn from another origin
+    // A material edit is a new input: the sunlit floor turned red bleeds red (the red wall is
+    // edge-on to this sun and bleeds nothing either way).
+    auto redOf = [](const std::vector<float>& v) {
+        double r = 0, g = 0;
+        for (size_t i = 0; i < v.size(); i += 4)
+            if (std::isfinite(v[i])) r += v[i], g += v[i + 1];
+        return r / g;
+    };
+    for (auto& m : scene->materials)
+        if (scene->str(m.name) == "checker-floor") m.baseColorFactor = {1.0f, 0.1f, 0.1f, 1.0f};
+    ASSERT_TRUE(updateMaterials(**gpu, *scene).ok());
+    std::vector<float> edited = indirect(**a, kView);
+    EXPECT_GT(redOf(edited), 1.5 * redOf(first));
+    std::vector<float> editedEveryFrame = indirect(**b, kView);
+    EXPECT_NEAR(redOf(edited), redOf(editedEveryFrame), 1e-3 * redOf(edited));
+}
+
 } // namespace
 } // namespace pnb::player::test

@@ -186,6 +186,7 @@ struct GpuScene {
     std::vector<uint16_t> deferredLayers;
     bool hasForward = false;
     uint64_t materialsVersion = 0; // incremented by updateMaterials (renderers rebuild caster lists)
+    uint64_t texelsVersion = 0;    // incremented when streaming changes a texture's resident levels
 
     const ScenePath* findPath(std::string_view pathName) const; // "" = the first
 };

@@ -118,6 +118,7 @@ struct RenderSettings {
     uint32_t giProbeCells = 16;   // probes: probes along each side of the grid over the scene
     uint32_t giVoxels = 64;       // probes: occupancy voxels along each side (visibility)
     uint32_t giVpls = 32;         // probes: virtual point lights along each side of the RSM
+    bool giProbeCache = true;     // probes: gathered again only when what they see changed
 
     // ibl.*: light from the container's environment (ENVM; docs/PLAYER.md "Sky and image-based
     // lighting"). Without an environment none of these has an effect.
