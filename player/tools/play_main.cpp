@@ -89,7 +89,8 @@ Run:
                           |player - truth|), error_gi.png and error_sky.png (|player - truth|
                           luminance / mean truth luminance, magma ramp black..pale yellow up to
                           100 %; dark grey unmeasured), error_lod.png (largest RGB difference to
-                          full detail, same ramp up to 32/255); error_maps.json: frame and legend
+                          full detail, same ramp up to 32/255); compare_gi.png, compare_sky.png
+                          (player | truth | difference side by side); error_maps.json: legends
 
 Window (see docs/PLAYER.md):
   WASD move, Q/E down/up, Shift faster, right-drag look, O orbit (left-drag, W/S in/out)
