@@ -430,11 +430,17 @@ double meanIndirect(const CapturedImage& c) {
     return n ? s / double(n) : 0.0;
 }
 
-TEST(GiPipeline, ASunBelowTheHorizonLightsNothingInsideTheRoom) {
-    std::string below = giVariant("sun-below", [](gltf::Document& doc) {
+// The box room with its sun shining up from below the floor (the truth: no light inside).
+const std::string& sunBelowBoxRoom() {
+    static const std::string path = giVariant("sun-below", [](gltf::Document& doc) {
         for (gltf::Node& n : doc.nodes)
             if (n.name == "sun") n.rotation = {0.70710678f, 0, 0, 0.70710678f}; // shines along +Y
     });
+    return path;
+}
+
+TEST(GiPipeline, ASunBelowTheHorizonLightsNothingInsideTheRoom) {
+    const std::string& below = sunBelowBoxRoom();
     RenderSettings s = giSettings();
     GiFrameResult up = renderGi(giBoxRoom(), kView, s), down = renderGi(below, kView, s);
     ASSERT_TRUE(allFinite(down.indirect));
@@ -673,10 +679,7 @@ TEST(GiProbes, AllocateOnlyTheirOwnAndSwitchBackToLpv) {
 }
 
 TEST(GiProbes, TheFloorHidesASunBelowTheHorizon) {
-    std::string below = giVariant("sun-below", [](gltf::Document& doc) {
-        for (gltf::Node& n : doc.nodes)
-            if (n.name == "sun") n.rotation = {0.70710678f, 0, 0, 0.70710678f}; // shines along +Y
-    });
+    const std::string& below = sunBelowBoxRoom();
     RenderSettings s = probeSettings();
     GiFrameResult up = renderGi(giBoxRoom(), kView, s), down = renderGi(below, kView, s);
     ASSERT_TRUE(allFinite(down.indirect));
