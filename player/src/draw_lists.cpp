@@ -121,6 +121,20 @@ void drawItems(FrameContext& ctx, std::span<const DrawRef> refs, GLuint program,
     glEnable(GL_CULL_FACE);
 }
 
+std::vector<DrawRef> opaqueDrawRefs(FrameContext& ctx, const glm::dmat4& toView) {
+    const GpuScene& scene = ctx.scene;
+    std::vector<DrawRef> refs;
+    for (uint32_t i = 0; i < scene.items.size(); ++i) {
+        if (scene.materials[scene.items[i].material].translucent()) continue;
+        DrawRef ref;
+        ref.item = i;
+        ref.objectOffset = pushObjectBlock(scene, scene.items[i], toView, ctx.ring, 0.0f);
+        ref.level = drawLevel(scene, ctx.lod, i);
+        refs.push_back(ref);
+    }
+    return refs;
+}
+
 void drawFullscreenTriangle() { glDrawArrays(GL_TRIANGLES, 0, 3); }
 
 } // namespace pnb::player

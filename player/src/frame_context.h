@@ -122,6 +122,11 @@ struct Renderer::Impl {
 void drawItems(FrameContext& ctx, std::span<const DrawRef> refs, GLuint program = 0,
                uint32_t GpuMaterial::*materialProgram = &GpuMaterial::program, bool twoSided = false);
 
+// Every opaque or masked item (translucent ones let light and sky through) at the main view's
+// level of detail, its object block pushed with `toView` (scene-wide passes: the sky's height
+// map, the GI probes' occupancy grid).
+std::vector<DrawRef> opaqueDrawRefs(FrameContext& ctx, const glm::dmat4& toView);
+
 // The indices a draw of `count` issues: all, or the first primitive's in a warm-up frame (the
 // driver generates code at the draw, whatever it rasterises).
 inline uint32_t warmUpCount(const FrameContext& ctx, uint32_t count) {

@@ -37,15 +37,7 @@ void voxelizeScene(FrameContext& ctx, const LpvCascade& box) {
     const uint8_t zero = 0;
     glClearTexImage(r.voxels.id(), 0, GL_RED_INTEGER, GL_UNSIGNED_BYTE, &zero);
     const glm::dmat4 toGrid = glm::translate(glm::dmat4(1.0), -box.origin);
-    std::vector<DrawRef> refs;
-    for (uint32_t i = 0; i < scene.items.size(); ++i) {
-        if (scene.materials[scene.items[i].material].translucent()) continue; // light passes glass
-        DrawRef ref;
-        ref.item = i;
-        ref.objectOffset = pushObjectBlock(scene, scene.items[i], toGrid, ctx.ring, 0.0f);
-        ref.level = drawLevel(scene, ctx.lod, i);
-        refs.push_back(ref);
-    }
+    const std::vector<DrawRef> refs = opaqueDrawRefs(ctx, toGrid); // glass lets light through
     const GLsizei side = GLsizei(r.voxelSide);
     glNamedFramebufferParameteri(r.voxelFb.id(), GL_FRAMEBUFFER_DEFAULT_WIDTH, side);
     glNamedFramebufferParameteri(r.voxelFb.id(), GL_FRAMEBUFFER_DEFAULT_HEIGHT, side);

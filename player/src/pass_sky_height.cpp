@@ -58,15 +58,7 @@ void renderSkyHeightMap(FrameContext& ctx) {
     size_t fbOffset = ctx.ring.push(&fb, sizeof fb);
     glBindBufferRange(GL_UNIFORM_BUFFER, 0, ctx.ring.buffer(), GLintptr(fbOffset), sizeof fb);
     const glm::dmat4 toEye = glm::translate(glm::dmat4(1.0), -eye);
-    std::vector<DrawRef> refs;
-    for (uint32_t i = 0; i < scene.items.size(); ++i) {
-        if (scene.materials[scene.items[i].material].translucent()) continue; // glass lets the sky in
-        DrawRef ref;
-        ref.item = i;
-        ref.objectOffset = pushObjectBlock(scene, scene.items[i], toEye, ctx.ring, 0.0f);
-        ref.level = drawLevel(scene, ctx.lod, i);
-        refs.push_back(ref);
-    }
+    const std::vector<DrawRef> refs = opaqueDrawRefs(ctx, toEye); // glass lets light through
     glBindFramebuffer(GL_FRAMEBUFFER, ibl.heightFb.id());
     glViewport(0, 0, GLsizei(res), GLsizei(res));
     glClearNamedFramebufferfi(ibl.heightFb.id(), GL_DEPTH_STENCIL, 0, 0.0f, 0);
