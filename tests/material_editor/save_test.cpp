@@ -483,13 +483,24 @@ void printFigure(const char* what, uint64_t bytes, const Timing& t) {
                 std::thread::hardware_concurrency());
 }
 
+// A save checksums and writes every chunk in user space where copy_file stays in the kernel;
+// under AddressSanitizer that user-space work is instrumented (CI measured 5.2x a durable copy of
+// 128 MiB with the suite running beside it, 1.2-3x in a release build). The bound still catches a
+// save that rewrites or re-encodes the file more than once.
+#if defined(__SANITIZE_ADDRESS__)
+constexpr double kSaveOverDurableCopy = 10.0;
+#else
+constexpr double kSaveOverDurableCopy = 5.0;
+#endif
+
 TEST(Save, CostsAboutAFileCopy) {
     TempDir dir;
     const std::string terrain = copyScene(dir, "terrain");
     const uint64_t terrainBytes = fs::file_size(terrain);
     Timing t = timeSaveVersusCopy(dir, terrain, 3);
     printFigure("terrain.pnb", terrainBytes, t);
-    EXPECT_LE(t.save, 5 * t.copyFsync) << "a save should cost about a durable file copy";
+    EXPECT_LE(t.save, kSaveOverDurableCopy * t.copyFsync)
+        << "a save should cost about a durable file copy";
 
     // A bigger, generated scene: one material on a mesh of PNB_EDITOR_BENCH_MB (default 128) MiB
     // of incompressible vertex data.
@@ -528,7 +539,7 @@ TEST(Save, CostsAboutAFileCopy) {
     positions = {};
     Timing tb = timeSaveVersusCopy(dir, big, 2);
     printFigure("generated scene", fs::file_size(big), tb);
-    EXPECT_LE(tb.save, 5 * tb.copyFsync);
+    EXPECT_LE(tb.save, kSaveOverDurableCopy * tb.copyFsync);
 }
 
 } // namespace
