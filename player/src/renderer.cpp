@@ -50,14 +50,17 @@ PlayResult<std::unique_ptr<Renderer>> Renderer::create(const GpuScene& scene,
     glCullFace(GL_BACK);
     glFrontFace(GL_CCW);
     glEnable(GL_TEXTURE_CUBE_MAP_SEAMLESS); // the prefiltered environment's rough levels are tiny
-    // Per frame: frame block, light list, one object block per item.
-    // Per frame: frame block, light list, one object block per visible item and per shadow
-    // caster, the shadow block, caster masks or (SDSM) caster bounds.
+    // The most one frame pushes: frame blocks (the view, the RSM, the sky's height map, the GI
+    // probes' three axis views of the occupancy grid), the light list, the shadow, GI and IBL
+    // blocks, and per item one object block for every pass that draws it (the view, the shadow
+    // casters, the RSM, the height map, the occupancy grid) with its caster mask or bounds.
+    // Every push is aligned: one alignment of slack per block.
+    constexpr size_t kFrameBlocks = 6, kObjectBlocksPerItem = 5;
     size_t lightBytes = 16 + sizeof(GpuLight) * std::max<size_t>(scene.lights.size(), 1);
     size_t objectStride = (kObjectBlockBytes + impl.alignment - 1) / impl.alignment * impl.alignment;
-    // GI adds its block, the RSM's frame block and one object block per item the RSM draws.
-    impl.ring.reserve(2 * sizeof(FrameBlock) + lightBytes + sizeof(ShadowBlock) + sizeof(GiBlock) + sizeof(IblBlock) +
-                          impl.alignment * 8 + scene.items.size() * (4 * objectStride + 4 + 32),
+    impl.ring.reserve(kFrameBlocks * (sizeof(FrameBlock) + impl.alignment) + lightBytes + sizeof(ShadowBlock) +
+                          sizeof(GiBlock) + sizeof(IblBlock) + impl.alignment * 8 +
+                          scene.items.size() * (kObjectBlocksPerItem * objectStride + 4 + 32),
                       impl.alignment);
     impl.targets.memory.streamingBytes = impl.ring.totalBytes();
     return r;

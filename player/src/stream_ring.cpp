@@ -1,6 +1,7 @@
 #include "stream_ring.h"
 
-#include <cassert>
+#include <cstdio>
+#include <cstdlib>
 
 namespace pnb::player {
 
@@ -42,7 +43,14 @@ void StreamRing::beginFrame() {
 }
 
 size_t StreamRing::allocate(size_t bytes, std::byte*& mapped) {
-    assert(mUsed + bytes <= mSectionBytes && "StreamRing::reserve was too small");
+    // Past the section is the next frame's data or past the mapping: a reservation that missed a
+    // pass must stop here, not corrupt memory quietly (it did: the height map and the probes'
+    // occupancy grid together pushed more object blocks than were reserved).
+    if (mUsed + bytes > mSectionBytes) {
+        std::fprintf(stderr, "pnb-play: internal error: the per-frame stream ring's %zu bytes were reserved too "
+                             "small (%zu used, %zu more asked)\n", mSectionBytes, mUsed, bytes);
+        std::abort();
+    }
     size_t offset = size_t(mSection) * mSectionBytes + mUsed;
     mapped = mMapped + offset;
     mUsed += (bytes + mAlignment - 1) / mAlignment * mAlignment;
