@@ -11,19 +11,31 @@
 // SH of radiance over travel direction, the LPV's own format, so lighting's look-up
 // (shaders/include/gi_lookup.glsl) reads probes and propagation volumes alike.
 // There is no propagation: light reaches the far wall in one step, at 1/r^2, and nowhere else.
+//
+// SKY_VISIBILITY (ibl.visibility = probes): instead, every probe traces kSkyRays directions
+// spread evenly over the sphere (a spherical Fibonacci set) through the same grid and stores the
+// L1 SH of the set it sees out of the grid through (V(w) projected: sum of basis(w) 4 pi / N);
+// lighting turns that into the cosine-weighted visible fraction around a normal
+// (shaders/include/sky_visibility.glsl). A probe whose own voxel is solid stores c0 = -1: the
+// look-up leaves it out (it sees through a wall both ways and would let the outside's sky in).
 layout(local_size_x = 64) in;
 
+layout(binding = 0) uniform usampler3D uVoxels;
+#ifdef SKY_VISIBILITY
+layout(rgba16f, binding = 0) writeonly uniform image3D uSky;
+const int kSkyRays = 256;
+#else
 struct Vpl {
     vec4 position; // camera-relative world, w: lit area
     vec4 normal;
     vec4 flux;     // rgb over the sun's irradiance
 };
 layout(std430, binding = 0) readonly buffer Vpls { Vpl uVpls[]; };
-layout(binding = 0) uniform usampler3D uVoxels;
 
 layout(rgba16f, binding = 0) writeonly uniform image3D uSumR;
 layout(rgba16f, binding = 1) writeonly uniform image3D uSumG;
 layout(rgba16f, binding = 2) writeonly uniform image3D uSumB;
+#endif
 
 layout(location = 0) uniform vec4 uGrid;   // camera-relative minimum corner, probe spacing
 layout(location = 1) uniform ivec3 uCounts; // probes per side, VPLs, voxels per side
@@ -67,6 +79,39 @@ bool blocked(vec3 a, vec3 b, int side) {
     return false;
 }
 
+#ifdef SKY_VISIBILITY
+// Where the ray from a (voxel units, inside the grid) along unit w leaves the grid, a hair inside.
+vec3 gridExit(vec3 a, vec3 w, int side) {
+    vec3 inv = 1.0 / max(abs(w), vec3(1e-12));
+    vec3 t = mix(a, float(side) - a, greaterThan(w, vec3(0.0))) * inv;
+    float tExit = min(min(t.x, t.y), t.z);
+    return clamp(a + w * tExit, vec3(1e-3), vec3(float(side) - 1e-3));
+}
+
+void main() {
+    ivec3 id = ivec3(gl_WorkGroupID);
+    int n = uCounts.x, side = uCounts.z;
+    float voxel = uGrid.w * float(n) / float(side);
+    vec3 xv = (vec3(id) + 0.5) * uGrid.w / voxel; // the probe, in voxels from the grid's corner
+    vec4 acc = vec4(0.0);
+    for (int i = int(gl_LocalInvocationID.x); i < kSkyRays; i += 64) {
+        float z = 1.0 - (2.0 * float(i) + 1.0) / float(kSkyRays);
+        float r = sqrt(max(0.0, 1.0 - z * z)), phi = 2.39996323 * float(i); // golden angle
+        vec3 w = vec3(r * cos(phi), z, r * sin(phi));
+        if (!blocked(xv, gridExit(xv, w, side), side)) acc += basis(w);
+    }
+    sSum[0][gl_LocalInvocationID.x] = acc;
+    barrier();
+    for (uint s = 32u; s > 0u; s >>= 1) {
+        if (gl_LocalInvocationID.x < s) sSum[0][gl_LocalInvocationID.x] += sSum[0][gl_LocalInvocationID.x + s];
+        barrier();
+    }
+    if (gl_LocalInvocationID.x == 0u) {
+        bool inside = solid(ivec3(floor(xv)));
+        imageStore(uSky, id, inside ? vec4(-1.0, 0.0, 0.0, 0.0) : sSum[0][0] * (4.0 * 3.14159265 / float(kSkyRays)));
+    }
+}
+#else
 void main() {
     ivec3 id = ivec3(gl_WorkGroupID);
     int n = uCounts.x;
@@ -104,3 +149,4 @@ void main() {
         imageStore(uSumB, id, sSum[2][0]);
     }
 }
+#endif

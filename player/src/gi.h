@@ -38,7 +38,7 @@ constexpr uint32_t kMaxGiCascades = 4;
 struct GiBlock {
     glm::vec4 cascade[kMaxGiCascades]; // camera-relative minimum corner, cell size
     glm::vec4 grid;                    // cells, cascades, outer cascade fades, 0
-    glm::vec4 irradiance;              // sun irradiance rgb x gi.intensity
+    glm::vec4 irradiance;              // sun irradiance rgb x gi.intensity; w: 1 = probes
 };
 
 // What each technique allocates (gi.technique): only its own. Both: the RSM and the `sum`
@@ -63,6 +63,10 @@ struct GiResources {
     uint32_t voxelSide = 0, vplSide = 0;
     GlHandle voxels, voxelFb, vpls, voxelize, clusterVpls, gatherProbes;
     uint64_t voxelVersion = ~0ull;
+    // ibl.visibility = probes: per probe the L1 SH of the directions in which it sees out of the
+    // grid (RGBA16F, probes^3), traced again only when the occupancy grid is redrawn.
+    GlHandle skyVisibility, traceSky;
+    bool skyCurrent = false;
     // What the probes were last gathered from (sun, grid, sizes, scene versions, RSM items' levels
     // of detail): equal this frame = the volume is still right (gi.probe_cache).
     std::vector<uint64_t> probeInputs;

@@ -96,6 +96,17 @@ PlayResult<Done> GiResources::ensure(const RenderSettings& s, uint32_t cascadeCo
         voxelFb = createFramebuffer();
         glNamedFramebufferDrawBuffer(voxelFb.id(), GL_NONE);
     }
+    // The probes' sky visibility exists only while ibl.visibility asks for it.
+    const bool sky = want == GiTechnique::Probes && s.iblVisibility == SkyVisibility::Probes;
+    if (!sky) {
+        skyVisibility = {};
+        traceSky = {};
+    } else if (!traceSky) {
+        std::string_view define = "SKY_VISIBILITY";
+        auto p = compileEmbeddedCompute("gi_probe_gather.comp", std::span(&define, 1));
+        if (!p) return p.error();
+        traceSky = std::move(*p);
+    }
     if (rsm != rsmResolution) {
         rsmResolution = rsm;
         rsmColor = texture2d(GL_SRGB8_ALPHA8, rsm, "rsm base colour");
@@ -117,6 +128,7 @@ PlayResult<Done> GiResources::ensure(const RenderSettings& s, uint32_t cascadeCo
                                    {"lpv next r", "lpv next g", "lpv next b"},
                                    {"gi sum r", "gi sum g", "gi sum b"}};
         for (int ch = 0; ch < 3; ++ch) sum[size_t(ch)] = volume(cells, depth, names[2][ch]);
+        skyVisibility = {};
         if (want == GiTechnique::Lpv) {
             for (int ch = 0; ch < 3; ++ch) {
                 source[size_t(ch)] = volume(cells, depth, names[0][ch]);
@@ -143,8 +155,12 @@ PlayResult<Done> GiResources::ensure(const RenderSettings& s, uint32_t cascadeCo
             vplSide = s.giVpls;
             vpls = storage(uint64_t(vplSide) * vplSide * 48, "gi probe vpls");
         }
-        bytes = rsmBytes + cellsTotal * 3 * 8 + uint64_t(voxelSide) * voxelSide * voxelSide +
-                uint64_t(vplSide) * vplSide * 48;
+        if (sky && !skyVisibility) {
+            skyVisibility = volume(cells, cells, "gi probe sky visibility");
+            skyCurrent = false;
+        }
+        bytes = rsmBytes + cellsTotal * (sky ? 4 : 3) * 8 +
+                uint64_t(voxelSide) * voxelSide * voxelSide + uint64_t(vplSide) * vplSide * 48;
         return Done{};
     }
     const uint64_t cornersTotal = uint64_t(cells + 1) * (cells + 1) * (cells + 1) * cascades;

@@ -29,14 +29,14 @@ struct IblBlock {
     glm::vec4 params;   // on, capture sky irradiance, visibility radius, specular scale
     glm::vec4 heightRect;  // height map: camera-relative minimum x, z; 1 / size x, z
     glm::vec4 heightRange; // camera-relative bottom y, top - bottom, visibility (0 none, 1
-                           // screen, 2 height, 3 volume), the height map's texel size
+                           // screen, 2 height, 3 volume, 4 probes), the height map's texel size
 };
 
 struct IblContext {
     bool active = false;   // this frame lights with the environment
     bool capture = false;  // lighting writes the sky irradiance (CaptureBuffer::Sky)
     bool warned = false;   // "ibl.enabled, but ..." said once
-    bool warnedVolume = false; // "ibl.visibility=volume needs GI" said once
+    bool warnedVolume = false; // "ibl.visibility=volume|probes needs GI ..." said once
     // The height map (pass_sky_height.cpp): world box it covers, for which scene version.
     GlHandle heightMap, heightFb;
     uint32_t heightResolution = 0;

@@ -70,6 +70,18 @@ void prepareIbl(FrameContext& ctx) {
                                      "gi.occlusion, a container converted with --gi): no sky visibility\n");
             }
         }
+        if (s.iblVisibility == SkyVisibility::Probes) {
+            // The probes' own: traced with their occupancy grid (pass_gi_probes.cpp).
+            if (ctx.gi.frame.active && ctx.gi.resources.skyVisibility) {
+                glBindTextureUnit(18, ctx.gi.resources.skyVisibility.id());
+                mode = 4.0f;
+            } else if (!ibl.warnedVolume) {
+                ibl.warnedVolume = true;
+                std::fprintf(stderr, "pnb-play: ibl.visibility=probes needs GI probes (gi.enabled, "
+                                     "gi.technique=probes, a container converted with --gi, a sun): "
+                                     "no sky visibility\n");
+            }
+        }
         block.heightRange.z = mode;
         if (specular) {
             glBindTextureUnit(13, scene.textures[*env.specular].texture.id());

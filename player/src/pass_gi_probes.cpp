@@ -6,7 +6,9 @@
 // nothing here depends on the view but the box when it follows the camera (gi.cell_size > 0), so
 // with gi.probe_cache all of it (and the RSM) runs again only when an input changed
 // (GiFrame::probeInputs: the sun, the grid, the sizes, geometry, materials, resident texture
-// levels, the RSM items' levels of detail).
+// levels, the RSM items' levels of detail). With ibl.visibility = probes, (4) every probe traces
+// rays through the grid for the sky it sees (gi_probe_gather.comp, SKY_VISIBILITY), again only
+// when the grid was redrawn: it depends on the geometry alone, not on the sun.
 #include <glm/gtc/matrix_transform.hpp>
 #include <glm/gtc/type_ptr.hpp>
 
@@ -61,10 +63,27 @@ void voxelizeScene(FrameContext& ctx, const LpvCascade& box) {
     glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT);
     glBindBufferRange(GL_UNIFORM_BUFFER, 0, ctx.ring.buffer(), GLintptr(ctx.frameBlockOffset), sizeof(FrameBlock));
     glEnable(GL_DEPTH_TEST);
+    r.skyCurrent = false;
     // The warm-up frame draws cut (Renderer::warmUp): only a real frame's grid is kept.
     r.voxelVersion = ctx.warmUp ? ~0ull : scene.materialsVersion;
     r.voxelOrigin = box.origin;
     r.voxelCell = cell;
+}
+
+// Every probe's view of the sky through the occupancy grid (ibl.visibility = probes).
+void traceSkyVisibility(FrameContext& ctx, const glm::vec3& origin, float spacing) {
+    GiResources& r = ctx.gi.resources;
+    const GLuint p = r.traceSky.id();
+    glProgramUniform4f(p, 0, origin.x, origin.y, origin.z, spacing);
+    glProgramUniform3i(p, 1, GLint(r.cells), 0, GLint(r.voxelSide));
+    glBindTextureUnit(0, r.voxels.id());
+    glBindImageTexture(0, r.skyVisibility.id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA16F);
+    glUseProgram(p);
+    glDispatchCompute(r.cells, r.cells, r.cells);
+    glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT);
+    glBindTextureUnit(0, 0);
+    glUseProgram(0);
+    r.skyCurrent = !ctx.warmUp; // the warm-up frame's grid is not kept (voxelizeScene)
 }
 
 } // namespace
@@ -72,12 +91,16 @@ void voxelizeScene(FrameContext& ctx, const LpvCascade& box) {
 void runGiProbes(FrameContext& ctx) {
     const GiFrame& f = ctx.gi.frame;
     GiResources& r = ctx.gi.resources;
-    if (f.probesCurrent) return; // nothing they see changed (gi.probe_cache)
-    // One timer pass for all three: llvmpipe runs a dispatch when the next command needs it, so
+    const bool skyStale = r.skyVisibility && !r.skyCurrent;
+    if (f.probesCurrent && !skyStale) return; // nothing they see changed (gi.probe_cache)
+    // One timer pass for all of it: llvmpipe runs a dispatch when the next command needs it, so
     // finer marks would put the gather's time into whichever pass came next.
     ctx.timer.mark("gi_probes");
     const LpvCascade& box = f.cascades.front();
     voxelizeScene(ctx, box);
+    const glm::vec3 origin(box.origin - ctx.view.position);
+    if (r.skyVisibility && !r.skyCurrent) traceSkyVisibility(ctx, origin, float(box.cellSize));
+    if (f.probesCurrent) return;
 
     const GLuint cluster = r.clusterVpls.id();
     const glm::mat4 inverse(glm::inverse(f.rsm.matrix));
@@ -96,7 +119,6 @@ void runGiProbes(FrameContext& ctx) {
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
 
     const GLuint gather = r.gatherProbes.id();
-    const glm::vec3 origin(box.origin - ctx.view.position);
     glProgramUniform4f(gather, 0, origin.x, origin.y, origin.z, float(box.cellSize));
     glProgramUniform3i(gather, 1, GLint(r.cells), GLint(r.vplSide * r.vplSide), GLint(r.voxelSide));
     glBindTextureUnit(0, r.voxels.id());

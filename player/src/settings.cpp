@@ -64,7 +64,7 @@ constexpr std::string_view kSelectNames[] = {"depth", "bounds"};
 constexpr std::string_view kPartitionNames[] = {"log", "quantile"};
 constexpr std::string_view kAtomicsNames[] = {"fixed", "float"};
 constexpr std::string_view kGiTechniqueNames[] = {"lpv", "probes"};
-constexpr std::string_view kSkyVisibilityNames[] = {"none", "screen", "height", "volume"};
+constexpr std::string_view kSkyVisibilityNames[] = {"none", "screen", "height", "volume", "probes"};
 
 const std::vector<Row>& rows() {
     using S = RenderSettings;
@@ -192,12 +192,14 @@ const std::vector<Row>& rows() {
          BoolField{&S::iblSpecular}},
         {{"ibl.background", "bool", "draw the environment where no surface is"},
          BoolField{&S::iblBackground}},
-        {{"ibl.visibility", "none|screen|height|volume",
+        {{"ibl.visibility", "none|screen|height|volume|probes",
           "sky visibility of deferred materials: none (every surface sees the whole sky), screen "
           "(rays marched through the depth buffer), height (through a height map of the scene "
-          "seen from above, drawn once), out to ibl.visibility_radius; or volume (through the "
+          "seen from above, drawn once), out to ibl.visibility_radius; volume (through the "
           "GI's geometry: the light propagation volumes' face transmittances; needs gi.enabled "
-          "and gi.occlusion)"},
+          "and gi.occlusion); or probes (each GI probe traces rays through the occupancy grid "
+          "when the geometry changes, looked up per pixel; needs gi.enabled and "
+          "gi.technique=probes; holds indoors)"},
          enumField<&S::iblVisibility>(kSkyVisibilityNames)},
         {{"ibl.visibility_radius", "float >= 0",
           "screen visibility: how far occluders are searched, scene units; 0 = 1/8 of the scene "

@@ -12,7 +12,8 @@ layout(std140, binding = 6) uniform GiBlock {
     vec4 uGiCascade[4];   // camera-relative minimum corner, cell size
     vec4 uGiGrid;         // cells, cascades, 1 if the outer cascade fades out at its border,
                           // 1 if lighting writes the indirect irradiance instead of radiance
-    vec4 uGiIrradiance;   // sun irradiance (rgb, lux or W/m^2) times gi.intensity
+    vec4 uGiIrradiance;   // sun irradiance (rgb, lux or W/m^2) times gi.intensity; w: 1 when
+                          // the volume holds probes (gi.technique = probes), 0 for the LPV
 };
 layout(binding = 10) uniform sampler3D uGiR;
 layout(binding = 11) uniform sampler3D uGiG;
@@ -25,6 +26,43 @@ vec3 giSample(int c, vec3 q, vec4 lobe) {
     vec3 uvw = (t + vec3(0.0, 0.0, float(c) * cells)) / vec3(cells, cells, cells * uGiGrid.y);
     return vec3(dot(textureLod(uGiR, uvw, 0.0), lobe), dot(textureLod(uGiG, uvw, 0.0), lobe),
                 dot(textureLod(uGiB, uvw, 0.0), lobe));
+}
+
+// Probes (one grid, cascade 0): the 8 probes around the look-up point q (in cells), each
+// weighted by its trilinear weight times how far it lies in front of the surface at p (n its
+// normal): a probe behind it (outside the room's wall, inside a column) saw light and sky this
+// surface cannot receive, and a plain trilinear fetch lets that in. The LPV's cells are not
+// points that see anything: it keeps the plain fetch. Weights are not normalised.
+void giProbeCorners(vec3 p, vec3 n, vec3 q, out ivec3 at[8], out float weight[8]) {
+    int cells = int(uGiGrid.x);
+    vec3 g = q - 0.5; // probe indices: probe i sits at cell centre i + 0.5
+    ivec3 base = ivec3(floor(g));
+    vec3 f = g - vec3(base);
+    for (int i = 0; i < 8; ++i) {
+        ivec3 o = ivec3(i & 1, (i >> 1) & 1, i >> 2);
+        at[i] = clamp(base + o, ivec3(0), ivec3(cells - 1));
+        vec3 tri = mix(1.0 - f, f, vec3(o));
+        vec3 toProbe = uGiCascade[0].xyz + (vec3(at[i]) + 0.5) * uGiCascade[0].w - p;
+        // Not DDGI's smooth ((cos + 1) / 2)^2 + 0.2: without its per-probe depth test, a fifth of
+        // the weight kept for probes behind the surface lets the outside in (measured: the same
+        // error on the box room and the atrium, 0.536 / 0.477 against 0.523 / 0.498).
+        float front = max(dot(toProbe, n) * inversesqrt(max(dot(toProbe, toProbe), 1e-30)), 0.0) + 0.01;
+        weight[i] = tri.x * tri.y * tri.z * front;
+    }
+}
+
+vec3 giProbeSample(vec3 p, vec3 n, vec3 q, vec4 lobe) {
+    ivec3 at[8];
+    float weight[8];
+    giProbeCorners(p, n, q, at, weight);
+    vec3 sum = vec3(0.0);
+    float total = 0.0;
+    for (int i = 0; i < 8; ++i) {
+        sum += weight[i] * vec3(dot(texelFetch(uGiR, at[i], 0), lobe), dot(texelFetch(uGiG, at[i], 0), lobe),
+                                dot(texelFetch(uGiB, at[i], 0), lobe));
+        total += weight[i];
+    }
+    return sum / max(total, 1e-30);
 }
 
 bool giCaptureIrradiance() { return uAmbient.a > 0.0 && uGiGrid.w > 0.5; }
@@ -46,7 +84,7 @@ vec3 giIrradiance(vec3 p, vec3 n) {
         bool outer = c == cascades - 1;
         float w = (outer && uGiGrid.z < 0.5) ? 1.0 : clamp((inside - 0.5) * 0.5, 0.0, 1.0);
         if (inside > 0.5 && remaining > 0.0) {
-            result += remaining * w * giSample(c, q, lobe);
+            result += remaining * w * (uGiIrradiance.w > 0.5 ? giProbeSample(p, n, q, lobe) : giSample(c, q, lobe));
             remaining *= 1.0 - w;
         }
     }

@@ -19,7 +19,7 @@ layout(std140, binding = 7) uniform IblBlock {
                        // sky-visibility radius (0 = none); specular radiance scale
     vec4 uIblHeightRect;  // height map: camera-relative minimum x, z; 1 / size x, z
     vec4 uIblHeightRange; // camera-relative bottom y; top - bottom; visibility (0 none,
-                          // 1 screen, 2 height, 3 volume); the height map's texel size
+                          // 1 screen, 2 height, 3 volume, 4 probes); the height map's texel size
 };
 layout(binding = 13) uniform samplerCube uIblSpecular;
 layout(binding = 14) uniform sampler2D uIblBrdf;

@@ -16,6 +16,13 @@
 //           propagation volumes' face transmittances (what the LPV's geometry lets through from
 //           one cell into the next; lpv_resolve.comp): the LPV's occlusion darkens sky light as
 //           it darkens the bounce. As coarse as the cells; sees what the RSM and the camera saw.
+//   probes: (GI permutation, gi.technique = probes) no rays per pixel: every probe traced 256
+//           directions through the occupancy grid once (gi_probe_gather.comp, SKY_VISIBILITY)
+//           and holds the L1 SH of what it sees; a pixel blends the 8 probes around it, each
+//           weighted by its trilinear weight times how far it lies in front of the surface
+//           (probes behind a wall see the other side's sky) and never a probe inside a solid
+//           voxel. Sees every surface the grid holds (overhangs, a room's roof and open side
+//           alike), as coarse as the probes; noise-free and stable while the camera moves.
 // Their errors against the ray-traced sky light: docs/PLAYER.md "Sky and image-based lighting".
 #ifndef PNB_SKY_VISIBILITY_GLSL
 #define PNB_SKY_VISIBILITY_GLSL
@@ -80,12 +87,35 @@ float volumeTransmittance(vec3 p, vec3 dir) {
     }
     return through;
 }
+
+layout(binding = 18) uniform sampler3D uGiSkyVisibility; // per probe: L1 SH of the open directions
+
+// The cosine-weighted fraction of the sky the probes around camera-relative p see around n
+// (looked up half a cell in front of the surface, as the indirect light; gi_lookup.glsl).
+float probeSkyVisibility(vec3 p, vec3 n) {
+    ivec3 at[8];
+    float weight[8];
+    giProbeCorners(p, n, (p - uGiCascade[0].xyz) / uGiCascade[0].w + 0.5 * n, at, weight);
+    vec4 lobe = vec4(0.886226925, -1.023326708 * n.y, 1.023326708 * n.z, -1.023326708 * n.x);
+    float sum = 0.0, total = 0.0;
+    for (int i = 0; i < 8; ++i) {
+        vec4 v = texelFetch(uGiSkyVisibility, at[i], 0);
+        if (v.x < 0.0) continue; // inside a solid voxel
+        sum += weight[i] * dot(v, lobe);
+        total += weight[i];
+    }
+    if (total <= 0.0) return 1.0; // every probe around is solid: nothing known blocks it
+    return clamp(sum / (total * 3.14159265), 0.0, 1.0);
+}
 #endif
 
 float skyVisibility(vec3 p, vec3 n) {
     float radius = uIblParams.z;
     int mode = int(uIblHeightRange.z + 0.5);
-    if (mode == 0 || (radius <= 0.0 && mode != 3)) return 1.0;
+    if (mode == 0 || (radius <= 0.0 && mode < 3)) return 1.0;
+#ifdef GI
+    if (mode == 4) return probeSkyVisibility(p, n);
+#endif
     const int kRays = 12, kSteps = 6, kHeightSteps = 12;
     vec3 t = normalize(abs(n.y) < 0.99 ? cross(n, vec3(0.0, 1.0, 0.0)) : cross(n, vec3(1.0, 0.0, 0.0)));
     vec3 b = cross(n, t);

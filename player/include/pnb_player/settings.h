@@ -55,7 +55,7 @@ enum class CascadeSelect { Depth, Bounds };    // shadows.select
 enum class SdsmPartition { Log, Quantile };    // shadows.sdsm_partition
 enum class GiAtomics { Fixed, Float };         // gi.atomics
 enum class GiTechnique { Lpv, Probes };        // gi.technique
-enum class SkyVisibility { None, Screen, Height, Volume }; // ibl.visibility
+enum class SkyVisibility { None, Screen, Height, Volume, Probes }; // ibl.visibility
 
 struct RenderSettings {
     float exposure = 1.0f;       // lighting.exposure: HDR scale before tone mapping
