@@ -4,6 +4,7 @@
 #pragma once
 
 #include <algorithm>
+#include <cmath>
 #include <span>
 #include <vector>
 
@@ -40,6 +41,14 @@ struct LodState {
 // only; a scene without LODs returns at once.
 void selectLevels(const GpuScene& scene, const ViewMatrices& view, uint32_t viewportHeight,
                   const RenderSettings& settings, LodState& lod, FrameStats& stats);
+
+// The direction light `l` travels this frame: directional lights turned about +Y by
+// lighting.sun_turn_deg, the rest as the container placed them.
+inline glm::vec3 lightDirection(const SceneLight& l, const RenderSettings& s) {
+    if (l.desc.type != LightType::Directional || s.sunTurnDeg == 0.0f) return l.direction;
+    const float a = glm::radians(s.sunTurnDeg), c = std::cos(a), sn = std::sin(a);
+    return {c * l.direction.x + sn * l.direction.z, l.direction.y, -sn * l.direction.x + c * l.direction.z};
+}
 
 // The GpuScene::levels index item `item` draws this frame.
 inline uint32_t drawLevel(const GpuScene& scene, const LodState& lod, uint32_t item) {

@@ -81,7 +81,7 @@ void prepareGi(FrameContext& ctx) {
     }
     f.active = true;
     const SceneLight& light = scene.lights[size_t(sun)];
-    f.toward = -glm::normalize(glm::dvec3(light.direction));
+    f.toward = -glm::normalize(glm::dvec3(lightDirection(light, s)));
     const glm::dvec3 cam = ctx.view.position;
 
     // The RSM covers the outer cascade's part of the scene, as a square in light space whose
@@ -98,7 +98,13 @@ void prepareGi(FrameContext& ctx) {
     double texel = side / double(res);
     side = texel * double(res + 2); // a texel of margin each side for the snap
     glm::dvec2 camLight = glm::dvec2(rotation * cam);
-    glm::dvec2 centre = glm::floor((0.5 * glm::dvec2(llo + lhi) + camLight) / texel + 0.5) * texel - camLight;
+    glm::dvec2 centre = 0.5 * glm::dvec2(llo + lhi);
+    // The LPV injects texel by texel and its cascades follow the camera: snapped, sub-cell camera
+    // motion leaves the map's texels where they were. The probes' grid does not follow the camera
+    // (or moves by whole cells), and they cluster texels in blocks: a snap that jumps by a texel
+    // as the sun turns changes every block's texels at once (a pop of 3-4x a frame's usual
+    // change, measured), so their map slides with the sun instead.
+    if (s.giTechnique == GiTechnique::Lpv) centre = glm::floor((centre + camLight) / texel + 0.5) * texel - camLight;
     FitBox sceneBox{ctx.shadows.sceneMin - cam, ctx.shadows.sceneMax - cam};
     f.rsm = fitLightRectangle(rotation, centre - 0.5 * side, centre + 0.5 * side, llo.z, sceneBox, res);
     f.rsmTexelArea = (side / res) * (side / res);

@@ -166,7 +166,7 @@ PlayResult<Done> Renderer::render(const CameraState& camera, uint32_t width, uin
         const SceneLight& l = scene.lights[i];
         GpuLight g;
         g.positionRange = glm::vec4(glm::vec3(l.position - mView.position), l.desc.range);
-        g.directionType = glm::vec4(l.direction, float(int(l.desc.type)));
+        g.directionType = glm::vec4(lightDirection(l, mSettings), float(int(l.desc.type)));
         g.colorIntensity = glm::vec4(l.desc.color.x, l.desc.color.y, l.desc.color.z, l.desc.intensity);
         float cosOuter = std::cos(l.desc.outerConeRadians), cosInner = std::cos(l.desc.innerConeRadians);
         g.cone = {cosOuter, 1.0f / std::max(cosInner - cosOuter, 1e-4f), 0, 0};

@@ -74,6 +74,12 @@ const std::vector<Row>& rows() {
         {{"lighting.ambient", "float >= 0",
           "uniform ambient radiance, multiplied by base colour and occlusion"},
          FloatField{&S::ambient, 0.0f, 1e6f}},
+        {{"lighting.sun_turn_deg", "float -360..360",
+          "directional lights turned about +Y (seen from above: counter-clockwise), their shadows "
+          "and GI with them: a moving sun without reconverting; the environment stays "
+          "(ibl.rotation_deg), and the ray-traced truths keep the container's sun, so the "
+          "metrics refuse a turned one"},
+         FloatField{&S::sunTurnDeg, -360.0f, 360.0f}},
         {{"post.fxaa", "bool", "FXAA edge anti-aliasing after tone mapping"},
          BoolField{&S::fxaa}},
         {{"cull.frustum", "bool", "skip draws whose world bounds are outside the view frustum"},

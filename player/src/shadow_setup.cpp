@@ -92,7 +92,7 @@ void prepareShadows(FrameContext& ctx) {
 
     ShadowBlock b{};
     bool wanted = s.shadowTechnique != ShadowTechnique::Off && sc.light >= 0 && !sc.casters.empty();
-    glm::dvec3 toward = -glm::dvec3(sc.light >= 0 ? scene.lights[size_t(sc.light)].direction
+    glm::dvec3 toward = -glm::dvec3(sc.light >= 0 ? lightDirection(scene.lights[size_t(sc.light)], s)
                                                   : glm::vec3(0, -1, 0));
     toward = glm::normalize(toward);
     uint32_t resolution = s.shadowResolution;

@@ -482,6 +482,9 @@ int main(int argc, char** argv) {
             std::printf("streaming: first frame after reading %.1f MiB\n", double(ss.firstFrameBytesRead) / 1048576.0);
     }
 
+    if (settings.sunTurnDeg != 0.0f && (args.shadowMetrics > 0 || args.giMetrics > 0))
+        return fail({PlayErrorKind::Usage, "--shadow-metrics and --gi-metrics trace the container's sun: "
+                                           "lighting.sun_turn_deg must be 0 with them"});
     std::unique_ptr<ShadowQuality> shadowQuality;
     if (args.shadowMetrics > 0) {
         if (!args.bench) return fail({PlayErrorKind::Usage, "--shadow-metrics needs --bench"});

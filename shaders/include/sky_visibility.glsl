@@ -18,10 +18,9 @@
 //           it darkens the bounce. As coarse as the cells; sees what the RSM and the camera saw.
 //   probes: (GI permutation, gi.technique = probes) no rays per pixel: every probe traced 256
 //           directions through the occupancy grid once (gi_probe_gather.comp, SKY_VISIBILITY)
-//           and holds the L1 SH of what it sees; a pixel blends the 8 probes around it, each
-//           weighted by its trilinear weight times how far it lies in front of the surface
-//           (probes behind a wall see the other side's sky) and never a probe inside a solid
-//           voxel. Sees every surface the grid holds (overhangs, a room's roof and open side
+//           and holds the L1 SH of what it sees; a pixel blends the 8 probes around it as the
+//           indirect light does (gi_lookup.glsl: probes behind the surface, which see the other
+//           side's sky, weigh little), never a probe inside a solid voxel. Sees every surface the grid holds (overhangs, a room's roof and open side
 //           alike), as coarse as the probes; noise-free and stable while the camera moves.
 // Their errors against the ray-traced sky light: docs/PLAYER.md "Sky and image-based lighting".
 #ifndef PNB_SKY_VISIBILITY_GLSL

@@ -60,6 +60,7 @@ enum class SkyVisibility { None, Screen, Height, Volume, Probes }; // ibl.visibi
 struct RenderSettings {
     float exposure = 1.0f;       // lighting.exposure: HDR scale before tone mapping
     float ambient = 0.03f;       // lighting.ambient: uniform ambient radiance (times base colour)
+    float sunTurnDeg = 0.0f;     // lighting.sun_turn_deg: directional lights turned about +Y
     bool fxaa = false;           // post.fxaa: FXAA 3.11-style edge anti-aliasing after tone mapping
     bool frustumCulling = true;  // cull.frustum: skip draws whose world AABB is outside the view
     float nearPlane = 0.0f;      // camera.near: metres; 0 = the container camera's znear
