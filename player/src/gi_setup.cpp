@@ -22,6 +22,22 @@ int giLight(const GpuScene& scene, const ShadowContext& shadows) {
     return -1;
 }
 
+// Whether some drawn surface reflects and receives diffuse light: an opaque or masked material
+// whose diffuse albedo, base colour x (1 - metallic), is not black (a texture may lift a zero
+// factor: then it counts). One bounce of diffuse light off only metal and black is zero
+// everywhere, so GI runs no pass and holds no memory for it.
+bool anyDiffuseSurface(const GpuScene& scene) {
+    for (const DrawItem& item : scene.items) {
+        const Material& m = scene.materials[item.material].desc;
+        if (m.alphaMode == AlphaMode::Blend) continue;
+        const bool metalTexture = m.textures[size_t(TextureSlotKind::MetallicRoughness)].texture != kNone;
+        const bool colourTexture = m.textures[size_t(TextureSlotKind::BaseColor)].texture != kNone;
+        const bool colour = colourTexture || m.baseColorFactor.x > 0 || m.baseColorFactor.y > 0 || m.baseColorFactor.z > 0;
+        if (colour && (m.metallicFactor < 1.0f || metalTexture)) return true;
+    }
+    return false;
+}
+
 // A power of two of fixed-point units per 1.0 such that `largest` stays below 2^29 (headroom
 // for a few of them in one cell), at most 2^27.
 float fixedScale(double largest) {
@@ -54,13 +70,15 @@ void prepareGi(FrameContext& ctx) {
     f.rsmItems.clear();
     f.rsmObjectOffsets.clear();
     int sun = giLight(scene, ctx.shadows);
-    if (s.giEnabled && (!scene.giPrograms || sun < 0) && !gi.warned) {
+    const bool diffuse = s.giEnabled && scene.giPrograms && sun >= 0 && anyDiffuseSurface(scene);
+    if (s.giEnabled && !diffuse && !gi.warned) {
         gi.warned = true;
         std::fprintf(stderr, "pnb-play: gi.enabled, but %s: no indirect light\n",
                      !scene.giPrograms ? "the container's lighting has no GI (convert with pnb-convert --gi)"
-                                       : "the scene has no directional light");
+                     : sun < 0         ? "the scene has no directional light"
+                                       : "no opaque surface reflects diffuse light (all metal or black)");
     }
-    if (s.giEnabled && scene.giPrograms && sun >= 0) {
+    if (diffuse) {
         glm::dvec3 forward = -glm::dvec3(ctx.view.view[0][2], ctx.view.view[1][2], ctx.view.view[2][2]);
         // Probes: one grid (the outer cascade's box, or following the camera with gi.cell_size).
         const bool probes = s.giTechnique == GiTechnique::Probes;

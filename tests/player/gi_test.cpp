@@ -749,6 +749,35 @@ TEST(GiProbes, TheCacheGivesTheSameLightAndFollowsMaterialEdits) {
     EXPECT_NEAR(redOf(edited), redOf(editedEveryFrame), 1e-3 * redOf(edited));
 }
 
+TEST(GiPipeline, ASceneOfMetalAloneRunsNoGiPassAndAllocatesNothing) {
+    // Diffuse light bounces off diffuse albedo, base colour x (1 - metallic): with every material
+    // metal, the bounce is zero everywhere, so neither technique runs a pass or holds memory;
+    // one material made dielectric again brings GI back (a material edit, as pnb-edit makes).
+    auto container = Container::open(giBoxRoom());
+    ASSERT_TRUE(container.ok());
+    auto scene = readScene(*container);
+    ASSERT_TRUE(scene.ok());
+    auto gpu = uploadScene(*scene);
+    ASSERT_TRUE(gpu.ok());
+    for (auto& m : scene->materials) {
+        m.metallicFactor = 1.0f;
+        m.textures[size_t(TextureSlotKind::MetallicRoughness)].texture = kNone;
+    }
+    ASSERT_TRUE(updateMaterials(**gpu, *scene).ok());
+    for (RenderSettings s : {giSettings(), probeSettings()}) {
+        auto r = Renderer::create(**gpu, s);
+        ASSERT_TRUE(r.ok());
+        ASSERT_TRUE((*r)->render(kView, 64, 48).ok());
+        EXPECT_EQ((*r)->targetMemory().giBytes, 0u) << int(s.giTechnique);
+        scene->materials.front().metallicFactor = 0.0f;
+        ASSERT_TRUE(updateMaterials(**gpu, *scene).ok());
+        ASSERT_TRUE((*r)->render(kView, 64, 48).ok());
+        EXPECT_GT((*r)->targetMemory().giBytes, 0u) << int(s.giTechnique);
+        scene->materials.front().metallicFactor = 1.0f;
+        ASSERT_TRUE(updateMaterials(**gpu, *scene).ok());
+    }
+}
+
 // lighting.sun_turn_deg on a static view: the indirect light's luminance per frame while the sun
 // turns by `step` degrees a frame (both techniques: a fresh RSM, volume or gather every frame).
 std::vector<std::vector<double>> indirectWhileTheSunTurns(RenderSettings s, int frames, float step) {
