@@ -496,7 +496,7 @@ def collect(results, keys=None):
             continue
         job = read_json(os.path.join(d, "job.json"))
         summary = read_json(os.path.join(d, "summary.json"))
-        row = {"key": key, "scene": job["scene"]}
+        row = {"key": key, "scene": job["scene"], "size": job.get("size", "")}
         for k, v in sorted(job["settings"].items()):
             row["set:" + k] = v
         row["gl_renderer"] = summary.get("gl", {}).get("renderer", "")

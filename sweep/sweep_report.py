@@ -164,6 +164,37 @@ def passes_section(plt, scene, rows, columns, out_dir):
     return ["<h3>GPU time per pass, median of each configuration</h3><img src=\"%s\" alt=\"per-pass time\">" % png]
 
 
+def gi_cost_section(rows, columns):
+    """GI's cost as a share of the frame, per configuration with GI: its own passes (gpu_ms:gi_*:
+    RSM, injection, geometry, propagation or the probes' update) over its frame, and its frame
+    over the same scene's GI-off frame (set:gi.enabled=false: the look-up inside lighting counts
+    too). Measured at the sweep's size; sweep/examples/gi-cost.toml runs the GI sweep at 1280x720."""
+    gi_passes = [c for c in columns if c.startswith("gpu_ms:gi_")]
+    def gi_off(r):  # a bool from job.json, a string from results.csv
+        return str(r.get("set:gi.enabled", "")).lower() == "false"
+    off = [number(r, GPU[0]) for r in rows if gi_off(r) and number(r, GPU[0])]
+    with_gi = [r for r in rows if not gi_off(r) and number(r, GPU[0])]
+    if not gi_passes or not with_gi:
+        return []
+    base = sorted(off)[len(off) // 2] if off else None
+    name = labeller(rows)
+    sizes = sorted({r.get("size", "") for r in with_gi})
+    out = ["<h3>GI cost, share of the frame (%s)</h3>" % html.escape(", ".join(sizes)),
+           "<table border=\"1\" cellspacing=\"0\" cellpadding=\"3\"><tr><th>configuration</th>"
+           "<th>GPU ms per frame</th><th>GI passes ms</th><th>GI passes / frame</th>"
+           "<th>frame / GI-off frame</th></tr>"]
+    for r in sorted(with_gi, key=lambda r: number(r, GPU[0])):
+        total = number(r, GPU[0])
+        gi = sum(number(r, c) or 0.0 for c in gi_passes)
+        vs_off = "+%.0f %%" % (100.0 * (total / base - 1.0)) if base else "(no GI-off job)"
+        out.append("<tr><td>%s</td><td>%.1f</td><td>%.1f</td><td>%.0f %%</td><td>%s</td></tr>"
+                   % (html.escape(name(r)), total, gi, 100.0 * gi / total, vs_off))
+    out.append("</table>")
+    if base:
+        out.append("<p>GI off: %.1f ms per frame (median of its jobs).</p>" % base)
+    return out
+
+
 def path_section(plt, scene, rows, results_dir, out_dir, limit=6):
     """GPU time per pass along the camera path (frames.csv) for the configurations worth a look:
     those on a render error's Pareto front, else the first ones, at most `limit`."""
@@ -349,6 +380,7 @@ def write_report(columns, rows, out_dir, results_dir=None, extremes=None):
         for metric, title, cost, cost_title in HEADLINE_ERRORS:
             body += front_section(plt, scene, srows, metric, title, cost, cost_title, out_dir)
         body += passes_section(plt, scene, srows, columns, out_dir)
+        body += gi_cost_section(srows, columns)
         body += load_section(plt, scene, srows, out_dir)
         if results_dir:
             body += path_section(plt, scene, srows, results_dir, out_dir)

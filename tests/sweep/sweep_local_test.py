@@ -263,6 +263,22 @@ source = "%s"
             self.assertIn("<td>%s</td><td>technique=pssm</td>" % renderer, page)
             self.assertNotIn("<td>%s</td><td>technique=sdsm</td>" % renderer, page)
 
+    def test_the_gi_cost_table_shares_the_frame_and_compares_with_gi_off(self):
+        import sweep_report
+        columns = ["key", "scene", "size", "set:gi.enabled", "set:gi.technique", "gpu_ms:total",
+                   "gpu_ms:gi_rsm", "gpu_ms:gi_propagate", "gpu_ms:lighting"]
+        rows = [{"key": "off", "scene": "s", "size": "1280x720", "set:gi.enabled": False, "gpu_ms:total": 100.0},
+                {"key": "lpv", "scene": "s", "size": "1280x720", "set:gi.enabled": True, "set:gi.technique": "lpv",
+                 "gpu_ms:total": 150.0, "gpu_ms:gi_rsm": 10.0, "gpu_ms:gi_propagate": 20.0, "gpu_ms:lighting": 60.0},
+                {"key": "probes", "scene": "s", "size": "1280x720", "set:gi.enabled": "true",
+                 "set:gi.technique": "probes", "gpu_ms:total": 110.0, "gpu_ms:gi_rsm": 0.0}]
+        page = self.read(sweep_report.write_report(columns, rows, os.path.join(self.dir, "r")))
+        self.assertIn("<h3>GI cost, share of the frame (1280x720)</h3>", page)
+        # LPV: 30 of its 150 ms in GI's passes (20 %), +50 % on the 100 ms GI-off frame.
+        self.assertIn("<td>150.0</td><td>30.0</td><td>20 %</td><td>+50 %</td>", page)
+        self.assertIn("<td>110.0</td><td>0.0</td><td>0 %</td><td>+10 %</td>", page)
+        self.assertIn("GI off: 100.0 ms per frame", page)
+
     def test_the_pareto_front_keeps_what_nothing_beats(self):
         import sweep_report
         points = [(1.0, 5.0), (2.0, 3.0), (3.0, 4.0), (4.0, 1.0), (2.5, 3.0), (0.5, 9.0)]
