@@ -38,7 +38,7 @@ constexpr uint32_t kMaxGiCascades = 4;
 struct GiBlock {
     glm::vec4 cascade[kMaxGiCascades]; // camera-relative minimum corner, cell size
     glm::vec4 grid;                    // cells, cascades, outer cascade fades, 0
-    glm::vec4 irradiance;              // sun irradiance rgb x gi.intensity; w: 1 = probes
+    glm::vec4 irradiance;              // sun irradiance rgb x gi.intensity
 };
 
 // What each technique allocates (gi.technique): only its own. Both: the RSM and the `sum`

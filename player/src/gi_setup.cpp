@@ -171,7 +171,7 @@ void prepareGi(FrameContext& ctx) {
                   gi.capture || s.debugView == DebugView::GiIndirect ? 1.0f : 0.0f};
     glm::vec3 irradiance = glm::vec3(light.desc.color.x, light.desc.color.y, light.desc.color.z) *
                            (light.desc.intensity * s.giIntensity);
-    block.irradiance = glm::vec4(irradiance, s.giTechnique == GiTechnique::Probes ? 1.0f : 0.0f);
+    block.irradiance = glm::vec4(irradiance, 0);
     f.blockOffset = ctx.ring.push(&block, sizeof block);
 }
 

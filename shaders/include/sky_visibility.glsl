@@ -18,9 +18,9 @@
 //           it darkens the bounce. As coarse as the cells; sees what the RSM and the camera saw.
 //   probes: (GI permutation, gi.technique = probes) no rays per pixel: every probe traced 256
 //           directions through the occupancy grid once (gi_probe_gather.comp, SKY_VISIBILITY)
-//           and holds the L1 SH of what it sees; a pixel blends the 8 probes around it as the
-//           indirect light does (gi_lookup.glsl: probes behind the surface, which see the other
-//           side's sky, weigh little), never a probe inside a solid voxel. Sees every surface the grid holds (overhangs, a room's roof and open side
+//           and holds the L1 SH of what it sees; a pixel blends the 8 probes around it, those
+//           behind the surface (which see the other side's sky) weighing next to nothing, never
+//           a probe inside a solid voxel. Sees every surface the grid holds (overhangs, a room's roof and open side
 //           alike), as coarse as the probes; noise-free and stable while the camera moves.
 // Their errors against the ray-traced sky light: docs/PLAYER.md "Sky and image-based lighting".
 #ifndef PNB_SKY_VISIBILITY_GLSL
@@ -89,19 +89,34 @@ float volumeTransmittance(vec3 p, vec3 dir) {
 
 layout(binding = 18) uniform sampler3D uGiSkyVisibility; // per probe: L1 SH of the open directions
 
-// The cosine-weighted fraction of the sky the probes around camera-relative p see around n
-// (looked up half a cell in front of the surface, as the indirect light; gi_lookup.glsl).
+// The cosine-weighted fraction of the sky the probes around camera-relative p see around n:
+// the 8 probes around the point half a cell in front of the surface (as the indirect light's
+// look-up), each weighted by its trilinear weight times max(0, cos) + 0.01, cos the angle
+// between n and the direction to the probe. A probe behind the surface (outside the room's
+// wall) sees the whole sky the surface does not: a plain trilinear blend lets it in. (The
+// indirect light keeps its plain trilinear fetch: the same weights there cost a quarter of a
+// 1280x720 frame on llvmpipe, 8 x 3 fetches instead of 3, for no better error.) Measured on the
+// box room's sky (160x90, 64 rays): 0.477 x the best constant's error, DDGI's smoother
+// ((cos + 1) / 2)^2 + 0.2: 0.495.
 float probeSkyVisibility(vec3 p, vec3 n) {
-    ivec3 at[8];
-    float weight[8];
-    giProbeCorners(p, n, (p - uGiCascade[0].xyz) / uGiCascade[0].w + 0.5 * n, at, weight);
+    int cells = int(uGiGrid.x);
+    float spacing = uGiCascade[0].w;
+    vec3 g = (p - uGiCascade[0].xyz) / spacing + 0.5 * n - 0.5; // probe i sits at cell centre i + 0.5
+    ivec3 base = ivec3(floor(g));
+    vec3 f = g - vec3(base);
     vec4 lobe = vec4(0.886226925, -1.023326708 * n.y, 1.023326708 * n.z, -1.023326708 * n.x);
     float sum = 0.0, total = 0.0;
     for (int i = 0; i < 8; ++i) {
-        vec4 v = texelFetch(uGiSkyVisibility, at[i], 0);
+        ivec3 o = ivec3(i & 1, (i >> 1) & 1, i >> 2);
+        ivec3 at = clamp(base + o, ivec3(0), ivec3(cells - 1));
+        vec4 v = texelFetch(uGiSkyVisibility, at, 0);
         if (v.x < 0.0) continue; // inside a solid voxel
-        sum += weight[i] * dot(v, lobe);
-        total += weight[i];
+        vec3 tri = mix(1.0 - f, f, vec3(o));
+        vec3 toProbe = uGiCascade[0].xyz + (vec3(at) + 0.5) * spacing - p;
+        float front = max(dot(toProbe, n) * inversesqrt(max(dot(toProbe, toProbe), 1e-30)), 0.0) + 0.01;
+        float w = tri.x * tri.y * tri.z * front;
+        sum += w * dot(v, lobe);
+        total += w;
     }
     if (total <= 0.0) return 1.0; // every probe around is solid: nothing known blocks it
     return clamp(sum / (total * 3.14159265), 0.0, 1.0);

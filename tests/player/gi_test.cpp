@@ -631,12 +631,12 @@ void expectProbesBeatLpv(const std::string& path, const CameraState& view) {
     reference::IndirectErrorMetrics probes = accuracy(path, view, probeSettings());
     EXPECT_GT(probes.pixels, 3000u);
     EXPECT_EQ(probes.pixels, lpv.pixels);
-    // Measured at 96x72, 128 rays (box room / atrium): RMSE over the best constant's 0.508 / 0.625
-    // (LPV 1.076 / 0.752), correlation 0.862 / 0.860 (LPV 0.577 / 0.732), energy 0.985 / 0.740,
-    // leak 1.5 / 0.5 %. The atrium's light is short: probes inside columns and walls darken the
-    // look-up next to them.
+    // Measured at 96x72, 128 rays (box room / atrium): RMSE over the best constant's 0.537 / 0.608
+    // (LPV 1.076 / 0.752), correlation 0.845 / 0.865 (LPV 0.577 / 0.732), energy 0.970 / 0.749,
+    // leak 1.6 / 0.5 %. The atrium's light is short: probes inside columns and walls darken the
+    // trilinear look-up next to them.
     EXPECT_LT(probes.rmseOverBestConstant, 0.75);
-    EXPECT_LT(probes.rmseOverBestConstant, 0.9 * lpv.rmseOverBestConstant);
+    EXPECT_LT(probes.rmseOverBestConstant, 0.85 * lpv.rmseOverBestConstant);
     EXPECT_GT(probes.correlation, 0.8);
     EXPECT_GT(probes.energyRatio, 0.7);
     EXPECT_LT(probes.energyRatio, 1.25);
@@ -819,7 +819,7 @@ TEST(GiTemporal, ASlowlyTurningSunChangesTheIndirectLightWithoutPopping) {
     // 0.25 degrees a frame, a hundred times faster than the real sun at 60 Hz. The light has to
     // follow smoothly: no step changes the image much more than a typical one, none by more
     // than a few percent. Measured (box room, 96x72, 15 steps): LPV median 2.1 %, worst 2.9 %;
-    // probes 2.2 %, 3.6 % — 7.9 % before their RSM stopped snapping to whole texels (a snap
+    // probes 2.3 %, 3.7 % — 7.9 % before their RSM stopped snapping to whole texels (a snap
     // jump changed every VPL block's texels at once).
     for (RenderSettings s : {giSettings(), probeSettings()}) {
         std::vector<double> c = frameChanges(indirectWhileTheSunTurns(s, 16, 0.25f));
