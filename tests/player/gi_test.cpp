@@ -9,6 +9,7 @@
 #include <filesystem>
 #include <functional>
 #include <numeric>
+#include <optional>
 #include <tuple>
 
 #include <gtest/gtest.h>
@@ -705,16 +706,38 @@ TEST(GiProbes, ExtremesStayFinite) {
     }
 }
 
-TEST(GiProbes, TheCacheGivesTheSameLightAndFollowsMaterialEdits) {
+// The GI box room read and uploaded with its Scene kept beside the container it points into, so
+// that a test can edit materials and push them with updateMaterials. Empty `gpu` on failure.
+struct EditableBoxRoom {
+    std::optional<Container> container;
+    std::optional<Scene> scene;
+    std::unique_ptr<GpuScene> gpu;
+};
+
+EditableBoxRoom editableBoxRoom() {
+    EditableBoxRoom r;
     auto container = Container::open(giBoxRoom());
-    ASSERT_TRUE(container.ok());
-    auto scene = readScene(*container);
-    ASSERT_TRUE(scene.ok());
-    auto gpu = uploadScene(*scene);
-    ASSERT_TRUE(gpu.ok());
+    EXPECT_TRUE(container.ok());
+    if (!container) return r;
+    r.container.emplace(std::move(*container));
+    auto scene = readScene(*r.container);
+    EXPECT_TRUE(scene.ok());
+    if (!scene) return r;
+    r.scene.emplace(std::move(*scene));
+    auto gpu = uploadScene(*r.scene);
+    EXPECT_TRUE(gpu.ok());
+    if (gpu) r.gpu = std::move(*gpu);
+    return r;
+}
+
+TEST(GiProbes, TheCacheGivesTheSameLightAndFollowsMaterialEdits) {
+    EditableBoxRoom room = editableBoxRoom();
+    ASSERT_TRUE(room.gpu);
+    Scene& scene = *room.scene;
+    GpuScene& gpu = *room.gpu;
     RenderSettings cached = probeSettings(), fresh = probeSettings();
     fresh.giProbeCache = false;
-    auto a = Renderer::create(**gpu, cached), b = Renderer::create(**gpu, fresh);
+    auto a = Renderer::create(gpu, cached), b = Renderer::create(gpu, fresh);
     ASSERT_TRUE(a.ok() && b.ok());
     auto indirect = [](Renderer& r, const CameraState& view) {
         EXPECT_TRUE(r.render(view, 64, 48).ok());
@@ -740,9 +763,9 @@ TEST(GiProbes, TheCacheGivesTheSameLightAndFollowsMaterialEdits) {
             if (std::isfinite(v[i])) r += v[i], g += v[i + 1];
         return r / g;
     };
-    for (auto& m : scene->materials)
-        if (scene->str(m.name) == "checker-floor") m.baseColorFactor = {1.0f, 0.1f, 0.1f, 1.0f};
-    ASSERT_TRUE(updateMaterials(**gpu, *scene).ok());
+    for (auto& m : scene.materials)
+        if (scene.str(m.name) == "checker-floor") m.baseColorFactor = {1.0f, 0.1f, 0.1f, 1.0f};
+    ASSERT_TRUE(updateMaterials(gpu, scene).ok());
     std::vector<float> edited = indirect(**a, kView);
     EXPECT_GT(redOf(edited), 1.5 * redOf(first));
     std::vector<float> editedEveryFrame = indirect(**b, kView);
@@ -753,28 +776,26 @@ TEST(GiPipeline, ASceneOfMetalAloneRunsNoGiPassAndAllocatesNothing) {
     // Diffuse light bounces off diffuse albedo, base colour x (1 - metallic): with every material
     // metal, the bounce is zero everywhere, so neither technique runs a pass or holds memory;
     // one material made dielectric again brings GI back (a material edit, as pnb-edit makes).
-    auto container = Container::open(giBoxRoom());
-    ASSERT_TRUE(container.ok());
-    auto scene = readScene(*container);
-    ASSERT_TRUE(scene.ok());
-    auto gpu = uploadScene(*scene);
-    ASSERT_TRUE(gpu.ok());
-    for (auto& m : scene->materials) {
+    EditableBoxRoom room = editableBoxRoom();
+    ASSERT_TRUE(room.gpu);
+    Scene& scene = *room.scene;
+    GpuScene& gpu = *room.gpu;
+    for (auto& m : scene.materials) {
         m.metallicFactor = 1.0f;
         m.textures[size_t(TextureSlotKind::MetallicRoughness)].texture = kNone;
     }
-    ASSERT_TRUE(updateMaterials(**gpu, *scene).ok());
+    ASSERT_TRUE(updateMaterials(gpu, scene).ok());
     for (RenderSettings s : {giSettings(), probeSettings()}) {
-        auto r = Renderer::create(**gpu, s);
+        auto r = Renderer::create(gpu, s);
         ASSERT_TRUE(r.ok());
         ASSERT_TRUE((*r)->render(kView, 64, 48).ok());
         EXPECT_EQ((*r)->targetMemory().giBytes, 0u) << int(s.giTechnique);
-        scene->materials.front().metallicFactor = 0.0f;
-        ASSERT_TRUE(updateMaterials(**gpu, *scene).ok());
+        scene.materials.front().metallicFactor = 0.0f;
+        ASSERT_TRUE(updateMaterials(gpu, scene).ok());
         ASSERT_TRUE((*r)->render(kView, 64, 48).ok());
         EXPECT_GT((*r)->targetMemory().giBytes, 0u) << int(s.giTechnique);
-        scene->materials.front().metallicFactor = 1.0f;
-        ASSERT_TRUE(updateMaterials(**gpu, *scene).ok());
+        scene.materials.front().metallicFactor = 1.0f;
+        ASSERT_TRUE(updateMaterials(gpu, scene).ok());
     }
 }
 
