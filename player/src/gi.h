@@ -98,6 +98,10 @@ struct GiContext {
     GiFrame frame;
     bool capture = false; // lighting writes indirect irradiance (CaptureBuffer::Indirect)
     bool warned = false;  // "gi.enabled, but ..." said once
+    // Whether some opaque surface has diffuse albedo (gi_setup.cpp), for this materialsVersion:
+    // looked at again only after a material edit, not every frame.
+    uint64_t diffuseVersion = ~0ull;
+    bool diffuse = false;
 };
 
 void prepareGi(FrameContext& ctx);                 // gi_setup.cpp

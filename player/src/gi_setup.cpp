@@ -70,7 +70,11 @@ void prepareGi(FrameContext& ctx) {
     f.rsmItems.clear();
     f.rsmObjectOffsets.clear();
     int sun = giLight(scene, ctx.shadows);
-    const bool diffuse = s.giEnabled && scene.giPrograms && sun >= 0 && anyDiffuseSurface(scene);
+    if (s.giEnabled && gi.diffuseVersion != scene.materialsVersion) {
+        gi.diffuse = anyDiffuseSurface(scene);
+        gi.diffuseVersion = scene.materialsVersion;
+    }
+    const bool diffuse = s.giEnabled && scene.giPrograms && sun >= 0 && gi.diffuse;
     if (s.giEnabled && !diffuse && !gi.warned) {
         gi.warned = true;
         std::fprintf(stderr, "pnb-play: gi.enabled, but %s: no indirect light\n",

@@ -36,7 +36,7 @@ struct IblContext {
     bool active = false;   // this frame lights with the environment
     bool capture = false;  // lighting writes the sky irradiance (CaptureBuffer::Sky)
     bool warned = false;   // "ibl.enabled, but ..." said once
-    bool warnedVolume = false; // "ibl.visibility=volume|probes needs GI ..." said once
+    bool warnedVisibility = false; // "ibl.visibility=volume|probes needs GI ..." said once
     // The height map (pass_sky_height.cpp): world box it covers, for which scene version.
     GlHandle heightMap, heightFb;
     uint32_t heightResolution = 0;

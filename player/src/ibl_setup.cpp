@@ -64,8 +64,8 @@ void prepareIbl(FrameContext& ctx) {
                 glBindTextureUnit(16, ctx.gi.resources.transmittance[0].id());
                 glBindTextureUnit(17, ctx.gi.resources.transmittance[1].id());
                 mode = 3.0f;
-            } else if (!ibl.warnedVolume) {
-                ibl.warnedVolume = true;
+            } else if (!ibl.warnedVisibility) {
+                ibl.warnedVisibility = true;
                 std::fprintf(stderr, "pnb-play: ibl.visibility=volume needs GI with occlusion (gi.enabled, "
                                      "gi.occlusion, a container converted with --gi): no sky visibility\n");
             }
@@ -75,8 +75,8 @@ void prepareIbl(FrameContext& ctx) {
             if (ctx.gi.frame.active && ctx.gi.resources.skyVisibility) {
                 glBindTextureUnit(18, ctx.gi.resources.skyVisibility.id());
                 mode = 4.0f;
-            } else if (!ibl.warnedVolume) {
-                ibl.warnedVolume = true;
+            } else if (!ibl.warnedVisibility) {
+                ibl.warnedVisibility = true;
                 std::fprintf(stderr, "pnb-play: ibl.visibility=probes needs GI probes (gi.enabled, "
                                      "gi.technique=probes, a container converted with --gi, a sun): "
                                      "no sky visibility\n");

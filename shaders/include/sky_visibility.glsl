@@ -20,8 +20,9 @@
 //           directions through the occupancy grid once (gi_probe_gather.comp, SKY_VISIBILITY)
 //           and holds the L1 SH of what it sees; a pixel blends the 8 probes around it, those
 //           behind the surface (which see the other side's sky) weighing next to nothing, never
-//           a probe inside a solid voxel. Sees every surface the grid holds (overhangs, a room's roof and open side
-//           alike), as coarse as the probes; noise-free and stable while the camera moves.
+//           a probe inside a solid voxel. Sees every surface the grid holds (overhangs, a
+//           room's roof and open side alike), as coarse as the probes; noise-free and stable
+//           while the camera moves.
 // Their errors against the ray-traced sky light: docs/PLAYER.md "Sky and image-based lighting".
 #ifndef PNB_SKY_VISIBILITY_GLSL
 #define PNB_SKY_VISIBILITY_GLSL
