@@ -1,10 +1,19 @@
 #version 450 core
-// lpv_propagate.comp — one propagation step (Kaplanyan & Dachsbacher 2010): every cell gathers
-// from its six neighbours. A neighbour's intensity, evaluated towards each of this cell's faces
-// that it sees (the far face: 0.4006696846 sr; four side faces: 0.4234313544 sr each), times that
-// solid angle, is the flux through the face; it is re-emitted from this cell's centre as a
-// clamped-cosine lobe along the face's normal (flux / pi times the lobe: same integral). Six
-// neighbours x (far + 4 sides) cover 4 pi, so without occluders the flux is kept, step to step.
+// lpv_propagate.comp — one propagation step (Kaplanyan & Dachsbacher 2010, with three changes
+// measured against the analytic single-VPL case; docs/PLAYER.md, "Global illumination"): every
+// cell gathers from its six neighbours. A neighbour's intensity, evaluated towards each of this
+// cell's faces that it sees (the far face: 0.4006696846 sr; four side faces: 0.4234313544 sr
+// each), times that solid angle, is the flux through the face. Six neighbours x (far + 4 sides)
+// cover 4 pi.
+//  1. Flux kept for any lobe: the clamped evaluation of an L1 lobe 1 + k cos (k > 1) integrates
+//     to (k + 1)^2 / (4k) of its flux (a cosine lobe: +12.5 % a step, a beam: +33 %), so the
+//     neighbour is scaled by the inverse before it is evaluated (conservingSource).
+//  2. The flux through a face is a narrow bundle (0.4 sr, a cone of ~20 degrees), re-emitted as a
+//     beam (the L1 projection of one direction: band 1 at 1.5x the cosine lobe's), not as a
+//     cosine lobe filling a hemisphere. K&D's cosine lobe is what turns the light through 90
+//     degrees at every step and makes propagation a diffusion.
+//  3. A side face's beam leaves along e + 0.75 d (e the face's normal, d the step), between the
+//     face normal (K&D) and the bundle's own direction 2 d + e: light keeps going the way it went.
 // With OCCLUSION each face lets in the fraction lpv_resolve.comp's RESOLVE_TRANSMITTANCE found
 // from the geometry volume (once per frame, not once per step); the other variant, PLAIN, lets
 // everything through. The step's result goes to the next source (images 0-2) and is added to the
@@ -31,9 +40,21 @@ const float kSideFace = 0.4234313544;
 const float kShY0 = 0.282094792, kShY1 = 0.488602512;
 const float kLobeC0 = 0.886226925, kLobeC1 = 1.023326708;
 const float kInvPi = 0.318309886;
+const float kBeam = 1.5;         // band 1 / band 0: sqrt(3) for a beam, 2 / sqrt(3) for a cosine lobe
+const float kSideForward = 0.75; // how far a side face's beam leans from e towards d
 
 vec4 basis(vec3 w) { return vec4(kShY0, -kShY1 * w.y, kShY1 * w.z, -kShY1 * w.x); }
 vec4 lobe(vec3 n) { return vec4(kLobeC0, -kLobeC1 * n.y, kLobeC1 * n.z, -kLobeC1 * n.x); }
+// A beam of flux pi along n (so that flux / pi scales both it and the lobe alike).
+vec4 beam(vec3 n) { return vec4(kLobeC0, kBeam * lobe(n).yzw); }
+
+// The source c (one colour) scaled so that its evaluations, clamped at zero, sum to its flux:
+// c = a + b cos with k = b / a = sqrt(3) |c1| / c0; above k = 1 the clamp removes a negative
+// lobe and adds (k + 1)^2 / (4k) - 1 of the flux.
+vec4 conservingSource(vec4 c) {
+    float a = c.x, b = 1.7320508 * length(c.yzw);
+    return b > a ? c * (4.0 * a * b / ((a + b) * (a + b))) : c;
+}
 
 const ivec3 kDirections[6] = ivec3[](ivec3(1, 0, 0), ivec3(-1, 0, 0), ivec3(0, 1, 0),
                                      ivec3(0, -1, 0), ivec3(0, 0, 1), ivec3(0, 0, -1));
@@ -54,8 +75,9 @@ void main() {
         ivec3 from = local - d;
         if (any(lessThan(from, ivec3(0))) || any(greaterThanEqual(from, ivec3(cells)))) continue;
         ivec3 at = from + ivec3(0, 0, cascade * cells);
-        vec4 src[3] = vec4[](texelFetch(uSourceR, at, 0), texelFetch(uSourceG, at, 0),
-                             texelFetch(uSourceB, at, 0));
+        vec4 src[3] = vec4[](conservingSource(texelFetch(uSourceR, at, 0)),
+                             conservingSource(texelFetch(uSourceG, at, 0)),
+                             conservingSource(texelFetch(uSourceB, at, 0)));
         float transmit = 1.0;
 #ifdef OCCLUSION
         transmit = transmitted[i];
@@ -63,14 +85,15 @@ void main() {
         vec3 dv = vec3(d);
         // The far face: straight on.
         {
-            vec4 y = basis(dv), l = lobe(dv) * (kFarFace * kInvPi * transmit);
+            vec4 y = basis(dv), l = beam(dv) * (kFarFace * kInvPi * transmit);
             for (int ch = 0; ch < 3; ++ch) sum[ch] += max(dot(src[ch], y), 0.0) * l;
         }
-        // The four side faces: towards d + 0.5 e, re-emitted along e.
+        // The four side faces: towards d + 0.5 e, re-emitted along e + kSideForward d.
         for (int j = 0; j < 4; ++j) {
             ivec3 e3 = kDirections[(i / 2 * 2 + 2 + j) % 6];
             vec3 e = vec3(e3);
-            vec4 y = basis(normalize(dv + 0.5 * e)), l = lobe(e) * (kSideFace * kInvPi * transmit);
+            vec4 y = basis(normalize(dv + 0.5 * e));
+            vec4 l = beam(normalize(e + kSideForward * dv)) * (kSideFace * kInvPi * transmit);
             for (int ch = 0; ch < 3; ++ch) sum[ch] += max(dot(src[ch], y), 0.0) * l;
         }
     }

@@ -1,6 +1,7 @@
-// Global illumination: the propagation shader on hand-made volumes (energy, symmetry, a thin
-// wall), and the whole pipeline on the box room converted with GI (flux independent of the RSM's
-// resolution, sub-cell camera motion, GI off = today's image, extremes).
+// Global illumination: the propagation shader on hand-made volumes (flux kept for any lobe, a
+// single VPL against the inverse-square law, symmetry, one wall and a wall behind a wall), and the
+// whole pipeline on the box room converted with GI (flux independent of the RSM's resolution,
+// sub-cell camera motion, GI off = today's image, extremes, accuracy against the one-bounce truth).
 #include <unistd.h>
 
 #include <algorithm>
@@ -69,12 +70,13 @@ struct Propagation {
     std::vector<float> sum;
 };
 
-// A point source (isotropic: band 0 only) in cell `at`, `iterations` steps, the geometry volume
-// `geometry` ((kN+1)^3 corners) if given, turned into face transmittance first. Mirrors
-// pass_gi_inject.cpp's runGiResolve (transmittance) and pass_gi_propagate.cpp's dispatch.
-Propagation propagate(glm::ivec3 at, int iterations, const std::vector<float>* geometry) {
+// A source `initial` (L1 SH; default isotropic, band 0 only) in cell `at`, `iterations` steps, the
+// geometry volume `geometry` ((kN+1)^3 corners) if given, turned into face transmittance first.
+// Mirrors pass_gi_inject.cpp's runGiResolve (transmittance) and pass_gi_propagate.cpp's dispatch.
+Propagation propagate(glm::ivec3 at, int iterations, const std::vector<float>* geometry,
+                      const Sh4& initial = {1, 0, 0, 0}) {
     std::vector<float> src(size_t(kN) * kN * kN * 4, 0.0f);
-    src[cell(at.x, at.y, at.z)] = 1.0f;
+    for (size_t k = 0; k < 4; ++k) src[cell(at.x, at.y, at.z) + k] = float(initial[k]);
     std::array<GlHandle, 3> source, next, sum;
     for (int ch = 0; ch < 3; ++ch) {
         source[ch] = volume(kN, kN, &src);
@@ -153,30 +155,116 @@ TEST(GiPropagation, APointSpreadsSymmetricallyAlongTheSixAxes) {
     EXPECT_EQ(r.sum[cell(8 + 5, 8, 8)], 0.0f);
 }
 
-TEST(GiPropagation, AThinWallCutsTheLightThatReachesTheFarSide) {
-    // Blocking surfels facing the source on the plane of corners x = 10 (between cells 9 and
-    // 10): one full cell of area per corner, B = lobe(-x).
+// Blocking surfels facing a source on -x on the planes of corners x = each of `planes` (x = 10:
+// between cells 9 and 10): one full cell of area per corner, B = lobe(-x).
+std::vector<float> walls(std::initializer_list<int> planes) {
     const int corners = kN + 1;
-    std::vector<float> wall(size_t(corners) * corners * corners * 4, 0.0f);
+    std::vector<float> v(size_t(corners) * corners * corners * 4, 0.0f);
     Sh4 lobe = cosineLobe({-1, 0, 0});
-    for (int z = 0; z < corners; ++z)
-        for (int y = 0; y < corners; ++y)
-            for (int k = 0; k < 4; ++k)
-                wall[((size_t(z) * corners + size_t(y)) * corners + 10) * 4 + size_t(k)] = float(lobe[size_t(k)]);
-    auto farSide = [](const std::vector<float>& v) {
-        double s = 0;
-        for (int z = 0; z < kN; ++z)
-            for (int y = 0; y < kN; ++y)
-                for (int x = 10; x < kN; ++x) s += v[cell(x, y, z)];
-        return s;
-    };
-    double open = farSide(propagate({6, 8, 8}, 8, nullptr).sum);
-    double walled = farSide(propagate({6, 8, 8}, 8, &wall).sum);
+    for (int x : planes)
+        for (int z = 0; z < corners; ++z)
+            for (int y = 0; y < corners; ++y)
+                for (int k = 0; k < 4; ++k)
+                    v[((size_t(z) * corners + size_t(y)) * corners + size_t(x)) * 4 + size_t(k)] = float(lobe[size_t(k)]);
+    return v;
+}
+
+// The light summed over every cell from x = `from` on.
+double beyond(const std::vector<float>& v, int from) {
+    double s = 0;
+    for (int z = 0; z < kN; ++z)
+        for (int y = 0; y < kN; ++y)
+            for (int x = from; x < kN; ++x) s += v[cell(x, y, z)];
+    return s;
+}
+
+TEST(GiPropagation, AThinWallCutsTheLightThatReachesTheFarSide) {
+    const std::vector<float> one = walls({10});
+    double open = beyond(propagate({6, 8, 8}, 8, nullptr).sum, 10);
+    double walled = beyond(propagate({6, 8, 8}, 8, &one).sum, 10);
     EXPECT_GT(open, 0.0);
     // One full-cell wall evaluates to a blocking probability of 0.75 (L1's smoothing of the
-    // cosine); measured: 0.25 of the light gets through.
+    // cosine) times the 4/3 scale: about a quarter of the light gets through.
     EXPECT_LT(walled, 0.3 * open);
     EXPECT_GT(walled, 0.15 * open);
+}
+
+TEST(GiPropagation, AWallBehindAWallPassesLessThanEitherAlone) {
+    // Walls at x = 10 and x = 12: beyond the second, the light that crossed both. Each crossing
+    // has its own transmittance, so the pair passes about the product of what each passes:
+    // measured 0.232, 0.228 and 0.053 (0.232 x 0.228 = 0.053).
+    const std::vector<float> first = walls({10}), second = walls({12}), both = walls({10, 12});
+    double open = beyond(propagate({6, 8, 8}, 10, nullptr).sum, 12);
+    double a = beyond(propagate({6, 8, 8}, 10, &first).sum, 12) / open;
+    double b = beyond(propagate({6, 8, 8}, 10, &second).sum, 12) / open;
+    double ab = beyond(propagate({6, 8, 8}, 10, &both).sum, 12) / open;
+    std::printf("  passed: first wall %.3f, second %.3f, both %.3f\n", a, b, ab);
+    EXPECT_LT(ab, 0.5 * std::min(a, b));
+    EXPECT_GT(ab, 0.25 * a * b);
+    EXPECT_LT(ab, 2.0 * a * b);
+}
+
+// A virtual point light: a clamped-cosine emitter of unit flux along n (what injection writes).
+Sh4 vpl(const glm::dvec3& n) {
+    Sh4 l = cosineLobe(n);
+    for (double& c : l) c /= M_PI;
+    return l;
+}
+
+TEST(GiPropagation, KeepsTheFluxOfAnyLobe) {
+    // The clamped evaluation of a directional lobe adds light (Kaplanyan-Dachsbacher: +13.8 % on
+    // the first step from a cosine lobe, more from a beam); the propagation scales its sources
+    // back. One step from a VPL along an axis, along a diagonal, and from the sharpest L1 lobe.
+    Sh4 beam = vpl(glm::normalize(glm::dvec3(1, 1, 1)));
+    for (size_t k = 1; k < 4; ++k) beam[k] *= 1.5;
+    for (const Sh4& source : {vpl({0, 1, 0}), vpl(glm::normalize(glm::dvec3(1, 1, 1))), beam}) {
+        Propagation r = propagate({8, 8, 8}, 1, nullptr, source);
+        ASSERT_EQ(r.steps.size(), 1u);
+        EXPECT_NEAR(flux(r.steps[0]) / source[0], 1.0, 0.02) << source[1] << " " << source[2] << " " << source[3];
+    }
+}
+
+// Irradiance, in units of the VPL's flux over a cell's area, on a receiver `offset` cells from a
+// unit-flux VPL along +y facing it, from the summed volume; and the truth, cos / (pi r^2).
+struct Received {
+    double lpv, truth;
+};
+Received received(const Propagation& r, glm::ivec3 at, glm::ivec3 offset) {
+    glm::dvec3 w = glm::normalize(glm::dvec3(offset));
+    double d2 = glm::dot(glm::dvec3(offset), glm::dvec3(offset));
+    Sh4 lobe = cosineLobe(w); // a receiver facing the VPL integrates light travelling along w
+    glm::ivec3 p = at + offset;
+    double e = 0;
+    for (size_t k = 0; k < 4; ++k) e += r.sum[cell(p.x, p.y, p.z) + k] * lobe[k];
+    return {e, w.y / (M_PI * d2)};
+}
+
+TEST(GiPropagation, OneVplInEmptySpaceLightsItsSurroundingsAsTheInverseSquareLaw) {
+    // A VPL facing +y near the bottom of an empty 16^3 volume, 12 steps; receivers 2-8 cells
+    // away, head on and at 45 degrees. Kaplanyan-Dachsbacher's propagation (cosine lobes along
+    // the face normals) gives 0.84 / 0.68 / 0.48 / 0.16 of the truth at 2 / 3 / 4 / 6 cells
+    // after 16 steps: a diffusion, light reaching ~sqrt(steps) cells. Measured here (12 steps):
+    // head on 1.37, 1.41, 1.23, 0.79, 0.40 at 2, 3, 4, 6, 8 cells; at 45 degrees 0.63, 0.60,
+    // 0.52 at 2.8, 4.2, 5.7 cells (L1 cannot hold a lobe narrower than its own: the head-on
+    // excess is the 45-degree deficit); and nothing beyond the steps taken.
+    const glm::ivec3 at{8, 2, 8};
+    Propagation r = propagate(at, 12, nullptr, vpl({0, 1, 0}));
+    auto ratio = [&](glm::ivec3 o) {
+        Received v = received(r, at, o);
+        return v.lpv / v.truth;
+    };
+    for (int d : {2, 3, 4}) {
+        EXPECT_GT(ratio({0, d, 0}), 0.9) << d;
+        EXPECT_LT(ratio({0, d, 0}), 1.6) << d;
+    }
+    EXPECT_GT(ratio({0, 6, 0}), 0.6);
+    EXPECT_GT(ratio({0, 8, 0}), 0.3);
+    for (int d : {2, 3}) {
+        EXPECT_GT(ratio({d, d, 0}), 0.5) << d;
+        EXPECT_LT(ratio({d, d, 0}), 1.0) << d;
+    }
+    EXPECT_GT(ratio({4, 4, 0}), 0.4);
+    EXPECT_EQ(r.sum[cell(8, 2 + 13, 8)], 0.0f); // 13 cells away: not reached in 12 steps
 }
 
 // --- the pipeline on the box room ------------------------------------------------------------
@@ -327,34 +415,17 @@ TEST(GiPipeline, GiOffIsTodaysImageAndAllocatesNothing) {
     EXPECT_EQ(asked.memory.giBytes, 0u);
 }
 
-TEST(GiPipeline, LightsWhatTheSunDoesNotReachAndBleedsTheWallsColour) {
+TEST(GiPipeline, LightsWhatTheSunDoesNotReach) {
     GiFrameResult on = renderGi(giBoxRoom(), kView, giSettings());
     ASSERT_FALSE(on.indirect.f32.empty());
     ASSERT_TRUE(allFinite(on.indirect));
-    double r = 0, g = 0, b = 0;
     size_t lit = 0;
-    for (size_t i = 0; i < on.indirect.f32.size(); i += 4) {
-        r += on.indirect.f32[i];
-        g += on.indirect.f32[i + 1];
-        b += on.indirect.f32[i + 2];
+    for (size_t i = 0; i < on.indirect.f32.size(); i += 4)
         lit += on.indirect.f32[i] + on.indirect.f32[i + 1] + on.indirect.f32[i + 2] > 0;
-    }
     EXPECT_GT(lit, on.indirect.f32.size() / 4 / 2); // most pixels receive indirect light
-    // Colour bleeding: the indirect light's red/green balance follows the walls: redder on the
-    // red (left) side of the room. Measured 1.035 here; its size against ray-traced truth is the
-    // reference's job (pnb-reference --indirect).
-    auto ratio = [&](uint32_t x0, uint32_t x1) {
-        double rr = 0, gg = 0;
-        for (uint32_t y = 0; y < on.indirect.height; ++y)
-            for (uint32_t x = x0; x < x1; ++x) {
-                size_t i = (size_t(y) * on.indirect.width + x) * 4;
-                rr += on.indirect.f32[i];
-                gg += on.indirect.f32[i + 1];
-            }
-        return rr / std::max(gg, 1e-30);
-    };
-    uint32_t w = on.indirect.width;
-    EXPECT_GT(ratio(0, w / 4), 1.02 * ratio(3 * w / 4, w));
+    // (Colour: the sun lights no red or green wall here, so the one-bounce truth's left and right
+    // halves differ in red/green by 1 %; the channel balance against the truth is checked by
+    // GiAccuracy below.)
 }
 
 TEST(GiPipeline, ExtremesStayFinite) {
@@ -594,63 +665,65 @@ reference::IndirectErrorMetrics accuracy(const std::string& path, const CameraSt
     return m;
 }
 
-// Bounds set from measurement (docs/PLAYER.md, Global illumination): they catch a regression,
-// they do not claim the LPV is accurate.
+// The targets for the default LPV (docs/PLAYER.md, Global illumination): closer to the
+// truth than the best constant ambient by a quarter, the right pattern (correlation), the right
+// total light and its colour, and little light where the truth has none.
+void expectLpvTargets(const reference::IndirectErrorMetrics& m) {
+    EXPECT_GT(m.pixels, 3000u);
+    EXPECT_LT(m.rmseOverBestConstant, 0.75);
+    EXPECT_GT(m.correlation, 0.8);
+    EXPECT_GT(m.energyRatio, 0.8);
+    EXPECT_LT(m.energyRatio, 1.25);
+    for (double c : m.channelRatio) EXPECT_NEAR(c / m.energyRatio, 1.0, 0.1);
+}
+
 TEST(GiAccuracy, AtriumAgainstTheOneBounceTruth) {
     static const std::string atrium = convertWithGi(std::string(PNB_SCENE_DIR) + "/atrium.glb", "atrium");
     reference::IndirectErrorMetrics m = accuracy(atrium, lookAt({-9.5, 7.2, 9.5}, {2, 1, -2}));
-    EXPECT_GT(m.pixels, 3000u);
-    // Measured: RMSE 60.3 % (truth noise 17 %), energy 0.847, leak 0.53 %.
-    EXPECT_LT(m.relativeRmsePercent, 80.0);
-    EXPECT_GT(m.energyRatio, 0.65);
-    EXPECT_LT(m.energyRatio, 1.1);
+    // Measured (96x72, 128 rays): RMSE over the best constant's 0.478, correlation 0.909, energy
+    // 1.159, leak 0.59 % (Kaplanyan-Dachsbacher propagation, before: 0.752, 0.732, 0.847).
+    expectLpvTargets(m);
     EXPECT_LT(m.leakPercent, 2.0);
 }
 
 TEST(GiAccuracy, BoxRoomAgainstTheOneBounceTruth) {
     reference::IndirectErrorMetrics m = accuracy(giBoxRoom(), lookAt({0, 5, 14}, {0, 4, 0}));
-    EXPECT_GT(m.pixels, 3000u);
-    // Measured: RMSE 131.5 % (truth noise 29 %), energy 0.554, leak 6.8 % (the hard case: the
-    // light of one floor patch has to climb the walls).
-    EXPECT_LT(m.relativeRmsePercent, 170.0);
-    EXPECT_GT(m.energyRatio, 0.35);
-    EXPECT_LT(m.energyRatio, 0.8);
-    EXPECT_LT(m.leakPercent, 12.0);
+    // Measured: 0.574, correlation 0.838, energy 0.990, leak 2.95 % (before: 1.076, 0.577,
+    // 0.554: the light of one floor patch has to climb the walls, and diffusion kept it low).
+    expectLpvTargets(m);
+    EXPECT_LT(m.leakPercent, 6.0);
 }
 
 // gi.technique = probes: a grid of probes gathering the RSM's clustered lights through the
-// scene's occupancy grid. Measured against the same truth in the same pixels as the LPV, it has to
-// beat both the LPV and the best constant ambient (docs/PLAYER.md, Global illumination).
+// scene's occupancy grid. Measured against the same truth in the same pixels as the LPV
+// (docs/PLAYER.md, Global illumination).
 RenderSettings probeSettings() {
     RenderSettings s = giSettings();
     s.giTechnique = GiTechnique::Probes;
     return s;
 }
 
-void expectProbesBeatLpv(const std::string& path, const CameraState& view) {
-    reference::IndirectErrorMetrics lpv = accuracy(path, view);
+void expectProbesBeatTheConstant(const std::string& path, const CameraState& view) {
     reference::IndirectErrorMetrics probes = accuracy(path, view, probeSettings());
     EXPECT_GT(probes.pixels, 3000u);
-    EXPECT_EQ(probes.pixels, lpv.pixels);
     // Measured at 96x72, 128 rays (box room / atrium): RMSE over the best constant's 0.537 / 0.608
-    // (LPV 1.076 / 0.752), correlation 0.845 / 0.865 (LPV 0.577 / 0.732), energy 0.970 / 0.749,
-    // leak 1.6 / 0.5 %. The atrium's light is short: probes inside columns and walls darken the
-    // trilinear look-up next to them.
+    // (LPV 0.574 / 0.478), correlation 0.845 / 0.865, energy 0.970 / 0.749, leak 1.6 / 0.5 %.
+    // The atrium's light is short: probes inside columns and walls darken the trilinear look-up
+    // next to them.
     EXPECT_LT(probes.rmseOverBestConstant, 0.75);
-    EXPECT_LT(probes.rmseOverBestConstant, 0.85 * lpv.rmseOverBestConstant);
     EXPECT_GT(probes.correlation, 0.8);
     EXPECT_GT(probes.energyRatio, 0.7);
     EXPECT_LT(probes.energyRatio, 1.25);
     EXPECT_LT(probes.leakPercent, 2.5);
 }
 
-TEST(GiProbes, BoxRoomCloserToTheTruthThanLpvAndTheBestConstant) {
-    expectProbesBeatLpv(giBoxRoom(), lookAt({0, 5, 14}, {0, 4, 0}));
+TEST(GiProbes, BoxRoomCloserToTheTruthThanTheBestConstant) {
+    expectProbesBeatTheConstant(giBoxRoom(), lookAt({0, 5, 14}, {0, 4, 0}));
 }
 
-TEST(GiProbes, AtriumCloserToTheTruthThanLpvAndTheBestConstant) {
+TEST(GiProbes, AtriumCloserToTheTruthThanTheBestConstant) {
     static const std::string atrium = convertWithGi(std::string(PNB_SCENE_DIR) + "/atrium.glb", "atrium");
-    expectProbesBeatLpv(atrium, lookAt({-9.5, 7.2, 9.5}, {2, 1, -2}));
+    expectProbesBeatTheConstant(atrium, lookAt({-9.5, 7.2, 9.5}, {2, 1, -2}));
 }
 
 TEST(GiProbes, AllocateOnlyTheirOwnAndSwitchBackToLpv) {
@@ -663,10 +736,9 @@ TEST(GiProbes, AllocateOnlyTheirOwnAndSwitchBackToLpv) {
     EXPECT_EQ(p.volume.width, probes.giProbeCells);
     EXPECT_EQ(p.volume.height, probes.giProbeCells * probes.giProbeCells);
     // RSM 256^2 (1 MiB), 16^3 probes, 64^3 voxels, 32^2 VPLs: no propagation volumes, geometry
-    // volume or atomic buffers (the LPV's 3 x 32^3 cells).
+    // volume or atomic buffers.
     const uint64_t expected = 256ull * 256 * 16 + 16ull * 16 * 16 * 3 * 8 + 64ull * 64 * 64 + 32ull * 32 * 48;
     EXPECT_EQ(p.memory.giBytes, expected);
-    EXPECT_LT(p.memory.giBytes, l.memory.giBytes / 4);
     // One renderer switching technique frees the other's objects and gives the same images.
     auto scene = loadScene(giBoxRoom());
     ASSERT_TRUE(scene.ok());

@@ -108,9 +108,9 @@ struct RenderSettings {
     // gather the RSM's lights directly with voxel visibility (docs/PLAYER.md "Global illumination").
     GiTechnique giTechnique = GiTechnique::Lpv;
     uint32_t giCascades = 3;
-    uint32_t giCells = 32;
+    uint32_t giCells = 16;
     float giCellSize = 0.0f;      // finest cell in scene units; 0 = outer cascade fits the scene
-    uint32_t giIterations = 8;
+    uint32_t giIterations = 16; // = giCells: light crosses the outer cascade once
     uint32_t giRsmResolution = 256;
     bool giOcclusion = true;      // geometry-volume blocking during propagation
     bool giCameraOcclusion = true; // blocking geometry also from the camera's G-buffer
