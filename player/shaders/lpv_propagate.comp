@@ -6,8 +6,11 @@
 // each), times that solid angle, is the flux through the face. Six neighbours x (far + 4 sides)
 // cover 4 pi.
 //  1. Flux kept for any lobe: the clamped evaluation of an L1 lobe 1 + k cos (k > 1) integrates
-//     to (k + 1)^2 / (4k) of its flux (a cosine lobe: +12.5 % a step, a beam: +33 %), so the
-//     neighbour is scaled by the inverse before it is evaluated (conservingSource).
+//     to (k + 1)^2 / (4k) of its flux (a cosine lobe: +12.5 % a step, a beam: +33 %), so a
+//     source is scaled by the inverse before it is evaluated (conservingSource): each step stores
+//     its result so scaled as the next step's source, and a first dispatch with uScaleOnly scales
+//     the injection (once per cell, not once per neighbour and step: llvmpipe paid 2.5x the step
+//     for scaling on reading).
 //  2. The flux through a face is a narrow bundle (0.4 sr, a cone of ~20 degrees), re-emitted as a
 //     beam (the L1 projection of one direction: band 1 at 1.5x the cosine lobe's), not as a
 //     cosine lobe filling a hemisphere. K&D's cosine lobe is what turns the light through 90
@@ -16,8 +19,8 @@
 //     face normal (K&D) and the bundle's own direction 2 d + e: light keeps going the way it went.
 // With OCCLUSION each face lets in the fraction lpv_resolve.comp's RESOLVE_TRANSMITTANCE found
 // from the geometry volume (once per frame, not once per step); the other variant, PLAIN, lets
-// everything through. The step's result goes to the next source (images 0-2) and is added to the
-// sum (images 3-5). Cascades are stacked along z; a neighbour outside this cell's cascade is dark.
+// everything through. The step's result goes to the next source (images 0-2, scaled as in 1.) and
+// is added to the sum (images 3-5). Cascades are stacked along z; a neighbour outside this cell's cascade is dark.
 layout(local_size_x = 4, local_size_y = 4, local_size_z = 4) in;
 
 layout(binding = 0) uniform sampler3D uSourceR;
@@ -34,6 +37,7 @@ layout(rgba16f, binding = 4) uniform image3D uSumG;
 layout(rgba16f, binding = 5) uniform image3D uSumB;
 
 layout(location = 0) uniform ivec2 uGrid; // cells, cascades
+layout(location = 1) uniform bool uScaleOnly; // write the source scaled to the next, no step
 
 const float kFarFace = 0.4006696846;
 const float kSideFace = 0.4234313544;
@@ -63,6 +67,12 @@ void main() {
     ivec3 id = ivec3(gl_GlobalInvocationID);
     int cells = uGrid.x;
     if (id.x >= cells || id.y >= cells || id.z >= cells * uGrid.y) return;
+    if (uScaleOnly) {
+        imageStore(uNextR, id, conservingSource(texelFetch(uSourceR, id, 0)));
+        imageStore(uNextG, id, conservingSource(texelFetch(uSourceG, id, 0)));
+        imageStore(uNextB, id, conservingSource(texelFetch(uSourceB, id, 0)));
+        return;
+    }
     int cascade = id.z / cells;
     ivec3 local = ivec3(id.xy, id.z - cascade * cells);
     vec4 sum[3] = vec4[](vec4(0.0), vec4(0.0), vec4(0.0));
@@ -75,9 +85,8 @@ void main() {
         ivec3 from = local - d;
         if (any(lessThan(from, ivec3(0))) || any(greaterThanEqual(from, ivec3(cells)))) continue;
         ivec3 at = from + ivec3(0, 0, cascade * cells);
-        vec4 src[3] = vec4[](conservingSource(texelFetch(uSourceR, at, 0)),
-                             conservingSource(texelFetch(uSourceG, at, 0)),
-                             conservingSource(texelFetch(uSourceB, at, 0)));
+        vec4 src[3] = vec4[](texelFetch(uSourceR, at, 0), texelFetch(uSourceG, at, 0),
+                             texelFetch(uSourceB, at, 0));
         float transmit = 1.0;
 #ifdef OCCLUSION
         transmit = transmitted[i];
@@ -93,13 +102,13 @@ void main() {
             ivec3 e3 = kDirections[(i / 2 * 2 + 2 + j) % 6];
             vec3 e = vec3(e3);
             vec4 y = basis(normalize(dv + 0.5 * e));
-            vec4 l = beam(normalize(e + kSideForward * dv)) * (kSideFace * kInvPi * transmit);
+            vec4 l = beam((e + kSideForward * dv) * 0.8) * (kSideFace * kInvPi * transmit);
             for (int ch = 0; ch < 3; ++ch) sum[ch] += max(dot(src[ch], y), 0.0) * l;
         }
     }
-    imageStore(uNextR, id, sum[0]);
-    imageStore(uNextG, id, sum[1]);
-    imageStore(uNextB, id, sum[2]);
+    imageStore(uNextR, id, conservingSource(sum[0]));
+    imageStore(uNextG, id, conservingSource(sum[1]));
+    imageStore(uNextB, id, conservingSource(sum[2]));
     imageStore(uSumR, id, imageLoad(uSumR, id) + sum[0]);
     imageStore(uSumG, id, imageLoad(uSumG, id) + sum[1]);
     imageStore(uSumB, id, imageLoad(uSumB, id) + sum[2]);

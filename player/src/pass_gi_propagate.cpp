@@ -1,5 +1,6 @@
 // Propagation (seed 004 §4.4; player/shaders/lpv_propagate.comp): gi.iterations gather steps,
-// ping-ponging between two volumes and adding each step to the sum that lighting reads. The
+// ping-ponging between two volumes and adding each step to the sum that lighting reads, after a
+// dispatch that scales the injection into the steps' source form. The
 // geometry volume blocks light (gi.occlusion) at the face each step crosses.
 #include <utility>
 
@@ -22,11 +23,15 @@ void runGiPropagate(FrameContext& ctx) {
     std::array<GlHandle, 3>* from = &r.source;
     std::array<GlHandle, 3>* to = &r.next;
     const GLuint g = GLuint(cells + 3) / 4, gz = GLuint(cells * cascades + 3) / 4;
-    for (uint32_t i = 0; i < ctx.settings.giIterations; ++i) {
+    // Dispatch 0 only scales the injection into a propagation source (the sum keeps it as it is);
+    // every step after writes its result so scaled.
+    const uint32_t dispatches = ctx.settings.giIterations > 0 ? ctx.settings.giIterations + 1 : 0;
+    for (uint32_t i = 0; i < dispatches; ++i) {
         for (GLuint ch = 0; ch < 3; ++ch) {
             glBindTextureUnit(ch, (*from)[ch].id());
             glBindImageTexture(ch, (*to)[ch].id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA16F);
         }
+        glProgramUniform1i(p, 1, i == 0);
         glDispatchCompute(g, g, gz);
         glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT);
         std::swap(from, to);

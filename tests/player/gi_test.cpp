@@ -65,8 +65,22 @@ double flux(const std::vector<float>& v) {
     return s;
 }
 
+// A step stores its result scaled for the next step (lpv_propagate.comp's conservingSource:
+// by 4ab / (a + b)^2 when b = sqrt(3) |band 1| > a = band 0); the scale leaves b / a as it was,
+// so the stored values say what to divide by to get the step's own light back.
+std::vector<float> unscaled(std::vector<float> v) {
+    for (size_t i = 0; i < v.size(); i += 4) {
+        double a = v[i], b = std::sqrt(3.0) * std::sqrt(double(v[i + 1]) * v[i + 1] + double(v[i + 2]) * v[i + 2] +
+                                                       double(v[i + 3]) * v[i + 3]);
+        if (b <= a) continue;
+        double scale = 4 * a * b / ((a + b) * (a + b));
+        for (size_t k = 0; k < 4; ++k) v[i + k] = float(v[i + k] / scale);
+    }
+    return v;
+}
+
 struct Propagation {
-    std::vector<std::vector<float>> steps; // `next` after each step (red channel)
+    std::vector<std::vector<float>> steps; // each step's light (red channel), as it was summed
     std::vector<float> sum;
 };
 
@@ -112,14 +126,15 @@ Propagation propagate(glm::ivec3 at, int iterations, const std::vector<float>* g
         glBindImageTexture(3 + ch, sum[ch].id(), 0, GL_TRUE, 0, GL_READ_WRITE, GL_RGBA16F);
     auto* from = &source;
     auto* to = &next;
-    for (int i = 0; i < iterations; ++i) {
+    for (int i = 0; i <= iterations; ++i) { // dispatch 0 scales the source, then the steps
         for (GLuint ch = 0; ch < 3; ++ch) {
             glBindTextureUnit(ch, (*from)[ch].id());
             glBindImageTexture(ch, (*to)[ch].id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA16F);
         }
+        glProgramUniform1i(p, 1, i == 0);
         glDispatchCompute(kN / 4, kN / 4, kN / 4);
         glMemoryBarrier(GL_ALL_BARRIER_BITS);
-        out.steps.push_back(read((*to)[0], kN, kN));
+        if (i > 0) out.steps.push_back(unscaled(read((*to)[0], kN, kN)));
         std::swap(from, to);
     }
     out.sum = read(sum[0], kN, kN);
