@@ -20,7 +20,8 @@
 // With OCCLUSION each face lets in the fraction lpv_resolve.comp's RESOLVE_TRANSMITTANCE found
 // from the geometry volume (once per frame, not once per step); the other variant, PLAIN, lets
 // everything through. The step's result goes to the next source (images 0-2, scaled as in 1.) and
-// is added to the sum (images 3-5). Cascades are stacked along z; a neighbour outside this cell's cascade is dark.
+// is added to the sum (images 3-5). Cascades are stacked along z; a neighbour outside this cell's
+// cascade is dark.
 layout(local_size_x = 4, local_size_y = 4, local_size_z = 4) in;
 
 layout(binding = 0) uniform sampler3D uSourceR;
@@ -44,8 +45,10 @@ const float kSideFace = 0.4234313544;
 const float kShY0 = 0.282094792, kShY1 = 0.488602512;
 const float kLobeC0 = 0.886226925, kLobeC1 = 1.023326708;
 const float kInvPi = 0.318309886;
-const float kBeam = 1.5;         // band 1 / band 0: sqrt(3) for a beam, 2 / sqrt(3) for a cosine lobe
+// band 1 over band 0: sqrt(3) for a beam, 2 / sqrt(3) for a cosine lobe; their ratio
+const float kBeam = 1.5;
 const float kSideForward = 0.75; // how far a side face's beam leans from e towards d
+const float kSideUnit = 0.8;     // 1 / |e + kSideForward d| (e and d are orthogonal unit vectors)
 
 vec4 basis(vec3 w) { return vec4(kShY0, -kShY1 * w.y, kShY1 * w.z, -kShY1 * w.x); }
 vec4 lobe(vec3 n) { return vec4(kLobeC0, -kLobeC1 * n.y, kLobeC1 * n.z, -kLobeC1 * n.x); }
@@ -102,7 +105,7 @@ void main() {
             ivec3 e3 = kDirections[(i / 2 * 2 + 2 + j) % 6];
             vec3 e = vec3(e3);
             vec4 y = basis(normalize(dv + 0.5 * e));
-            vec4 l = beam((e + kSideForward * dv) * 0.8) * (kSideFace * kInvPi * transmit);
+            vec4 l = beam((e + kSideForward * dv) * kSideUnit) * (kSideFace * kInvPi * transmit);
             for (int ch = 0; ch < 3; ++ch) sum[ch] += max(dot(src[ch], y), 0.0) * l;
         }
     }

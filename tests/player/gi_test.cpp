@@ -70,11 +70,13 @@ double flux(const std::vector<float>& v) {
 // so the stored values say what to divide by to get the step's own light back.
 std::vector<float> unscaled(std::vector<float> v) {
     for (size_t i = 0; i < v.size(); i += 4) {
-        double a = v[i], b = std::sqrt(3.0) * std::sqrt(double(v[i + 1]) * v[i + 1] + double(v[i + 2]) * v[i + 2] +
-                                                       double(v[i + 3]) * v[i + 3]);
+        double a = v[i], b = std::sqrt(3.0) *
+                             std::sqrt(double(v[i + 1]) * v[i + 1] + double(v[i + 2]) * v[i + 2] +
+                                       double(v[i + 3]) * v[i + 3]);
         if (b <= a) continue;
         double scale = 4 * a * b / ((a + b) * (a + b));
-        for (size_t k = 0; k < 4; ++k) v[i + k] = float(v[i + k] / scale);
+        for (size_t k = 0; k < 4; ++k)
+            v[i + k] = float(v[i + k] / scale);
     }
     return v;
 }
@@ -90,7 +92,8 @@ struct Propagation {
 Propagation propagate(glm::ivec3 at, int iterations, const std::vector<float>* geometry,
                       const Sh4& initial = {1, 0, 0, 0}) {
     std::vector<float> src(size_t(kN) * kN * kN * 4, 0.0f);
-    for (size_t k = 0; k < 4; ++k) src[cell(at.x, at.y, at.z) + k] = float(initial[k]);
+    for (size_t k = 0; k < 4; ++k)
+        src[cell(at.x, at.y, at.z) + k] = float(initial[k]);
     std::array<GlHandle, 3> source, next, sum;
     for (int ch = 0; ch < 3; ++ch) {
         source[ch] = volume(kN, kN, &src);
@@ -180,7 +183,8 @@ std::vector<float> walls(std::initializer_list<int> planes) {
         for (int z = 0; z < corners; ++z)
             for (int y = 0; y < corners; ++y)
                 for (int k = 0; k < 4; ++k)
-                    v[((size_t(z) * corners + size_t(y)) * corners + size_t(x)) * 4 + size_t(k)] = float(lobe[size_t(k)]);
+                    v[((size_t(z) * corners + size_t(y)) * corners + size_t(x)) * 4 + size_t(k)] =
+                        float(lobe[size_t(k)]);
     return v;
 }
 
@@ -189,7 +193,8 @@ double beyond(const std::vector<float>& v, int from) {
     double s = 0;
     for (int z = 0; z < kN; ++z)
         for (int y = 0; y < kN; ++y)
-            for (int x = from; x < kN; ++x) s += v[cell(x, y, z)];
+            for (int x = from; x < kN; ++x)
+                s += v[cell(x, y, z)];
     return s;
 }
 
@@ -222,7 +227,8 @@ TEST(GiPropagation, AWallBehindAWallPassesLessThanEitherAlone) {
 // A virtual point light: a clamped-cosine emitter of unit flux along n (what injection writes).
 Sh4 vpl(const glm::dvec3& n) {
     Sh4 l = cosineLobe(n);
-    for (double& c : l) c /= M_PI;
+    for (double& c : l)
+        c /= M_PI;
     return l;
 }
 
@@ -231,11 +237,13 @@ TEST(GiPropagation, KeepsTheFluxOfAnyLobe) {
     // the first step from a cosine lobe, more from a beam); the propagation scales its sources
     // back. One step from a VPL along an axis, along a diagonal, and from the sharpest L1 lobe.
     Sh4 beam = vpl(glm::normalize(glm::dvec3(1, 1, 1)));
-    for (size_t k = 1; k < 4; ++k) beam[k] *= 1.5;
+    for (size_t k = 1; k < 4; ++k)
+        beam[k] *= 1.5;
     for (const Sh4& source : {vpl({0, 1, 0}), vpl(glm::normalize(glm::dvec3(1, 1, 1))), beam}) {
         Propagation r = propagate({8, 8, 8}, 1, nullptr, source);
         ASSERT_EQ(r.steps.size(), 1u);
-        EXPECT_NEAR(flux(r.steps[0]) / source[0], 1.0, 0.02) << source[1] << " " << source[2] << " " << source[3];
+        EXPECT_NEAR(flux(r.steps[0]) / source[0], 1.0, 0.02)
+            << source[1] << " " << source[2] << " " << source[3];
     }
 }
 
@@ -250,7 +258,8 @@ Received received(const Propagation& r, glm::ivec3 at, glm::ivec3 offset) {
     Sh4 lobe = cosineLobe(w); // a receiver facing the VPL integrates light travelling along w
     glm::ivec3 p = at + offset;
     double e = 0;
-    for (size_t k = 0; k < 4; ++k) e += r.sum[cell(p.x, p.y, p.z) + k] * lobe[k];
+    for (size_t k = 0; k < 4; ++k)
+        e += r.sum[cell(p.x, p.y, p.z) + k] * lobe[k];
     return {e, w.y / (M_PI * d2)};
 }
 
@@ -606,7 +615,8 @@ TEST(GiPipeline, CascadesBlendWithoutASeam) {
             // (the injection's fixed-point unit follows the finest cell, so the pair's coarse
             // cascade rounds its light differently: measured 1 fp16 step, 3e-5 at 0.046).
             ++outsidePixels;
-            ASSERT_NEAR(c.indirect.f32[i * 4], k.indirect.f32[i * 4], 2e-4 * largest) << x << "," << y;
+            ASSERT_NEAR(c.indirect.f32[i * 4], k.indirect.f32[i * 4], 2e-4 * largest)
+                << x << "," << y;
             // Across its border the blend starts at 0: a neighbour just inside (weight <= 1/8)
             // differs from this pixel by at most the coarse image's own step plus 1/8 of the range.
             for (size_t j : {i + 1, i + w}) {
@@ -691,7 +701,8 @@ void expectLpvTargets(const reference::IndirectErrorMetrics& m) {
     EXPECT_GT(m.correlation, 0.8);
     EXPECT_GT(m.energyRatio, 0.8);
     EXPECT_LT(m.energyRatio, 1.25);
-    for (double c : m.channelRatio) EXPECT_NEAR(c / m.energyRatio, 1.0, 0.1);
+    for (double c : m.channelRatio)
+        EXPECT_NEAR(c / m.energyRatio, 1.0, 0.1);
 }
 
 TEST(GiAccuracy, AtriumAgainstTheOneBounceTruth) {
