@@ -35,7 +35,7 @@ names=$(echo "$depends" | tr ',|' '\n' | sed 's/^ *//; s/[ (].*//')
 # pnb-sweep.
 for pkg in libstdc++6 libzstd1 libassimp5 libopenimageio2.4 libegl1 libzstd-dev libxxhash-dev libepoxy-dev \
     libglfw3-dev libglm-dev nlohmann-json3-dev zlib1g-dev python3; do
-    echo "$names" | grep -qxF "$pkg" || fail "Depends lacks $pkg: $depends"
+    grep -qxF "$pkg" <<<"$names" || fail "Depends lacks $pkg: $depends"
 done
 
 contents=$(dpkg-deb -c "$deb")
@@ -43,6 +43,6 @@ for f in ./usr/bin/pnb-convert ./usr/bin/pnb-play ./usr/lib/cmake/Penumbra/Penum
     ./usr/lib/cmake/Penumbra/PnbAddScene.cmake ./usr/include/pnb/reader.h \
     ./usr/share/doc/penumbra/README.md ./usr/lib/penumbra/libpnb_image_oiio.so ./usr/bin/pnb-sweep \
     ./usr/share/penumbra/sweep/pnb_sweep.py; do
-    echo "$contents" | grep -qE " $f\$" || fail "the package lacks $f"
+    grep -qE " $f\$" <<<"$contents" || fail "the package lacks $f"
 done
 echo "deb_package_test: ok"
