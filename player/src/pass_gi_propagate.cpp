@@ -1,7 +1,7 @@
 // Propagation (seed 004 §4.4; player/shaders/lpv_propagate.comp): gi.iterations gather steps,
 // ping-ponging between two volumes and adding each step to the sum that lighting reads, after a
-// dispatch that scales the injection into the steps' source form. The
-// geometry volume blocks light (gi.occlusion) at the face each step crosses.
+// dispatch that scales the injection into the steps' source form. The geometry volume blocks
+// light (gi.occlusion) at the face each step crosses.
 #include <utility>
 
 #include "frame_context.h"

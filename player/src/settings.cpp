@@ -156,7 +156,9 @@ const std::vector<Row>& rows() {
           "finest cascade's cell in scene units, all cascades following the camera; 0 = the outer "
           "cascade is the scene's bounding cube and the finer ones follow the camera"},
          FloatField{&S::giCellSize, 0.0f, 1e30f}},
-        {{"gi.iterations", "int 0..64", "propagation steps (light travels one cell per step; with as many steps as cells it crosses a cascade)"},
+        {{"gi.iterations", "int 0..64",
+          "propagation steps (light travels one cell per step; with as many steps as cells it "
+          "crosses a cascade)"},
          UIntField{&S::giIterations, 0, 64}},
         {{"gi.rsm_resolution", "int 16..2048",
           "reflective shadow map side: one virtual point light per texel, flux per texel area"},
