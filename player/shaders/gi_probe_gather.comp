@@ -1,18 +1,31 @@
 #version 450 core
-// gi_probe_gather.comp — irradiance probes that gather every virtual point light they can see
-// (gi.technique = probes): one work group per probe at a grid cell's centre (dispatched as the
-// grid), its threads sharing
-// the VPLs (gi_vpls.comp). A VPL y with normal n_y and flux Phi (over the sun's irradiance) lights
-// the probe x with irradiance Phi max(0, n_y . w) / (pi (r^2 + a)) straight on, w = (x - y) / r,
-// where a (the VPL's area over 2 pi) keeps the bound of a lit disc instead of the point light's
-// 1/r^2 pole; visibility is a 3D-DDA walk through the scene's occupancy grid (gi_voxelize.frag):
-// any solid voxel between them blocks it, but the one the probe is in (a probe inside a wall
-// still sees both sides). The result is stored as the L1
-// SH of radiance over travel direction, the LPV's own format, so lighting's look-up
-// (shaders/include/gi_lookup.glsl) reads probes and propagation volumes alike.
-// There is no propagation: light reaches the far wall in one step, at 1/r^2, and nowhere else.
+// gi_probe_gather.comp — irradiance probes and their rays through the scene's occupancy grid
+// (gi_voxelize.frag), one work group per probe at a grid cell's centre (dispatched as the grid).
+// Three variants:
 //
-// SKY_VISIBILITY (ibl.visibility = probes): instead, every probe traces kSkyRays directions
+// (default) The gather (gi.technique = probes): the group's threads share the VPLs
+// (gi_vpls.comp). A VPL y with normal n_y and flux Phi (over the sun's irradiance) lights the
+// probe x with irradiance Phi max(0, n_y . w) / (pi (r^2 + a)) straight on, w = (x - y) / r,
+// where a (the VPL's area over 2 pi) keeps the bound of a lit disc instead of the point light's
+// 1/r^2 pole. Visibility (gi.probe_visibility): `depth` looks the VPL up in the probe's depth
+// map (PROBE_DEPTH below: a fetch, not a walk); `exact` (EXACT_VISIBILITY) walks the grid from
+// the VPL to the probe (3D-DDA): any solid voxel between them blocks it, but the one the probe is
+// in (a probe inside a wall still sees both sides). The result is stored as the L1 SH of
+// radiance over travel direction, the LPV's own format, so lighting's look-up
+// (shaders/include/gi_lookup.glsl) reads probes and propagation volumes alike. There is no
+// propagation: light reaches the far wall in one step, at 1/r^2, and nowhere else.
+//
+// PROBE_DEPTH: every probe's depth map, DDGI's visibility data: a 16 x 16 octahedral map (y up)
+// of how far the probe sees before a solid voxel (its own excepted), one ray through each
+// texel's centre. Traced only when the grid is redrawn (it depends on the geometry alone), so
+// the gather, which runs whenever the sun moves, costs four fetches per probe-VPL pair instead of
+// a walk (measured: docs/PLAYER.md). The gather interpolates the map bilinearly at the VPL's
+// exact direction: a floor seen at a grazing angle, the common case, is hit at h / sin(angle),
+// convex in the angle, so the interpolated depth errs long and a VPL on it stays seen (a texel
+// spans ~13 degrees; the nearest texel's depth, or the min/max of rays through the texel, hid
+// a quarter of the box room's light).
+//
+// SKY_VISIBILITY (ibl.visibility = probes): every probe traces kSkyRays directions
 // spread evenly over the sphere (a spherical Fibonacci set) through the same grid and stores the
 // L1 SH of the set it sees out of the grid through (V(w) projected: sum of basis(w) 4 pi / N);
 // lighting turns that into the cosine-weighted visible fraction around a normal
@@ -24,6 +37,10 @@ layout(binding = 0) uniform usampler3D uVoxels;
 #ifdef SKY_VISIBILITY
 layout(rgba16f, binding = 0) writeonly uniform image3D uSky;
 const int kSkyRays = 256;
+#elif defined(PROBE_DEPTH)
+// Per probe (x + n (y + n z)): kDepthTexels / 2 words, two texels' distances in voxels each
+// (packHalf2x16, texel 2i in the low half).
+layout(std430, binding = 1) writeonly buffer ProbeDepth { uint uDepth[]; };
 #else
 struct Vpl {
     vec4 position; // camera-relative world, w: lit area
@@ -35,6 +52,9 @@ layout(std430, binding = 0) readonly buffer Vpls { Vpl uVpls[]; };
 layout(rgba16f, binding = 0) writeonly uniform image3D uSumR;
 layout(rgba16f, binding = 1) writeonly uniform image3D uSumG;
 layout(rgba16f, binding = 2) writeonly uniform image3D uSumB;
+#ifndef EXACT_VISIBILITY
+layout(std430, binding = 1) readonly buffer ProbeDepth { uint uDepth[]; };
+#endif
 #endif
 
 layout(location = 0) uniform vec4 uGrid;   // camera-relative minimum corner, probe spacing
@@ -42,6 +62,8 @@ layout(location = 1) uniform ivec3 uCounts; // probes per side, VPLs, voxels per
 
 const float kShY0 = 0.282094792, kShY1 = 0.488602512;
 const float kInvPi = 0.318309886;
+const int kDepthSide = 16, kDepthTexels = kDepthSide * kDepthSide;
+const float kClear = 65504.0; // fp16's largest: the ray leaves the grid (nothing beyond blocks)
 
 shared vec4 sSum[3][64];
 
@@ -79,6 +101,47 @@ bool blocked(vec3 a, vec3 b, int side) {
     return false;
 }
 
+// How far the ray from a (voxel units) along unit w runs before it enters a solid voxel other
+// than a's own; kClear if it leaves the grid first.
+float firstHit(vec3 a, vec3 w, int side) {
+    ivec3 v = ivec3(floor(a));
+    ivec3 stepDir = ivec3(sign(w));
+    vec3 inv = 1.0 / max(abs(w), vec3(1e-12));
+    vec3 next = (vec3(v) + max(vec3(stepDir), vec3(0.0)) - a) * sign(w) * inv;
+    next = mix(next, vec3(1e30), equal(stepDir, ivec3(0)));
+    for (int i = 0; i < 3 * 256; ++i) {
+        float t = min(min(next.x, next.y), next.z);
+        if (next.x <= next.y && next.x <= next.z) {
+            v.x += stepDir.x;
+            next.x += inv.x;
+        } else if (next.y <= next.z) {
+            v.y += stepDir.y;
+            next.y += inv.y;
+        } else {
+            v.z += stepDir.z;
+            next.z += inv.z;
+        }
+        if (any(lessThan(v, ivec3(0))) || any(greaterThanEqual(v, ivec3(side)))) return kClear;
+        if (solid(v)) return t;
+    }
+    return kClear;
+}
+
+// Octahedral map of the sphere onto [-1, 1]^2 and back (the depth maps' layout), +y at the
+// centre: horizontal directions (grazing floors and ceilings) lie on the inner diamond, away
+// from the square's folded edges.
+vec2 octEncode(vec3 w) {
+    w /= abs(w.x) + abs(w.y) + abs(w.z);
+    vec2 e = w.xz;
+    if (w.y < 0.0) e = (1.0 - abs(w.zx)) * vec2(w.x >= 0.0 ? 1.0 : -1.0, w.z >= 0.0 ? 1.0 : -1.0);
+    return e;
+}
+vec3 octDecode(vec2 e) {
+    vec3 w = vec3(e.x, 1.0 - abs(e.x) - abs(e.y), e.y);
+    if (w.y < 0.0) w.xz = (1.0 - abs(w.zx)) * vec2(w.x >= 0.0 ? 1.0 : -1.0, w.z >= 0.0 ? 1.0 : -1.0);
+    return normalize(w);
+}
+
 #ifdef SKY_VISIBILITY
 // Where the ray from a (voxel units, inside the grid) along unit w leaves the grid, a hair inside.
 vec3 gridExit(vec3 a, vec3 w, int side) {
@@ -111,13 +174,50 @@ void main() {
         imageStore(uSky, id, inside ? vec4(-1.0, 0.0, 0.0, 0.0) : sSum[0][0] * (4.0 * 3.14159265 / float(kSkyRays)));
     }
 }
+#elif defined(PROBE_DEPTH)
+void main() {
+    ivec3 id = ivec3(gl_WorkGroupID);
+    int n = uCounts.x, side = uCounts.z;
+    float voxel = uGrid.w * float(n) / float(side);
+    vec3 xv = (vec3(id) + 0.5) * uGrid.w / voxel;
+    int probe = id.x + n * (id.y + n * id.z);
+    for (int word = int(gl_LocalInvocationID.x); word < kDepthTexels / 2; word += 64) {
+        vec2 d;
+        for (int k = 0; k < 2; ++k) {
+            int t = 2 * word + k;
+            vec2 e = (vec2(t % kDepthSide, t / kDepthSide) + 0.5) / float(kDepthSide) * 2.0 - 1.0;
+            d[k] = firstHit(xv, octDecode(e), side);
+        }
+        uDepth[probe * (kDepthTexels / 2) + word] = packHalf2x16(d);
+    }
+}
 #else
+#ifndef EXACT_VISIBILITY
+float depthAt(int probe, ivec2 t) {
+    // Across the square's edge the octahedral map folds back: mirrored along that edge.
+    if (t.x < 0 || t.x >= kDepthSide) t = ivec2(clamp(t.x, 0, kDepthSide - 1), kDepthSide - 1 - t.y);
+    if (t.y < 0 || t.y >= kDepthSide) t = ivec2(kDepthSide - 1 - t.x, clamp(t.y, 0, kDepthSide - 1));
+    int i = t.y * kDepthSide + t.x;
+    return unpackHalf2x16(uDepth[probe * (kDepthTexels / 2) + i / 2])[i & 1];
+}
+
+// The probe's depth map bilinearly interpolated at direction w (texel centres at (i + 0.5)).
+float depthTowards(int probe, vec3 w) {
+    vec2 p = (octEncode(w) * 0.5 + 0.5) * float(kDepthSide) - 0.5;
+    ivec2 t = ivec2(floor(p));
+    vec2 f = p - vec2(t);
+    return mix(mix(depthAt(probe, t), depthAt(probe, t + ivec2(1, 0)), f.x),
+               mix(depthAt(probe, t + ivec2(0, 1)), depthAt(probe, t + ivec2(1, 1)), f.x), f.y);
+}
+#endif
+
 void main() {
     ivec3 id = ivec3(gl_WorkGroupID);
     int n = uCounts.x;
     vec3 x = uGrid.xyz + (vec3(id) + 0.5) * uGrid.w;
     float voxel = uGrid.w * float(n) / float(uCounts.z);
     vec3 xv = (x - uGrid.xyz) / voxel;
+    int probe = id.x + n * (id.y + n * id.z);
     vec4 acc[3] = vec4[](vec4(0.0), vec4(0.0), vec4(0.0));
     for (int i = int(gl_LocalInvocationID.x); i < uCounts.y; i += 64) {
         Vpl l = uVpls[i];
@@ -131,8 +231,19 @@ void main() {
         // marked wherever in its voxel it lies, or a ray grazing along the surface (a floor's light
         // towards the foot of a wall) would run through its own surface's voxels.
         vec3 yv = (l.position.xyz + l.normal.xyz * (1.5 * voxel) - uGrid.xyz) / voxel;
+#ifdef EXACT_VISIBILITY
         if (blocked(yv, xv, uCounts.z)) continue;
-        float e = cosine * kInvPi / (r2 + l.position.w * (0.5 * kInvPi));
+        const float visible = 1.0;
+#else
+        // Seen if the probe's depth towards the point a voxel and a half in front of the VPL
+        // reaches it: fading over the last voxel, so that a VPL crossing a silhouette as the sun
+        // turns fades instead of popping.
+        vec3 toVpl = yv - xv;
+        float rv = length(toVpl);
+        float visible = clamp(depthTowards(probe, toVpl / max(rv, 1e-6)) - rv + 1.0, 0.0, 1.0);
+        if (visible <= 0.0) continue;
+#endif
+        float e = visible * cosine * kInvPi / (r2 + l.position.w * (0.5 * kInvPi));
         vec4 y = basis(w);
         for (int ch = 0; ch < 3; ++ch) acc[ch] += (l.flux[ch] * e) * y;
     }

@@ -63,6 +63,11 @@ struct GiResources {
     uint32_t voxelSide = 0, vplSide = 0;
     GlHandle voxels, voxelFb, vpls, voxelize, clusterVpls, gatherProbes;
     uint64_t voxelVersion = ~0ull;
+    // gi.probe_visibility = depth: every probe's 16x16 depth map (probes^3 x 256 halves), traced
+    // again only when the occupancy grid is redrawn; `exact` has neither.
+    ProbeVisibility gatherVisibility = ProbeVisibility::Depth; // the variant gatherProbes is
+    GlHandle probeDepth, traceDepth;
+    bool depthCurrent = false;
     // ibl.visibility = probes: per probe the L1 SH of the directions in which it sees out of the
     // grid (RGBA16F, probes^3), traced again only when the occupancy grid is redrawn.
     GlHandle skyVisibility, traceSky;

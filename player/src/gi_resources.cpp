@@ -86,9 +86,26 @@ PlayResult<Done> GiResources::ensure(const RenderSettings& s, uint32_t cascadeCo
             {&propagateOccluded, {"lpv_propagate.comp", "OCCLUSION"}}};
         if (auto ok = compileStages(stages, floatAtomics); !ok) return ok.error();
     }
-    if (want == GiTechnique::Probes && !gatherProbes) {
+    const bool depthMaps = want == GiTechnique::Probes && s.giProbeVisibility == ProbeVisibility::Depth;
+    if (want == GiTechnique::Probes && (!gatherProbes || gatherVisibility != s.giProbeVisibility)) {
+        gatherVisibility = s.giProbeVisibility;
         const std::pair<GlHandle*, std::pair<const char*, std::string_view>> stages[] = {
-            {&clusterVpls, {"gi_vpls.comp", ""}}, {&gatherProbes, {"gi_probe_gather.comp", ""}}};
+            {&gatherProbes, {"gi_probe_gather.comp", depthMaps ? "" : "EXACT_VISIBILITY"}}};
+        if (auto ok = compileStages(stages, false); !ok) return ok.error();
+    }
+    if (!depthMaps) {
+        probeDepth = {};
+        traceDepth = {};
+    } else if (!traceDepth) {
+        std::string_view define = "PROBE_DEPTH";
+        auto p = compileEmbeddedCompute("gi_probe_gather.comp", std::span(&define, 1));
+        if (!p) return p.error();
+        traceDepth = std::move(*p);
+        depthCurrent = false;
+    }
+    if (want == GiTechnique::Probes && !clusterVpls) {
+        const std::pair<GlHandle*, std::pair<const char*, std::string_view>> stages[] = {
+            {&clusterVpls, {"gi_vpls.comp", ""}}};
         if (auto ok = compileStages(stages, false); !ok) return ok.error();
         auto v = compileEmbeddedProgram("flat.vert", "gi_voxelize.frag");
         if (!v) return v.error();
@@ -129,6 +146,7 @@ PlayResult<Done> GiResources::ensure(const RenderSettings& s, uint32_t cascadeCo
                                    {"gi sum r", "gi sum g", "gi sum b"}};
         for (int ch = 0; ch < 3; ++ch) sum[size_t(ch)] = volume(cells, depth, names[2][ch]);
         skyVisibility = {};
+        probeDepth = {};
         if (want == GiTechnique::Lpv) {
             for (int ch = 0; ch < 3; ++ch) {
                 source[size_t(ch)] = volume(cells, depth, names[0][ch]);
@@ -159,7 +177,11 @@ PlayResult<Done> GiResources::ensure(const RenderSettings& s, uint32_t cascadeCo
             skyVisibility = volume(cells, cells, "gi probe sky visibility");
             skyCurrent = false;
         }
-        bytes = rsmBytes + cellsTotal * (sky ? 4 : 3) * 8 +
+        if (depthMaps && !probeDepth) {
+            probeDepth = storage(cellsTotal * 256 * 2, "gi probe depth maps");
+            depthCurrent = false;
+        }
+        bytes = rsmBytes + cellsTotal * (sky ? 4 : 3) * 8 + (depthMaps ? cellsTotal * 256 * 2 : 0) +
                 uint64_t(voxelSide) * voxelSide * voxelSide + uint64_t(vplSide) * vplSide * 48;
         return Done{};
     }

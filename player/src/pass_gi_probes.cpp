@@ -1,8 +1,9 @@
 // gi.technique = probes (gi.h): after the RSM, (1) the scene's occupancy grid over the probes'
 // box, drawn only when the geometry, materials or the box change (gi_voxelize.frag: three
 // orthographic draws, one along each axis); (2) the RSM's texels clustered into gi.vpls^2
-// virtual point lights (gi_vpls.comp); (3) every probe gathers every VPL it can see through the
-// grid (gi_probe_gather.comp) into the volumes lighting reads. No propagation, no camera surfels:
+// virtual point lights (gi_vpls.comp); (3) every probe gathers every VPL it can see (by its depth
+// map, traced with the grid, or a walk through the grid: gi.probe_visibility) into the volumes
+// lighting reads (gi_probe_gather.comp). No propagation, no camera surfels:
 // nothing here depends on the view but the box when it follows the camera (gi.cell_size > 0), so
 // with gi.probe_cache all of it (and the RSM) runs again only when an input changed
 // (GiFrame::probeInputs: the sun, the grid, the sizes, geometry, materials, resident texture
@@ -63,7 +64,7 @@ void voxelizeScene(FrameContext& ctx, const LpvCascade& box) {
     glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT);
     glBindBufferRange(GL_UNIFORM_BUFFER, 0, ctx.ring.buffer(), GLintptr(ctx.frameBlockOffset), sizeof(FrameBlock));
     glEnable(GL_DEPTH_TEST);
-    r.skyCurrent = false;
+    r.skyCurrent = r.depthCurrent = false;
     // The warm-up frame draws cut (Renderer::warmUp): only a real frame's grid is kept.
     r.voxelVersion = ctx.warmUp ? ~0ull : scene.materialsVersion;
     r.voxelOrigin = box.origin;
@@ -86,6 +87,22 @@ void traceSkyVisibility(FrameContext& ctx, const glm::vec3& origin, float spacin
     r.skyCurrent = !ctx.warmUp; // the warm-up frame's grid is not kept (voxelizeScene)
 }
 
+// Every probe's depth map through the occupancy grid (gi.probe_visibility = depth).
+void traceProbeDepths(FrameContext& ctx, const glm::vec3& origin, float spacing) {
+    GiResources& r = ctx.gi.resources;
+    const GLuint p = r.traceDepth.id();
+    glProgramUniform4f(p, 0, origin.x, origin.y, origin.z, spacing);
+    glProgramUniform3i(p, 1, GLint(r.cells), 0, GLint(r.voxelSide));
+    glBindTextureUnit(0, r.voxels.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, r.probeDepth.id());
+    glUseProgram(p);
+    glDispatchCompute(r.cells, r.cells, r.cells);
+    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+    glBindTextureUnit(0, 0);
+    glUseProgram(0);
+    r.depthCurrent = !ctx.warmUp; // the warm-up frame's grid is not kept (voxelizeScene)
+}
+
 } // namespace
 
 void runGiProbes(FrameContext& ctx) {
@@ -101,6 +118,7 @@ void runGiProbes(FrameContext& ctx) {
     const glm::vec3 origin(box.origin - ctx.view.position);
     if (r.skyVisibility && !r.skyCurrent) traceSkyVisibility(ctx, origin, float(box.cellSize));
     if (f.probesCurrent) return;
+    if (r.probeDepth && !r.depthCurrent) traceProbeDepths(ctx, origin, float(box.cellSize));
 
     const GLuint cluster = r.clusterVpls.id();
     const glm::mat4 inverse(glm::inverse(f.rsm.matrix));
@@ -122,11 +140,12 @@ void runGiProbes(FrameContext& ctx) {
     glProgramUniform4f(gather, 0, origin.x, origin.y, origin.z, float(box.cellSize));
     glProgramUniform3i(gather, 1, GLint(r.cells), GLint(r.vplSide * r.vplSide), GLint(r.voxelSide));
     glBindTextureUnit(0, r.voxels.id());
+    if (r.probeDepth) glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, r.probeDepth.id());
     for (GLuint ch = 0; ch < 3; ++ch)
         glBindImageTexture(ch, r.sum[ch].id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA16F);
     glUseProgram(gather);
     glDispatchCompute(r.cells, r.cells, r.cells);
-    glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT);
+    glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
     for (GLuint unit = 0; unit < 3; ++unit) glBindTextureUnit(unit, 0);
     glUseProgram(0);
     r.probeInputs = ctx.warmUp ? std::vector<uint64_t>{} : f.probeInputs;

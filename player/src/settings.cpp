@@ -64,6 +64,7 @@ constexpr std::string_view kSelectNames[] = {"depth", "bounds"};
 constexpr std::string_view kPartitionNames[] = {"log", "quantile"};
 constexpr std::string_view kAtomicsNames[] = {"fixed", "float"};
 constexpr std::string_view kGiTechniqueNames[] = {"lpv", "probes"};
+constexpr std::string_view kProbeVisibilityNames[] = {"depth", "exact"};
 constexpr std::string_view kSkyVisibilityNames[] = {"none", "screen", "height", "volume", "probes"};
 
 const std::vector<Row>& rows() {
@@ -186,6 +187,10 @@ const std::vector<Row>& rows() {
           "probes: the RSM, VPLs and gather run again only when the sun, geometry, textures or the "
           "probe grid change (false: every frame, which is what a turning sun costs)"},
          BoolField{&S::giProbeCache}},
+        {{"gi.probe_visibility", "depth|exact",
+          "probes: whether a VPL is seen, from each probe's 16x16 depth map traced once per grid (a "
+          "fetch per pair) or by a walk through the voxels per probe-VPL pair (exact, slower)"},
+         enumField<&S::giProbeVisibility>(kProbeVisibilityNames)},
         {{"ibl.enabled", "bool",
           "light from the container's environment (pnb-convert --sky or --environment): diffuse "
           "from its irradiance SH, reflections from its prefiltered cube, and the background; "

@@ -733,10 +733,15 @@ RenderSettings probeSettings() {
 }
 
 void expectProbesBeatTheConstant(const std::string& path, const CameraState& view) {
-    reference::IndirectErrorMetrics probes = accuracy(path, view, probeSettings());
+  for (ProbeVisibility visibility : {ProbeVisibility::Depth, ProbeVisibility::Exact}) {
+    SCOPED_TRACE(visibility == ProbeVisibility::Depth ? "gi.probe_visibility=depth" : "gi.probe_visibility=exact");
+    RenderSettings settings = probeSettings();
+    settings.giProbeVisibility = visibility;
+    reference::IndirectErrorMetrics probes = accuracy(path, view, settings);
     EXPECT_GT(probes.pixels, 3000u);
-    // Measured at 96x72, 128 rays (box room / atrium): RMSE over the best constant's 0.537 / 0.608
-    // (LPV 0.574 / 0.478), correlation 0.845 / 0.865, energy 0.970 / 0.749, leak 1.6 / 0.5 %.
+    // Measured at 96x72, 128 rays (box room / atrium), depth maps: RMSE over the best constant's
+    // 0.532 / 0.549, correlation 0.851 / 0.884, energy 0.906 / 0.788, leak 1.9 / 0.5 %; the
+    // exact walk: 0.537 / 0.608, 0.845 / 0.865, 0.970 / 0.749, 1.6 / 0.5 % (LPV 0.574 / 0.478).
     // The atrium's light is short: probes inside columns and walls darken the trilinear look-up
     // next to them.
     EXPECT_LT(probes.rmseOverBestConstant, 0.75);
@@ -744,6 +749,7 @@ void expectProbesBeatTheConstant(const std::string& path, const CameraState& vie
     EXPECT_GT(probes.energyRatio, 0.7);
     EXPECT_LT(probes.energyRatio, 1.25);
     EXPECT_LT(probes.leakPercent, 2.5);
+  }
 }
 
 TEST(GiProbes, BoxRoomCloserToTheTruthThanTheBestConstant) {
@@ -764,10 +770,13 @@ TEST(GiProbes, AllocateOnlyTheirOwnAndSwitchBackToLpv) {
     // The volume lighting reads: gi.probe_cells^3 probes, one grid (LPV: gi.cells^3 x cascades).
     EXPECT_EQ(p.volume.width, probes.giProbeCells);
     EXPECT_EQ(p.volume.height, probes.giProbeCells * probes.giProbeCells);
-    // RSM 256^2 (1 MiB), 16^3 probes, 64^3 voxels, 32^2 VPLs: no propagation volumes, geometry
-    // volume or atomic buffers.
-    const uint64_t expected = 256ull * 256 * 16 + 16ull * 16 * 16 * 3 * 8 + 64ull * 64 * 64 + 32ull * 32 * 48;
-    EXPECT_EQ(p.memory.giBytes, expected);
+    // RSM 256^2 (1 MiB), 16^3 probes, their 16x16 fp16 depth maps, 64^3 voxels, 32^2 VPLs: no
+    // propagation volumes, geometry volume or atomic buffers; with the exact walk, no depth maps.
+    const uint64_t exact = 256ull * 256 * 16 + 16ull * 16 * 16 * 3 * 8 + 64ull * 64 * 64 + 32ull * 32 * 48;
+    EXPECT_EQ(p.memory.giBytes, exact + 16ull * 16 * 16 * 256 * 2);
+    RenderSettings walk = probes;
+    walk.giProbeVisibility = ProbeVisibility::Exact;
+    EXPECT_EQ(renderGi(giBoxRoom(), kView, walk, 64, 48).memory.giBytes, exact);
     // One renderer switching technique frees the other's objects and gives the same images.
     auto scene = loadScene(giBoxRoom());
     ASSERT_TRUE(scene.ok());

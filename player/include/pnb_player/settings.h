@@ -55,6 +55,7 @@ enum class CascadeSelect { Depth, Bounds };    // shadows.select
 enum class SdsmPartition { Log, Quantile };    // shadows.sdsm_partition
 enum class GiAtomics { Fixed, Float };         // gi.atomics
 enum class GiTechnique { Lpv, Probes };        // gi.technique
+enum class ProbeVisibility { Depth, Exact };   // gi.probe_visibility
 enum class SkyVisibility { None, Screen, Height, Volume, Probes }; // ibl.visibility
 
 struct RenderSettings {
@@ -120,6 +121,9 @@ struct RenderSettings {
     uint32_t giVoxels = 64;       // probes: occupancy voxels along each side (visibility)
     uint32_t giVpls = 32;         // probes: virtual point lights along each side of the RSM
     bool giProbeCache = true;     // probes: gathered again only when what they see changed
+    // probes: VPL-to-probe visibility from each probe's depth map (a fetch) or a walk through
+    // the occupancy grid per pair (exact at the grid's resolution, ~5x the gather's cost)
+    ProbeVisibility giProbeVisibility = ProbeVisibility::Depth;
 
     // ibl.*: light from the container's environment (ENVM; docs/PLAYER.md "Sky and image-based
     // lighting"). Without an environment none of these has an effect.
