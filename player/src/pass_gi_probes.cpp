@@ -145,7 +145,7 @@ void runGiProbes(FrameContext& ctx) {
         glBindImageTexture(ch, r.sum[ch].id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA16F);
     glUseProgram(gather);
     glDispatchCompute(r.cells, r.cells, r.cells);
-    glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
+    glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT);
     for (GLuint unit = 0; unit < 3; ++unit) glBindTextureUnit(unit, 0);
     glUseProgram(0);
     r.probeInputs = ctx.warmUp ? std::vector<uint64_t>{} : f.probeInputs;
