@@ -62,4 +62,11 @@ std::vector<LpvCascade> placeCascades(uint32_t count, uint32_t cells, double cel
     return out;
 }
 
+double probeCellSize(uint32_t cells, double maxSpacing, const glm::dvec3& sceneMin, const glm::dvec3& sceneMax) {
+    const glm::dvec3 extent = sceneMax - sceneMin;
+    const double largest = std::max({extent.x, extent.y, extent.z});
+    const double cube = largest / (cells > 2 ? double(cells) - 2.0 : 1.0); // placeCascades' outer cell
+    return maxSpacing > 0 && std::isfinite(maxSpacing) && cube > maxSpacing ? maxSpacing : 0.0;
+}
+
 } // namespace pnb::player

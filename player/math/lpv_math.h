@@ -67,4 +67,10 @@ std::vector<LpvCascade> placeCascades(uint32_t count, uint32_t cells, double cel
                                       const glm::dvec3& sceneMin, const glm::dvec3& sceneMax,
                                       const glm::dvec3& camera, const glm::dvec3& forward);
 
+// The probes' grid (one cascade of `cells`) with gi.cell_size 0: the scene's bounding cube
+// (returns 0, placeCascades' auto) unless that spaces the probes wider than maxSpacing (> 0);
+// then maxSpacing, a grid following the camera. A 2 km street scene at 20 probes would put
+// them 110 m apart in a 20 m street; an interior keeps its fixed, cached grid.
+double probeCellSize(uint32_t cells, double maxSpacing, const glm::dvec3& sceneMin, const glm::dvec3& sceneMax);
+
 } // namespace pnb::player

@@ -9,15 +9,15 @@
 // where a (the VPL's area over 2 pi) keeps the bound of a lit disc instead of the point light's
 // 1/r^2 pole. Visibility (gi.probe_visibility): `depth` looks the VPL up in the probe's depth
 // map (PROBE_DEPTH below: a fetch, not a walk); `exact` (EXACT_VISIBILITY) walks the grid from
-// the VPL to the probe (3D-DDA): any solid voxel between them blocks it, but the one the probe is
-// in (a probe inside a wall still sees both sides). The result is stored as the L1 SH of
+// the VPL to the probe (3D-DDA): any solid voxel between them blocks it, but those within a cell
+// of the probe (kPassThroughVoxels: both variants). The result is stored as the L1 SH of
 // radiance over travel direction, the LPV's own format, so lighting's look-up
 // (shaders/include/gi_lookup.glsl) reads probes and propagation volumes alike. There is no
 // propagation: light reaches the far wall in one step, at 1/r^2, and nowhere else.
 //
 // PROBE_DEPTH: every probe's depth map, DDGI's visibility data: a 16 x 16 octahedral map (y up)
-// of how far the probe sees before a solid voxel (kPassThrough), one ray through each
-// texel's centre. Traced only when the grid is redrawn (it depends on the geometry alone), so
+// of how far the probe sees before a solid voxel (past those within a cell: kPassThroughVoxels),
+// one ray through each texel's centre. Traced only when the grid is redrawn (it depends on the geometry alone), so
 // the gather, which runs whenever the sun moves, costs four fetches per probe-VPL pair instead of
 // a walk (measured: docs/PLAYER.md). The gather interpolates the map bilinearly at the VPL's
 // exact direction: a floor seen at a grazing angle, the common case, is hit at h / sin(angle),
@@ -39,8 +39,10 @@ layout(rgba16f, binding = 0) writeonly uniform image3D uSky;
 const int kSkyRays = 256;
 #elif defined(PROBE_DEPTH)
 // Per probe (x + n (y + n z)): kDepthTexels / 2 words, two texels' distances in voxels each
-// (packHalf2x16, texel 2i in the low half).
-layout(std430, binding = 1) writeonly buffer ProbeDepth { uint uDepth[]; };
+// (packHalf2x16, texel 2i in the low half); after all the maps, one word per probe: 1 if
+// lighting's look-up can read it (kReach).
+layout(std430, binding = 1) buffer ProbeDepth { uint uDepth[]; };
+shared uint sNeeded;
 #else
 struct Vpl {
     vec4 position; // camera-relative world, w: lit area
@@ -53,7 +55,7 @@ layout(rgba16f, binding = 0) writeonly uniform image3D uSumR;
 layout(rgba16f, binding = 1) writeonly uniform image3D uSumG;
 layout(rgba16f, binding = 2) writeonly uniform image3D uSumB;
 #ifndef EXACT_VISIBILITY
-layout(std430, binding = 1) readonly buffer ProbeDepth { uint uDepth[]; };
+layout(std430, binding = 1) readonly buffer ProbeDepth { uint uDepth[]; }; // and the needed flags
 #endif
 #endif
 
@@ -64,11 +66,20 @@ const float kShY0 = 0.282094792, kShY1 = 0.488602512;
 const float kInvPi = 0.318309886;
 const int kDepthSide = 16, kDepthTexels = kDepthSide * kDepthSide;
 const float kClear = 65504.0; // fp16's largest: the ray leaves the grid (nothing beyond blocks)
-// A probe's depth rays pass the solid voxels that begin within this many voxels of it, as the
-// walk passes the probe's own voxel: a probe inside a wall up to a voxel and a half thick (a thin
-// wall rasterised across a voxel boundary marks two) sees both sides instead of only one (atrium
-// at 24^3 probes: 0.65 -> 0.53 x the constant's error; box room at 16^3 0.565 -> 0.554).
-const float kPassThrough = 1.5;
+// A probe sees past the solid voxels within a cell of it (at least a voxel and a half): its depth
+// rays pass them, and so does the exact walk at its end. Lighting's look-up blends the 8 probes
+// around a point half a cell in front of a surface, so the probes just behind the surface (in
+// the wall, under the floor) weigh in too; seeing past it, each holds the light travelling
+// towards both of the surface's sides, and each side's look-up reads the half facing it.
+// Blocked at the surface they were black and darkened it by how the grid happened to fall
+// (atrium 0.65 x the constant's error at 24^3 probes, 0.43 at 16^3; passing a cell: 0.49 and
+// 0.44; docs/PLAYER.md). A VPL behind a wall within a cell of the probe is seen through it.
+const float kPassThroughVoxels = 1.5;
+// Lighting reads a surface point's probes through a point half a cell in front of it, blending
+// the 8 probes within a cell of that: only probes within 1.5 cells (per axis) of a surface are
+// ever read. The others (open air, the inside of a building) are not gathered at all: the street
+// canyon skips most of its grid, the box room the air in the middle.
+const float kReach = 1.5;
 
 shared vec4 sSum[3][64];
 
@@ -77,8 +88,8 @@ vec4 basis(vec3 w) { return vec4(kShY0, -kShY1 * w.y, kShY1 * w.z, -kShY1 * w.x)
 bool solid(ivec3 v) { return texelFetch(uVoxels, v, 0).r != 0u; }
 
 // Whether the segment from a to b (in voxel units) crosses a solid voxel other than the ones a and
-// b are in (Amanatides & Woo's traversal).
-bool blocked(vec3 a, vec3 b, int side) {
+// b are in and those it enters within `passAtB` voxels of b (Amanatides & Woo's traversal).
+bool blocked(vec3 a, vec3 b, int side, float passAtB) {
     vec3 d = b - a;
     ivec3 v = ivec3(floor(a)), end = ivec3(floor(b));
     ivec3 stepDir = ivec3(sign(d));
@@ -86,9 +97,11 @@ bool blocked(vec3 a, vec3 b, int side) {
     vec3 next = (vec3(v) + max(vec3(stepDir), vec3(0.0)) - a) * sign(d) * inv; // t of the next boundary
     next = mix(next, vec3(2.0), equal(stepDir, ivec3(0)));
     vec3 delta = inv;
+    float tPass = 1.0 - passAtB / max(length(d), 1e-12);
     for (int i = 0; i < 3 * 256; ++i) {
         // Into the next voxel at the nearest boundary; past b's position it is clear.
-        if (min(min(next.x, next.y), next.z) >= 1.0) return false;
+        float t = min(min(next.x, next.y), next.z);
+        if (t >= 1.0 || t >= tPass) return false;
         if (next.x <= next.y && next.x <= next.z) {
             v.x += stepDir.x;
             next.x += delta.x;
@@ -166,7 +179,7 @@ void main() {
         float z = 1.0 - (2.0 * float(i) + 1.0) / float(kSkyRays);
         float r = sqrt(max(0.0, 1.0 - z * z)), phi = 2.39996323 * float(i); // golden angle
         vec3 w = vec3(r * cos(phi), z, r * sin(phi));
-        if (!blocked(xv, gridExit(xv, w, side), side)) acc += basis(w);
+        if (!blocked(xv, gridExit(xv, w, side), side, 0.0)) acc += basis(w);
     }
     sSum[0][gl_LocalInvocationID.x] = acc;
     barrier();
@@ -191,11 +204,22 @@ void main() {
         for (int k = 0; k < 2; ++k) {
             int t = 2 * word + k;
             vec2 e = (vec2(t % kDepthSide, t / kDepthSide) + 0.5) / float(kDepthSide) * 2.0 - 1.0;
-            d[k] = firstHit(xv, octDecode(e), side, kPassThrough);
+            d[k] = firstHit(xv, octDecode(e), side, max(kPassThroughVoxels, float(side) / float(n)));
         }
         uDepth[probe * (kDepthTexels / 2) + word] = packHalf2x16(d);
     }
-
+    // Needed: some solid voxel overlaps the box of kReach cells around the probe.
+    if (gl_LocalInvocationID.x == 0u) sNeeded = 0u;
+    barrier();
+    float reach = kReach * float(side) / float(n);
+    ivec3 lo = max(ivec3(floor(xv - reach)), ivec3(0)), hi = min(ivec3(floor(xv + reach)), ivec3(side - 1));
+    ivec3 span = hi - lo + 1;
+    bool near = false;
+    for (int i = int(gl_LocalInvocationID.x); i < span.x * span.y * span.z && !near; i += 64)
+        near = solid(lo + ivec3(i % span.x, (i / span.x) % span.y, i / (span.x * span.y)));
+    if (near) atomicOr(sNeeded, 1u);
+    barrier();
+    if (gl_LocalInvocationID.x == 0u) uDepth[n * n * n * (kDepthTexels / 2) + probe] = sNeeded;
 }
 #else
 #ifndef EXACT_VISIBILITY
@@ -225,7 +249,12 @@ void main() {
     vec3 xv = (x - uGrid.xyz) / voxel;
     int probe = id.x + n * (id.y + n * id.z);
     vec4 acc[3] = vec4[](vec4(0.0), vec4(0.0), vec4(0.0));
-    for (int i = int(gl_LocalInvocationID.x); i < uCounts.y; i += 64) {
+#ifdef EXACT_VISIBILITY
+    const int vpls = uCounts.y;
+#else
+    int vpls = uDepth[n * n * n * (kDepthTexels / 2) + probe] != 0u ? uCounts.y : 0; // no look-up reads it
+#endif
+    for (int i = int(gl_LocalInvocationID.x); i < vpls; i += 64) {
         Vpl l = uVpls[i];
         if (l.flux.x + l.flux.y + l.flux.z <= 0.0) continue;
         vec3 d = x - l.position.xyz;
@@ -238,7 +267,7 @@ void main() {
         // towards the foot of a wall) would run through its own surface's voxels.
         vec3 yv = (l.position.xyz + l.normal.xyz * (1.5 * voxel) - uGrid.xyz) / voxel;
 #ifdef EXACT_VISIBILITY
-        if (blocked(yv, xv, uCounts.z)) continue;
+        if (blocked(yv, xv, uCounts.z, max(kPassThroughVoxels, float(uCounts.z) / float(n)))) continue;
         const float visible = 1.0;
 #else
         // Seen if the probe's depth towards the point a voxel and a half in front of the VPL

@@ -63,8 +63,9 @@ struct GiResources {
     uint32_t voxelSide = 0, vplSide = 0;
     GlHandle voxels, voxelFb, vpls, voxelize, clusterVpls, gatherProbes;
     uint64_t voxelVersion = ~0ull;
-    // gi.probe_visibility = depth: every probe's 16x16 depth map (probes^3 x 256 halves), traced
-    // again only when the occupancy grid is redrawn; `exact` has neither.
+    // gi.probe_visibility = depth: every probe's 16x16 depth map and whether lighting can read it
+    // (probes^3 x (256 halves + a word)), traced again only when the occupancy grid is redrawn;
+    // `exact` has neither.
     ProbeVisibility gatherVisibility = ProbeVisibility::Depth; // the variant gatherProbes is
     GlHandle probeDepth, traceDepth;
     bool depthCurrent = false;
@@ -87,6 +88,7 @@ struct GiFrame {
     bool active = false;
     bool pending = false; // finishGi still to run this frame
     std::vector<LpvCascade> cascades;
+    bool following = false;    // the outer cascade follows the camera (its border fades out)
     ShadowFit rsm;             // camera-relative world -> RSM clip
     double rsmTexelArea = 0;   // perpendicular world area of one RSM texel
     glm::dvec3 toward{0, 1, 0}; // toward the sun

@@ -178,10 +178,10 @@ PlayResult<Done> GiResources::ensure(const RenderSettings& s, uint32_t cascadeCo
             skyCurrent = false;
         }
         if (depthMaps && !probeDepth) {
-            probeDepth = storage(cellsTotal * 256 * 2, "gi probe depth maps");
+            probeDepth = storage(cellsTotal * (256 * 2 + 4), "gi probe depth maps");
             depthCurrent = false;
         }
-        bytes = rsmBytes + cellsTotal * (sky ? 4 : 3) * 8 + (depthMaps ? cellsTotal * 256 * 2 : 0) +
+        bytes = rsmBytes + cellsTotal * (sky ? 4 : 3) * 8 + (depthMaps ? cellsTotal * (256 * 2 + 4) : 0) +
                 uint64_t(voxelSide) * voxelSide * voxelSide + uint64_t(vplSide) * vplSide * 48;
         return Done{};
     }

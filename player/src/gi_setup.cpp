@@ -65,7 +65,7 @@ void prepareGi(FrameContext& ctx) {
     GiFrame& f = gi.frame;
     const RenderSettings& s = ctx.settings;
     const GpuScene& scene = ctx.scene;
-    f.active = f.pending = false;
+    f.active = f.pending = f.following = false;
     f.cascades.clear();
     f.rsmItems.clear();
     f.rsmObjectOffsets.clear();
@@ -86,8 +86,12 @@ void prepareGi(FrameContext& ctx) {
         glm::dvec3 forward = -glm::dvec3(ctx.view.view[0][2], ctx.view.view[1][2], ctx.view.view[2][2]);
         // Probes: one grid (the outer cascade's box, or following the camera with gi.cell_size).
         const bool probes = s.giTechnique == GiTechnique::Probes;
+        double cellSize = s.giCellSize;
+        if (probes && cellSize == 0)
+            cellSize = probeCellSize(s.giProbeCells, s.giProbeMaxSpacing, ctx.shadows.sceneMin, ctx.shadows.sceneMax);
+        f.following = cellSize > 0;
         f.cascades = placeCascades(probes ? 1u : std::min(s.giCascades, kMaxGiCascades),
-                                   probes ? s.giProbeCells : s.giCells, s.giCellSize, ctx.shadows.sceneMin,
+                                   probes ? s.giProbeCells : s.giCells, cellSize, ctx.shadows.sceneMin,
                                    ctx.shadows.sceneMax, ctx.view.position, forward);
     }
     if (f.cascades.empty()) {
@@ -171,7 +175,7 @@ void prepareGi(FrameContext& ctx) {
     GiBlock block{};
     for (size_t c = 0; c < f.cascades.size(); ++c)
         block.cascade[c] = glm::vec4(glm::vec3(f.cascades[c].origin - cam), float(f.cascades[c].cellSize));
-    block.grid = {float(gi.resources.cells), float(f.cascades.size()), s.giCellSize > 0 ? 1.0f : 0.0f,
+    block.grid = {float(gi.resources.cells), float(f.cascades.size()), f.following ? 1.0f : 0.0f,
                   gi.capture || s.debugView == DebugView::GiIndirect ? 1.0f : 0.0f};
     glm::vec3 irradiance = glm::vec3(light.desc.color.x, light.desc.color.y, light.desc.color.z) *
                            (light.desc.intensity * s.giIntensity);

@@ -177,6 +177,11 @@ const std::vector<Row>& rows() {
          enumField<&S::giAtomics>(kAtomicsNames)},
         {{"gi.probe_cells", "int 4..64", "probes: probes along each side of the grid over the scene"},
          UIntField{&S::giProbeCells, 4, 64}},
+        {{"gi.probe_max_spacing", "float >= 0",
+          "probes, with gi.cell_size 0: the grid spans the scene's bounding cube unless that spaces "
+          "the probes wider than this (scene units; glTF: metres), then it follows the camera at "
+          "this spacing; 0 = always the cube"},
+         FloatField{&S::giProbeMaxSpacing, 0.0f, 1e30f}},
         {{"gi.voxels", "int 16..256",
           "probes: occupancy voxels along each side of the grid (the visibility's resolution)"},
          UIntField{&S::giVoxels, 16, 256}},

@@ -740,12 +740,11 @@ void expectProbesBeatTheConstant(const std::string& path, const CameraState& vie
     reference::IndirectErrorMetrics probes = accuracy(path, view, settings);
     EXPECT_GT(probes.pixels, 3000u);
     // Measured at 96x72, 128 rays (box room / atrium), depth maps: RMSE over the best constant's
-    // 0.532 / 0.549, correlation 0.851 / 0.884, energy 0.906 / 0.788, leak 1.9 / 0.5 %; the
-    // exact walk: 0.537 / 0.608, 0.845 / 0.865, 0.970 / 0.749, 1.6 / 0.5 % (LPV 0.574 / 0.478).
-    // The atrium's light is short: probes inside columns and walls darken the trilinear look-up
-    // next to them.
-    EXPECT_LT(probes.rmseOverBestConstant, 0.75);
-    EXPECT_GT(probes.correlation, 0.8);
+    // 0.444 / 0.532, correlation 0.897 / 0.891, energy 0.948 / 0.795, leak 1.7 / 0.4 %; the
+    // exact walk: 0.453 / 0.536, 0.892 / 0.891, 1.016 / 0.793, 1.4 / 0.4 % (LPV 0.574 / 0.478).
+    // (16^3 probes, each blocked by the surfaces beside it: 0.537 / 0.608, energy 0.970 / 0.749.)
+    EXPECT_LT(probes.rmseOverBestConstant, 0.6);
+    EXPECT_GT(probes.correlation, 0.85);
     EXPECT_GT(probes.energyRatio, 0.7);
     EXPECT_LT(probes.energyRatio, 1.25);
     EXPECT_LT(probes.leakPercent, 2.5);
@@ -770,10 +769,12 @@ TEST(GiProbes, AllocateOnlyTheirOwnAndSwitchBackToLpv) {
     // The volume lighting reads: gi.probe_cells^3 probes, one grid (LPV: gi.cells^3 x cascades).
     EXPECT_EQ(p.volume.width, probes.giProbeCells);
     EXPECT_EQ(p.volume.height, probes.giProbeCells * probes.giProbeCells);
-    // RSM 256^2 (1 MiB), 16^3 probes, their 16x16 fp16 depth maps, 64^3 voxels, 32^2 VPLs: no
-    // propagation volumes, geometry volume or atomic buffers; with the exact walk, no depth maps.
-    const uint64_t exact = 256ull * 256 * 16 + 16ull * 16 * 16 * 3 * 8 + 64ull * 64 * 64 + 32ull * 32 * 48;
-    EXPECT_EQ(p.memory.giBytes, exact + 16ull * 16 * 16 * 256 * 2);
+    // RSM 256^2 (1 MiB), 20^3 probes, their 16x16 fp16 depth maps and needed flags, 64^3 voxels,
+    // 32^2 VPLs: no propagation volumes, geometry volume or atomic buffers; with the exact walk, no
+    // depth maps.
+    const uint64_t probeCount = 20ull * 20 * 20;
+    const uint64_t exact = 256ull * 256 * 16 + probeCount * 3 * 8 + 64ull * 64 * 64 + 32ull * 32 * 48;
+    EXPECT_EQ(p.memory.giBytes, exact + probeCount * (256 * 2 + 4));
     RenderSettings walk = probes;
     walk.giProbeVisibility = ProbeVisibility::Exact;
     EXPECT_EQ(renderGi(giBoxRoom(), kView, walk, 64, 48).memory.giBytes, exact);

@@ -102,6 +102,19 @@ TEST(LpvMath, AutoOuterCascadeHoldsTheSceneAndStaysPut) {
     EXPECT_TRUE(one[0].contains(0.5 * (lo + hi)));
 }
 
+TEST(LpvMath, ProbesFollowTheCameraOnlyWhereTheScenesCubeSpacesThemTooWide) {
+    // A 12 m room at 20 probes: 0.67 m apart, the fixed grid.
+    EXPECT_EQ(probeCellSize(20, 8.0, glm::dvec3(0), glm::dvec3(12, 4, 8)), 0.0);
+    // A 2 km street scene: 111 m apart, so they follow the camera 8 m apart.
+    EXPECT_EQ(probeCellSize(20, 8.0, glm::dvec3(-1000, 0, -1000), glm::dvec3(1000, 60, 1000)), 8.0);
+    // Exactly at the limit stays fixed; 0 (or a non-finite limit) never follows.
+    EXPECT_EQ(probeCellSize(10, 1.0, glm::dvec3(0), glm::dvec3(8)), 0.0);
+    EXPECT_EQ(probeCellSize(20, 0.0, glm::dvec3(-1000), glm::dvec3(1000)), 0.0);
+    EXPECT_EQ(probeCellSize(20, std::numeric_limits<double>::infinity(), glm::dvec3(-1000), glm::dvec3(1000)), 0.0);
+    // Degenerate scene bounds: no spacing to compare, placeCascades' auto decides (no cascades).
+    EXPECT_EQ(probeCellSize(20, 8.0, glm::dvec3(std::nan("")), glm::dvec3(1)), 0.0);
+}
+
 TEST(LpvMath, DegenerateInputsGiveNoCascades) {
     double inf = std::numeric_limits<double>::infinity();
     EXPECT_TRUE(placeCascades(1, 32, 0, glm::dvec3(0), glm::dvec3(0), {}, {0, 0, -1}).empty());

@@ -117,7 +117,10 @@ struct RenderSettings {
     bool giCameraOcclusion = true; // blocking geometry also from the camera's G-buffer
     float giIntensity = 1.0f;
     GiAtomics giAtomics = GiAtomics::Fixed;
-    uint32_t giProbeCells = 16;   // probes: probes along each side of the grid over the scene
+    uint32_t giProbeCells = 20;   // probes: probes along each side of the grid over the scene
+    // probes: the grid over the scene's bounding cube, unless that spaces the probes wider than
+    // this (scene units; glTF's are metres): then it follows the camera at this spacing. 0: never.
+    float giProbeMaxSpacing = 8.0f;
     uint32_t giVoxels = 64;       // probes: occupancy voxels along each side (visibility)
     uint32_t giVpls = 32;         // probes: virtual point lights along each side of the RSM
     bool giProbeCache = true;     // probes: gathered again only when what they see changed
