@@ -31,17 +31,28 @@
 // lighting turns that into the cosine-weighted visible fraction around a normal
 // (shaders/include/sky_visibility.glsl). A probe whose own voxel is solid stores c0 = -1: the
 // look-up leaves it out (it sees through a wall both ways and would let the outside's sky in).
-layout(local_size_x = 64) in;
+#if defined(SKY_VISIBILITY) || defined(PROBE_DEPTH)
+layout(local_size_x = 64) in; // a work group per probe, its threads sharing the rays
+#else
+// 8 probes along x a group, 8 threads each sharing its VPLs (x: the VPL lane, y: the probe). A
+// group per probe with 64 threads and a 6-step reduction cost 38 ms of the box room's 80 ms on
+// llvmpipe whatever the VPL count; a thread per probe, no reduction, made the pairs slower (its
+// SIMD lanes, 8 probes, fetch 8 depth maps; here they are one probe's 8 VPLs).
+layout(local_size_x = 8, local_size_y = 8) in;
+const int kLanes = 8;
+#endif
 
 layout(binding = 0) uniform usampler3D uVoxels;
 #ifdef SKY_VISIBILITY
 layout(rgba16f, binding = 0) writeonly uniform image3D uSky;
 const int kSkyRays = 256;
 #elif defined(PROBE_DEPTH)
-// Per probe (x + n (y + n z)): kDepthTexels / 2 words, two texels' distances in voxels each
-// (packHalf2x16, texel 2i in the low half); after all the maps, one word per probe: 1 if
-// lighting's look-up can read it (kReach).
-layout(std430, binding = 1) buffer ProbeDepth { uint uDepth[]; };
+// The depth maps: probe (x, y, z) is the tile at (x, y) * kTile in layer z, its 16 x 16 texels
+// inside a one-texel border that repeats the octahedral map's folded neighbours, so that the
+// gather's hardware bilinear fetch is right across the map's edges (DDGI's layout). R16F, voxels.
+layout(r16f, binding = 0) writeonly uniform image2DArray uDepthMaps;
+// Per probe (x + n (y + n z)): 1 if lighting's look-up can read it (kReach).
+layout(std430, binding = 1) writeonly buffer ProbeNeeded { uint uNeeded[]; };
 shared uint sNeeded;
 #else
 struct Vpl {
@@ -55,7 +66,8 @@ layout(rgba16f, binding = 0) writeonly uniform image3D uSumR;
 layout(rgba16f, binding = 1) writeonly uniform image3D uSumG;
 layout(rgba16f, binding = 2) writeonly uniform image3D uSumB;
 #ifndef EXACT_VISIBILITY
-layout(std430, binding = 1) readonly buffer ProbeDepth { uint uDepth[]; }; // and the needed flags
+layout(binding = 1) uniform sampler2DArray uDepthMaps; // PROBE_DEPTH's, filtered bilinearly
+layout(std430, binding = 1) readonly buffer ProbeNeeded { uint uNeeded[]; };
 #endif
 #endif
 
@@ -64,7 +76,7 @@ layout(location = 1) uniform ivec3 uCounts; // probes per side, VPLs, voxels per
 
 const float kShY0 = 0.282094792, kShY1 = 0.488602512;
 const float kInvPi = 0.318309886;
-const int kDepthSide = 16, kDepthTexels = kDepthSide * kDepthSide;
+const int kDepthSide = 16, kTile = kDepthSide + 2; // a depth map and its border
 const float kClear = 65504.0; // fp16's largest: the ray leaves the grid (nothing beyond blocks)
 // A probe sees past the solid voxels within a cell of it (at least a voxel and a half): its depth
 // rays pass them, and so does the exact walk at its end. Lighting's look-up blends the 8 probes
@@ -81,7 +93,11 @@ const float kPassThroughVoxels = 1.5;
 // canyon skips most of its grid, the box room the air in the middle.
 const float kReach = 1.5;
 
-shared vec4 sSum[3][64];
+#ifdef SKY_VISIBILITY
+shared vec4 sSum[64];
+#elif !defined(PROBE_DEPTH)
+shared vec4 sSums[3][8][8]; // colour, probe, lane
+#endif
 
 vec4 basis(vec3 w) { return vec4(kShY0, -kShY1 * w.y, kShY1 * w.z, -kShY1 * w.x); }
 
@@ -181,15 +197,15 @@ void main() {
         vec3 w = vec3(r * cos(phi), z, r * sin(phi));
         if (!blocked(xv, gridExit(xv, w, side), side, 0.0)) acc += basis(w);
     }
-    sSum[0][gl_LocalInvocationID.x] = acc;
+    sSum[gl_LocalInvocationID.x] = acc;
     barrier();
     for (uint s = 32u; s > 0u; s >>= 1) {
-        if (gl_LocalInvocationID.x < s) sSum[0][gl_LocalInvocationID.x] += sSum[0][gl_LocalInvocationID.x + s];
+        if (gl_LocalInvocationID.x < s) sSum[gl_LocalInvocationID.x] += sSum[gl_LocalInvocationID.x + s];
         barrier();
     }
     if (gl_LocalInvocationID.x == 0u) {
         bool inside = solid(ivec3(floor(xv)));
-        imageStore(uSky, id, inside ? vec4(-1.0, 0.0, 0.0, 0.0) : sSum[0][0] * (4.0 * 3.14159265 / float(kSkyRays)));
+        imageStore(uSky, id, inside ? vec4(-1.0, 0.0, 0.0, 0.0) : sSum[0] * (4.0 * 3.14159265 / float(kSkyRays)));
     }
 }
 #elif defined(PROBE_DEPTH)
@@ -199,14 +215,15 @@ void main() {
     float voxel = uGrid.w * float(n) / float(side);
     vec3 xv = (vec3(id) + 0.5) * uGrid.w / voxel;
     int probe = id.x + n * (id.y + n * id.z);
-    for (int word = int(gl_LocalInvocationID.x); word < kDepthTexels / 2; word += 64) {
-        vec2 d;
-        for (int k = 0; k < 2; ++k) {
-            int t = 2 * word + k;
-            vec2 e = (vec2(t % kDepthSide, t / kDepthSide) + 0.5) / float(kDepthSide) * 2.0 - 1.0;
-            d[k] = firstHit(xv, octDecode(e), side, max(kPassThroughVoxels, float(side) / float(n)));
-        }
-        uDepth[probe * (kDepthTexels / 2) + word] = packHalf2x16(d);
+    for (int b = int(gl_LocalInvocationID.x); b < kTile * kTile; b += 64) {
+        // The texel this tile position shows: inside, its own; on the border, the one across
+        // the map's fold (an edge mirrors along itself; a corner is the opposite corner).
+        ivec2 t = ivec2(b % kTile, b / kTile) - 1;
+        if (t.x < 0 || t.x >= kDepthSide) t = ivec2(clamp(t.x, 0, kDepthSide - 1), kDepthSide - 1 - t.y);
+        if (t.y < 0 || t.y >= kDepthSide) t = ivec2(kDepthSide - 1 - t.x, clamp(t.y, 0, kDepthSide - 1));
+        vec2 e = (vec2(t) + 0.5) / float(kDepthSide) * 2.0 - 1.0;
+        float d = firstHit(xv, octDecode(e), side, max(kPassThroughVoxels, float(side) / float(n)));
+        imageStore(uDepthMaps, ivec3(id.xy * kTile + ivec2(b % kTile, b / kTile), id.z), vec4(d));
     }
     // Needed: some solid voxel overlaps the box of kReach cells around the probe.
     if (gl_LocalInvocationID.x == 0u) sNeeded = 0u;
@@ -219,42 +236,33 @@ void main() {
         near = solid(lo + ivec3(i % span.x, (i / span.x) % span.y, i / (span.x * span.y)));
     if (near) atomicOr(sNeeded, 1u);
     barrier();
-    if (gl_LocalInvocationID.x == 0u) uDepth[n * n * n * (kDepthTexels / 2) + probe] = sNeeded;
+    if (gl_LocalInvocationID.x == 0u) uNeeded[probe] = sNeeded;
 }
 #else
 #ifndef EXACT_VISIBILITY
-float depthAt(int probe, ivec2 t) {
-    // Across the square's edge the octahedral map folds back: mirrored along that edge.
-    if (t.x < 0 || t.x >= kDepthSide) t = ivec2(clamp(t.x, 0, kDepthSide - 1), kDepthSide - 1 - t.y);
-    if (t.y < 0 || t.y >= kDepthSide) t = ivec2(kDepthSide - 1 - t.x, clamp(t.y, 0, kDepthSide - 1));
-    int i = t.y * kDepthSide + t.x;
-    return unpackHalf2x16(uDepth[probe * (kDepthTexels / 2) + i / 2])[i & 1];
-}
-
-// The probe's depth map bilinearly interpolated at direction w (texel centres at (i + 0.5)).
-float depthTowards(int probe, vec3 w) {
-    vec2 p = (octEncode(w) * 0.5 + 0.5) * float(kDepthSide) - 0.5;
-    ivec2 t = ivec2(floor(p));
-    vec2 f = p - vec2(t);
-    return mix(mix(depthAt(probe, t), depthAt(probe, t + ivec2(1, 0)), f.x),
-               mix(depthAt(probe, t + ivec2(0, 1)), depthAt(probe, t + ivec2(1, 1)), f.x), f.y);
+// The probe's depth map bilinearly interpolated at direction w: one filtered fetch in its tile
+// (the border makes the filter right across the map's folded edges).
+float depthTowards(ivec3 id, vec3 w) {
+    vec2 texel = vec2(id.xy * kTile) + 1.0 + (octEncode(w) * 0.5 + 0.5) * float(kDepthSide);
+    return textureLod(uDepthMaps, vec3(texel / vec2(textureSize(uDepthMaps, 0).xy), float(id.z)), 0.0).r;
 }
 #endif
 
 void main() {
-    ivec3 id = ivec3(gl_WorkGroupID);
+    int lane = int(gl_LocalInvocationID.x), slot = int(gl_LocalInvocationID.y);
+    ivec3 id = ivec3(gl_WorkGroupID.x * 8u + gl_LocalInvocationID.y, gl_WorkGroupID.yz);
     int n = uCounts.x;
+    bool inGrid = id.x < n; // the last group's row may run past the grid (no return: barriers)
     vec3 x = uGrid.xyz + (vec3(id) + 0.5) * uGrid.w;
     float voxel = uGrid.w * float(n) / float(uCounts.z);
     vec3 xv = (x - uGrid.xyz) / voxel;
-    int probe = id.x + n * (id.y + n * id.z);
     vec4 acc[3] = vec4[](vec4(0.0), vec4(0.0), vec4(0.0));
 #ifdef EXACT_VISIBILITY
-    const int vpls = uCounts.y;
+    int vpls = inGrid ? uCounts.y : 0;
 #else
-    int vpls = uDepth[n * n * n * (kDepthTexels / 2) + probe] != 0u ? uCounts.y : 0; // no look-up reads it
+    int vpls = inGrid && uNeeded[id.x + n * (id.y + n * id.z)] != 0u ? uCounts.y : 0; // none if no look-up reads it
 #endif
-    for (int i = int(gl_LocalInvocationID.x); i < vpls; i += 64) {
+    for (int i = lane; i < vpls; i += kLanes) {
         Vpl l = uVpls[i];
         if (l.flux.x + l.flux.y + l.flux.z <= 0.0) continue;
         vec3 d = x - l.position.xyz;
@@ -275,24 +283,24 @@ void main() {
         // turns fades instead of popping.
         vec3 toVpl = yv - xv;
         float rv = length(toVpl);
-        float visible = clamp(depthTowards(probe, toVpl / max(rv, 1e-6)) - rv + 1.0, 0.0, 1.0);
+        float visible = clamp(depthTowards(id, toVpl / max(rv, 1e-6)) - rv + 1.0, 0.0, 1.0);
         if (visible <= 0.0) continue;
 #endif
         float e = visible * cosine * kInvPi / (r2 + l.position.w * (0.5 * kInvPi));
         vec4 y = basis(w);
         for (int ch = 0; ch < 3; ++ch) acc[ch] += (l.flux[ch] * e) * y;
     }
-    for (int ch = 0; ch < 3; ++ch) sSum[ch][gl_LocalInvocationID.x] = acc[ch];
+    for (int ch = 0; ch < 3; ++ch) sSums[ch][slot][lane] = acc[ch];
     barrier();
-    for (uint s = 32u; s > 0u; s >>= 1) {
-        if (gl_LocalInvocationID.x < s)
-            for (int ch = 0; ch < 3; ++ch) sSum[ch][gl_LocalInvocationID.x] += sSum[ch][gl_LocalInvocationID.x + s];
+    for (int s = kLanes / 2; s > 0; s >>= 1) {
+        if (lane < s)
+            for (int ch = 0; ch < 3; ++ch) sSums[ch][slot][lane] += sSums[ch][slot][lane + s];
         barrier();
     }
-    if (gl_LocalInvocationID.x == 0u) {
-        imageStore(uSumR, id, sSum[0][0]);
-        imageStore(uSumG, id, sSum[1][0]);
-        imageStore(uSumB, id, sSum[2][0]);
+    if (lane == 0 && inGrid) {
+        imageStore(uSumR, id, sSums[0][slot][0]);
+        imageStore(uSumG, id, sSums[1][slot][0]);
+        imageStore(uSumB, id, sSums[2][slot][0]);
     }
 }
 #endif

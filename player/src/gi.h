@@ -63,11 +63,11 @@ struct GiResources {
     uint32_t voxelSide = 0, vplSide = 0;
     GlHandle voxels, voxelFb, vpls, voxelize, clusterVpls, gatherProbes;
     uint64_t voxelVersion = ~0ull;
-    // gi.probe_visibility = depth: every probe's 16x16 depth map and whether lighting can read it
-    // (probes^3 x (256 halves + a word)), traced again only when the occupancy grid is redrawn;
-    // `exact` has neither.
+    // gi.probe_visibility = depth: every probe's 16x16 depth map with its border (an R16F 2D
+    // array of 18x18 tiles) and whether lighting can read it (a word each), traced again only
+    // when the occupancy grid is redrawn; `exact` has neither.
     ProbeVisibility gatherVisibility = ProbeVisibility::Depth; // the variant gatherProbes is
-    GlHandle probeDepth, traceDepth;
+    GlHandle probeDepth, probeNeeded, traceDepth;
     bool depthCurrent = false;
     // ibl.visibility = probes: per probe the L1 SH of the directions in which it sees out of the
     // grid (RGBA16F, probes^3), traced again only when the occupancy grid is redrawn.

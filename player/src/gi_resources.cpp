@@ -34,6 +34,18 @@ GlHandle volume(uint32_t side, uint32_t depth, const char* label, GLenum format 
     return t;
 }
 
+// The probes' depth maps: a (16 + 2)^2 tile per probe, probes (x, y) side by side in layer z.
+GlHandle depthAtlas(uint32_t probes) {
+    GlHandle t = createTexture(GL_TEXTURE_2D_ARRAY);
+    const GLsizei side = GLsizei(probes * 18);
+    glTextureStorage3D(t.id(), 1, GL_R16F, side, side, GLsizei(probes));
+    glTextureParameteri(t.id(), GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+    glTextureParameteri(t.id(), GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+    for (GLenum wrap : {GL_TEXTURE_WRAP_S, GL_TEXTURE_WRAP_T}) glTextureParameteri(t.id(), wrap, GL_CLAMP_TO_EDGE);
+    glObjectLabel(GL_TEXTURE, t.id(), -1, "gi probe depth maps");
+    return t;
+}
+
 GlHandle storage(uint64_t bytes, const char* label) {
     GlHandle b = createBuffer();
     glNamedBufferStorage(b.id(), GLsizeiptr(bytes), nullptr, GL_DYNAMIC_STORAGE_BIT);
@@ -95,6 +107,7 @@ PlayResult<Done> GiResources::ensure(const RenderSettings& s, uint32_t cascadeCo
     }
     if (!depthMaps) {
         probeDepth = {};
+        probeNeeded = {};
         traceDepth = {};
     } else if (!traceDepth) {
         std::string_view define = "PROBE_DEPTH";
@@ -147,6 +160,7 @@ PlayResult<Done> GiResources::ensure(const RenderSettings& s, uint32_t cascadeCo
         for (int ch = 0; ch < 3; ++ch) sum[size_t(ch)] = volume(cells, depth, names[2][ch]);
         skyVisibility = {};
         probeDepth = {};
+        probeNeeded = {};
         if (want == GiTechnique::Lpv) {
             for (int ch = 0; ch < 3; ++ch) {
                 source[size_t(ch)] = volume(cells, depth, names[0][ch]);
@@ -178,10 +192,11 @@ PlayResult<Done> GiResources::ensure(const RenderSettings& s, uint32_t cascadeCo
             skyCurrent = false;
         }
         if (depthMaps && !probeDepth) {
-            probeDepth = storage(cellsTotal * (256 * 2 + 4), "gi probe depth maps");
+            probeDepth = depthAtlas(cells);
+            probeNeeded = storage(cellsTotal * 4, "gi probes needed");
             depthCurrent = false;
         }
-        bytes = rsmBytes + cellsTotal * (sky ? 4 : 3) * 8 + (depthMaps ? cellsTotal * (256 * 2 + 4) : 0) +
+        bytes = rsmBytes + cellsTotal * (sky ? 4 : 3) * 8 + (depthMaps ? cellsTotal * (18 * 18 * 2 + 4) : 0) +
                 uint64_t(voxelSide) * voxelSide * voxelSide + uint64_t(vplSide) * vplSide * 48;
         return Done{};
     }

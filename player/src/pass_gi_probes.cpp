@@ -94,10 +94,11 @@ void traceProbeDepths(FrameContext& ctx, const glm::vec3& origin, float spacing)
     glProgramUniform4f(p, 0, origin.x, origin.y, origin.z, spacing);
     glProgramUniform3i(p, 1, GLint(r.cells), 0, GLint(r.voxelSide));
     glBindTextureUnit(0, r.voxels.id());
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, r.probeDepth.id());
+    glBindImageTexture(0, r.probeDepth.id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_R16F);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, r.probeNeeded.id());
     glUseProgram(p);
     glDispatchCompute(r.cells, r.cells, r.cells);
-    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT);
     glBindTextureUnit(0, 0);
     glUseProgram(0);
     r.depthCurrent = !ctx.warmUp; // the warm-up frame's grid is not kept (voxelizeScene)
@@ -140,13 +141,16 @@ void runGiProbes(FrameContext& ctx) {
     glProgramUniform4f(gather, 0, origin.x, origin.y, origin.z, float(box.cellSize));
     glProgramUniform3i(gather, 1, GLint(r.cells), GLint(r.vplSide * r.vplSide), GLint(r.voxelSide));
     glBindTextureUnit(0, r.voxels.id());
-    if (r.probeDepth) glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, r.probeDepth.id());
+    if (r.probeDepth) {
+        glBindTextureUnit(1, r.probeDepth.id());
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, r.probeNeeded.id());
+    }
     for (GLuint ch = 0; ch < 3; ++ch)
         glBindImageTexture(ch, r.sum[ch].id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA16F);
     glUseProgram(gather);
-    glDispatchCompute(r.cells, r.cells, r.cells);
+    glDispatchCompute((r.cells + 7) / 8, r.cells, r.cells); // 8 probes along x a group
     glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT);
-    for (GLuint unit = 0; unit < 3; ++unit) glBindTextureUnit(unit, 0);
+    for (GLuint unit = 0; unit < 3; ++unit) glBindTextureUnit(unit, 0); // voxels, depth maps
     glUseProgram(0);
     r.probeInputs = ctx.warmUp ? std::vector<uint64_t>{} : f.probeInputs;
 }

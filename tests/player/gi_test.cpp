@@ -769,12 +769,12 @@ TEST(GiProbes, AllocateOnlyTheirOwnAndSwitchBackToLpv) {
     // The volume lighting reads: gi.probe_cells^3 probes, one grid (LPV: gi.cells^3 x cascades).
     EXPECT_EQ(p.volume.width, probes.giProbeCells);
     EXPECT_EQ(p.volume.height, probes.giProbeCells * probes.giProbeCells);
-    // RSM 256^2 (1 MiB), 20^3 probes, their 16x16 fp16 depth maps and needed flags, 64^3 voxels,
+    // RSM 256^2 (1 MiB), 20^3 probes, their 16x16 fp16 depth maps with a border and needed flags, 64^3 voxels,
     // 32^2 VPLs: no propagation volumes, geometry volume or atomic buffers; with the exact walk, no
     // depth maps.
     const uint64_t probeCount = 20ull * 20 * 20;
     const uint64_t exact = 256ull * 256 * 16 + probeCount * 3 * 8 + 64ull * 64 * 64 + 32ull * 32 * 48;
-    EXPECT_EQ(p.memory.giBytes, exact + probeCount * (256 * 2 + 4));
+    EXPECT_EQ(p.memory.giBytes, exact + probeCount * (18 * 18 * 2 + 4));
     RenderSettings walk = probes;
     walk.giProbeVisibility = ProbeVisibility::Exact;
     EXPECT_EQ(renderGi(giBoxRoom(), kView, walk, 64, 48).memory.giBytes, exact);
