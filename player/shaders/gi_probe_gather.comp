@@ -214,18 +214,9 @@ void main() {
     int n = uCounts.x, side = uCounts.z;
     float voxel = uGrid.w * float(n) / float(side);
     vec3 xv = (vec3(id) + 0.5) * uGrid.w / voxel;
-    int probe = id.x + n * (id.y + n * id.z);
-    for (int b = int(gl_LocalInvocationID.x); b < kTile * kTile; b += 64) {
-        // The texel this tile position shows: inside, its own; on the border, the one across
-        // the map's fold (an edge mirrors along itself; a corner is the opposite corner).
-        ivec2 t = ivec2(b % kTile, b / kTile) - 1;
-        if (t.x < 0 || t.x >= kDepthSide) t = ivec2(clamp(t.x, 0, kDepthSide - 1), kDepthSide - 1 - t.y);
-        if (t.y < 0 || t.y >= kDepthSide) t = ivec2(kDepthSide - 1 - t.x, clamp(t.y, 0, kDepthSide - 1));
-        vec2 e = (vec2(t) + 0.5) / float(kDepthSide) * 2.0 - 1.0;
-        float d = firstHit(xv, octDecode(e), side, max(kPassThroughVoxels, float(side) / float(n)));
-        imageStore(uDepthMaps, ivec3(id.xy * kTile + ivec2(b % kTile, b / kTile), id.z), vec4(d));
-    }
-    // Needed: some solid voxel overlaps the box of kReach cells around the probe.
+    // Needed: some solid voxel overlaps the box of kReach cells around the probe. Only needed
+    // probes trace their map (the gather reads no other): a grid following the camera through a
+    // street traces a fraction of its probes each time it moves.
     if (gl_LocalInvocationID.x == 0u) sNeeded = 0u;
     barrier();
     float reach = kReach * float(side) / float(n);
@@ -236,7 +227,18 @@ void main() {
         near = solid(lo + ivec3(i % span.x, (i / span.x) % span.y, i / (span.x * span.y)));
     if (near) atomicOr(sNeeded, 1u);
     barrier();
-    if (gl_LocalInvocationID.x == 0u) uNeeded[probe] = sNeeded;
+    if (gl_LocalInvocationID.x == 0u) uNeeded[id.x + n * (id.y + n * id.z)] = sNeeded;
+    if (sNeeded == 0u) return;
+    for (int b = int(gl_LocalInvocationID.x); b < kTile * kTile; b += 64) {
+        // The texel this tile position shows: inside, its own; on the border, the one across
+        // the map's fold (an edge mirrors along itself; a corner is the opposite corner).
+        ivec2 t = ivec2(b % kTile, b / kTile) - 1;
+        if (t.x < 0 || t.x >= kDepthSide) t = ivec2(clamp(t.x, 0, kDepthSide - 1), kDepthSide - 1 - t.y);
+        if (t.y < 0 || t.y >= kDepthSide) t = ivec2(kDepthSide - 1 - t.x, clamp(t.y, 0, kDepthSide - 1));
+        vec2 e = (vec2(t) + 0.5) / float(kDepthSide) * 2.0 - 1.0;
+        float d = firstHit(xv, octDecode(e), side, max(kPassThroughVoxels, float(side) / float(n)));
+        imageStore(uDepthMaps, ivec3(id.xy * kTile + ivec2(b % kTile, b / kTile), id.z), vec4(d));
+    }
 }
 #else
 #ifndef EXACT_VISIBILITY
