@@ -1,10 +1,9 @@
 #version 450 core
-// gi_probe_gather.comp — irradiance probes and their rays through the scene's occupancy grid
-// (gi_voxelize.frag), one work group per probe at a grid cell's centre (dispatched as the grid).
-// Three variants:
+// gi_probe_gather.comp — irradiance probes at the grid cells' centres and their rays through the
+// scene's occupancy grid (gi_voxelize.frag). Three variants:
 //
-// (default) The gather (gi.technique = probes): the group's threads share the VPLs
-// (gi_vpls.comp). A VPL y with normal n_y and flux Phi (over the sun's irradiance) lights the
+// (default) The gather (gi.technique = probes): eight probes a work group, each with eight
+// threads sharing the VPLs (gi_vpls.comp). A VPL y with normal n_y and flux Phi (over the sun's irradiance) lights the
 // probe x with irradiance Phi max(0, n_y . w) / (pi (r^2 + a)) straight on, w = (x - y) / r,
 // where a (the VPL's area over 2 pi) keeps the bound of a lit disc instead of the point light's
 // 1/r^2 pole. Visibility (gi.probe_visibility): `depth` looks the VPL up in the probe's depth
@@ -15,17 +14,18 @@
 // (shaders/include/gi_lookup.glsl) reads probes and propagation volumes alike. There is no
 // propagation: light reaches the far wall in one step, at 1/r^2, and nowhere else.
 //
-// PROBE_DEPTH: every probe's depth map, DDGI's visibility data: a 16 x 16 octahedral map (y up)
-// of how far the probe sees before a solid voxel (past those within a cell: kPassThroughVoxels),
-// one ray through each texel's centre. Traced only when the grid is redrawn (it depends on the geometry alone), so
-// the gather, which runs whenever the sun moves, costs four fetches per probe-VPL pair instead of
-// a walk (measured: docs/PLAYER.md). The gather interpolates the map bilinearly at the VPL's
+// PROBE_DEPTH: a work group per probe. Whether a look-up can read it (kReach) and, if so, its
+// depth map, DDGI's visibility data: a 16 x 16 octahedral map (y up) of how far the probe sees
+// before a solid voxel (past those within a cell: kPassThroughVoxels), one ray through each
+// texel's centre. Traced only when the grid is redrawn (it depends on the geometry alone), so the
+// gather, which runs whenever the sun moves, makes one filtered fetch per probe-VPL pair instead
+// of a walk (measured: docs/PLAYER.md). The gather interpolates the map bilinearly at the VPL's
 // exact direction: a floor seen at a grazing angle, the common case, is hit at h / sin(angle),
 // convex in the angle, so the interpolated depth errs long and a VPL on it stays seen (a texel
 // spans ~13 degrees; the nearest texel's depth, or the min/max of rays through the texel, hid
 // a quarter of the box room's light).
 //
-// SKY_VISIBILITY (ibl.visibility = probes): every probe traces kSkyRays directions
+// SKY_VISIBILITY (ibl.visibility = probes): a work group per probe; every probe traces kSkyRays directions
 // spread evenly over the sphere (a spherical Fibonacci set) through the same grid and stores the
 // L1 SH of the set it sees out of the grid through (V(w) projected: sum of basis(w) 4 pi / N);
 // lighting turns that into the cosine-weighted visible fraction around a normal
@@ -84,13 +84,12 @@ const float kClear = 65504.0; // fp16's largest: the ray leaves the grid (nothin
 // the wall, under the floor) weigh in too; seeing past it, each holds the light travelling
 // towards both of the surface's sides, and each side's look-up reads the half facing it.
 // Blocked at the surface they were black and darkened it by how the grid happened to fall
-// (atrium 0.65 x the constant's error at 24^3 probes, 0.43 at 16^3; passing a cell: 0.49 and
-// 0.44; docs/PLAYER.md). A VPL behind a wall within a cell of the probe is seen through it.
+// (atrium at 24^3 probes: 0.70 x the constant's error, energy 0.61; seeing past a cell: 0.49;
+// docs/PLAYER.md). A VPL behind a wall within a cell of the probe is seen through it.
 const float kPassThroughVoxels = 1.5;
 // Lighting reads a surface point's probes through a point half a cell in front of it, blending
 // the 8 probes within a cell of that: only probes within 1.5 cells (per axis) of a surface are
-// ever read. The others (open air, the inside of a building) are not gathered at all: the street
-// canyon skips most of its grid, the box room the air in the middle.
+// ever read. The others (open air, the inside of a building) are neither traced nor gathered.
 const float kReach = 1.5;
 
 #ifdef SKY_VISIBILITY

@@ -51,7 +51,8 @@ p, h = row("probes"), row("height")
 print("sky, box room: probes energy %.3f, rmse/constant %.3f, correlation %.3f; height %.3f, %.3f"
       % (p["sky_energy_ratio"], p["sky_rmse_over_constant"], p["sky_correlation"], h["sky_energy_ratio"],
          h["sky_rmse_over_constant"]))
-# Measured at 160x90, 64 rays: probes 0.866, 0.495, 0.911; height 0.058, 1.877.
+# Measured at 160x90, 64 rays: probes 0.843, 0.496, 0.921 (16^3 probes: 0.866, 0.495, 0.911);
+# height 0.058, 1.878.
 assert 0.75 <= p["sky_energy_ratio"] <= 1.33, p
 assert p["sky_rmse_over_constant"] < 0.75 and p["sky_correlation"] > 0.8, p
 assert h["sky_rmse_over_constant"] > 2 * p["sky_rmse_over_constant"], h

@@ -950,8 +950,8 @@ std::vector<double> frameChanges(const std::vector<std::vector<double>>& frames)
 TEST(GiTemporal, ASlowlyTurningSunChangesTheIndirectLightWithoutPopping) {
     // 0.25 degrees a frame, a hundred times faster than the real sun at 60 Hz. The light has to
     // follow smoothly: no step changes the image much more than a typical one, none by more
-    // than a few percent. Measured (box room, 96x72, 15 steps): LPV median 2.1 %, worst 2.9 %;
-    // probes 2.3 %, 3.7 % — 7.9 % before their RSM stopped snapping to whole texels (a snap
+    // than a few percent. Measured (box room, 96x72, 15 steps): LPV median 1.5 %, worst 2.2 %;
+    // probes 2.0 %, 3.0 % — 7.9 % before their RSM stopped snapping to whole texels (a snap
     // jump changed every VPL block's texels at once).
     for (RenderSettings s : {giSettings(), probeSettings()}) {
         std::vector<double> c = frameChanges(indirectWhileTheSunTurns(s, 16, 0.25f));
