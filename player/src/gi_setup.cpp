@@ -154,7 +154,8 @@ void prepareGi(FrameContext& ctx) {
         auto put = [&](double v) { f.probeInputs.push_back(std::bit_cast<uint64_t>(v)); };
         for (int k = 0; k < 3; ++k) put(f.toward[k]), put(outer.origin[k]);
         put(outer.cellSize);
-        f.probeInputs.insert(f.probeInputs.end(), {outer.cells, res, s.giVpls, s.giVoxels, uint64_t(s.giProbeVisibility), scene.materialsVersion,
+        f.probeInputs.insert(f.probeInputs.end(), {outer.cells, res, s.giVpls, s.giVoxels,
+                                                   uint64_t(s.giProbeVisibility), scene.materialsVersion,
                                                    scene.texelsVersion});
         for (uint32_t i : f.rsmItems) f.probeInputs.push_back(drawLevel(scene, ctx.lod, i));
         f.probesCurrent = s.giProbeCache && !ctx.warmUp && f.probeInputs == gi.resources.probeInputs;

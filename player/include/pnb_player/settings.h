@@ -125,7 +125,7 @@ struct RenderSettings {
     uint32_t giVpls = 32;         // probes: virtual point lights along each side of the RSM
     bool giProbeCache = true;     // probes: gathered again only when what they see changed
     // probes: VPL-to-probe visibility from each probe's depth map (a fetch) or a walk through
-    // the occupancy grid per pair (exact at the grid's resolution, ~5x the gather's cost)
+    // the occupancy grid per pair (exact at the grid's resolution, 5.5x the gather's time here)
     ProbeVisibility giProbeVisibility = ProbeVisibility::Depth;
 
     // ibl.*: light from the container's environment (ENVM; docs/PLAYER.md "Sky and image-based
