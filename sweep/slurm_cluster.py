@@ -172,6 +172,11 @@ class LocalSlurmCluster:
                 time.sleep(0.1)
         for name in ("slurmd", "slurmctld", "munged"):
             self._stop_proc(name)
+        # slurmctld's helper (slurmscriptd) ends after its parent, by a moment that grows under
+        # load (a fresh-clone ASan run on 2 cores found one still there): a few seconds' grace.
+        deadline = time.monotonic() + 5
+        while time.monotonic() < deadline and self.leftover_processes():
+            time.sleep(0.1)
         # Whatever still runs with this cluster's SLURM_CONF is a leak: ended by its own PID and
         # recorded (the test asserts there is none).
         for pid in self.leftover_processes():

@@ -3,14 +3,14 @@
 // scene's occupancy grid (gi_voxelize.frag). Three variants:
 //
 // (default) The gather (gi.technique = probes): eight probes a work group, each with eight
-// threads sharing the VPLs (gi_vpls.comp). A VPL y with normal n_y and flux Phi (over the sun's irradiance) lights the
-// probe x with irradiance Phi max(0, n_y . w) / (pi (r^2 + a)) straight on, w = (x - y) / r,
-// where a (the VPL's area over 2 pi) keeps the bound of a lit disc instead of the point light's
-// 1/r^2 pole. Visibility (gi.probe_visibility): `depth` looks the VPL up in the probe's depth
-// map (PROBE_DEPTH below: a fetch, not a walk); `exact` (EXACT_VISIBILITY) walks the grid from
-// the VPL to the probe (3D-DDA): any solid voxel between them blocks it, but those within a cell
-// of the probe (kPassThroughVoxels: both variants). The result is stored as the L1 SH of
-// radiance over travel direction, the LPV's own format, so lighting's look-up
+// threads sharing the VPLs (gi_vpls.comp). A VPL y with normal n_y and flux Phi (over the sun's
+// irradiance) lights the probe x with irradiance Phi max(0, n_y . w) / (pi (r^2 + a)) straight
+// on, w = (x - y) / r, where a (the VPL's area over 2 pi) keeps the bound of a lit disc instead
+// of the point light's 1/r^2 pole. Visibility (gi.probe_visibility): `depth` looks the VPL up in
+// the probe's depth map (PROBE_DEPTH below: a fetch, not a walk); `exact` (EXACT_VISIBILITY)
+// walks the grid from the VPL to the probe (3D-DDA): any solid voxel between them blocks it, but
+// those within a cell of the probe (kPassThroughVoxels: both variants). The result is stored as
+// the L1 SH of radiance over travel direction, the LPV's own format, so lighting's look-up
 // (shaders/include/gi_lookup.glsl) reads probes and propagation volumes alike. There is no
 // propagation: light reaches the far wall in one step, at 1/r^2, and nowhere else.
 //

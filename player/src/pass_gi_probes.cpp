@@ -71,37 +71,36 @@ void voxelizeScene(FrameContext& ctx, const LpvCascade& box) {
     r.voxelCell = cell;
 }
 
-// Every probe's view of the sky through the occupancy grid (ibl.visibility = probes).
-void traceSkyVisibility(FrameContext& ctx, const glm::vec3& origin, float spacing) {
+// One work group per probe tracing rays through the occupancy grid (gi_probe_gather.comp's
+// SKY_VISIBILITY and PROBE_DEPTH), its outputs bound by the caller. Returns whether what it traced
+// is kept: the warm-up frame's grid is not (voxelizeScene).
+bool traceThroughGrid(FrameContext& ctx, GLuint program, const glm::vec3& origin, float spacing) {
     GiResources& r = ctx.gi.resources;
-    const GLuint p = r.traceSky.id();
-    glProgramUniform4f(p, 0, origin.x, origin.y, origin.z, spacing);
-    glProgramUniform3i(p, 1, GLint(r.cells), 0, GLint(r.voxelSide));
+    glProgramUniform4f(program, 0, origin.x, origin.y, origin.z, spacing);
+    glProgramUniform3i(program, 1, GLint(r.cells), 0, GLint(r.voxelSide));
     glBindTextureUnit(0, r.voxels.id());
-    glBindImageTexture(0, r.skyVisibility.id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA16F);
-    glUseProgram(p);
+    glUseProgram(program);
     glDispatchCompute(r.cells, r.cells, r.cells);
-    glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT);
+    glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_SHADER_STORAGE_BARRIER_BIT |
+                    GL_TEXTURE_FETCH_BARRIER_BIT);
     glBindTextureUnit(0, 0);
     glUseProgram(0);
-    r.skyCurrent = !ctx.warmUp; // the warm-up frame's grid is not kept (voxelizeScene)
+    return !ctx.warmUp;
 }
 
-// Every probe's depth map through the occupancy grid (gi.probe_visibility = depth).
+// Every probe's view of the sky (ibl.visibility = probes).
+void traceSkyVisibility(FrameContext& ctx, const glm::vec3& origin, float spacing) {
+    GiResources& r = ctx.gi.resources;
+    glBindImageTexture(0, r.skyVisibility.id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA16F);
+    r.skyCurrent = traceThroughGrid(ctx, r.traceSky.id(), origin, spacing);
+}
+
+// Every needed probe's depth map, and which probes are needed (gi.probe_visibility = depth).
 void traceProbeDepths(FrameContext& ctx, const glm::vec3& origin, float spacing) {
     GiResources& r = ctx.gi.resources;
-    const GLuint p = r.traceDepth.id();
-    glProgramUniform4f(p, 0, origin.x, origin.y, origin.z, spacing);
-    glProgramUniform3i(p, 1, GLint(r.cells), 0, GLint(r.voxelSide));
-    glBindTextureUnit(0, r.voxels.id());
     glBindImageTexture(0, r.probeDepth.id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_R16F);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, r.probeNeeded.id());
-    glUseProgram(p);
-    glDispatchCompute(r.cells, r.cells, r.cells);
-    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT);
-    glBindTextureUnit(0, 0);
-    glUseProgram(0);
-    r.depthCurrent = !ctx.warmUp; // the warm-up frame's grid is not kept (voxelizeScene)
+    r.depthCurrent = traceThroughGrid(ctx, r.traceDepth.id(), origin, spacing);
 }
 
 } // namespace
