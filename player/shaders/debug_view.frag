@@ -12,6 +12,14 @@ layout(location = 0) uniform int uMode;
 layout(location = 1) uniform vec2 uNearFar; // near, far (0 = infinite)
 layout(location = 2) uniform vec2 uGiSlice; // normalised z of the slice, 1 if GI is on
 
+// The frame's light list header and light clusters (shaders/include/lights.glsl).
+layout(std430, binding = 3) readonly buffer LightBuffer { uint uLightCount; uint uLightsClustered; };
+layout(std430, binding = 8) readonly buffer LightClusters {
+    uvec4 uClusterGrid;   // tiles across, tiles down, slices, words per mask
+    vec4 uClusterDepth;   // 1 / tile size (px), slice scale, slice bias
+    uint uClusterMasks[];
+};
+
 layout(location = 0) in vec2 vUv;
 layout(location = 0) out vec4 outColor;
 
@@ -20,6 +28,25 @@ vec3 octDecode(vec2 e) {
     vec3 v = vec3(e, 1.0 - abs(e.x) - abs(e.y));
     if (v.z < 0.0) v.xy = (1.0 - abs(v.yx)) * vec2(v.x >= 0.0 ? 1.0 : -1.0, v.y >= 0.0 ? 1.0 : -1.0);
     return normalize(v);
+}
+
+// View depth (distance along the view axis) from a reversed-Z depth value; 1e30 where nothing is.
+float viewDepth(float d) {
+    float n = uNearFar.x, f = uNearFar.y;
+    // Reversed-Z: d = n / z (infinite) or n (f - z) / (z (f - n)); invert to view distance.
+    return d <= 0.0 ? 1e30 : (f > 0.0 ? n * f / (d * (f - n) + n) : n / d);
+}
+
+// How many lights the pixel's cluster holds (lights.glsl's clusterMaskStarts, from the depth).
+uint clusterLights(float z) {
+    if (uLightsClustered == 0u) return uLightCount;
+    uvec2 tile = min(uvec2(gl_FragCoord.xy * uClusterDepth.x), uClusterGrid.xy - 1u);
+    float s = log(max(z, 1e-30)) * uClusterDepth.y + uClusterDepth.z;
+    uint slice = uint(clamp(s, 0.0, float(uClusterGrid.z - 1u)));
+    uint words = uClusterGrid.w, tiles = uClusterGrid.x * uClusterGrid.y;
+    uint t = (tile.y * uClusterGrid.x + tile.x) * words, sl = (tiles + slice) * words, n = 0u;
+    for (uint w = 0u; w < words; ++w) n += uint(bitCount(uClusterMasks[t + w] & uClusterMasks[sl + w]));
+    return n;
 }
 
 vec3 heat(float t) { // 0 black .. 1 red .. 2 yellow .. 4 white
@@ -40,14 +67,15 @@ void main() {
     else if (uMode == 7) c = texture(uGEmissive, vUv).rgb;
     else if (uMode == 8) {
         float d = texture(uDepth, vUv).r;
-        float n = uNearFar.x, f = uNearFar.y;
-        // Reversed-Z: d = n / z (infinite) or n (f - z) / (z (f - n)); invert to view distance.
-        float z = d <= 0.0 ? 1e30 : (f > 0.0 ? n * f / (d * (f - n) + n) : n / d);
-        c = vec3(d <= 0.0 ? 0.0 : 1.0 - clamp(log2(z / n) / 20.0, 0.0, 1.0));
+        c = vec3(d <= 0.0 ? 0.0 : 1.0 - clamp(log2(viewDepth(d) / uNearFar.x) / 20.0, 0.0, 1.0));
     } else if (uMode == 9) c = texture(uDebug, vUv).rgb;
     else if (uMode == 10) c = heat(texture(uDebug, vUv).r);
     else if (uMode == 15) c = texture(uDebug, vUv).rgb; // RSM (black without GI)
     else if (uMode == 17) c = texture(uDebug, vUv).rgb; // level-of-detail colours
+    else if (uMode == 18) { // lights per cluster: red 8, yellow 16, white 32 and more
+        float d = texture(uDepth, vUv).r;
+        c = d <= 0.0 ? vec3(0.0) : heat(float(clusterLights(viewDepth(d))) / 8.0);
+    }
     else if (uMode == 16 && uGiSlice.y > 0.5) { // band 0 = radiance / sun irradiance x 2 sqrt(pi)
         vec3 uvw = vec3(vUv, uGiSlice.x);
         c = 4.0 * vec3(texture(uGiR, uvw).x, texture(uGiG, uvw).x, texture(uGiB, uvw).x); // x4: visible

@@ -11,6 +11,7 @@
 #include "frame_targets.h"
 #include "gi.h"
 #include "ibl.h"
+#include "light_clusters.h"
 #include "shadow_maps.h"
 #include "pnb_player/renderer.h"
 #include "stream_ring.h"
@@ -97,6 +98,7 @@ struct FrameContext {
     GiContext& gi;
     IblContext& ibl;
     const LodState& lod;
+    LightContext& lights;
     size_t frameBlockOffset = 0; // this frame's FrameBlock in the ring (binding 0)
     // Renderer::warmUp's frame: nothing culled, every draw cut to its first triangle.
     bool warmUp = false;
@@ -114,6 +116,7 @@ struct Renderer::Impl {
     GiContext gi;
     IblContext ibl;
     LodState lod;
+    LightContext lights;
     uint64_t shadowsForMaterials = ~0ull; // GpuScene::materialsVersion the casters were built for
     CameraState lastCamera;               // re-rendered for CaptureBuffer::Shadow
     GpuTimer captureTimer;                // times of capture renders (discarded)

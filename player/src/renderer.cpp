@@ -17,11 +17,6 @@ namespace pnb::player {
 
 namespace {
 
-// std430 GpuLight (lights.glsl).
-struct GpuLight {
-    glm::vec4 positionRange, directionType, colorIntensity, cone;
-};
-
 constexpr size_t kObjectBlockBytes = 176;
 
 double threadCpuMs() {
@@ -56,9 +51,10 @@ PlayResult<std::unique_ptr<Renderer>> Renderer::create(const GpuScene& scene,
     // casters, the RSM, the height map, the occupancy grid) with its caster mask or bounds.
     // Every push is aligned: one alignment of slack per block.
     constexpr size_t kFrameBlocks = 6, kObjectBlocksPerItem = 5;
-    size_t lightBytes = 16 + sizeof(GpuLight) * std::max<size_t>(scene.lights.size(), 1);
+    // The light list and, when clustering, one view-space sphere per light.
+    size_t lightBytes = 16 + (sizeof(GpuLight) + sizeof(glm::vec4)) * std::max<size_t>(scene.lights.size(), 1);
     size_t objectStride = (kObjectBlockBytes + impl.alignment - 1) / impl.alignment * impl.alignment;
-    impl.ring.reserve(kFrameBlocks * (sizeof(FrameBlock) + impl.alignment) + lightBytes + sizeof(ShadowBlock) +
+    impl.ring.reserve(kFrameBlocks * (sizeof(FrameBlock) + impl.alignment) + lightBytes + impl.alignment + sizeof(ShadowBlock) +
                           sizeof(GiBlock) + sizeof(IblBlock) + impl.alignment * 8 +
                           scene.items.size() * (kObjectBlocksPerItem * objectStride + 4 + 32),
                       impl.alignment);
@@ -156,25 +152,6 @@ PlayResult<Done> Renderer::render(const CameraState& camera, uint32_t width, uin
     timer.mark("setup");
     impl.ring.beginFrame();
 
-    // The light list is written straight into the mapped ring (no per-frame allocation).
-    const size_t lightBytes = 16 + sizeof(GpuLight) * scene.lights.size();
-    std::byte* lightData = nullptr;
-    size_t lightOffset = impl.ring.allocate(lightBytes, lightData);
-    const uint32_t header[4] = {uint32_t(scene.lights.size()), 0, 0, 0};
-    std::memcpy(lightData, header, sizeof header);
-    for (size_t i = 0; i < scene.lights.size(); ++i) {
-        const SceneLight& l = scene.lights[i];
-        GpuLight g;
-        g.positionRange = glm::vec4(glm::vec3(l.position - mView.position), l.desc.range);
-        g.directionType = glm::vec4(lightDirection(l, mSettings), float(int(l.desc.type)));
-        g.colorIntensity = glm::vec4(l.desc.color.x, l.desc.color.y, l.desc.color.z, l.desc.intensity);
-        float cosOuter = std::cos(l.desc.outerConeRadians), cosInner = std::cos(l.desc.innerConeRadians);
-        g.cone = {cosOuter, 1.0f / std::max(cosInner - cosOuter, 1e-4f), 0, 0};
-        std::memcpy(lightData + 16 + i * sizeof g, &g, sizeof g);
-    }
-    glBindBufferRange(GL_SHADER_STORAGE_BUFFER, 3, impl.ring.buffer(), GLintptr(lightOffset),
-                      GLsizeiptr(lightBytes));
-
     DrawLists& lists = impl.lists;
     selectLevels(scene, mView, height, mSettings, impl.lod, mStats);
     buildDrawLists(scene, mView, impl.lod, mSettings.frustumCulling && !impl.warming, impl.ring, lists);
@@ -182,8 +159,10 @@ PlayResult<Done> Renderer::render(const CameraState& camera, uint32_t width, uin
     mStats.culledItems = lists.culled;
 
     FrameContext ctx{scene, mSettings, mView, impl.targets, impl.ring, lists, mStats, timer,
-                     impl.builtins, kObjectBlockBytes, impl.shadows, impl.gi, impl.ibl, impl.lod};
+                     impl.builtins, kObjectBlockBytes, impl.shadows, impl.gi, impl.ibl, impl.lod,
+                     impl.lights};
     ctx.warmUp = impl.warming;
+    prepareLights(ctx, width, height);
     if (impl.shadowsForMaterials != scene.materialsVersion) {
         initShadowContext(scene, impl.shadows);
         impl.shadowsForMaterials = scene.materialsVersion;

@@ -53,7 +53,7 @@ constexpr std::string_view kDebugViewNames[] = {"none", "basecolor", "alpha", "n
                                                 "roughness", "metallic", "occlusion", "emissive",
                                                 "depth", "layer", "overdraw", "cascades",
                                                 "shadowmap", "histogram", "gi_indirect", "gi_rsm",
-                                                "gi_volume", "lod"};
+                                                "gi_volume", "lod", "light_clusters"};
 static_assert(std::size(kDebugViewNames) == size_t(DebugView::Count));
 constexpr std::string_view kTechniqueNames[] = {"off", "single", "lispsm", "pssm", "sdsm"};
 constexpr std::string_view kFitNames[] = {"sphere", "tight"};
@@ -65,6 +65,7 @@ constexpr std::string_view kPartitionNames[] = {"log", "quantile"};
 constexpr std::string_view kAtomicsNames[] = {"fixed", "float"};
 constexpr std::string_view kGiTechniqueNames[] = {"lpv", "probes"};
 constexpr std::string_view kProbeVisibilityNames[] = {"depth", "exact"};
+constexpr std::string_view kLightCullingNames[] = {"auto", "clusters", "off"};
 constexpr std::string_view kSkyVisibilityNames[] = {"none", "screen", "height", "volume", "probes"};
 
 const std::vector<Row>& rows() {
@@ -90,6 +91,20 @@ const std::vector<Row>& rows() {
         {{"camera.far", "float >= -1",
           "far plane in scene units; 0 = infinite (reversed-Z), -1 = the container camera's"},
          FloatField{&S::farPlane, -1.0f, 1e30f}},
+        {{"lights.culling", "auto|clusters|off",
+          "which lights each pixel shades: those of its cluster (a screen tile x a depth slice; "
+          "the cluster pass runs each frame), every light (off), or auto: clusters from "
+          "lights.cluster_min point and spot lights on. The image is the same either way"},
+         enumField<&S::lightCulling>(kLightCullingNames)},
+        {{"lights.cluster_min", "int 1..65536",
+          "lights.culling=auto: the number of point and spot lights from which clusters pay "
+          "(measured: docs/PLAYER.md \"Many lights\")"},
+         UIntField{&S::lightClusterMin, 1, 65536}},
+        {{"lights.tile_px", "int 8..256", "cluster tile side in pixels"},
+         UIntField{&S::lightTilePx, 8, 256}},
+        {{"lights.slices", "int 1..64",
+          "cluster depth slices, exponential from the near plane to the farthest light's reach"},
+         UIntField{&S::lightSlices, 1, 64}},
         {{"shadows.technique", "off|single|lispsm|pssm|sdsm",
           "sun shadows: none, one map over the scene, LiSPSM, practical-split cascades, or "
           "cascades fitted on the GPU to this frame's depth (SDSM)"},
@@ -228,7 +243,7 @@ const std::vector<Row>& rows() {
          UIntField{&S::iblHeightResolution, 64, 4096}},
         {{"debug.view",
           "none|basecolor|alpha|normal|roughness|metallic|occlusion|emissive|depth|layer|overdraw|"
-          "cascades|shadowmap|histogram|gi_indirect|gi_rsm|gi_volume|lod",
+          "cascades|shadowmap|histogram|gi_indirect|gi_rsm|gi_volume|lod|light_clusters",
           "show one buffer instead of the lit image"},
          enumField<&S::debugView>(kDebugViewNames)},
         {{"lod.threshold_px", "float 0..1000",

@@ -19,7 +19,9 @@ float visibilitySmithGgxCorrelated(float nDotV, float nDotL, float alpha) {
 }
 
 vec3 fresnelSchlick(vec3 f0, float vDotH) {
-    return f0 + (1.0 - f0) * pow(1.0 - vDotH, 5.0);
+    // pow() of a negative base is undefined (NaN on Mesa): a light at the camera gives h = v,
+    // and dot(v, v) can round to just above 1.
+    return f0 + (1.0 - f0) * pow(max(1.0 - vDotH, 0.0), 5.0);
 }
 
 // Outgoing radiance towards v from one light of radiance `lightColor` arriving along l.
@@ -29,8 +31,8 @@ vec3 shadeBrdf(vec3 baseColor, float metallic, float roughness, vec3 n, vec3 v, 
     if (nDotL <= 0.0) return vec3(0.0);
     vec3 h = normalize(v + l);
     float nDotV = max(dot(n, v), 1e-4);
-    float nDotH = max(dot(n, h), 0.0);
-    float vDotH = max(dot(v, h), 0.0);
+    float nDotH = clamp(dot(n, h), 0.0, 1.0);
+    float vDotH = clamp(dot(v, h), 0.0, 1.0);
     float alpha = roughness * roughness;
     vec3 f0 = mix(vec3(0.04), baseColor, metallic);
     vec3 f = fresnelSchlick(f0, vDotH);

@@ -1,8 +1,14 @@
 // lights.glsl — punctual lights (KHR_lights_punctual semantics) from a storage buffer, so the
 // light count is not limited by uniform space (UberRender's cap was 1 + 32 + 32).
+//
+// Two ways through the lights, chosen per frame by the player (docs/PLAYER.md "Many lights"):
+// every light at every pixel, or only the lights of the pixel's cluster (a screen tile x an
+// exponential depth slice), whose bit masks the player's light_clusters.comp built this frame.
+// The branch is uniform over the draw, so the unused way costs nothing but code size.
 #ifndef PNB_LIGHTS_GLSL
 #define PNB_LIGHTS_GLSL
 
+#include "interface.glsl"
 #include "brdf.glsl"
 #ifdef SHADOWS
 #include "shadow_sampling.glsl"
@@ -21,8 +27,20 @@ struct GpuLight {
 
 layout(std430, binding = 3) readonly buffer LightBuffer {
     uint uLightCount;
-    uint pad0, pad1, pad2;
+    uint uLightsClustered; // 1: shade the cluster's lights (LightClusters below); 0: all lights
+    uint pad1, pad2;
     GpuLight uLights[];
+};
+
+// The clusters' light masks (player/shaders/light_clusters.comp writes them; the player binds
+// another buffer here while uLightsClustered is 0, which is then never read). A cluster's lights
+// are its screen tile's mask AND its depth slice's mask: two lists of (tiles + slices) masks
+// instead of one per froxel, at the cost of lights that touch the tile and the slice but not
+// their intersection (they are shaded, and their range window makes them add nothing).
+layout(std430, binding = 8) readonly buffer LightClusters {
+    uvec4 uClusterGrid;   // tiles across, tiles down, depth slices, 32-bit words per mask
+    vec4 uClusterDepth;   // 1 / tile size (px), slice scale, slice bias, 0
+    uint uClusterMasks[]; // tile masks (row by row), then slice masks (near to far)
 };
 
 // glTF's recommended range window: smooth falloff to zero at `range`, inverse-square inside.
@@ -37,35 +55,84 @@ float rangeAttenuation(float distanceSquared, float range) {
     return window * window * inverseSquare;
 }
 
+// Whether light `i` can light camera-relative `p`: a directional light always, a point or spot
+// light within its range (a spot's cone is left to shadeLight).
+bool lightReaches(uint i, vec3 p) {
+    vec4 positionRange = uLights[i].positionRange;
+    vec3 toLight = positionRange.xyz - p;
+    float range = positionRange.w; // 0: directional, or a point or spot light without a range
+    return range <= 0.0 || dot(toLight, toLight) < range * range;
+}
+
+// Radiance reflected towards the viewer by light `i`.
+vec3 shadeLight(uint i, vec3 baseColor, float metallic, float roughness, vec3 n, vec3 p, vec3 v,
+                bool receivesShadows) {
+    GpuLight light = uLights[i];
+    int type = int(light.directionType.w);
+    vec3 l;
+    float attenuation = 1.0;
+    if (type == PNB_LIGHT_DIRECTIONAL) {
+        l = -light.directionType.xyz;
+    } else {
+        vec3 toLight = light.positionRange.xyz - p;
+        float d2 = dot(toLight, toLight);
+        l = d2 > 0.0 ? toLight * inversesqrt(d2) : vec3(0.0, 0.0, 1.0); // unit at any scale
+        attenuation = rangeAttenuation(d2, light.positionRange.w);
+        if (type == PNB_LIGHT_SPOT) {
+            float cd = dot(light.directionType.xyz, -l);
+            float t = clamp((cd - light.cone.x) * light.cone.y, 0.0, 1.0);
+            attenuation *= t * t;
+        }
+    }
+    vec3 radiance = light.colorIntensity.rgb * light.colorIntensity.a * attenuation;
+#ifdef SHADOWS
+    if (receivesShadows && float(i) == uShadowLight.w) radiance *= shadowVisibility(p, n);
+#endif
+    return shadeBrdf(baseColor, metallic, roughness, n, v, l, radiance);
+}
+
+// The cluster of the fragment being shaded at camera-relative `p`: its tile's and its slice's
+// first mask word. Depths before the first slice fall into it, past the last into the last.
+uvec2 clusterMaskStarts(vec3 p) {
+    uvec2 tile = uvec2(gl_FragCoord.xy * uClusterDepth.x);
+    tile = min(tile, uClusterGrid.xy - 1u);
+    float depth = -(uView * vec4(p, 0.0)).z;
+    float s = log(max(depth, 1e-30)) * uClusterDepth.y + uClusterDepth.z;
+    uint slice = uint(clamp(s, 0.0, float(uClusterGrid.z - 1u)));
+    uint words = uClusterGrid.w;
+    uint tiles = uClusterGrid.x * uClusterGrid.y;
+    return uvec2((tile.y * uClusterGrid.x + tile.x) * words, (tiles + slice) * words);
+}
+
 // Radiance reflected towards the viewer by all lights. `p` is camera-relative, `v` points from
 // the surface to the camera. `receivesShadows`: the material's flag (forward programs of
 // materials that do not receive are built without SHADOWS; deferred ones read a G-buffer bit).
+//
+// Lights are taken 32 at a time (one mask word): the cheap range test first, then the BRDF for
+// the lights in reach only. Two loops rather than an early return inside one: shader compilers
+// for SIMD CPUs (llvmpipe) run both sides of a branch for every lane, but end a loop once no
+// lane has work left, so a light out of every lane's reach costs its range test and no BRDF.
 vec3 shadeLights(vec3 baseColor, float metallic, float roughness, vec3 n, vec3 p, vec3 v,
                  bool receivesShadows) {
     vec3 sum = vec3(0.0);
-    for (uint i = 0u; i < uLightCount; ++i) {
-        GpuLight light = uLights[i];
-        int type = int(light.directionType.w);
-        vec3 l;
-        float attenuation = 1.0;
-        if (type == PNB_LIGHT_DIRECTIONAL) {
-            l = -light.directionType.xyz;
-        } else {
-            vec3 toLight = light.positionRange.xyz - p;
-            float d2 = dot(toLight, toLight);
-            l = d2 > 0.0 ? toLight * inversesqrt(d2) : vec3(0.0, 0.0, 1.0); // unit at any scale
-            attenuation = rangeAttenuation(d2, light.positionRange.w);
-            if (type == PNB_LIGHT_SPOT) {
-                float cd = dot(light.directionType.xyz, -l);
-                float t = clamp((cd - light.cone.x) * light.cone.y, 0.0, 1.0);
-                attenuation *= t * t;
-            }
+    bool clustered = uLightsClustered != 0u;
+    uint words = (uLightCount + 31u) / 32u;
+    uvec2 start = clustered ? clusterMaskStarts(p) : uvec2(0u);
+    for (uint w = 0u; w < words; ++w) {
+        uint candidates = clustered ? uClusterMasks[start.x + w] & uClusterMasks[start.y + w]
+                        : (w + 1u < words || uLightCount % 32u == 0u ? ~0u : (1u << (uLightCount % 32u)) - 1u);
+        uint reached = 0u;
+        while (candidates != 0u) {
+            int b = findLSB(candidates);
+            candidates &= candidates - 1u;
+            if (lightReaches(w * 32u + uint(b), p)) reached |= 1u << uint(b);
         }
-        vec3 radiance = light.colorIntensity.rgb * light.colorIntensity.a * attenuation;
-#ifdef SHADOWS
-        if (receivesShadows && float(i) == uShadowLight.w) radiance *= shadowVisibility(p, n);
-#endif
-        sum += shadeBrdf(baseColor, metallic, roughness, n, v, l, radiance);
+        while (reached != 0u) {
+            int b = findLSB(reached);
+            reached &= reached - 1u;
+            sum += shadeLight(w * 32u + uint(b), baseColor, metallic, roughness, n, p, v,
+                              receivesShadows);
+        }
     }
     return sum;
 }

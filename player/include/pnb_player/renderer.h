@@ -48,6 +48,8 @@ struct FrameStats {
     uint32_t shadowDraws = 0, shadowCasters = 0;
     uint64_t shadowTriangles = 0;
     uint32_t gpuReadbacks = 0; // GPU->CPU reads that wait for the GPU (captures only)
+    // Light clusters (lights.*): tiles x slices this frame; 0 when every pixel shaded every light.
+    uint32_t lightClusters = 0;
 };
 
 struct TargetMemory {

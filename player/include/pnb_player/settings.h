@@ -36,6 +36,7 @@ enum class DebugView {
     GiRsm,      // the reflective shadow map: diffuse albedo each texel reflects (flux / (E A_t))
     GiVolume,   // one z slice (debug.gi_slice) of the summed light volume: band 0 per colour, x4
     Lod,        // each object in the colour of the level of detail it draws (grey: has no LODs)
+    LightClusters, // lights in each pixel's cluster as heat (red 8, yellow 16, white 32+)
     Count
 };
 
@@ -56,6 +57,7 @@ enum class SdsmPartition { Log, Quantile };    // shadows.sdsm_partition
 enum class GiAtomics { Fixed, Float };         // gi.atomics
 enum class GiTechnique { Lpv, Probes };        // gi.technique
 enum class ProbeVisibility { Depth, Exact };   // gi.probe_visibility
+enum class LightCulling { Auto, Clusters, Off };   // lights.culling
 enum class SkyVisibility { None, Screen, Height, Volume, Probes }; // ibl.visibility
 
 struct RenderSettings {
@@ -82,6 +84,13 @@ struct RenderSettings {
     // stream.*: streaming playback (scene_stream.h, docs/PLAYER.md "Streaming").
     uint32_t streamBudgetMib = 0;  // stream.budget_mib: textures + LOD meshes' storage; 0 = no limit
     float streamUploadMib = 8.0f;  // stream.upload_mib: texel bytes uploaded per frame, MiB
+
+    // lights.*: which lights each pixel shades (docs/PLAYER.md "Many lights").
+    LightCulling lightCulling = LightCulling::Auto;
+    uint32_t lightClusterMin = 16; // auto: clusters from this many point and spot lights on
+    uint32_t lightTilePx = 32;     // cluster tile side, pixels
+    uint32_t lightSlices = 24;     // exponential depth slices between the near plane and the
+                                   // farthest light's reach
 
     // shadows.*: see settings.cpp for each key's meaning.
     ShadowTechnique shadowTechnique = ShadowTechnique::Pssm;
