@@ -25,7 +25,7 @@ float lightCutoffRange(const Light& light, float cutoffLux = kDefaultLightCutoff
 
 // The range the player and the reference use: the light's own when it has one (> 0 and finite),
 // else lightCutoffRange. 0 for directional lights (unbounded) and for point and spot lights that
-// give no light (they reach nothing: a renderer skips them).
+// give no light, whatever range they carry (they reach nothing: a renderer skips them).
 float effectiveLightRange(const Light& light, float cutoffLux = kDefaultLightCutoffLux);
 
 } // namespace pnb
