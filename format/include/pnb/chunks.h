@@ -256,7 +256,8 @@ struct Light {
     float intensity = 1; // lux (directional) or candela (point, spot), as KHR_lights_punctual;
                          // finite, >= 0
     float range = 0;     // metres, finite, >= 0; 0 = unlimited (readers then bound it with
-                         // effectiveLightRange, pnb/light_range.h)
+                         // effectiveLightRange, pnb/light_range.h); pnb-convert writes > 0 for
+                         // every point and spot light that gives light
     float innerConeRadians = 0, outerConeRadians = 0.7853982f;
     bool castsShadows = true;
     bool generated = false; // added by the converter (e.g. the default sun), not in the source
