@@ -228,6 +228,11 @@ Result<ConvertSummary, ConvertError> convertScene(const ConvertSettings& s,
                             "environment: both an image (" + env.image +
                                 ") and the analytic sky were asked for; choose one"};
 
+    if (!(s.lights.cutoffLux > 0) || !std::isfinite(s.lights.cutoffLux))
+        return ConvertError{ConvertErrorKind::Input,
+                            "light cut-off " + std::to_string(s.lights.cutoffLux) +
+                                " lux: not a positive finite illuminance"};
+
     // [SECTION] import
     clock.start("import");
     report("import", 0, 1);
@@ -407,6 +412,9 @@ Result<ConvertSummary, ConvertError> convertScene(const ConvertSettings& s,
         nodeSpheres.emplace_back();
         sum.defaultCamera = true;
     }
+    // After the default sun, before anything reads the lights: ranges, shadow flags and the
+    // kMaxLights cap (which remaps node.light) are decided here, once.
+    processLights(scene, generatedLight, s.lights, sum.warnings);
     std::vector<PathSpec> paths;
     if (!s.cameraPath.empty()) {
         auto p = loadCameraPath(s.cameraPath);
@@ -439,7 +447,7 @@ Result<ConvertSummary, ConvertError> convertScene(const ConvertSettings& s,
             sum.dependencies.push_back(env.image);
         } else {
             // The sun: the first directional light that casts shadows, else the first
-            // directional (every directional casts shadows as written below, so the two agree
+            // directional (every directional casts shadows, processLights, so the two agree
             // today). Towards the sun is its node's +Z axis: lights shine down -Z.
             int sunLight = -1;
             for (size_t i = 0; i < scene.lights.size() && sunLight < 0; ++i)
@@ -489,8 +497,10 @@ Result<ConvertSummary, ConvertError> convertScene(const ConvertSettings& s,
     clock.start("shaders");
     SceneShaderNeeds needs;
     needs.ibl = environment.has_value();
-    bool shadowLight = false;
-    for (const IrLight& l : scene.lights) shadowLight |= l.type == LightType::Directional;
+    // Any shadow-casting light, sun or lamp: point and spot shadows use the same SHADOWS define.
+    // (The default sun makes this true for every scene today; it stays right without it.)
+    const bool shadowLight = std::any_of(scene.lights.begin(), scene.lights.end(),
+                                         [](const IrLight& l) { return l.castsShadows; });
     for (const Material& m : materials.materials) {
         needs.shadows |= shadowLight && m.castsShadows;
         needs.maskedCasters |= shadowLight && m.castsShadows && m.alphaMode == AlphaMode::Mask;
@@ -581,8 +591,8 @@ Result<ConvertSummary, ConvertError> convertScene(const ConvertSettings& s,
     for (size_t i = 0; i < scene.lights.size(); ++i) {
         const IrLight& l = scene.lights[i];
         out.lights.lights.push_back(Light{b.intern(l.name), l.type, l.color, l.intensity, l.range,
-                                          l.innerConeRadians, l.outerConeRadians,
-                                          l.type == LightType::Directional, generatedLight[i]});
+                                          l.innerConeRadians, l.outerConeRadians, l.castsShadows,
+                                          generatedLight[i]});
     }
     for (const IrCamera& c : scene.cameras)
         out.cameras.cameras.push_back(Camera{b.intern(c.name), c.projection, c.yfovRadians,

@@ -1328,17 +1328,26 @@ Result<int, ConvertError> importLight(Ctx& ctx, int index, const std::string& wh
         ctx.warn(lightWho + ": color is not 3 numbers; using white");
     }
     light.intensity = clampOr(src.intensity, 0, std::numeric_limits<float>::max(), 1);
-    // range: absent (tinygltf: 0) or invalid both mean "no cut-off".
-    light.range = src.range > 0 ? clampOr(src.range, 0, std::numeric_limits<float>::max(), 0) : 0;
+    if (!(src.intensity >= 0) || !std::isfinite(src.intensity))
+        ctx.warn(lightWho + strf(": intensity %g is not a finite number >= 0; %g", src.intensity,
+                                 double(light.intensity)));
+    // range: absent (tinygltf: 0) stays 0, an invalid one (negative, or too large for a float)
+    // is passed on as it is: processLights (light_processing.h) replaces both with the computed
+    // range and warns, naming the light, whichever importer it came from.
+    if (std::isnan(src.range)) light.range = std::numeric_limits<float>::quiet_NaN();
+    else if (std::fabs(src.range) > double(std::numeric_limits<float>::max()))
+        light.range = (src.range > 0 ? 1 : -1) * std::numeric_limits<float>::infinity();
+    else light.range = float(src.range);
     if (light.type == LightType::Spot) {
-        const float kHalfPi = 1.5707964f;
-        light.outerConeRadians = clampOr(src.spot.outerConeAngle, 0, kHalfPi, 0.7853982f);
-        light.innerConeRadians =
-            clampOr(src.spot.innerConeAngle, 0, light.outerConeRadians, 0.0f);
-        if (src.spot.innerConeAngle > src.spot.outerConeAngle ||
-            src.spot.outerConeAngle > kHalfPi) {
-            ctx.warn(lightWho + ": spot cone angles outside 0 <= inner <= outer <= pi/2 "
-                                "clamped");
+        const double inner = src.spot.innerConeAngle, outer = src.spot.outerConeAngle;
+        light.outerConeRadians = clampOr(outer, 0, kMaxSpotConeRadians, 0.7853982f);
+        light.innerConeRadians = clampOr(inner, 0, light.outerConeRadians, 0.0f);
+        // In double, so that pi/2 written as 1.5707963267948966 is inside.
+        if (!(inner >= 0 && inner <= outer && outer <= double(kMaxSpotConeRadians))) {
+            ctx.warn(lightWho + strf(": spot cone angles (inner %g, outer %g) outside 0 <= inner "
+                                     "<= outer <= pi/2; clamped to inner %g, outer %g",
+                                     inner, outer, double(light.innerConeRadians),
+                                     double(light.outerConeRadians)));
         }
     }
     ctx.scene.lights.push_back(std::move(light));

@@ -16,6 +16,7 @@
 #include <cstring>
 #include <filesystem>
 #include <functional>
+#include <limits>
 #include <map>
 #include <optional>
 #include <string>
@@ -69,6 +70,8 @@ bool parseFloat(const char* text, float lo, float hi, float& out) {
     out = v;
     return true;
 }
+
+static_assert(pnb::kDefaultLightCutoffLux == 0.01f, "--light-cutoff's help states the default");
 
 const std::vector<Option>& options() {
     static const std::vector<Option> table = {
@@ -160,6 +163,13 @@ const std::vector<Option>& options() {
          [](CliState& c, const char* a) {
              uint32_t& n = c.settings.environment.specularSize;
              return parseUnsigned(a, 4, 2048, n) && (n & (n - 1)) == 0;
+         }},
+        {"Lights", "--light-cutoff", "LUX",
+         "a point or spot light without a range stops where its illuminance falls to LUX "
+         "(> 0; default 0.01): the range written for it, warned",
+         [](CliState& c, const char* a) {
+             return parseFloat(a, std::numeric_limits<float>::denorm_min(),
+                               std::numeric_limits<float>::max(), c.settings.lights.cutoffLux);
          }},
         {"Container", "--compress", nullptr,
          "zstd-compress meshes and texels too (smaller file; loads can no longer be zero-copy)",

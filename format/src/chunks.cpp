@@ -124,9 +124,14 @@ public:
                 return fail("array of %u elements cannot fit in the %zu bytes left", count,
                             mIn.size() - mPos);
             v.assign(count, E{});
-            for (E& e : v) {
-                (*this)(e);
-                if (!ok()) return;
+            for (size_t k = 0; k < v.size(); ++k) {
+                (*this)(v[k]);
+                if (!ok()) {
+                    // Which record: "LGHT payload: enum value 7 out of range (3 values), in
+                    // element 2 of 5" names the light (nested arrays add one clause each).
+                    mError.message += ", in element " + std::to_string(k) + " of " + std::to_string(count);
+                    return;
+                }
             }
         } else if constexpr (IsArray<T>::value) {
             for (auto& e : v) (*this)(e);

@@ -172,6 +172,32 @@ Status validateMesh(const Scene& s, const Mesh& m, const char* what, size_t i) {
     return {};
 }
 
+Status validateLight(const Light& l, size_t i) {
+    // Each rule keeps a value a renderer would turn into NaN or infinity, or a cone its falloff
+    // (smoothstep between cos outer and cos inner) cannot describe, out of the lighting.
+    if (l.type >= LightType::Count)
+        return makeError(FormatError::BadPayload, 0, "LGHT light %zu: unknown type %u", i, unsigned(l.type));
+    if (!finite(l.color) || !(l.color.x >= 0 && l.color.y >= 0 && l.color.z >= 0))
+        return makeError(FormatError::BadPayload, 0,
+                         "LGHT light %zu: colour (%g, %g, %g) is not finite and >= 0", i,
+                         double(l.color.x), double(l.color.y), double(l.color.z));
+    if (!std::isfinite(l.intensity) || !(l.intensity >= 0))
+        return makeError(FormatError::BadPayload, 0, "LGHT light %zu: intensity %g is not finite and >= 0",
+                         i, double(l.intensity));
+    if (!std::isfinite(l.range) || !(l.range >= 0))
+        return makeError(FormatError::BadPayload, 0,
+                         "LGHT light %zu: range %g is not finite and >= 0 (0 means unlimited)", i,
+                         double(l.range));
+    if (l.type == LightType::Spot &&
+        !(l.innerConeRadians >= 0 && l.innerConeRadians <= l.outerConeRadians &&
+          l.outerConeRadians <= kMaxSpotConeRadians))
+        return makeError(FormatError::BadPayload, 0,
+                         "LGHT light %zu: spot cone angles inner %g, outer %g are not 0 <= inner <= "
+                         "outer <= pi/2",
+                         i, double(l.innerConeRadians), double(l.outerConeRadians));
+    return {};
+}
+
 Status validateScene(const Scene& s) {
     const size_t nStr = s.strings.strings.size();
     auto str = [&](const char* what, size_t i, const char* field, StringRef r) -> Status {
@@ -224,8 +250,14 @@ Status validateScene(const Scene& s) {
                 return refError("material", i, "texture", slot.texture, s.textures.size());
     }
     for (size_t i = 0; i < s.meshes.size(); ++i) PNB_CHECK(validateMesh(s, s.meshes[i], "mesh", i));
-    for (size_t i = 0; i < s.lights.lights.size(); ++i)
+    // The cap first: a file declaring more lights than a player can mask is refused as a whole.
+    if (s.lights.lights.size() > kMaxLights)
+        return makeError(FormatError::LimitExceeded, 0, "LGHT: %zu lights, more than kMaxLights (%u)",
+                         s.lights.lights.size(), kMaxLights);
+    for (size_t i = 0; i < s.lights.lights.size(); ++i) {
         PNB_CHECK(str("light", i, "name", s.lights.lights[i].name));
+        PNB_CHECK(validateLight(s.lights.lights[i], i));
+    }
     for (size_t i = 0; i < s.cameras.cameras.size(); ++i)
         PNB_CHECK(str("camera", i, "name", s.cameras.cameras[i].name));
     for (size_t i = 0; i < s.nodes.nodes.size(); ++i) {

@@ -2,7 +2,8 @@
 // wrapper; tests call this directly).
 //
 // Stages: import (glTF/assimp → IR) → materials (placement, sidecar, texture requests) →
-// meshes → textures → lights, cameras, nodes, camera paths (defaults added where missing) →
+// meshes → textures → lights (ranges, shadows, the kMaxLights cap: light_processing.h), cameras,
+// nodes, camera paths (defaults added where missing) →
 // shaders (permutations the materials need, validated with glslang) → write (streamable order,
 // atomic). Deterministic: the same input and settings give a byte-identical file whatever `jobs`.
 #pragma once
@@ -16,6 +17,7 @@
 
 #include "pnb/error.h"
 #include "pnb_converter/environment.h"
+#include "pnb_converter/light_processing.h"
 #include "pnb_converter/mesh_processing.h"
 #include "pnb_converter/scene_ir.h"
 #include "pnb_converter/texture_processing.h"
@@ -35,6 +37,7 @@ struct ConvertSettings {
     // ENVM and its textures; the lighting programs then get the define IBL. Default: none.
     // Both an image and the sky: an Input error.
     EnvironmentSettings environment;
+    LightSettings lights;       // see light_processing.h (the --light-cutoff) for defaults
     uint32_t jobs = 0;          // worker threads for meshes and textures; 0 = all cores
     bool validateShaders = true; // glslang-check every packed program. Default: true.
     // Remember programs glslang accepted (shader_validation_cache.h): in memory for the process

@@ -95,8 +95,11 @@ struct IrLight {
     LightType type = LightType::Directional;
     Vec3 color{1, 1, 1};
     float intensity = 1; // lux or candela (KHR_lights_punctual)
+    // As in the source: 0 = none given; negative, NaN or infinite = invalid in the source.
+    // processLights (light_processing.h) turns both into a computed range, with a warning.
     float range = 0;
     float innerConeRadians = 0, outerConeRadians = 0.7853982f;
+    bool castsShadows = true; // decided by processLights, not by importers
 };
 
 struct IrCamera {

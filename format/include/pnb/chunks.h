@@ -241,12 +241,23 @@ uint32_t meshIndex(const Mesh& mesh, size_t k);
 
 // [SECTION] LGHT — all lights (placed by nodes; a light shines down its node's -Z)
 enum class LightType : uint8_t { Directional, Point, Spot, Count };
+// The most lights a LGHT chunk may hold (validateScene refuses more; docs/FORMAT.md "LGHT"). The
+// player keeps one bit per light in each screen tile's light mask, so this bounds that memory:
+// 65536 bits = 8 KiB per tile, whatever a file declares.
+inline constexpr uint32_t kMaxLights = 65536;
+// The widest spot cone: pi/2 rounded to float (1.5707964f, a hair above pi/2, so a cone of
+// exactly pi/2 as glTF writes it passes). A spot's cone angles satisfy
+// 0 <= innerConeRadians <= outerConeRadians <= kMaxSpotConeRadians.
+inline constexpr float kMaxSpotConeRadians = 1.5707964f;
 struct Light {
     StringRef name = kNone;
     LightType type = LightType::Directional;
-    Vec3 color{1, 1, 1}; // linear RGB
-    float intensity = 1; // lux (directional) or candela (point, spot), as KHR_lights_punctual
-    float range = 0;     // metres; 0 = unlimited
+    Vec3 color{1, 1, 1}; // linear RGB, each channel finite and >= 0
+    float intensity = 1; // lux (directional) or candela (point, spot), as KHR_lights_punctual;
+                         // finite, >= 0
+    float range = 0;     // metres, finite, >= 0; 0 = unlimited (readers then bound it with
+                         // effectiveLightRange, pnb/light_range.h); pnb-convert writes > 0 for
+                         // every point and spot light that gives light
     float innerConeRadians = 0, outerConeRadians = 0.7853982f;
     bool castsShadows = true;
     bool generated = false; // added by the converter (e.g. the default sun), not in the source

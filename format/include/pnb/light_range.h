@@ -25,7 +25,9 @@ float lightCutoffRange(const Light& light, float cutoffLux = kDefaultLightCutoff
 
 // The range the player and the reference use: the light's own when it has one (> 0 and finite),
 // else lightCutoffRange. 0 for directional lights (unbounded) and for point and spot lights that
-// give no light (they reach nothing: a renderer skips them).
+// give no light, whatever range they carry (they reach nothing: a renderer skips them).
+// Containers pnb-convert writes carry the range already (computed with its --light-cutoff, which
+// may differ from `cutoffLux`); this matters for other writers' range 0 (FORMAT.md "LGHT").
 float effectiveLightRange(const Light& light, float cutoffLux = kDefaultLightCutoffLux);
 
 } // namespace pnb

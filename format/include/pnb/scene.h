@@ -100,9 +100,15 @@ Status validateTextureMip(const Scene& scene, const TextureMip& mip, size_t inde
 // the BRDF table both or neither) and that every number is finite.
 Status validateEnvironment(const Scene& scene, const Environment& environment);
 
+// Checks one light's values against their domains (docs/FORMAT.md "LGHT"): a known type; colour
+// finite and >= 0; intensity finite and >= 0; range finite and >= 0; for a spot,
+// 0 <= inner <= outer <= pi/2 (kMaxSpotConeRadians). Errors (BadPayload) name LGHT and `index`.
+Status validateLight(const Light& light, size_t index);
+
 // Checks every cross-reference of §4.3: string, shader, program, texture, material, mesh,
 // light, camera and parent indices; mip levels and sizes; stream sizes; index values; the
-// environment's textures (shape and format) and finite irradiance.
+// environment's textures (shape and format) and finite irradiance; at most kMaxLights lights
+// (LimitExceeded), each as validateLight.
 // `offset` in errors is 0 (the error names the chunk kind and index instead).
 Status validateScene(const Scene& scene);
 
