@@ -12,6 +12,7 @@
 #include "gi.h"
 #include "ibl.h"
 #include "light_clusters.h"
+#include "local_shadows.h"
 #include "shadow_maps.h"
 #include "pnb_player/renderer.h"
 #include "stream_ring.h"
@@ -99,6 +100,7 @@ struct FrameContext {
     IblContext& ibl;
     const LodState& lod;
     LightContext& lights;
+    LocalShadowContext& localShadows;
     size_t frameBlockOffset = 0; // this frame's FrameBlock in the ring (binding 0)
     // Renderer::warmUp's frame: nothing culled, every draw cut to its first triangle.
     bool warmUp = false;
@@ -117,6 +119,7 @@ struct Renderer::Impl {
     IblContext ibl;
     LodState lod;
     LightContext lights;
+    LocalShadowContext localShadows;
     uint64_t shadowsForMaterials = ~0ull; // GpuScene::materialsVersion the casters were built for
     CameraState lastCamera;               // re-rendered for CaptureBuffer::Shadow
     GpuTimer captureTimer;                // times of capture renders (discarded)

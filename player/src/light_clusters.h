@@ -9,6 +9,7 @@
 // pixel and neither the pass nor its buffer exists.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 
 #include <glm/glm.hpp>
@@ -61,6 +62,7 @@ struct LightContext {
     bool clustered = false;  // this frame
     LightClusterGrid grid;   // this frame's, if clustered
     uint32_t localLights = 0;
+    std::byte* listData = nullptr; // this frame's light list in the mapped ring (GpuLight at 16 + 64 i)
 };
 
 // Writes this frame's light list into the ring (binding 3) and, if clustering, runs the cluster

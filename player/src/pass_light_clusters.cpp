@@ -38,6 +38,7 @@ void prepareLights(FrameContext& ctx, uint32_t width, uint32_t height) {
     const size_t lightBytes = 16 + sizeof(GpuLight) * count;
     std::byte* lightData = nullptr;
     const size_t lightOffset = ctx.ring.allocate(lightBytes, lightData);
+    lc.listData = lightData;
     const uint32_t header[4] = {count, lc.clustered ? 1u : 0u, 0, 0};
     std::memcpy(lightData, header, sizeof header);
     // Spheres for the cluster pass, written beside the list.
@@ -55,7 +56,7 @@ void prepareLights(FrameContext& ctx, uint32_t width, uint32_t height) {
         g.directionType = glm::vec4(lightDirection(l, ctx.settings), float(int(l.desc.type)));
         g.colorIntensity = glm::vec4(l.desc.color.x, l.desc.color.y, l.desc.color.z, l.desc.intensity);
         const float cosOuter = std::cos(l.desc.outerConeRadians), cosInner = std::cos(l.desc.innerConeRadians);
-        g.cone = {cosOuter, 1.0f / std::max(cosInner - cosOuter, 1e-4f), 0, 0};
+        g.cone = {cosOuter, 1.0f / std::max(cosInner - cosOuter, 1e-4f), -1, 0}; // z: no shadow tile yet
         std::memcpy(lightData + 16 + i * sizeof g, &g, sizeof g);
         if (lc.clustered) {
             const glm::vec4 sphere = lightBoundingSphere(g, ctx.view.view);

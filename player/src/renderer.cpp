@@ -50,12 +50,16 @@ PlayResult<std::unique_ptr<Renderer>> Renderer::create(const GpuScene& scene,
     // blocks, and per item one object block for every pass that draws it (the view, the shadow
     // casters, the RSM, the height map, the occupancy grid) with its caster mask or bounds.
     // Every push is aligned: one alignment of slack per block.
-    constexpr size_t kFrameBlocks = 6, kObjectBlocksPerItem = 5;
+    // Point and spot light shadows add their casters' object blocks, a ShadowBlock per light and
+    // the tiles' data (local_shadows.h), for at most 64 lights of 6 tiles.
+    constexpr size_t kFrameBlocks = 6, kObjectBlocksPerItem = 6;
+    constexpr size_t kLocalShadowBytes = 64 * (sizeof(ShadowBlock) + 6 * 80) + 16;
     // The light list and, when clustering, one view-space sphere per light.
     size_t lightBytes = 16 + (sizeof(GpuLight) + sizeof(glm::vec4)) * std::max<size_t>(scene.lights.size(), 1);
     size_t objectStride = (kObjectBlockBytes + impl.alignment - 1) / impl.alignment * impl.alignment;
     impl.ring.reserve(kFrameBlocks * (sizeof(FrameBlock) + impl.alignment) + lightBytes + impl.alignment + sizeof(ShadowBlock) +
                           sizeof(GiBlock) + sizeof(IblBlock) + impl.alignment * 8 +
+                          kLocalShadowBytes + 64 * impl.alignment +
                           scene.items.size() * (kObjectBlocksPerItem * objectStride + 4 + 32),
                       impl.alignment);
     impl.targets.memory.streamingBytes = impl.ring.totalBytes();
@@ -113,6 +117,8 @@ void Renderer::setSettings(const RenderSettings& settings) {
 TargetMemory Renderer::targetMemory() const {
     TargetMemory m = mImpl->targets.memory;
     m.shadowMapBytes = mImpl->shadows.resources.mapBytes;
+    m.localShadowBytes = uint64_t(mImpl->localShadows.atlasSize) * mImpl->localShadows.atlasSize * 4;
+    m.lightClusterBytes = mImpl->lights.maskCapacity;
     m.shadowBufferBytes = mImpl->shadows.resources.bufferBytes;
     m.giBytes = mImpl->gi.resources.bytes;
     m.iblBytes = mImpl->ibl.heightBytes;
@@ -160,7 +166,7 @@ PlayResult<Done> Renderer::render(const CameraState& camera, uint32_t width, uin
 
     FrameContext ctx{scene, mSettings, mView, impl.targets, impl.ring, lists, mStats, timer,
                      impl.builtins, kObjectBlockBytes, impl.shadows, impl.gi, impl.ibl, impl.lod,
-                     impl.lights};
+                     impl.lights, impl.localShadows};
     ctx.warmUp = impl.warming;
     prepareLights(ctx, width, height);
     if (impl.shadowsForMaterials != scene.materialsVersion) {
@@ -197,6 +203,7 @@ PlayResult<Done> Renderer::render(const CameraState& camera, uint32_t width, uin
         runShadowPass(ctx);
     }
     bindShadowsForLighting(ctx);
+    runLocalShadows(ctx);
     runGiRsm(ctx);
     runGiInject(ctx);
     // The camera's blocking surfels come from the first deferred layer's G-buffer; without one

@@ -155,6 +155,27 @@ const std::vector<Row>& rows() {
           "sdsm: logarithmic splits over the tight depth range, or equal sample counts per cascade "
           "(seed 000's histogram variant, weighted by the pssm scheme)"},
          enumField<&S::sdsmPartition>(kPartitionNames)},
+        {{"shadows.local", "bool",
+          "point and spot light shadows: a depth atlas with a tile per spot light and six per point "
+          "light (casts_shadows lights in view), read with the sun's filter and offsets"},
+         BoolField{&S::shadowLocal}},
+        {{"shadows.local_lights", "int 0..64",
+          "the most point and spot lights shadowed in a frame: the largest on screen"},
+         UIntField{&S::shadowLocalLights, 0, 64}},
+        {{"shadows.local_atlas", "int 256..8192",
+          "side of the local-light shadow atlas in texels (its memory: side^2 x 4 bytes); tiles "
+          "follow each light's size on screen and are halved together when they do not fit"},
+         UIntField{&S::shadowLocalAtlas, 256, 8192}},
+        {{"shadows.local_max_tile", "int 32..8192", "largest local-light shadow tile side, texels"},
+         UIntField{&S::shadowLocalMaxTile, 32, 8192}},
+        {{"shadows.local_cache", "bool",
+          "draw a local-light tile again only when its light, its place in the atlas or the "
+          "casters change (its depths do not depend on the camera); false: every frame"},
+         BoolField{&S::shadowLocalCache}},
+        {{"shadows.judged_light", "int -1..65535",
+          "the light whose shadow --dump shadow and --shadow-metrics capture: -1 the sun, else an "
+          "index into the container's lights (a point or spot light: its tiles' visibility)"},
+         IntField{&S::shadowJudgedLight, -1, 65535}},
         {{"gi.enabled", "bool",
           "one-bounce indirect light from the sun: reflective shadow map, cascaded light "
           "propagation volumes (needs a container converted with GI: pnb-convert --gi)"},

@@ -102,7 +102,7 @@ void prepareShadows(FrameContext& ctx) {
     float tanLight = std::tan(0.5f * glm::radians(s.shadowLightSize));
     int output = sc.capture ? 2 : (s.debugView == DebugView::Cascades ? 1 : 0);
     b.mapInfo = {float(resolution), 1.0f / float(resolution), tanLight, float(output)};
-    b.view = {std::tan(0.5f * ctx.view.yfov), float(ctx.targets.height), 0, 0};
+    b.view = {std::tan(0.5f * ctx.view.yfov), float(ctx.targets.height), float(s.shadowJudgedLight), 0};
 
     uint32_t cascades = 0;
     if (wanted) {

@@ -19,6 +19,7 @@
 
 #include "cosine_sampling.h"
 #include "mesh_decode.h"
+#include "pnb/light_range.h"
 #include "pnb/node_transform.h"
 #include "self_intersection.h"
 #include "texture_decode.h"
@@ -127,7 +128,7 @@ TracerResult<std::unique_ptr<IndirectTracer>> IndirectTracer::build(const Scene&
         info.position = glm::vec3(glm::dvec3(world[3]) - origin);
         info.travel = glm::vec3(glm::normalize(glm::dmat3(world) * glm::dvec3(0, 0, -1)));
         info.toward = -info.travel;
-        info.range = l.range;
+        info.range = pnb::effectiveLightRange(l); // as the player shades it (pnb/light_range.h)
         info.cosOuter = std::cos(l.outerConeRadians);
         info.coneScale = 1.0f / std::max(std::cos(l.innerConeRadians) - info.cosOuter, 1e-4f);
         if (l.type == LightType::Directional) {

@@ -12,6 +12,7 @@
 #include "brdf.glsl"
 #ifdef SHADOWS
 #include "shadow_sampling.glsl"
+#include "local_shadows.glsl"
 #endif
 
 #define PNB_LIGHT_DIRECTIONAL 0
@@ -22,7 +23,8 @@ struct GpuLight {
     vec4 positionRange;      // camera-relative position, range (0 = unlimited)
     vec4 directionType;      // direction the light travels (unit), type
     vec4 colorIntensity;     // linear rgb, intensity (lux or candela)
-    vec4 cone;               // cos(outer), 1 / max(cos(inner) - cos(outer), 1e-4), 0, 0
+    vec4 cone;               // cos(outer), 1 / max(cos(inner) - cos(outer), 1e-4),
+                             // first shadow tile (-1: no shadow this frame), 0
 };
 
 layout(std430, binding = 3) readonly buffer LightBuffer {
@@ -87,6 +89,16 @@ vec3 shadeLight(uint i, vec3 baseColor, float metallic, float roughness, vec3 n,
     vec3 radiance = light.colorIntensity.rgb * light.colorIntensity.a * attenuation;
 #ifdef SHADOWS
     if (receivesShadows && float(i) == uShadowLight.w) radiance *= shadowVisibility(p, n);
+    if (receivesShadows && light.cone.z >= 0.0 && attenuation > 0.0) {
+        float v = localShadowVisibility(int(light.cone.z), type == PNB_LIGHT_POINT || light.cone.x < 0.5,
+                                        light.positionRange.xyz, p, n, l);
+        radiance *= v;
+        if (float(i) == uShadowView.z) { // the judged light (shadows.judged_light): the capture
+            gLocalJudged = dot(n, l) > 0.0;
+            gShadowVisibility = v;
+            gShadowCascade = 0;
+        }
+    }
 #endif
     return shadeBrdf(baseColor, metallic, roughness, n, v, l, radiance);
 }

@@ -16,6 +16,9 @@ layout(binding = 9) uniform sampler2DArray uShadowMapDepth; // raw depths: PCSS 
 float gShadowVisibility = 1.0;
 int gShadowCascade = -1;
 float gShadowTexelRatio = 0.0;
+// Set by local_shadows.glsl when the judged light (shadows.judged_light, uShadowView.z >= 0) is a
+// point or spot light that reaches this pixel: the capture then describes that light, not the sun.
+bool gLocalJudged = false;
 
 vec3 shadowCoord(int c, vec3 p) {
     vec4 s = uShadowMatrix[c] * vec4(p, 1.0);
@@ -98,8 +101,8 @@ bool insideMap(vec3 s, float margin) {
            s.z >= 0.0 && s.z <= 1.0;
 }
 
-// 1 lit .. 0 shadowed. `p` camera-relative, `n` the unit surface normal.
-float shadowVisibility(vec3 p, vec3 n) {
+// The sun's visibility, recording what the capture and the cascade tint show.
+float sunShadowVisibility(vec3 p, vec3 n) {
     gShadowVisibility = 1.0;
     gShadowCascade = -1;
     gShadowTexelRatio = 0.0;
@@ -149,6 +152,19 @@ float shadowVisibility(vec3 p, vec3 n) {
     return v;
 }
 
+// 1 lit .. 0 shadowed. `p` camera-relative, `n` the unit surface normal. While a local light is
+// judged, the sun's record is left as the local light's shadow set it.
+float shadowVisibility(vec3 p, vec3 n) {
+    if (uShadowView.z < 0.0) return sunShadowVisibility(p, n);
+    float v0 = gShadowVisibility, r0 = gShadowTexelRatio;
+    int c0 = gShadowCascade;
+    float v = sunShadowVisibility(p, n);
+    gShadowVisibility = v0;
+    gShadowTexelRatio = r0;
+    gShadowCascade = c0;
+    return v;
+}
+
 // The lit colour, or what debug.view / the shadow capture asks for instead.
 vec4 shadowOutput(vec4 color) {
     int mode = int(uShadowMapInfo.w);
@@ -158,6 +174,8 @@ vec4 shadowOutput(vec4 color) {
         vec3 t = gShadowCascade == -1 ? vec3(1, 1, 0) : tint[max(gShadowCascade, 0)];
         return vec4(color.rgb * 0.35 + t * (0.15 + 0.5 * gShadowVisibility), color.a);
     }
+    if (mode == 2 && uShadowView.z >= 0.0) // capture of a point or spot light: visibility, 0
+        return gLocalJudged ? vec4(gShadowVisibility, 0.0, 0.0, 1.0) : vec4(-1, -1, 0, 1);
     if (mode == 2) // capture: visibility (-1: not classified), cascade, texel/pixel ratio
         return gShadowCascade == -2 ? vec4(-1, -1, 0, 1)
                                     : vec4(gShadowVisibility, float(gShadowCascade), gShadowTexelRatio, 1.0);

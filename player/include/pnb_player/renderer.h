@@ -50,6 +50,8 @@ struct FrameStats {
     uint32_t gpuReadbacks = 0; // GPU->CPU reads that wait for the GPU (captures only)
     // Light clusters (lights.*): tiles x slices this frame; 0 when every pixel shaded every light.
     uint32_t lightClusters = 0;
+    // Point and spot light shadows: tiles in use and tiles drawn this frame (cached ones are not).
+    uint32_t localShadowTiles = 0, localShadowTilesDrawn = 0;
 };
 
 struct TargetMemory {
@@ -63,9 +65,12 @@ struct TargetMemory {
     uint64_t shadowBufferBytes = 0; // SDSM state, GPU-written block, masks, indirect draws
     uint64_t giBytes = 0;           // RSM, light and geometry volumes, injection buffers
     uint64_t iblBytes = 0;          // the sky-visibility height map (ibl.visibility = height)
+    uint64_t localShadowBytes = 0;  // point and spot light shadow atlas (D32F side^2), 0 if none
+    uint64_t lightClusterBytes = 0; // light cluster masks, 0 while every pixel shades every light
     uint64_t total() const {
         return gbufferBytes + depthBytes + hdrBytes + outputBytes + debugBytes + streamingBytes +
-               shadowMapBytes + shadowBufferBytes + giBytes + iblBytes;
+               shadowMapBytes + shadowBufferBytes + giBytes + iblBytes + localShadowBytes +
+               lightClusterBytes;
     }
 };
 

@@ -110,6 +110,13 @@ struct RenderSettings {
     float shadowNormalOffset = 1.0f; // texels
     float shadowSlopeBias = 1.0f;    // texels per unit of tan(angle to the light)
     SdsmPartition sdsmPartition = SdsmPartition::Log;
+    // Point and spot light shadows (docs/PLAYER.md "Local-light shadows").
+    bool shadowLocal = true;            // shadows.local
+    uint32_t shadowLocalLights = 16;    // shadows.local_lights: the largest on screen get tiles
+    uint32_t shadowLocalAtlas = 2048;   // shadows.local_atlas: the atlas side (the memory budget)
+    uint32_t shadowLocalMaxTile = 1024; // shadows.local_max_tile: largest tile side
+    bool shadowLocalCache = true;       // shadows.local_cache: redraw only tiles that changed
+    int32_t shadowJudgedLight = -1;     // shadows.judged_light: the light captures describe
 
     // gi.*: one-bounce diffuse indirect light from the sun through cascaded Light Propagation
     // Volumes (seed 004; see settings.cpp and docs/PLAYER.md "Global illumination").

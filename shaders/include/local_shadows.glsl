@@ -1,0 +1,60 @@
+// local_shadows.glsl — point and spot light shadows from the player's atlas (player/src/
+// local_shadows.h): a spot light's tile, or the cube face of a point light's six that holds the
+// direction to the point, read with the sun's filter settings (shadows.filter, taps, radius: PCF
+// over a rotated Vogel disk of 2x2 hardware-compared taps; pcss falls back to that PCF) and the
+// sun's receiver offsets, which are in texels: in world units a texel at distance d from the
+// light is d x rect.w, so the offsets follow each tile's resolution as the sun's follow each
+// cascade's.
+// Compiled in with SHADOWS, after shadow_sampling.glsl.
+#ifndef PNB_LOCAL_SHADOWS_GLSL
+#define PNB_LOCAL_SHADOWS_GLSL
+
+struct LocalShadowTile {
+    mat4 matrix; // camera-relative world -> tile clip (reversed-Z: the light's near plane at 1)
+    vec4 rect;   // atlas u0, v0, uv size, world size of one texel per unit of distance
+};
+
+layout(std430, binding = 9) readonly buffer LocalShadows {
+    vec4 uLocalShadowAtlas; // 1 / atlas side
+    LocalShadowTile uLocalShadowTiles[];
+};
+
+layout(binding = 10) uniform sampler2DShadow uLocalShadowMap;
+
+// 1 lit .. 0 shadowed, for the light whose tiles start at `firstTile`. `lightPosition` and `p`
+// camera-relative, `n` the unit normal, `l` the unit vector to the light, `cube`: six faces.
+float localShadowVisibility(int firstTile, bool cube, vec3 lightPosition, vec3 p, vec3 n, vec3 l) {
+    float ndotl = dot(n, l);
+    if (ndotl <= 0.0) return 0.0; // facing away: the BRDF is zero anyway
+    vec3 fromLight = p - lightPosition;
+    int tile = firstTile;
+    if (cube) { // the face whose axis is the largest component: +x, -x, +y, -y, +z, -z
+        vec3 a = abs(fromLight);
+        int face = a.x >= a.y && a.x >= a.z ? (fromLight.x > 0.0 ? 0 : 1)
+                 : a.y >= a.z               ? (fromLight.y > 0.0 ? 2 : 3)
+                                            : (fromLight.z > 0.0 ? 4 : 5);
+        tile += face;
+    }
+    LocalShadowTile t = uLocalShadowTiles[tile];
+    float texelWorld = length(fromLight) * t.rect.w;
+    float tanTheta = min(sqrt(max(1.0 - ndotl * ndotl, 0.0)) / max(ndotl, 1e-3), 10.0);
+    vec3 q = p + n * (uShadowBias.x * texelWorld) + l * (uShadowBias.y * texelWorld * tanTheta);
+    vec4 c = t.matrix * vec4(q, 1.0);
+    if (c.w <= 0.0) return 1.0; // behind the light's plane (cannot be: the faces cover all)
+    vec3 s = c.xyz / c.w;
+    vec2 texel = vec2(uLocalShadowAtlas.x);
+    vec2 lo = t.rect.xy + texel, hi = t.rect.xy + t.rect.z - texel; // taps stay in the tile
+    vec2 uv = t.rect.xy + (s.xy * 0.5 + 0.5) * t.rect.z;
+    int taps = int(uShadowParams.y) == 0 ? 1 : int(uShadowParams.z);
+    float radius = uShadowParams.w;
+    if (taps <= 1 || radius <= 0.0) return texture(uLocalShadowMap, vec3(clamp(uv, lo, hi), s.z));
+    float angle = 6.28318531 * interleavedGradientNoise(gl_FragCoord.xy);
+    float sum = 0.0;
+    for (int i = 0; i < taps; ++i) {
+        vec2 tap = uv + diskTap(i, taps, angle) * radius * texel;
+        sum += texture(uLocalShadowMap, vec3(clamp(tap, lo, hi), s.z));
+    }
+    return sum / float(taps);
+}
+
+#endif
