@@ -1498,9 +1498,10 @@ gltf::Document buildLampRoom() {
         addNode(doc, meshNode("table", addMesh(doc, boxMesh("table", wood, table)))),
     };
 
-    // The spot: near the ceiling above the camera's side, aimed down past both boxes at about
-    // 50 degrees below the horizontal; cone 25/38 degrees. At the boxes (about 4 m) it gives
-    // ~2 lux on the floor: a radiance of ~0.35 on 0.55 albedo at exposure 1 (albedo / pi x E).
+    // The spot: near the ceiling by the left wall, aimed down at the boxes at about 40 degrees
+    // below the horizontal, so their shadows fall across the camera's view (towards +X), not
+    // behind them; cone 25/38 degrees. Where its axis meets the floor (3.8 m) it gives ~2 lux:
+    // a radiance of ~0.35 on 0.55 albedo at exposure 1 (albedo / pi x E).
     // Light indices follow the nodes: the spot is light 0, the point light 1 (in the .glb, and in
     // the container, where the converter appends its default-sun after them).
     doc.lights.push_back({.name = "spot-lamp",
@@ -1512,13 +1513,13 @@ gltf::Document buildLampRoom() {
                           .outerConeRadians = radians(38)});
     Node spot;
     spot.name = "spot-lamp";
-    spot.translation = {1.6f, 2.85f, 1.6f};
-    spot.rotation = gltf::lookRotation(Float3{-0.4f, 0.3f, -0.7f} - spot.translation);
+    spot.translation = {-3.0f, 2.85f, -0.5f};
+    spot.rotation = gltf::lookRotation(Float3{-0.2f, 0.3f, -0.6f} - spot.translation);
     spot.light = int32_t(doc.lights.size() - 1);
     children.push_back(addNode(doc, std::move(spot)));
-    // The point light: 2.1 m up between the pillar and the crate, so the pillar's shadow runs
-    // across the floor onto the left wall and the crate's onto the floor behind it (~2.7 lux
-    // straight below it).
+    // The point light: 2.2 m up in front of the pillar, so the pillar's shadow runs across the
+    // floor and up the back wall and the boxes' towards the back right (~2.5 lux straight below
+    // it; its 8 m range leaves the far right corner unlit).
     doc.lights.push_back({.name = "bulb",
                           .type = gltf::LightType::Point,
                           .color = {1.0f, 0.85f, 0.65f},
@@ -1526,7 +1527,7 @@ gltf::Document buildLampRoom() {
                           .range = 8.0f});
     Node bulb;
     bulb.name = "bulb";
-    bulb.translation = {-1.2f, 2.1f, 1.4f};
+    bulb.translation = {-2.2f, 2.2f, 2.4f};
     bulb.light = int32_t(doc.lights.size() - 1);
     children.push_back(addNode(doc, std::move(bulb)));
     // From the front right corner, looking across the room at the boxes.

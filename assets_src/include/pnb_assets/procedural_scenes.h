@@ -192,8 +192,8 @@ gltf::Document buildAtrium();
 // lamp-room: a closed 8 x 3 x 6 m room (x in [-4, 4], y in [0, 3], z in [-3, 3]; floor,
 // ceiling, four walls facing in, no opening), a crate, a tall box, a floor-to-ceiling pillar and
 // a table on four legs, lit by light 0, a spot ("spot-lamp": 60 cd, range 10 m, cone 25/38
-// degrees, near the ceiling aimed down at the boxes) and light 1, a point light ("bulb": 12 cd,
-// range 8 m, 2.1 m up between the pillar and the crate). No directional light: the converter
+// degrees, near the ceiling by the left wall aimed down at the boxes) and light 1, a point light
+// ("bulb": 12 cd, range 8 m, 2.2 m up in front of the pillar). No directional light: the converter
 // adds its generated default-sun, which cannot enter. One camera ("corner-camera") in the front
 // right corner looking across at the boxes. Lit floor and walls reach radiances of ~0.1-0.6 at
 // lighting.exposure 1. No randomness.
