@@ -72,7 +72,7 @@ double rangeAttenuation(double distanceSquared, double range) {
     return window * window * inverseSquare;
 }
 
-// shaders/include/lights.glsl shadeLights' spot term (t = clamp((cd - cone.x) * cone.y, 0, 1),
+// shaders/include/lights.glsl's spot term (t = clamp((cd - cone.x) * cone.y, 0, 1),
 // cone.y = 1 / max(cos(inner) - cos(outer), 1e-4) as renderer.cpp fills it), squared.
 double spotConeFactor(double cosAngle, double cosOuter, double cosInner) {
     const double t =
