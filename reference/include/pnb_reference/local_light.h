@@ -48,10 +48,10 @@ struct LocalLight {
 // LGHT chunk, a directional light, a light no node references (it has no position).
 TracerResult<LocalLight> placeLocalLight(const Scene& scene, uint32_t index);
 
-// lights.glsl's falloff, on the CPU. These must equal shaders/include/lights.glsl (rangeAttenuation
-// and its spot term, where a light is shaded) formula for formula, constants included (in double here, float
-// there); a change there is a change here (tests/reference/local_light_test.cpp checks
-// hand-computed values).
+// lights.glsl's falloff, on the CPU. These must equal shaders/include/lights.glsl
+// (rangeAttenuation and its spot term, where a light is shaded) formula for formula, constants
+// included (in double here, float there); a change there is a change here
+// (tests/reference/local_light_test.cpp checks hand-computed values).
 //   rangeAttenuation: window^2 / max(d^2, 1e-4), window = clamp(1 - (d^2 / range^2)^2, 0, 1);
 //                     range <= 0: the inverse square alone.
 //   spotConeFactor:   t^2, t = clamp((cosAngle - cosOuter) / max(cosInner - cosOuter, 1e-4), 0, 1).
