@@ -159,10 +159,14 @@ json cameraJson(const Camera& c) {
 }
 
 json lightJson(const Light& l) {
-    json j = {{"type", l.type == LightType::Directional ? "directional" : "point"},
-              {"color", arr(l.color)},
-              {"intensity", num(l.intensity)}};
-    if (l.type == LightType::Point && l.range > 0) j["range"] = num(l.range);
+    const char* type = l.type == LightType::Directional ? "directional"
+                       : l.type == LightType::Point     ? "point"
+                                                        : "spot";
+    json j = {{"type", type}, {"color", arr(l.color)}, {"intensity", num(l.intensity)}};
+    if (l.type != LightType::Directional && l.range > 0) j["range"] = num(l.range);
+    if (l.type == LightType::Spot)
+        j["spot"] = {{"innerConeAngle", num(l.innerConeRadians)},
+                     {"outerConeAngle", num(l.outerConeRadians)}};
     if (!l.name.empty()) j["name"] = l.name;
     return j;
 }
@@ -239,9 +243,16 @@ std::string validateDocument(const Document& doc) {
             (c.zfar != 0 && !(c.zfar > c.znear)) || !(c.aspectRatio >= 0))
             return bad("camera", i, "invalid projection");
     }
-    for (size_t i = 0; i < doc.lights.size(); ++i)
-        if (!(doc.lights[i].intensity >= 0) || !(doc.lights[i].range >= 0))
+    for (size_t i = 0; i < doc.lights.size(); ++i) {
+        const Light& l = doc.lights[i];
+        if (!(l.intensity >= 0) || !(l.range >= 0))
             return bad("light", i, "negative intensity or range");
+        // KHR_lights_punctual: 0 <= innerConeAngle < outerConeAngle <= pi/2.
+        if (l.type == LightType::Spot &&
+            !(l.innerConeRadians >= 0 && l.innerConeRadians < l.outerConeRadians &&
+              l.outerConeRadians <= 1.5707964f))
+            return bad("light", i, "spot cone angles outside 0 <= inner < outer <= pi/2");
+    }
     std::vector<int> parents(doc.nodes.size(), 0);
     for (size_t i = 0; i < doc.nodes.size(); ++i) {
         const Node& n = doc.nodes[i];

@@ -10,6 +10,7 @@
 //   [SECTION] grazing-plane
 //   [SECTION] load-test
 //   [SECTION] light-field
+//   [SECTION] lamp-room
 //   [SECTION] Registry
 //
 // Based on: M. E. O'Neill, "PCG: A Family of Simple Fast Space-Efficient Statistically Good
@@ -1426,6 +1427,117 @@ gltf::Document buildLightField(const LightFieldOptions& o) {
     return doc;
 }
 
+// [SECTION] lamp-room ---------------------------------------------------------------------------
+
+gltf::Document buildLampRoom() {
+    Document doc;
+    doc.sceneName = "lamp-room";
+    // A closed 8 x 3 x 6 m room (x in [-4, 4], y in [0, 3], z in [-3, 3]): no opening, so no sun
+    // can enter (the converter's generated default-sun lights the outside only) and every lit
+    // pixel is lit by the two local lights.
+    const uint32_t wall = addMaterial(doc, makeMaterial("plaster", {0.72f, 0.72f, 0.70f}, 0.9f));
+    const uint32_t floorMaterial =
+        addMaterial(doc, makeMaterial("floorboards", {0.55f, 0.50f, 0.45f}, 0.8f));
+    const uint32_t crate = addMaterial(doc, makeMaterial("crate", {0.70f, 0.45f, 0.25f}, 0.7f));
+    const uint32_t blue = addMaterial(doc, makeMaterial("blue-box", {0.30f, 0.42f, 0.70f}, 0.6f));
+    const uint32_t stone = addMaterial(doc, makeMaterial("pillar", {0.65f, 0.65f, 0.62f}, 0.8f));
+    const uint32_t wood = addMaterial(doc, makeMaterial("table-wood", {0.45f, 0.30f, 0.18f}, 0.6f));
+
+    Mesh room;
+    room.name = "room";
+    const Float3 X{8, 0, 0}, Y{0, 3, 0}, Z{0, 0, 6}, lo{-4, 0, -3};
+    struct Wall {
+        uint32_t material;
+        Float3 origin, u, v; // inward normal u x v
+    };
+    const Wall walls[] = {
+        {floorMaterial, lo, Z, X}, // floor, +Y
+        {wall, lo + Y, X, Z},      // ceiling, -Y
+        {wall, lo, X, Y},          // back (z = -3), +Z
+        {wall, lo + Z, Y, X},      // front (z = 3), -Z
+        {wall, lo, Y, Z},          // left (x = -4), +X
+        {wall, lo + X, Z, Y},      // right (x = 4), -X
+    };
+    for (const Wall& w : walls) {
+        Primitive p;
+        p.material = w.material;
+        addGrid(p, w.origin, w.u, w.v, 1, 1, false);
+        room.primitives.push_back(std::move(p));
+    }
+
+    auto boxMesh = [&](std::string name, uint32_t material, const std::vector<Box>& parts) {
+        Mesh m;
+        m.name = std::move(name);
+        m.primitives.resize(1);
+        m.primitives[0].material = material;
+        for (const Box& b : parts)
+            addBox(m.primitives[0], m.primitives[0], b.lo, b.hi, {}, false);
+        return m;
+    };
+    // Table: a 1.2 x 0.8 m top at 0.72-0.78 m on four 6 cm legs, in the back right corner.
+    const float tx0 = 1.6f, tx1 = 2.8f, tz0 = -2.4f, tz1 = -1.6f, leg = 0.06f, inset = 0.05f;
+    std::vector<Box> table = {{{tx0, 0.72f, tz0}, {tx1, 0.78f, tz1}}};
+    for (float x : {tx0 + inset, tx1 - inset - leg})
+        for (float z : {tz0 + inset, tz1 - inset - leg})
+            table.push_back({{x, 0, z}, {x + leg, 0.72f, z + leg}});
+
+    Node root;
+    root.name = "lamp-room";
+    const uint32_t rootNode = addNode(doc, std::move(root));
+    std::vector<uint32_t> children = {
+        addNode(doc, meshNode("room", addMesh(doc, std::move(room)))),
+        addNode(doc, meshNode("crate",
+                              addMesh(doc, boxMesh("crate", crate,
+                                                   {{{-1.4f, 0, -1.2f}, {-0.6f, 0.8f, -0.4f}}})))),
+        addNode(doc, meshNode("tall-box",
+                              addMesh(doc, boxMesh("tall-box", blue,
+                                                   {{{0.3f, 0, -0.7f}, {0.9f, 1.3f, -0.1f}}})))),
+        addNode(doc, meshNode("pillar",
+                              addMesh(doc, boxMesh("pillar", stone,
+                                                   {{{-2.65f, 0, 0.85f}, {-2.35f, 3, 1.15f}}})))),
+        addNode(doc, meshNode("table", addMesh(doc, boxMesh("table", wood, table)))),
+    };
+
+    // The spot: near the ceiling by the left wall, aimed down at the boxes at about 40 degrees
+    // below the horizontal, so their shadows fall across the camera's view (towards +X), not
+    // behind them; cone 25/38 degrees. Where its axis meets the floor (3.8 m) it gives ~2 lux:
+    // a radiance of ~0.35 on 0.55 albedo at exposure 1 (albedo / pi x E).
+    // Light indices follow the nodes: the spot is light 0, the point light 1 (in the .glb, and in
+    // the container, where the converter appends its default-sun after them).
+    doc.lights.push_back({.name = "spot-lamp",
+                          .type = gltf::LightType::Spot,
+                          .color = {1.0f, 0.92f, 0.80f},
+                          .intensity = 60.0f,
+                          .range = 10.0f,
+                          .innerConeRadians = radians(25),
+                          .outerConeRadians = radians(38)});
+    Node spot;
+    spot.name = "spot-lamp";
+    spot.translation = {-3.0f, 2.85f, -0.5f};
+    spot.rotation = gltf::lookRotation(Float3{-0.2f, 0.3f, -0.6f} - spot.translation);
+    spot.light = int32_t(doc.lights.size() - 1);
+    children.push_back(addNode(doc, std::move(spot)));
+    // The point light: 2.2 m up in front of the pillar, so the pillar's shadow runs across the
+    // floor and up the back wall and the boxes' towards the back right (~2.5 lux straight below
+    // it; its 8 m range leaves the far right corner unlit).
+    doc.lights.push_back({.name = "bulb",
+                          .type = gltf::LightType::Point,
+                          .color = {1.0f, 0.85f, 0.65f},
+                          .intensity = 12.0f,
+                          .range = 8.0f});
+    Node bulb;
+    bulb.name = "bulb";
+    bulb.translation = {-2.2f, 2.2f, 2.4f};
+    bulb.light = int32_t(doc.lights.size() - 1);
+    children.push_back(addNode(doc, std::move(bulb)));
+    // From the front right corner, looking across the room at the boxes.
+    children.push_back(addCamera(doc, "corner-camera", {3.6f, 2.1f, 2.6f},
+                                 Float3{-0.8f, 0.6f, -0.8f} - Float3{3.6f, 2.1f, 2.6f}, radians(70),
+                                 16.0f / 9.0f, 0.05f, 50.0f));
+    doc.nodes[rootNode].children = std::move(children);
+    return doc;
+}
+
 // [SECTION] Registry ----------------------------------------------------------------------------
 
 namespace {
@@ -1446,6 +1558,9 @@ constexpr ProceduralScene kScenes[] = {
     {"wide-flat", "a 100 km ground with 1 m blocks: 10^5 x wider than tall (extremes)"},
     {"atrium", "walled courtyard open to the sky: arcade of columns and arches, upper gallery, "
                "red banner, thin partition (GI: bounce light, bleeding, leaks)"},
+    {"lamp-room",
+     "closed 8x3x6 m room, boxes, pillar and table lit by one spot and one point light "
+     "(no sun gets in): local-light shadows"},
 };
 
 uint32_t sqrtRound(double v) {
@@ -1515,6 +1630,7 @@ std::optional<gltf::Document> buildProceduralScene(std::string_view name,
     if (name == "one-triangle") return buildOneTriangle();
     if (name == "wide-flat") return buildWideFlat({});
     if (name == "atrium") return buildAtrium();
+    if (name == "lamp-room") return buildLampRoom();
     return std::nullopt;
 }
 

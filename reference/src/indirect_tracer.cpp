@@ -21,6 +21,7 @@
 #include "mesh_decode.h"
 #include "pnb/light_range.h"
 #include "pnb/node_transform.h"
+#include "pnb_reference/local_light.h"
 #include "self_intersection.h"
 #include "texture_decode.h"
 #include "triangle_scene.h"
@@ -50,17 +51,8 @@ struct LightInfo {
     glm::vec3 position{0.0f};   // origin-relative
     glm::vec3 toward{0.0f, 1.0f, 0.0f}; // directional: toward the light
     glm::vec3 travel{0.0f, -1.0f, 0.0f}; // spot: the direction it shines in
-    float range = 0, cosOuter = 0, coneScale = 1;
+    float range = 0, cosOuter = 0, cosInner = 1;
 };
-
-// lights.glsl's rangeAttenuation.
-float rangeAttenuation(float d2, float range) {
-    float inverseSquare = 1.0f / std::max(d2, 1e-4f);
-    if (range <= 0.0f) return inverseSquare;
-    float r = d2 / (range * range);
-    float window = std::clamp(1.0f - r * r, 0.0f, 1.0f);
-    return window * window * inverseSquare;
-}
 
 } // namespace
 
@@ -130,7 +122,7 @@ TracerResult<std::unique_ptr<IndirectTracer>> IndirectTracer::build(const Scene&
         info.toward = -info.travel;
         info.range = pnb::effectiveLightRange(l); // as the player shades it (pnb/light_range.h)
         info.cosOuter = std::cos(l.outerConeRadians);
-        info.coneScale = 1.0f / std::max(std::cos(l.innerConeRadians) - info.cosOuter, 1e-4f);
+        info.cosInner = std::cos(l.innerConeRadians);
         if (l.type == LightType::Directional) {
             if (impl.sun < 0 && l.castsShadows) impl.sun = int(impl.lights.size());
             if (firstDirectional < 0) firstDirectional = int(impl.lights.size());
@@ -288,12 +280,11 @@ void IndirectTracer::irradiance(std::span<const glm::vec3> positions, std::span<
                     glm::vec3 d = l.position - hitPosition[k];
                     float d2 = glm::dot(d, d);
                     toLight = d2 > 0.0f ? d / std::sqrt(d2) : glm::vec3(0, 0, 1);
-                    attenuation = rangeAttenuation(d2, l.range);
-                    if (l.type == LightType::Spot) {
-                        float cd = glm::dot(l.travel, -toLight);
-                        float t = std::clamp((cd - l.cosOuter) * l.coneScale, 0.0f, 1.0f);
-                        attenuation *= t * t;
-                    }
+                    // lights.glsl's falloff (local_light.h).
+                    attenuation = float(rangeAttenuation(d2, l.range));
+                    if (l.type == LightType::Spot)
+                        attenuation *= float(
+                            spotConeFactor(glm::dot(l.travel, -toLight), l.cosOuter, l.cosInner));
                 }
                 float cosine = std::max(0.0f, glm::dot(hitNormal[k], toLight));
                 contribution[k] += hitAlbedo[k] * l.radiance * (attenuation * cosine);

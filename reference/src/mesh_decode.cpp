@@ -81,6 +81,11 @@ std::string nodeName(const Scene& scene, uint32_t node) {
     return "node " + std::to_string(node) + (name.empty() ? "" : " '" + name + "'");
 }
 
+std::string lightName(const Scene& scene, uint32_t light) {
+    std::string name = nameOf(scene, scene.lights.lights[light].name);
+    return "light " + std::to_string(light) + (name.empty() ? "" : " '" + name + "'");
+}
+
 // As FORMAT.md §4.3 specifies and the player's vertex shader applies (F32 Plain streams have
 // scale 1, offset 0). Missing components read as 0 (w as 1), as GL's vertex fetch does.
 TracerResult<std::vector<glm::dvec4>> decodeStream(const Scene& scene, uint32_t meshIndex,

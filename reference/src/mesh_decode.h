@@ -13,9 +13,11 @@
 
 namespace pnb::reference::detail {
 
-// "mesh 3 'floor'", "node 7 'lamp'": names for error messages ("" names are left out).
+// "mesh 3 'floor'", "node 7 'lamp'", "light 1 'bulb'": names for error messages ("" names are
+// left out).
 std::string meshName(const Scene& scene, uint32_t mesh);
 std::string nodeName(const Scene& scene, uint32_t node);
+std::string lightName(const Scene& scene, uint32_t light);
 
 // The stream `semantic` of `mesh` as values the vertex shader sees: stored (normalised if so
 // flagged) * dequantScale + dequantOffset (x, y, z; w as stored), missing components 0 (w 1).

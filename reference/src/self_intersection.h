@@ -19,13 +19,19 @@ struct TraceContext {
     glm::dvec3 eye{0.0};        // origin-relative camera the query points were reconstructed for
     double fixedBand = 0;       // the bands common to every hit of the call: kVertexRelativeError
                                 // x |eye| + kWorldRelativeError x the largest world magnitude
+    // Segments to a point light (ShadowTracer::visibilityToPoint): the ray's direction ends at
+    // the light (t = 1), whose own error band is lightBand (kPointRelativeError x its distance
+    // from the eye). Negative: rays to infinity, no far end.
+    double lightBand = -1;
 };
 
 // Occlusion filter: rejects a hit on the query point's own surface. The point lies on the hit
 // triangle (up to the errors of both) when its distance to the triangle's plane, t |dir . Ng| /
 // |Ng|, is within the point's error band plus the triangle's; then the hit is the surface the
 // point was taken from (or one meeting it there, as a wall meets the ground), not an occluder.
-// Everything is relative to magnitudes of the scene, so the test is invariant to the unit.
+// For a segment to a point light the same test at the light's end rejects a surface the light
+// sits on. Everything is relative to magnitudes of the scene, so the test is invariant to the
+// unit.
 inline void rejectOwnSurface(const RTCFilterFunctionNArguments* args) {
     const auto& context = *reinterpret_cast<const TraceContext*>(args->context);
     const auto& tolerance = *static_cast<const std::vector<float>*>(args->geometryUserPtr);
@@ -43,9 +49,17 @@ inline void rejectOwnSurface(const RTCFilterFunctionNArguments* args) {
         const double ngLength = glm::length(ng);
         const double distanceToPlane =
             ngLength > 0 ? t * std::fabs(glm::dot(dir, ng)) / ngLength : 0.0; // dir need not be unit
-        const double band = kPointRelativeError * glm::length(org - context.eye) +
-                            double(tolerance[RTCHitN_primID(hit, args->N, i)]) + context.fixedBand;
+        const double triangleBand =
+            double(tolerance[RTCHitN_primID(hit, args->N, i)]) + context.fixedBand;
+        const double band = kPointRelativeError * glm::length(org - context.eye) + triangleBand;
         if (distanceToPlane <= band) args->valid[i] = 0;
+        // The same at the segment's far end: a surface through the light (a lamp set into a
+        // ceiling, a light on a wall) is where the light is, not between it and the point. The
+        // light's distance to the plane is (1 - t) |dir . Ng| / |Ng| (dir runs from the point
+        // to the light), whatever the angle the segment meets the plane at.
+        if (context.lightBand >= 0 && ngLength > 0 &&
+            (1.0 - t) * std::fabs(glm::dot(dir, ng)) / ngLength <= context.lightBand + triangleBand)
+            args->valid[i] = 0;
     }
 }
 

@@ -105,22 +105,30 @@ std::vector<glm::vec3> normalsFromPositions(std::span<const glm::vec3> positions
     return out;
 }
 
-std::vector<float> lambertWeights(std::span<const glm::vec3> normals,
-                                  std::span<const glm::vec3> fallback, glm::vec3 towardLight) {
+std::vector<glm::vec3> weightNormals(std::span<const glm::vec3> normals,
+                                     std::span<const glm::vec3> fallback) {
     const size_t n = std::max(normals.size(), fallback.size());
-    const glm::vec3 l = glm::normalize(towardLight);
     auto usable = [](glm::vec3 v) {
         const float length = glm::length(v);
         return std::isfinite(length) && length > 0.0f;
     };
-    std::vector<float> out(n, 0.0f);
+    std::vector<glm::vec3> out(n, glm::vec3(0.0f));
     for (size_t i = 0; i < n; ++i) {
-        glm::vec3 nrm(0.0f);
-        if (i < normals.size() && usable(normals[i])) nrm = normals[i];
-        else if (i < fallback.size() && usable(fallback[i])) nrm = fallback[i];
-        else continue;
-        out[i] = std::max(0.0f, glm::dot(glm::normalize(nrm), l));
+        if (i < normals.size() && usable(normals[i]))
+            out[i] = glm::normalize(normals[i]);
+        else if (i < fallback.size() && usable(fallback[i]))
+            out[i] = glm::normalize(fallback[i]);
     }
+    return out;
+}
+
+std::vector<float> lambertWeights(std::span<const glm::vec3> normals,
+                                  std::span<const glm::vec3> fallback, glm::vec3 towardLight) {
+    const glm::vec3 l = glm::normalize(towardLight);
+    std::vector<glm::vec3> chosen = weightNormals(normals, fallback);
+    std::vector<float> out(chosen.size(), 0.0f);
+    for (size_t i = 0; i < chosen.size(); ++i)
+        out[i] = std::max(0.0f, glm::dot(chosen[i], l));
     return out;
 }
 

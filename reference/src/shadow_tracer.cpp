@@ -279,6 +279,7 @@ void ShadowTracer::trace(std::span<const glm::vec3> positions, glm::vec3 towardL
         context.embree.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT; // neighbouring pixels, one direction
         context.eye = eye;
         context.fixedBand = kVertexRelativeError * glm::length(eye) + mWorldBand;
+        if (point) context.lightBand = kPointRelativeError * glm::length(glm::dvec3(*point) - eye);
         for (size_t first = begin; first < end; first += kPacket) {
             // The manual requires the packet aligned to 64 bytes; Embree's AVX-512 path also
             // reads the valid mask with an aligned 64-byte load, so a mask that happens to sit
@@ -313,10 +314,17 @@ void ShadowTracer::trace(std::span<const glm::vec3> positions, glm::vec3 towardL
                 ray.tnear[lane] = float(kPointRelativeError * glm::length(glm::dvec3(p) - eye));
                 if (point) { // a segment to the light: the direction is not normalised, t = 1 at it
                     const glm::vec3 d = *point - p;
+                    const double length = glm::length(glm::dvec3(d));
+                    if (!(length > 0.0)) { // the point is the light: nothing lies between
+                        out[i] = 1.0f;
+                        continue;
+                    }
                     ray.dir_x[lane] = d.x, ray.dir_y[lane] = d.y, ray.dir_z[lane] = d.z;
-                    const float length = glm::length(d);
-                    ray.tnear[lane] = length > 0.0f ? ray.tnear[lane] / length : 0.0f;
-                    ray.tfar[lane] = 1.0f;
+                    ray.tnear[lane] = float(double(ray.tnear[lane]) / length);
+                    // The segment stops short of the light by the light's own error band, as it
+                    // starts past the point's (tnear): a hit there cannot be told from the
+                    // light's position. The filter also rejects surfaces through the light.
+                    ray.tfar[lane] = float(1.0 - context.lightBand / length);
                 }
                 valid[lane] = -1;
                 any = true;

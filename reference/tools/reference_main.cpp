@@ -6,7 +6,9 @@
 // also the one-bounce and sky-light irradiance truths (and their comparison with the player's
 // indirect.exr, sky.exr). The work is the pnb_reference library (ShadowTracer, IndirectTracer,
 // SkyTracer, compareShadow, compareIndirect, texelRatioByCascade); this file is the image and
-// JSON I/O around it. The input contract is docs/REFERENCE.md.
+// JSON I/O around it. The input contract is docs/REFERENCE.md. frame.json's optional
+// "shadow_light_index" K makes the judged light LGHT light K, a point or spot light placed by its
+// node (local_light.h), instead of the directional light of "toward_light".
 //
 // Exit codes: 0 ok, 1 usage, 2 input error (missing or malformed file; the message names it),
 // 3 unsupported scene data, 4 output error, 5 Embree failure.
@@ -14,6 +16,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
@@ -33,6 +36,7 @@
 #include "pnb/scene.h"
 #include "pnb_reference/indirect_metrics.h"
 #include "pnb_reference/indirect_tracer.h"
+#include "pnb_reference/local_light.h"
 #include "pnb_reference/shadow_metrics.h"
 #include "pnb_reference/shadow_tracer.h"
 #include "pnb_reference/sky_tracer.h"
@@ -159,12 +163,15 @@ bool optionMatches(const Option& o, const std::string& arg) {
 
 void printHelp() {
     std::printf(
-        "usage: pnb-reference SCENE.pnb --frame DIR [--prefix P] [--out DIR] [--indirect ...] [--sky ...] [-q]\n\n"
-        "Ray traces (Embree) the true visibility of the shadowing directional light for every\n"
-        "pixel of a frame dumped by `pnb-play --dump position,normal,shadow`, and compares the\n"
-        "player's shadow factor with it. Writes visibility.exr, visibility.png and metrics.json,\n"
-        "and shadow_diff.png when the frame has shadow.exr (and counts non-finite pixels of\n"
-        "hdr.exr when present). With --indirect, also the one-bounce diffuse irradiance\n"
+        "usage: pnb-reference SCENE.pnb --frame DIR [--prefix P] [--out DIR] [--indirect ...] "
+        "[--sky ...] [-q]\n\n"
+        "Ray traces (Embree) the true visibility of the shadowing light for every pixel of a\n"
+        "frame dumped by `pnb-play --dump position,normal,shadow` (the directional light of\n"
+        "frame.json's toward_light, or the point or spot light its shadow_light_index names),\n"
+        "and compares the player's shadow factor with it. Writes visibility.exr,\n"
+        "visibility.png and metrics.json, and shadow_diff.png when the frame has shadow.exr\n"
+        "(and counts non-finite pixels of hdr.exr when present). With --indirect, also the "
+        "one-bounce diffuse irradiance\n"
         "(Monte Carlo, with its standard error) and its comparison with the player's\n"
         "indirect.exr (`pnb-play --dump indirect`). With --sky, also the irradiance from the\n"
         "scene's environment (ENVM) with the scene hiding the sky, and its comparison with the\n"
@@ -182,7 +189,9 @@ void printHelp() {
 
 struct Frame {
     glm::dvec3 cameraPosition{0.0};
-    glm::vec3 towardLight{0.0f};
+    glm::vec3 towardLight{0.0f}; // the sun's; unused (and optional) with shadowLightIndex
+    // The judged light is LGHT light K, a point or spot light (optional key).
+    std::optional<uint32_t> shadowLightIndex;
     int width = 0, height = 0;
     // The player's environment settings, when the dump records them (optional keys).
     std::optional<double> iblRotationDegrees, iblIntensity;
@@ -219,14 +228,26 @@ Expected<Frame> readFrameJson(const std::string& path) {
     Frame f;
     double camera[3], light[3];
     if (auto e = vec3("camera_position", camera)) return *e;
-    if (auto e = vec3("toward_light", light)) return *e;
+    if (auto it = j.find("shadow_light_index"); it != j.end()) {
+        // An index into LGHT; whether it names a point or spot light is checked against the
+        // scene once it is read.
+        if (!it->is_number_integer() || it->get<int64_t>() < 0 ||
+            it->get<int64_t>() > int64_t(UINT32_MAX))
+            return fail("\"shadow_light_index\" must be an integer >= 0 (an index into the scene's "
+                        "lights), not " +
+                        it->dump());
+        f.shadowLightIndex = uint32_t(it->get<int64_t>());
+    }
     if (auto e = dimension("width", f.width)) return *e;
     if (auto e = dimension("height", f.height)) return *e;
     f.cameraPosition = {camera[0], camera[1], camera[2]};
-    glm::dvec3 l(light[0], light[1], light[2]);
-    double length = glm::length(l);
-    if (!(length > 1e-12)) return fail("\"toward_light\" must not be zero");
-    f.towardLight = glm::vec3(l / length);
+    if (!f.shadowLightIndex) { // the sun: its direction is the light
+        if (auto e = vec3("toward_light", light)) return *e;
+        glm::dvec3 l(light[0], light[1], light[2]);
+        double length = glm::length(l);
+        if (!(length > 1e-12)) return fail("\"toward_light\" must not be zero");
+        f.towardLight = glm::vec3(l / length);
+    }
     auto optionalNumber = [&](const char* key, std::optional<double>& out) -> std::optional<Failure> {
         auto it = j.find(key);
         if (it == j.end()) return std::nullopt;
@@ -328,6 +349,7 @@ constexpr Rgb8 kAgreeLit{200, 200, 200}, kAgreeShadow{96, 96, 96};
 constexpr Rgb8 kFalseShadow{230, 30, 30}; // red: player shadowed, truly lit
 constexpr Rgb8 kFalseLit{30, 200, 30};    // green: player lit, truly shadowed
 constexpr Rgb8 kCoverage{230, 0, 230};    // magenta: only one of the two has geometry
+constexpr Rgb8 kNotReached{64, 48, 80}; // dim violet: a local light does not reach it (not judged)
 
 void put(std::vector<uint8_t>& rgb, size_t pixel, Rgb8 c) {
     rgb[pixel * 3 + 0] = c.r;
@@ -593,6 +615,25 @@ int run(const Settings& settings) {
     auto scene = pnb::readScene(*container);
     if (!scene) return fail({kExitInput, settings.scene + ": " + scene.error().describe()});
 
+    // The judged light, when it is a point or spot light: placed by its node, relative to the eye
+    // (the origin of position.exr and of the tracer).
+    std::optional<pnb::reference::LocalLight> local;
+    glm::dvec3 localPosition{0.0};
+    if (frame->shadowLightIndex) {
+        auto placed = pnb::reference::placeLocalLight(*scene, *frame->shadowLightIndex);
+        if (!placed)
+            return fail({kExitInput, in + "frame.json: \"shadow_light_index\" " +
+                                         std::to_string(*frame->shadowLightIndex) + ": " +
+                                         placed.error().message + " in " + settings.scene});
+        local = std::move(*placed);
+        localPosition = local->position - frame->cameraPosition;
+        if (local->placementNodes > 1 && !settings.quiet)
+            std::fprintf(stderr,
+                         "Warning: %s is placed by %u nodes; judged where the first (node %u) "
+                         "puts it\n",
+                         local->name.c_str(), local->placementNodes, local->node);
+    }
+
     // Trace.
     auto tracer = ShadowTracer::build(*scene, frame->cameraPosition);
     if (!tracer) return fail(tracerFailure(settings.scene, tracer.error()));
@@ -604,7 +645,10 @@ int run(const Settings& settings) {
     }
     std::vector<float> visibility(pixels);
     auto traceStart = Clock::now();
-    (*tracer)->visibility(positions, frame->towardLight, visibility); // the eye is the origin
+    if (local)
+        (*tracer)->visibilityToPoint(positions, glm::vec3(localPosition), visibility);
+    else
+        (*tracer)->visibility(positions, frame->towardLight, visibility); // the eye is the origin
     const double rayMs = std::chrono::duration<double, std::milli>(Clock::now() - traceStart).count();
     uint64_t rays = 0, litPixels = 0, nonfiniteVerdicts = 0;
     for (size_t p = 0; p < pixels; ++p) {
@@ -621,6 +665,17 @@ int run(const Settings& settings) {
             nonfiniteImagePixels += !(std::isfinite(hdr->at(p, 0)) && std::isfinite(hdr->at(p, 1)) &&
                                       std::isfinite(hdr->at(p, 2)));
 
+    // Where a local light reaches and what it gives there (its binary metric counts those pixels,
+    // its weighted one weighs by that irradiance): the player's shading normal where it wrote one,
+    // else the normal of the positions themselves, as for the sun.
+    std::vector<glm::vec3> geometric;
+    if (local || shadow)
+        geometric = pnb::reference::normalsFromPositions(positions, frame->width, frame->height);
+    pnb::reference::LocalLightWeights reach;
+    if (local)
+        reach =
+            pnb::reference::localLightWeights(*local, localPosition, positions, normals, geometric);
+
     // Compare.
     std::vector<float> playerShadow, cascade, ratio;
     pnb::reference::ShadowErrorMetrics metrics;
@@ -634,13 +689,15 @@ int run(const Settings& settings) {
             cascade[p] = shadow->at(p, 1);
             ratio[p] = shadow->at(p, 2);
         }
-        // Irradiance weights: the player's shading normal where it wrote one, else the normal
-        // of the positions themselves.
-        const std::vector<glm::vec3> geometric =
-            pnb::reference::normalsFromPositions(positions, frame->width, frame->height);
-        const std::vector<float> weights =
-            pnb::reference::lambertWeights(normals, geometric, frame->towardLight);
-        metrics = pnb::reference::compareShadow(playerShadow, visibility, weights);
+        if (local) {
+            metrics = pnb::reference::compareLocalShadow(playerShadow, visibility, reach);
+        } else {
+            // Irradiance weights: the player's shading normal where it wrote one, else the normal
+            // of the positions themselves.
+            const std::vector<float> weights =
+                pnb::reference::lambertWeights(normals, geometric, frame->towardLight);
+            metrics = pnb::reference::compareShadow(playerShadow, visibility, weights);
+        }
         ratios = pnb::reference::texelRatioByCascade(cascade, ratio);
     }
 
@@ -663,7 +720,10 @@ int run(const Settings& settings) {
             const bool playerGeometry = std::isfinite(pv) && pv >= 0.0f,
                        referenceGeometry = std::isfinite(rv);
             Rgb8 c = kNoGeometry;
-            if (playerGeometry != referenceGeometry) c = kCoverage;
+            if (local && !reach.reached[p] && (playerGeometry || referenceGeometry))
+                c = kNotReached;
+            else if (playerGeometry != referenceGeometry)
+                c = kCoverage;
             else if (playerGeometry) {
                 const bool playerLit = pv >= pnb::reference::kLitThreshold, trulyLit = rv >= 0.5f;
                 c = playerLit == trulyLit ? (trulyLit ? kAgreeLit : kAgreeShadow)
@@ -686,6 +746,27 @@ int run(const Settings& settings) {
     j["reference"] = {{"pixels_with_geometry", rays},
                       {"lit_percent", rays ? 100.0 * double(litPixels) / double(rays) : 0.0},
                       {"nonfinite_verdicts", nonfiniteVerdicts}}; // at finite positions: a bug
+    if (local) {
+        const bool spot = local->type == pnb::LightType::Spot;
+        nlohmann::ordered_json light = {
+            {"index", local->index},
+            {"name", local->name},
+            {"type", spot ? "spot" : "point"},
+            {"node", local->node},
+            {"placement_nodes", local->placementNodes},
+            {"position", {local->position.x, local->position.y, local->position.z}},
+            {"intensity", local->intensity},
+            {"range", local->range},
+            {"range_from", local->ownRange ? "light" : "cutoff"},
+            {"casts_shadows", local->castsShadows}};
+        if (spot) {
+            light["direction"] = {local->direction.x, local->direction.y, local->direction.z};
+            light["cos_outer"] = local->cosOuter;
+            light["cos_inner"] = local->cosInner;
+        }
+        j["light"] = light;
+        j["reference"]["reached_pixels"] = reach.reachedCount;
+    }
     if (hdr) j["player_image"] = {{"nonfinite_pixels", nonfiniteImagePixels}};
     if (shadow) {
         j["shadow"] = {{"pixels", metrics.pixels},
@@ -733,6 +814,12 @@ int run(const Settings& settings) {
         if (nonfiniteImagePixels)
             std::printf("  warning: the player's hdr.exr has %llu non-finite pixels\n",
                         (unsigned long long)nonfiniteImagePixels);
+        if (local)
+            std::printf("  %s (%s) at (%.4g, %.4g, %.4g), range %.4g m (%s): reaches %llu pixels\n",
+                        local->name.c_str(), local->type == pnb::LightType::Spot ? "spot" : "point",
+                        local->position.x, local->position.y, local->position.z, local->range,
+                        local->ownRange ? "its own" : "0.01 lux cut-off",
+                        (unsigned long long)reach.reachedCount);
         if (ts.maskedCastersTreatedOpaque)
             std::printf("  note: %u alpha-masked caster instance(s) traced as opaque\n",
                         ts.maskedCastersTreatedOpaque);

@@ -127,6 +127,37 @@ TEST(GltfWriter, ValidateDocumentNamesTheProblem) {
     EXPECT_NE(validateDocument(d).find("cycle"), std::string::npos);
 }
 
+// KHR_lights_punctual spots: type "spot", the cone under "spot" and the range, exactly as given;
+// cones the extension forbids (inner >= outer, outer > pi/2) are named by validateDocument.
+TEST(GltfWriter, SpotLightsCarryTheirConeAndRange) {
+    Document d = fanDocument(4);
+    d.lights.push_back({.name = "spot",
+                        .type = LightType::Spot,
+                        .intensity = 30.0f,
+                        .range = 9.5f,
+                        .innerConeRadians = 0.4f,
+                        .outerConeRadians = 0.6f});
+    d.lights.push_back(
+        {.name = "bulb", .type = LightType::Point, .intensity = 5.0f, .range = 7.0f});
+    d.nodes[0].light = 0;
+    const pnb::test::ParsedGlb g = parseValid(encodeGlb(d));
+    const nlohmann::json& lights = g.json["extensions"]["KHR_lights_punctual"]["lights"];
+    ASSERT_EQ(lights.size(), 2u);
+    EXPECT_EQ(lights[0]["type"], "spot");
+    EXPECT_EQ(lights[0]["range"].get<float>(), 9.5f);
+    EXPECT_EQ(lights[0]["spot"]["innerConeAngle"].get<float>(), 0.4f);
+    EXPECT_EQ(lights[0]["spot"]["outerConeAngle"].get<float>(), 0.6f);
+    EXPECT_EQ(lights[1]["type"], "point");
+    EXPECT_EQ(lights[1]["range"].get<float>(), 7.0f);
+    EXPECT_FALSE(lights[1].contains("spot"));
+
+    d.lights[0].innerConeRadians = 0.6f; // inner == outer
+    EXPECT_NE(validateDocument(d).find("spot cone"), std::string::npos);
+    d.lights[0].innerConeRadians = 0.1f;
+    d.lights[0].outerConeRadians = 1.6f; // past pi/2
+    EXPECT_NE(validateDocument(d).find("spot cone"), std::string::npos);
+}
+
 TEST(GltfWriter, LookRotationTurnsMinusZToForwardAndKeepsUpUp) {
     const Float3 directions[] = {
         {0, 0, -1}, {1, 0, 0}, {0, -0.5f, 0.8f}, {0.3f, -0.95f, 0.1f}, {0, 0, 1}};

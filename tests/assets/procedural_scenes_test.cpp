@@ -141,9 +141,12 @@ TEST_P(ProceduralScenes, ParsesBackAsValidGltf) {
     EXPECT_EQ(test::renderedTriangles(e.glb), e.stats.renderedTriangles)
         << "the writer's count and the file disagree";
     EXPECT_GT(e.stats.renderedTriangles, 0u);
-    // Every scene has a camera to look through and a sun to cast shadows.
+    // Every scene has a camera to look through and a sun to cast shadows, but lamp-room, which
+    // is lit by local lights alone (ProceduralLampRoom below).
     ASSERT_TRUE(e.glb.json.contains("cameras"));
-    EXPECT_GE(sunElevationDegrees(e), 1.0);
+    if (GetParam() != "lamp-room") {
+        EXPECT_GE(sunElevationDegrees(e), 1.0);
+    }
     EXPECT_EQ(e.glb.json["scenes"][0].value("name", ""), GetParam());
 }
 
@@ -166,9 +169,10 @@ INSTANTIATE_TEST_SUITE_P(All, ProceduralScenes, testing::ValuesIn(sceneNames()),
 
 TEST(ProceduralScenesRegistry, ListsEverySceneAndRejectsUnknownNames) {
     std::vector<std::string> names = allSceneNames();
-    EXPECT_EQ(names, (std::vector<std::string>{"street-canyon", "flat-city", "box-room", "terrain",
-                                               "grazing-plane", "load-test", "light-field",
-                                               "one-triangle", "wide-flat", "atrium"}));
+    EXPECT_EQ(names,
+              (std::vector<std::string>{"street-canyon", "flat-city", "box-room", "terrain",
+                                        "grazing-plane", "load-test", "light-field", "one-triangle",
+                                        "wide-flat", "atrium", "lamp-room"}));
     for (const assets::ProceduralScene& s : assets::proceduralScenes())
         EXPECT_FALSE(s.summary.empty());
     EXPECT_FALSE(assets::buildProceduralScene("no-such-scene", {}).has_value());
@@ -364,6 +368,104 @@ TEST(ProceduralFlatCity, WithoutInstancingTheSameTrianglesAreStoredPerBuilding) 
     Encoded e = encodeAndCheck(unique);
     EXPECT_EQ(e.stats.renderedTriangles, assets::gltf::countRenderedTriangles(instanced));
     EXPECT_EQ(e.stats.uniqueTriangles, e.stats.renderedTriangles);
+}
+
+// --- lamp-room --------------------------------------------------------------------------------
+
+// Where the ray from `light` through `p` meets the plane axis = value (p between them).
+Vec3 projectFrom(Vec3 light, Vec3 p, int axis, double value) {
+    const double t = (value - light[size_t(axis)]) / (p[size_t(axis)] - light[size_t(axis)]);
+    return {light[0] + (p[0] - light[0]) * t, light[1] + (p[1] - light[1]) * t,
+            light[2] + (p[2] - light[2]) * t};
+}
+
+TEST(ProceduralLampRoom, OneSpotOnePointNoSunAndTheirShadowsInView) {
+    const Encoded& e = defaultScene("lamp-room");
+    ASSERT_FALSE(e.world.empty());
+    // Exactly one spot and one point light, both with a finite range; no directional light.
+    const nlohmann::json& lights = e.glb.json["extensions"]["KHR_lights_punctual"]["lights"];
+    ASSERT_EQ(lights.size(), 2u);
+    EXPECT_EQ(lights[0]["type"], "spot");
+    EXPECT_EQ(lights[1]["type"], "point");
+    EXPECT_EQ(test::findNode(e.glb, "sun"), -1);
+    const double inner = lights[0]["spot"]["innerConeAngle"].get<double>() * kRadToDeg;
+    const double outer = lights[0]["spot"]["outerConeAngle"].get<double>() * kRadToDeg;
+    EXPECT_NEAR(inner, 25.0, 1e-3);
+    EXPECT_NEAR(outer, 38.0, 1e-3);
+    for (const nlohmann::json& l : lights)
+        EXPECT_GT(l.value("range", 0.0), 0.0) << l;
+
+    // The room is closed: six faces spanning 8 x 3 x 6 m, the camera and both lights inside.
+    const int room = test::findNode(e.glb, "room");
+    ASSERT_GE(room, 0);
+    const Aabb box = test::worldBounds(e.glb, e.world, size_t(room));
+    EXPECT_EQ(box.min, (Vec3{-4, 0, -3}));
+    EXPECT_EQ(box.max, (Vec3{4, 3, 3}));
+    EXPECT_EQ(e.glb.json["meshes"][nodeJson(e, room)["mesh"].get<size_t>()]["primitives"].size(),
+              6u);
+    auto inside = [&](Vec3 p) {
+        for (int a = 0; a < 3; ++a)
+            if (!(p[size_t(a)] > box.min[size_t(a)] && p[size_t(a)] < box.max[size_t(a)]))
+                return false;
+        return true;
+    };
+    const int cam = test::findNode(e.glb, "corner-camera"),
+              spot = test::findNode(e.glb, "spot-lamp"), bulb = test::findNode(e.glb, "bulb");
+    ASSERT_GE(cam, 0);
+    ASSERT_GE(spot, 0);
+    ASSERT_GE(bulb, 0);
+    EXPECT_EQ(nodeJson(e, spot)["extensions"]["KHR_lights_punctual"]["light"], 0);
+    EXPECT_EQ(nodeJson(e, bulb)["extensions"]["KHR_lights_punctual"]["light"], 1);
+    const Vec3 eye = test::transformPoint(e.world[size_t(cam)], {0, 0, 0});
+    const Vec3 spotAt = test::transformPoint(e.world[size_t(spot)], {0, 0, 0});
+    const Vec3 bulbAt = test::transformPoint(e.world[size_t(bulb)], {0, 0, 0});
+    EXPECT_TRUE(inside(eye));
+    EXPECT_TRUE(inside(spotAt));
+    EXPECT_TRUE(inside(bulbAt));
+
+    // Shadows the camera sees — in its frustum and not hidden behind a caster: some of the
+    // crate's top corners cast on the floor by each light (inside the spot's full beam for the
+    // spot), and the pillar cast on the back wall by the bulb.
+    const Frustum view = frustumOf(e, cam);
+    const auto casters = boundsOf(e, {"crate", "tall-box", "pillar", "table"});
+    ASSERT_EQ(casters.size(), 4u);
+    auto seen = [&](Vec3 q) {
+        if (!view.contains(q)) return false;
+        const Vec3 d{q[0] - eye[0], q[1] - eye[1], q[2] - eye[2]};
+        for (const auto& [name, b] : casters)
+            if (test::rayHitsBox(eye, d, b, 0.0, 0.999)) return false;
+        return true;
+    };
+    const Vec3 axis = test::transformDirection(e.world[size_t(spot)], {0, 0, -1});
+    const double axisLength = std::sqrt(axis[0] * axis[0] + axis[1] * axis[1] + axis[2] * axis[2]);
+    EXPECT_LT(axis[1] / axisLength, -0.5) << "the spot points down";
+    auto degreesFromAxis = [&](Vec3 q) {
+        const Vec3 v{q[0] - spotAt[0], q[1] - spotAt[1], q[2] - spotAt[2]};
+        const double cosine = (v[0] * axis[0] + v[1] * axis[1] + v[2] * axis[2]) /
+                              (axisLength * std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]));
+        return std::acos(cosine) * kRadToDeg;
+    };
+    const int crate = test::findNode(e.glb, "crate"), pillar = test::findNode(e.glb, "pillar");
+    ASSERT_GE(crate, 0);
+    ASSERT_GE(pillar, 0);
+    const Aabb c = test::worldBounds(e.glb, e.world, size_t(crate));
+    for (Vec3 light : {spotAt, bulbAt}) {
+        int visible = 0;
+        for (double x : {c.min[0], c.max[0]})
+            for (double z : {c.min[2], c.max[2]}) {
+                const Vec3 shadow = projectFrom(light, {x, c.max[1], z}, 1, 0.0);
+                visible += inside({shadow[0], 0.5, shadow[2]}) && seen(shadow) &&
+                           (light != spotAt || degreesFromAxis(shadow) < inner);
+            }
+        EXPECT_GE(visible, 1) << (light == spotAt ? "spot" : "bulb");
+    }
+    const Aabb p = test::worldBounds(e.glb, e.world, size_t(pillar));
+    const Vec3 onWall =
+        projectFrom(bulbAt, {(p.min[0] + p.max[0]) / 2, 2.0, (p.min[2] + p.max[2]) / 2}, 2, -3.0);
+    EXPECT_GT(onWall[1], 0.0);
+    EXPECT_LT(onWall[1], 3.0);
+    EXPECT_GT(onWall[0], -4.0);
+    EXPECT_TRUE(seen(onWall));
 }
 
 // --- box-room ---------------------------------------------------------------------------------

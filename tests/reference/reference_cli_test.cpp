@@ -368,6 +368,202 @@ TEST_F(ReferenceCli, SkyWithoutEnvironmentOrWithBadValuesIsAnError) {
     EXPECT_EQ(run(shellQuote(sScene) + " --frame " + shellQuote(dir.path) + " --sky-rotation-deg x").exitCode, 1);
 }
 
+// --- local lights: frame.json's "shadow_light_index" -----------------------------------------
+
+// The ground + box scene with a point light ("bulb") and a spot ("spot", straight down, cone
+// 20/30 degrees) both 2 above the box top at (0, 6, 0), range 20; the converter adds its
+// default-sun after them. Both cast the ground shadow max(|x|, |z|) < 3.
+std::string localLightScene(const fs::path& dir) {
+    gltf::Document doc = groundAndBox();
+    auto add = [&](gltf::Light l, gltf::Float4 rotation) {
+        doc.lights.push_back(std::move(l));
+        gltf::Node n;
+        n.name = doc.lights.back().name;
+        n.translation = {0, 6, 0};
+        n.rotation = rotation;
+        n.light = int32_t(doc.lights.size() - 1);
+        doc.nodes.push_back(n);
+    };
+    add({.name = "bulb", .type = gltf::LightType::Point, .intensity = 40, .range = 20},
+        {0, 0, 0, 1});
+    add({.name = "spot",
+         .type = gltf::LightType::Spot,
+         .intensity = 40,
+         .range = 20,
+         .innerConeRadians = 0.34906585f,
+         .outerConeRadians = 0.52359878f},
+        kFaceUp); // -Z turned to -Y
+    return pnb::test::convertDocument(dir.string(), doc, "local-lights", "", false);
+}
+
+uint32_t lightNamed(const std::string& scenePath, const std::string& name) {
+    auto loaded = loadPnb(scenePath);
+    EXPECT_TRUE(loaded);
+    if (loaded)
+        for (uint32_t i = 0; i < loaded->scene.lights.lights.size(); ++i)
+            if (loaded->scene.strings.strings[loaded->scene.lights.lights[i].name] == name)
+                return i;
+    ADD_FAILURE() << name;
+    return 0;
+}
+
+// makeFrame's pixels against the light at (0, 6, 0): the truth is max(|x|, |z|) < 3 in shadow.
+// The player agrees except where `flip(x, z)` says; frame.json names light `index` and carries
+// no toward_light (a scene without a sun has none to give).
+Frame writeLocalFrame(const fs::path& dir, uint32_t index,
+                      const std::function<bool(double, double)>& flip) {
+    Frame f = makeFrame(0);
+    const int n = Frame::kSize;
+    for (int j = 1; j < n; ++j)
+        for (int i = 0; i < n; ++i) {
+            const size_t p = size_t(j * n + i);
+            const double x = -4 + (i + 0.5) * 8.0 / n, z = -4 + (j + 0.5) * 8.0 / n;
+            f.truth[p] = std::max(std::fabs(x), std::fabs(z)) < 3 ? 0.0f : 1.0f;
+            f.shadow[p * 4] = flip(x, z) ? 1.0f - f.truth[p] : f.truth[p];
+        }
+    writeFrame(dir, f);
+    std::ofstream(dir / "frame.json")
+        << R"({"camera_position": [0, 10, 10], "width": 32, "height": 32,
+        "shadow_light_index": )"
+        << index << "}";
+    return f;
+}
+
+TEST_F(ReferenceCli, JudgesAPointLightNamedByShadowLightIndex) {
+    TempDir dir("point");
+    const std::string scene = localLightScene(dir.path);
+    const uint32_t bulb = lightNamed(scene, "bulb");
+    int flipped = 0;
+    const Frame f = writeLocalFrame(dir.path / "in", bulb, [&](double, double z) {
+        return z < -3.5 && flipped++ < 31; // 31 lit pixels of the far rows: false shadows
+    });
+    RunResult r = run(shellQuote(scene) + " --frame " + shellQuote(dir.path / "in") + " --out " +
+                      shellQuote(dir.path / "out"));
+    ASSERT_EQ(r.exitCode, 0) << r.output;
+    EXPECT_NE(r.output.find("light " + std::to_string(bulb) + " 'bulb' (point)"), std::string::npos)
+        << r.output;
+    nlohmann::json m =
+        nlohmann::json::parse(std::ifstream(dir.path / "out" / "metrics.json"), nullptr, false);
+    ASSERT_FALSE(m.is_discarded());
+    const int n = Frame::kSize, valid = n * (n - 1);
+    EXPECT_EQ(m["light"]["index"], bulb);
+    EXPECT_EQ(m["light"]["type"], "point");
+    EXPECT_EQ(m["light"]["range_from"], "light");
+    EXPECT_EQ(m["light"]["position"], nlohmann::json::array({0.0, 6.0, 0.0}));
+    EXPECT_EQ(m["reference"]["reached_pixels"], valid)
+        << "every ground pixel is within 20 and faces it";
+    EXPECT_EQ(m["shadow"]["pixels"], valid);
+    EXPECT_DOUBLE_EQ(m["shadow"]["misclassified_percent"].get<double>(), 100.0 * 31 / valid);
+    EXPECT_DOUBLE_EQ(m["shadow"]["false_shadow_percent"].get<double>(), 100.0 * 31 / valid);
+    EXPECT_GT(m["shadow"]["weighted_error_percent"].get<double>(), 0.0);
+    EXPECT_EQ(m["rays"]["count"], valid);
+    int w = 0, h = 0, c = 0;
+    auto vis = readImage(dir.path / "out" / "visibility.exr", w, h, c);
+    ASSERT_EQ(vis.size(), size_t(n * n));
+    for (size_t p = 0; p < vis.size(); ++p) {
+        if (std::isnan(f.truth[p]))
+            ASSERT_TRUE(std::isnan(vis[p])) << p;
+        else
+            ASSERT_EQ(vis[p], f.truth[p]) << p;
+    }
+}
+
+TEST_F(ReferenceCli, ASpotIsJudgedOnlyInsideItsCone) {
+    TempDir dir("spot");
+    const std::string scene = localLightScene(dir.path);
+    const uint32_t spot = lightNamed(scene, "spot");
+    // The cone meets the ground in the disc r < 6 tan 30 = 3.46; the player is wrong everywhere
+    // outside it, which must not count.
+    const double radius = 6 * std::tan(0.52359878);
+    int inside = 0;
+    writeLocalFrame(dir.path / "in", spot, [&](double x, double z) {
+        const bool in = std::hypot(x, z) < radius;
+        inside += in;
+        return !in;
+    });
+    RunResult r = run(shellQuote(scene) + " --frame " + shellQuote(dir.path / "in") + " --out " +
+                      shellQuote(dir.path / "out"));
+    ASSERT_EQ(r.exitCode, 0) << r.output;
+    nlohmann::json m =
+        nlohmann::json::parse(std::ifstream(dir.path / "out" / "metrics.json"), nullptr, false);
+    ASSERT_FALSE(m.is_discarded());
+    EXPECT_EQ(m["light"]["type"], "spot");
+    EXPECT_NEAR(m["light"]["direction"][1].get<double>(), -1.0, 1e-6);
+    EXPECT_EQ(m["reference"]["reached_pixels"], inside);
+    EXPECT_EQ(m["shadow"]["pixels"], inside);
+    EXPECT_EQ(m["shadow"]["misclassified_percent"].get<double>(), 0.0);
+    EXPECT_EQ(m["shadow"]["weighted_error_percent"].get<double>(), 0.0);
+    EXPECT_EQ(m["shadow"]["coverage_mismatch_pixels"], 0);
+    // shadow_diff.png: the corner pixel (0, 1) is outside the cone (not judged: dim violet), the
+    // centre (16, 16) agrees in shadow (grey).
+    int w = 0, h = 0, c = 0;
+    auto diff = readImage(dir.path / "out" / "shadow_diff.png", w, h, c);
+    const int n = Frame::kSize;
+    const size_t corner = size_t(1 * n + 0) * 3, centre = size_t(16 * n + 16) * 3;
+    EXPECT_NEAR(diff[corner] * 255, 64, 1);
+    EXPECT_NEAR(diff[corner + 2] * 255, 80, 1);
+    EXPECT_NEAR(diff[centre] * 255, 96, 1);
+}
+
+// A light index that names no point or spot light: exit code 2, frame.json and the index named.
+TEST_F(ReferenceCli, BadShadowLightIndicesAreInputErrors) {
+    TempDir dir("badlight");
+    const std::string scene = localLightScene(dir.path);
+    const uint32_t sun = lightNamed(scene, "default-sun");
+    // The same container with a fourth light that no node places.
+    std::string orphan, orphanIndex;
+    {
+        auto loaded = loadPnb(scene);
+        ASSERT_TRUE(loaded);
+        Light extra;
+        extra.type = LightType::Point;
+        loaded->scene.lights.lights.push_back(extra);
+        orphanIndex = std::to_string(loaded->scene.lights.lights.size() - 1);
+        std::vector<std::byte> bytes;
+        Writer w = Writer::toMemory(&bytes, {});
+        ASSERT_TRUE(isOk(writeScene(w, loaded->scene)));
+        ASSERT_TRUE(isOk(w.commit()));
+        orphan = (dir.path / "orphan.pnb").string();
+        std::ofstream(orphan, std::ios::binary)
+            .write(reinterpret_cast<const char*>(bytes.data()), std::streamsize(bytes.size()));
+    }
+    struct Case {
+        std::string scene, index, named;
+    };
+    const Case cases[] = {
+        {scene, "99", "\"shadow_light_index\" 99: light 99 does not exist"},
+        {scene, std::to_string(sun), "is directional"},
+        {orphan, orphanIndex,
+         "\"shadow_light_index\" " + orphanIndex + ": light " + orphanIndex +
+             " is placed by no node"},
+        {scene, "-1", "\"shadow_light_index\" must be an integer >= 0"},
+        {scene, "\"1\"", "\"shadow_light_index\" must be an integer >= 0"},
+        {scene, "1.5", "\"shadow_light_index\" must be an integer >= 0"},
+    };
+    for (const Case& c : cases) {
+        SCOPED_TRACE(c.index);
+        TempDir frame("badlight-frame");
+        writeFrame(frame.path, makeFrame(0));
+        std::ofstream(frame.path / "frame.json") << R"({"camera_position": [0, 10, 10], "width": 32,
+            "height": 32, "shadow_light_index": )"
+                                                 << c.index << "}";
+        RunResult r = run(shellQuote(c.scene) + " --frame " + shellQuote(frame.path) + " --out " +
+                          shellQuote(frame.path / "out"));
+        EXPECT_EQ(r.exitCode, 2) << r.output;
+        EXPECT_NE(r.output.find("frame.json"), std::string::npos) << r.output;
+        EXPECT_NE(r.output.find(c.named), std::string::npos) << r.output;
+        EXPECT_FALSE(fs::exists(frame.path / "out" / "metrics.json"));
+    }
+    // Without the key a frame still needs toward_light (the sun's contract is unchanged).
+    TempDir frame("no-light");
+    writeFrame(frame.path, makeFrame(0));
+    std::ofstream(frame.path / "frame.json")
+        << R"({"camera_position": [0, 10, 10], "width": 32, "height": 32})";
+    RunResult r = run(shellQuote(scene) + " --frame " + shellQuote(frame.path));
+    EXPECT_EQ(r.exitCode, 2) << r.output;
+    EXPECT_NE(r.output.find("toward_light"), std::string::npos) << r.output;
+}
+
 } // namespace
 
 } // namespace pnb::reference::test

@@ -109,16 +109,20 @@ struct Camera {
     float zfar = 0.0f;        // metres, > znear; 0 = not written (infinite projection)
 };
 
-enum class LightType : uint8_t { Directional, Point };
+enum class LightType : uint8_t { Directional, Point, Spot };
 
 // A KHR_lights_punctual light. Units follow the extension: directional intensity in lux, point
-// intensity in candela.
+// and spot intensity in candela. A light shines down its node's -Z (directional, spot).
 struct Light {
     std::string name;
     LightType type = LightType::Directional;
     Float3 color{1, 1, 1}; // linear RGB
     float intensity = 1.0f;
-    float range = 0.0f; // point lights only; metres; 0 = not written (infinite)
+    float range = 0.0f; // point and spot lights only; metres; 0 = not written (infinite)
+    // Spot lights only: angles from the axis, 0 <= inner < outer <= pi/2 (the extension's rule).
+    // Defaults: the extension's (0 and pi/4).
+    float innerConeRadians = 0.0f;
+    float outerConeRadians = 0.7853982f;
 };
 
 // Everything one .glb holds.

@@ -18,17 +18,19 @@
 //                  forward shading cost against the light count (scripts/bench-lights)
 //   one-triangle,  the degenerate ends of the ground-truth extremes matrix (scripts/bench-extremes)
 //   wide-flat
+//   lamp-room      a closed room lit by one spot and one point light and no sun: the shadows of
+//                  local lights (issue 29) and their ray-traced truth
 //
 // load-test and light-field exist for benchmarks: they are not generated at build time (not in
 // assets_src/CMakeLists.txt's PNB_PROCEDURAL_SCENES), the benchmark scripts make them.
 //
 // Conventions: glTF's (metres, +Y up, right-handed, cameras and lights look along local -Z).
-// Every scene's first camera is the intended view. Every scene has one directional light on a
-// node named "sun" with intensity 3: the artist-scale value box_room.cpp uses, not physical
-// daylight (~100 000 lux), so all bundled scenes share one exposure. Scenes with a "seed" use a
-// seeded PCG32 generator with our own integer-to-float mapping (never std::random_device or std::*
-// distributions, whose outputs differ between standard libraries), so the same options give the
-// same Document and the same .glb bytes with a given build. (Across libm versions, sin/cos/pow
+// Every scene's first camera is the intended view. Every scene but lamp-room has one directional
+// light on a node named "sun" with intensity 3: the artist-scale value box_room.cpp uses, not
+// physical daylight (~100 000 lux), so all bundled scenes share one exposure. Scenes with a "seed"
+// use a seeded PCG32 generator with our own integer-to-float mapping (never std::random_device or
+// std::* distributions, whose outputs differ between standard libraries), so the same options give
+// the same Document and the same .glb bytes with a given build. (Across libm versions, sin/cos/pow
 // may differ in the last bit; the layouts do not depend on that.)
 //
 // Does NOT do: write files (see gltf_writer.h), animation, textures beyond small checkers
@@ -186,6 +188,16 @@ gltf::Document buildWideFlat(const WideFlatOptions& options = {});
 // partition between sunlit and shaded floor (light leaking through thin walls). For GI: light
 // reaches the arcade and the gallery's underside only by bouncing. Camera on the gallery.
 gltf::Document buildAtrium();
+
+// lamp-room: a closed 8 x 3 x 6 m room (x in [-4, 4], y in [0, 3], z in [-3, 3]; floor,
+// ceiling, four walls facing in, no opening), a crate, a tall box, a floor-to-ceiling pillar and
+// a table on four legs, lit by light 0, a spot ("spot-lamp": 60 cd, range 10 m, cone 25/38
+// degrees, near the ceiling by the left wall aimed down at the boxes) and light 1, a point light
+// ("bulb": 12 cd, range 8 m, 2.2 m up in front of the pillar). No directional light: the converter
+// adds its generated default-sun, which cannot enter. One camera ("corner-camera") in the front
+// right corner looking across at the boxes. Lit floor and walls reach radiances of ~0.1-0.6 at
+// lighting.exposure 1. No randomness.
+gltf::Document buildLampRoom();
 
 // --- Registry (what pnb-make-scene lists) -----------------------------------------------------
 

@@ -65,9 +65,15 @@ ShadowErrorMetrics compareShadow(std::span<const float> player, std::span<const 
 std::vector<glm::vec3> normalsFromPositions(std::span<const glm::vec3> positions, int width,
                                             int height, glm::vec3 eye = glm::vec3(0.0f));
 
-// The weight of each pixel for compareShadow: max(dot(normal, towardLight), 0), with the
-// shading normal where it is known (non-zero, finite) and `fallback` otherwise (either may be
-// empty: all unknown). Normals need not be unit length; towardLight must be non-zero.
+// The normal each pixel's irradiance weight is computed with: the shading normal where it is
+// known (non-zero, finite), else `fallback`'s (either may be empty: all unknown), normalised;
+// zero where neither is usable. One entry per pixel of the longer span.
+std::vector<glm::vec3> weightNormals(std::span<const glm::vec3> normals,
+                                     std::span<const glm::vec3> fallback);
+
+// The weight of each pixel for compareShadow: max(dot(normal, towardLight), 0), the normal as
+// weightNormals picks it (0 where there is none). Normals need not be unit length; towardLight
+// must be non-zero.
 std::vector<float> lambertWeights(std::span<const glm::vec3> normals,
                                   std::span<const glm::vec3> fallback, glm::vec3 towardLight);
 

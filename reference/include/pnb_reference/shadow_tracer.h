@@ -1,16 +1,21 @@
-// pnb_reference/shadow_tracer.h — ground-truth visibility of a directional light, ray traced with
-// Embree 3 against a decoded container, to measure the player's shadow maps against.
+// pnb_reference/shadow_tracer.h — ground-truth visibility of a directional light or of a point
+// (point or spot) light, ray traced with Embree 3 against a decoded container, to measure the
+// player's shadow maps against.
 //
 // Does: builds one Embree scene (RTC_BUILD_QUALITY_HIGH, robust mode, triangle geometry) from the
 // shadow casters of a pnb::Scene — every level-0 submesh instance whose material has
 // castsShadows = true and alphaMode != Blend, exactly the instances the player draws — with world
 // transforms composed in double from the node graph (as the player's buildSceneGraph does) and
 // vertices made relative to a caller-given origin before they are rounded to float; then answers
-// "is this point lit?" for many points at once, on all cores, with 16-ray packets.
+// "is this point lit?" for many points at once, on all cores, with 16-ray packets: by a ray to
+// infinity (directional) or by the segment to a light's position (visibilityToPoint).
 //
 // Does NOT do: alpha-mask texture lookups (Mask casters are treated as opaque and counted, see
-// TracerStats), point or spot lights, soft shadows (a directional light of zero angular size),
-// transmission through Blend materials (they cast nothing), images or files (pnb-reference does).
+// TracerStats), soft shadows (a directional light of zero angular size, point lights of zero
+// radius), a light's range, spot cone or falloff (visibility is geometric: whether anything lies
+// between; local_light.h weighs and restricts it), placing lights from the node graph
+// (placeLocalLight does), transmission through Blend materials (they cast nothing), images or
+// files (pnb-reference does).
 //
 // Self-intersection (docs/REFERENCE.md): rays start exactly at the query point; a hit is
 // rejected as the point's own surface when the point lies within the hit triangle's error band
@@ -106,9 +111,14 @@ public:
     void visibility(std::span<const glm::vec3> positions, glm::vec3 towardLight,
                     std::span<float> out, glm::dvec3 eye = glm::dvec3(0.0)) const;
 
-    // The same for a point light at `light` (origin-relative): 1 if the segment from
-    // positions[i] to the light is unblocked (a light inside or behind a caster is blocked by
-    // it); 0 if blocked; NaN for non-finite positions, and everywhere if `light` is not finite.
+    // The same for a point or spot light at `light` (origin-relative): 1 if the segment from
+    // positions[i] to the light is unblocked, 0 if a caster lies on it (a light inside a closed
+    // caster is hidden by it), NaN for non-finite positions, and everywhere if `light` is not
+    // finite; 1 at the light itself. The segment leaves its point as a directional ray does (the
+    // own-surface filter, tnear) and stops short of the light by the light's own error band,
+    // kPointRelativeError x its distance from `eye` (tfar = 1 - band / length); a surface whose
+    // plane passes within that band (plus the triangle's) of the light is the one the light sits
+    // on (a lamp set into a ceiling) and does not block either. No constant in scene units.
     void visibilityToPoint(std::span<const glm::vec3> positions, glm::vec3 light,
                            std::span<float> out, glm::dvec3 eye = glm::dvec3(0.0)) const;
 
