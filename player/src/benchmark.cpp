@@ -278,6 +278,10 @@ PlayResult<BenchResult> runBenchmark(const GpuScene& scene, Renderer& renderer,
                                      // The environment as lit (pnb-reference --sky reads them).
                                      {"ibl_rotation_degrees", renderer.settings().iblRotationDeg},
                                      {"ibl_intensity", renderer.settings().iblIntensity}};
+                // A point or spot light judged (shadows.judged_light): pnb-reference traces that
+                // light, placed as the container places it.
+                if (renderer.settings().shadowJudgedLight >= 0)
+                    fj["shadow_light_index"] = renderer.settings().shadowJudgedLight;
                 if (auto w = writeText(jsonPath, fj.dump(2) + "\n"); !w) return w.error();
                 if (std::find(result.written.begin(), result.written.end(), jsonPath) == result.written.end())
                     result.written.push_back(jsonPath);

@@ -488,7 +488,7 @@ int main(int argc, char** argv) {
     std::unique_ptr<ShadowQuality> shadowQuality;
     if (args.shadowMetrics > 0) {
         if (!args.bench) return fail({PlayErrorKind::Usage, "--shadow-metrics needs --bench"});
-        auto q = ShadowQuality::create(args.scene, first.position);
+        auto q = ShadowQuality::create(args.scene, first.position, settings.shadowJudgedLight);
         if (!q) return fail(q.error());
         shadowQuality = std::move(*q);
         glm::vec3 toward{0, 1, 0};

@@ -1,9 +1,11 @@
 #include "shadow_quality.h"
 
 #include <cmath>
+#include <optional>
 
 #include "pnb/reader.h"
 #include "pnb/scene.h"
+#include "pnb_reference/local_light.h"
 #include "pnb_reference/shadow_metrics.h"
 #include "pnb_reference/shadow_tracer.h"
 
@@ -11,6 +13,7 @@ namespace pnb::player {
 
 struct ShadowQuality::Impl {
     std::unique_ptr<reference::ShadowTracer> tracer;
+    std::optional<reference::LocalLight> local; // the judged point or spot light, if not the sun
     // The last measured frame, for the follow-up's flicker and lastFrame().
     std::vector<float> previousPlayer, previousTruth;
     uint32_t width = 0, height = 0;
@@ -19,7 +22,7 @@ struct ShadowQuality::Impl {
 ShadowQuality::~ShadowQuality() = default;
 
 PlayResult<std::unique_ptr<ShadowQuality>> ShadowQuality::create(const std::string& containerPath,
-                                                                 glm::dvec3 origin) {
+                                                                 glm::dvec3 origin, int judgedLight) {
     auto container = Container::open(containerPath);
     if (!container) return PlayError{PlayErrorKind::Input, container.error().describe()};
     auto scene = readScene(*container);
@@ -29,6 +32,11 @@ PlayResult<std::unique_ptr<ShadowQuality>> ShadowQuality::create(const std::stri
     std::unique_ptr<ShadowQuality> q(new ShadowQuality());
     q->mImpl = std::make_unique<Impl>();
     q->mImpl->tracer = std::move(*tracer);
+    if (judgedLight >= 0) {
+        auto light = reference::placeLocalLight(*scene, uint32_t(judgedLight));
+        if (!light) return PlayError{PlayErrorKind::Usage, "shadows.judged_light: " + light.error().message};
+        q->mImpl->local = std::move(*light);
+    }
     return q;
 }
 
@@ -56,9 +64,15 @@ PlayResult<std::vector<std::pair<std::string, double>>> ShadowQuality::measure(R
         cascade[i] = shadow->f32[i * 4 + 1];
         ratio[i] = shadow->f32[i * 4 + 2];
     }
-    mImpl->tracer->visibility(points, towardLight, truth, shift);
-    // Surfaces facing away are dark whatever the map says: the player leaves them out, and so
-    // does the comparison.
+    // The eye-relative light, for a judged point or spot light.
+    const glm::dvec3 eye = renderer.lastView().position;
+    const glm::dvec3 lightFromEye = mImpl->local ? mImpl->local->position - eye : glm::dvec3(0.0);
+    if (mImpl->local)
+        mImpl->tracer->visibilityToPoint(points, glm::vec3(lightFromEye + shift), truth, shift);
+    else
+        mImpl->tracer->visibility(points, towardLight, truth, shift);
+    // Surfaces facing away (or, for a local light, out of its reach) are dark whatever the map
+    // says: the player leaves them out, and so does the comparison.
     for (size_t i = 0; i < pixels; ++i)
         if (player[i] < 0) truth[i] = std::numeric_limits<float>::quiet_NaN();
 
@@ -83,11 +97,16 @@ PlayResult<std::vector<std::pair<std::string, double>>> ShadowQuality::measure(R
     }
     // Irradiance weights from the shading normal, or the positions' own where the player has
     // none (forward surfaces).
-    const std::vector<float> weights = reference::lambertWeights(
-        normals,
-        reference::normalsFromPositions(cameraRelative, int(position->width), int(position->height)),
-        towardLight);
-    reference::ShadowErrorMetrics m = reference::compareShadow(player, truth, weights);
+    const std::vector<glm::vec3> fallback =
+        reference::normalsFromPositions(cameraRelative, int(position->width), int(position->height));
+    reference::ShadowErrorMetrics m;
+    if (mImpl->local) {
+        const reference::LocalLightWeights w =
+            reference::localLightWeights(*mImpl->local, lightFromEye, cameraRelative, normals, fallback);
+        m = reference::compareLocalShadow(player, truth, w);
+    } else {
+        m = reference::compareShadow(player, truth, reference::lambertWeights(normals, fallback, towardLight));
+    }
     out.emplace_back("pixels", double(m.pixels));
     out.emplace_back("misclassified_pct", m.misclassifiedPercent);
     out.emplace_back("false_lit_pct", m.falseLitPercent);

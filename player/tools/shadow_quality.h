@@ -1,5 +1,6 @@
-// shadow_quality.h — pnb-play's --shadow-metrics: each measured frame's sun visibility compared
-// with the ray-traced truth (pnb_reference, Embree) for the exact pixels the player drew.
+// shadow_quality.h — pnb-play's --shadow-metrics: each measured frame's sun visibility (or, with
+// shadows.judged_light, a point or spot light's) compared with the ray-traced truth
+// (pnb_reference, Embree) for the exact pixels the player drew.
 //
 // Per measured frame: % of pixels whose lit/shadow classification differs (and which way), mean
 // absolute shadow-factor error, screen-pixel-to-shadow-texel ratio per cascade (median, p95);
@@ -21,8 +22,11 @@ namespace pnb::player {
 class ShadowQuality {
 public:
     // Loads the container's geometry into the tracer (origin: `origin`, near the camera path).
+    // `judgedLight` >= 0: the container's light of that index (a point or spot light) is judged
+    // instead of the sun: traced to its position, over the pixels it reaches, weighted by its
+    // irradiance (pnb_reference/local_light.h); an index that names no such light is an error.
     static PlayResult<std::unique_ptr<ShadowQuality>> create(const std::string& containerPath,
-                                                             glm::dvec3 origin);
+                                                             glm::dvec3 origin, int judgedLight = -1);
     ~ShadowQuality();
 
     // Captures position, normal and shadow buffers of the renderer's last frame and measures.
