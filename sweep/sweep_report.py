@@ -13,6 +13,7 @@ import csv
 import html
 import json
 import os
+import re
 import shutil
 import statistics
 
@@ -195,6 +196,54 @@ def gi_cost_section(rows, columns):
     return out
 
 
+def light_count_section(plt, rows, out_dir):
+    """Frame time against the light count, for scenes that differ only in a trailing light count
+    ("light-field-8" ... "light-field-1024", sweep/examples/lights.toml): one line per
+    configuration, and a table of each configuration's frame over its own at the fewest lights
+    (the issue's "1024 lights within 2x of 8" yardstick)."""
+    families = {}
+    for r in rows:
+        m = re.match(r"^(.*)-(\d+)$", r["scene"])
+        if m and number(r, GPU[0]):
+            families.setdefault(m.group(1), []).append((int(m.group(2)), r))
+    out = []
+    for family, members in sorted(families.items()):
+        counts = sorted({c for c, _ in members})
+        if len(counts) < 2:
+            continue
+        name = labeller([r for _, r in members])
+        lines = {}
+        for c, r in members:
+            lines.setdefault(name(r), {})[c] = number(r, GPU[0])
+        png = "%s_light_count.png" % family
+        fig, ax = plt.subplots(figsize=(7, 4))
+        for label, by_count in sorted(lines.items()):
+            xs = sorted(by_count)
+            ax.plot(xs, [by_count[x] for x in xs], marker="o", label=label)
+        ax.set_xscale("log", base=2)
+        ax.set_yscale("log")
+        ax.set_xlabel("lights in the scene")
+        ax.set_ylabel(GPU[1])
+        ax.legend(fontsize=7)
+        fig.tight_layout()
+        fig.savefig(os.path.join(out_dir, png), dpi=100)
+        plt.close(fig)
+        out.append("<h2>Frame time by light count: %s</h2><img src=\"%s\" alt=\"frame time by light count\">"
+                   % (html.escape(family), png))
+        out.append("<table border=\"1\" cellspacing=\"0\" cellpadding=\"3\"><tr><th>configuration</th>%s</tr>"
+                   % "".join("<th>%d lights</th>" % c for c in counts))
+        for label, by_count in sorted(lines.items()):
+            base = by_count.get(counts[0])
+            cells = []
+            for c in counts:
+                v = by_count.get(c)
+                cells.append("<td>%s</td>" % ("" if v is None else
+                                              "%.1f ms" % v + (" (%.2fx)" % (v / base) if base and c != counts[0] else "")))
+            out.append("<tr><td>%s</td>%s</tr>" % (html.escape(label), "".join(cells)))
+        out.append("</table>")
+    return out
+
+
 def path_section(plt, scene, rows, results_dir, out_dir, limit=6):
     """GPU time per pass along the camera path (frames.csv) for the configurations worth a look:
     those on a render error's Pareto front, else the first ones, at most `limit`."""
@@ -374,6 +423,7 @@ def write_report(columns, rows, out_dir, results_dir=None, extremes=None):
             "<p>%d configurations. <a href=\"results.csv\">results.csv</a></p>" % len(rows)]
     renderers = sorted({r.get("gl_renderer", "") for r in rows})
     body.append("<p>GL renderers: %s</p>" % html.escape(", ".join(renderers)))
+    body += light_count_section(plt, rows, out_dir)
     for scene in sorted({r["scene"] for r in rows}):
         srows = [r for r in rows if r["scene"] == scene]
         body.append("<h2>%s</h2>" % html.escape(scene))

@@ -231,10 +231,9 @@ std::string Document::noEffectReason(uint32_t index, std::string_view field) con
     const bool shadowField = field == "receives_shadows" || field == "casts_shadows";
     if (shadowField && !mImpl->sceneNeeds(mImpl->current.materials).shadows) {
         bool shadowLight = false;
-        for (const Light& l : mImpl->scene.lights.lights)
-            shadowLight |= l.type == LightType::Directional && l.castsShadows;
+        for (const Light& l : mImpl->scene.lights.lights) shadowLight |= l.castsShadows;
         return shadowLight ? "no material casts shadows, so the scene has no shadow pass"
-                           : "the scene has no shadow-casting (directional) light";
+                           : "the scene has no shadow-casting light";
     }
     if (field == "casts_shadows" && m.alphaMode == AlphaMode::Blend)
         return "BLEND materials cast no shadows (the shadow pass draws opaque and MASK ones)";

@@ -79,10 +79,9 @@ std::vector<MaterialFeatures> Document::Impl::featuresOf(
 
 converter::SceneShaderNeeds Document::Impl::sceneNeeds(
     const std::vector<Material>& materials) const {
-    // As convert.cpp: a directional light casts shadows (the converter marks exactly those).
+    // As convert.cpp: any light that casts shadows (the sun, or a point or spot light).
     bool shadowLight = false;
-    for (const Light& l : scene.lights.lights)
-        shadowLight |= l.type == LightType::Directional && l.castsShadows;
+    for (const Light& l : scene.lights.lights) shadowLight |= l.castsShadows;
     converter::SceneShaderNeeds needs;
     for (const Material& m : materials) {
         needs.shadows |= shadowLight && m.castsShadows;

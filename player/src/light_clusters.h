@@ -63,6 +63,7 @@ struct LightContext {
     LightClusterGrid grid;   // this frame's, if clustered
     uint32_t localLights = 0;
     std::byte* listData = nullptr; // this frame's light list in the mapped ring (GpuLight at 16 + 64 i)
+    size_t listOffset = 0, listBytes = 0; // its place in the ring
 };
 
 // Writes this frame's light list into the ring (binding 3) and, if clustering, runs the cluster

@@ -39,6 +39,8 @@ void prepareLights(FrameContext& ctx, uint32_t width, uint32_t height) {
     std::byte* lightData = nullptr;
     const size_t lightOffset = ctx.ring.allocate(lightBytes, lightData);
     lc.listData = lightData;
+    lc.listOffset = lightOffset;
+    lc.listBytes = lightBytes;
     const uint32_t header[4] = {count, lc.clustered ? 1u : 0u, 0, 0};
     std::memcpy(lightData, header, sizeof header);
     // Spheres for the cluster pass, written beside the list.

@@ -20,6 +20,9 @@ struct GpuShadowTile {
     glm::vec4 rect;    // atlas u0, v0, uv size, world size of a texel per unit of distance
 };
 
+// The atlas's texture unit (local_shadows.glsl): 0-4 materials, 8-9 the sun, 10-18 GI and sky.
+constexpr GLuint kLocalShadowUnit = 19;
+
 // Spot lights up to this half-angle get one tile; wider ones (and point lights) the six faces.
 constexpr float kMaxSpotTileRadians = 1.0471976f; // 60 degrees
 
@@ -124,6 +127,10 @@ void runLocalShadows(FrameContext& ctx) {
     ls.placements = planLocalShadows(std::move(requests), ctx.targets.height, s, s.shadowLocalAtlas);
     if (ls.placements.empty()) {
         dropAtlas(ls); // no local light casts a shadow in view: no atlas
+        // local_shadows.glsl declares the tiles' block; no light points into it (cone.z = -1),
+        // but a declared block wants a buffer: the light list stands in.
+        glBindBufferRange(GL_SHADER_STORAGE_BUFFER, 9, ctx.ring.buffer(), GLintptr(ctx.lights.listOffset),
+                          GLsizeiptr(ctx.lights.listBytes));
         return;
     }
     ensureAtlas(ls, s.shadowLocalAtlas);
@@ -135,7 +142,7 @@ void runLocalShadows(FrameContext& ctx) {
     const size_t tileBytes = 16 + sizeof(GpuShadowTile) * ls.tiles;
     const size_t tileOffset = ctx.ring.allocate(tileBytes, data);
     const float atlas = float(ls.atlasSize);
-    const glm::vec4 header(1.0f / atlas, 0, 0, 0);
+    const glm::vec4 header(1.0f / atlas, float(s.shadowLocalTaps), s.shadowRadius, 0);
     std::memcpy(data, &header, sizeof header);
     std::vector<glm::mat4> matrices;
     uint32_t tile = 0;
@@ -182,7 +189,7 @@ void runLocalShadows(FrameContext& ctx) {
                     objectOffsets.push_back(pushObjectBlock(scene, scene.items[ctx.shadows.casters[c].item], toCamera,
                                                             ctx.ring, float(c)));
                 glBindFramebuffer(GL_FRAMEBUFFER, ls.framebuffer.id());
-                glBindTextureUnit(10, 0); // not sampled while being written
+                glBindTextureUnit(kLocalShadowUnit, 0); // not sampled while being written
                 glEnable(GL_DEPTH_TEST);
                 glDepthFunc(GL_GREATER);
                 glDepthMask(GL_TRUE);
@@ -214,7 +221,7 @@ void runLocalShadows(FrameContext& ctx) {
         glViewport(0, 0, GLsizei(ctx.targets.width), GLsizei(ctx.targets.height));
         bindShadowsForLighting(ctx); // the sun's block again
     }
-    glBindTextureUnit(10, ls.atlas.id());
+    glBindTextureUnit(kLocalShadowUnit, ls.atlas.id());
     ctx.stats.localShadowTiles = ls.tiles;
     ctx.stats.localShadowTilesDrawn = ls.tilesDrawn;
 }

@@ -172,6 +172,10 @@ const std::vector<Row>& rows() {
           "draw a local-light tile again only when its light, its place in the atlas or the "
           "casters change (its depths do not depend on the camera); false: every frame"},
          BoolField{&S::shadowLocalCache}},
+        {{"shadows.local_taps", "int 1..64",
+          "local-light PCF taps over the shadows.radius disk (1: one 2x2 hardware-compared tap); "
+          "a pixel may read many lights' tiles, so fewer than the sun's shadows.taps"},
+         UIntField{&S::shadowLocalTaps, 1, 64}},
         {{"shadows.judged_light", "int -1..65535",
           "the light whose shadow --dump shadow and --shadow-metrics capture: -1 the sun, else an "
           "index into the container's lights (a point or spot light: its tiles' visibility)"},

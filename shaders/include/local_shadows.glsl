@@ -1,10 +1,10 @@
 // local_shadows.glsl — point and spot light shadows from the player's atlas (player/src/
 // local_shadows.h): a spot light's tile, or the cube face of a point light's six that holds the
-// direction to the point, read with the sun's filter settings (shadows.filter, taps, radius: PCF
-// over a rotated Vogel disk of 2x2 hardware-compared taps; pcss falls back to that PCF) and the
-// sun's receiver offsets, which are in texels: in world units a texel at distance d from the
-// light is d x rect.w, so the offsets follow each tile's resolution as the sun's follow each
-// cascade's.
+// direction to the point, read with the sun's PCF (a rotated Vogel disk of 2x2 hardware-compared
+// taps, shadows.radius texels) at shadows.local_taps taps (a pixel may read a dozen lights'
+// tiles: 1 tap = one 2x2 PCF lookup), and the sun's receiver offsets, which are in texels: in
+// world units a texel at distance d from the light is d x rect.w, so the offsets follow each
+// tile's resolution as the sun's follow each cascade's.
 // Compiled in with SHADOWS, after shadow_sampling.glsl.
 #ifndef PNB_LOCAL_SHADOWS_GLSL
 #define PNB_LOCAL_SHADOWS_GLSL
@@ -15,11 +15,11 @@ struct LocalShadowTile {
 };
 
 layout(std430, binding = 9) readonly buffer LocalShadows {
-    vec4 uLocalShadowAtlas; // 1 / atlas side
+    vec4 uLocalShadowAtlas; // 1 / atlas side, taps, radius (texels), 0
     LocalShadowTile uLocalShadowTiles[];
 };
 
-layout(binding = 10) uniform sampler2DShadow uLocalShadowMap;
+layout(binding = 19) uniform sampler2DShadow uLocalShadowMap; // units 10-18: GI and the sky
 
 // 1 lit .. 0 shadowed, for the light whose tiles start at `firstTile`. `lightPosition` and `p`
 // camera-relative, `n` the unit normal, `l` the unit vector to the light, `cube`: six faces.
@@ -45,8 +45,8 @@ float localShadowVisibility(int firstTile, bool cube, vec3 lightPosition, vec3 p
     vec2 texel = vec2(uLocalShadowAtlas.x);
     vec2 lo = t.rect.xy + texel, hi = t.rect.xy + t.rect.z - texel; // taps stay in the tile
     vec2 uv = t.rect.xy + (s.xy * 0.5 + 0.5) * t.rect.z;
-    int taps = int(uShadowParams.y) == 0 ? 1 : int(uShadowParams.z);
-    float radius = uShadowParams.w;
+    int taps = int(uLocalShadowAtlas.y);
+    float radius = uLocalShadowAtlas.z;
     if (taps <= 1 || radius <= 0.0) return texture(uLocalShadowMap, vec3(clamp(uv, lo, hi), s.z));
     float angle = 6.28318531 * interleavedGradientNoise(gl_FragCoord.xy);
     float sum = 0.0;
