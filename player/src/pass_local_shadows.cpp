@@ -92,8 +92,8 @@ void drawTile(FrameContext& ctx, const SceneLight& light, float range, uint32_t 
         if (mesh.vertexArray.id() != boundVao) glBindVertexArray(boundVao = mesh.vertexArray.id());
         glDrawElements(mesh.primitive, GLsizei(warmUpCount(ctx, level.indexCount)), mesh.indexType,
                        reinterpret_cast<const void*>(firstIndex * mesh.indexSize));
-        ++ctx.stats.shadowDraws;
-        ctx.stats.shadowTriangles += level.triangles;
+        ++ctx.stats.localShadowDraws;
+        ctx.stats.localShadowTriangles += level.triangles;
     }
 }
 

@@ -52,6 +52,8 @@ struct FrameStats {
     uint32_t lightClusters = 0;
     // Point and spot light shadows: tiles in use and tiles drawn this frame (cached ones are not).
     uint32_t localShadowTiles = 0, localShadowTilesDrawn = 0;
+    uint32_t localShadowDraws = 0; // their draws and triangles (not in shadowDraws/Triangles: the sun's)
+    uint64_t localShadowTriangles = 0;
 };
 
 struct TargetMemory {
