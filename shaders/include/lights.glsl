@@ -66,9 +66,19 @@ bool lightReaches(uint i, vec3 p) {
     return range <= 0.0 || dot(toLight, toLight) < range * range;
 }
 
-// Radiance reflected towards the viewer by light `i`.
+// Whether light `i` is shadowed this frame: the sun's cascades or a local light's tiles.
+bool lightShadowed(uint i) {
+#ifdef SHADOWS
+    return float(i) == uShadowLight.w || uLights[i].cone.z >= 0.0;
+#else
+    return false;
+#endif
+}
+
+// Radiance reflected towards the viewer by light `i`, with its shadow if `shadowed` (callers
+// pass a constant, so the shadow lookups are compiled out of the unshadowed call).
 vec3 shadeLight(uint i, vec3 baseColor, float metallic, float roughness, vec3 n, vec3 p, vec3 v,
-                bool receivesShadows) {
+                bool shadowed) {
     GpuLight light = uLights[i];
     int type = int(light.directionType.w);
     vec3 l;
@@ -88,8 +98,8 @@ vec3 shadeLight(uint i, vec3 baseColor, float metallic, float roughness, vec3 n,
     }
     vec3 radiance = light.colorIntensity.rgb * light.colorIntensity.a * attenuation;
 #ifdef SHADOWS
-    if (receivesShadows && float(i) == uShadowLight.w) radiance *= shadowVisibility(p, n);
-    if (receivesShadows && light.cone.z >= 0.0 && attenuation > 0.0) {
+    if (shadowed && float(i) == uShadowLight.w) radiance *= shadowVisibility(p, n);
+    if (shadowed && light.cone.z >= 0.0 && attenuation > 0.0) {
         float v = localShadowVisibility(int(light.cone.z), type == PNB_LIGHT_POINT || light.cone.x < 0.5,
                                         light.positionRange.xyz, p, n, l);
         radiance *= v;
@@ -120,31 +130,54 @@ uvec2 clusterMaskStarts(vec3 p) {
 // the surface to the camera. `receivesShadows`: the material's flag (forward programs of
 // materials that do not receive are built without SHADOWS; deferred ones read a G-buffer bit).
 //
-// Lights are taken 32 at a time (one mask word): the cheap range test first, then the BRDF for
-// the lights in reach only. Two loops rather than an early return inside one: shader compilers
-// for SIMD CPUs (llvmpipe) run both sides of a branch for every lane, but end a loop once no
-// lane has work left, so a light out of every lane's reach costs its range test and no BRDF.
+// Two phases, so that only the lights in reach pay for a BRDF, and only the shadowed ones for a
+// shadow lookup: first the cheap range test of every candidate (the cluster's mask bits, or every
+// light), collecting the reached lights' indices in two short lists (unshadowed; shadowed by the
+// sun's cascades or a local light's tiles), then one shading loop per list. Shader compilers for
+// SIMD CPUs (llvmpipe) run a branch's body for every lane, and a loop's body at least once even
+// when no lane enters it; so per-light branches, or shading loops inside the loop over mask
+// words, cost a full BRDF (and shadow lookup) per candidate or per word (1024 lights: ~10x).
+// The lists hold PNB_LIGHT_BATCH lights; more lights in reach of one pixel are shaded in further
+// batches, so none is dropped.
+#define PNB_LIGHT_BATCH 32
+
+// Mask word `w` of this pixel's candidates: its cluster's, or every light.
+uint candidateWord(uint w, bool clustered, uvec2 start, uint words) {
+    if (clustered) return uClusterMasks[start.x + w] & uClusterMasks[start.y + w];
+    return w + 1u < words || uLightCount % 32u == 0u ? ~0u : (1u << (uLightCount % 32u)) - 1u;
+}
+
 vec3 shadeLights(vec3 baseColor, float metallic, float roughness, vec3 n, vec3 p, vec3 v,
                  bool receivesShadows) {
     vec3 sum = vec3(0.0);
     bool clustered = uLightsClustered != 0u;
     uint words = (uLightCount + 31u) / 32u;
     uvec2 start = clustered ? clusterMaskStarts(p) : uvec2(0u);
-    for (uint w = 0u; w < words; ++w) {
-        uint candidates = clustered ? uClusterMasks[start.x + w] & uClusterMasks[start.y + w]
-                        : (w + 1u < words || uLightCount % 32u == 0u ? ~0u : (1u << (uLightCount % 32u)) - 1u);
-        uint reached = 0u;
-        while (candidates != 0u) {
+    uint w = 0u;
+    uint candidates = words > 0u ? candidateWord(0u, clustered, start, words) : 0u;
+    bool done = words == 0u;
+    uint plainList[PNB_LIGHT_BATCH], shadowedList[PNB_LIGHT_BATCH];
+    while (!done) {
+        uint plainCount = 0u, shadowedCount = 0u;
+        while (!done && plainCount < PNB_LIGHT_BATCH && shadowedCount < PNB_LIGHT_BATCH) {
+            if (candidates == 0u) { // the next word
+                ++w;
+                done = w >= words;
+                candidates = done ? 0u : candidateWord(w, clustered, start, words);
+                continue;
+            }
             int b = findLSB(candidates);
             candidates &= candidates - 1u;
-            if (lightReaches(w * 32u + uint(b), p)) reached |= 1u << uint(b);
+            uint i = w * 32u + uint(b);
+            if (lightReaches(i, p)) {
+                if (receivesShadows && lightShadowed(i)) shadowedList[shadowedCount++] = i;
+                else plainList[plainCount++] = i;
+            }
         }
-        while (reached != 0u) {
-            int b = findLSB(reached);
-            reached &= reached - 1u;
-            sum += shadeLight(w * 32u + uint(b), baseColor, metallic, roughness, n, p, v,
-                              receivesShadows);
-        }
+        for (uint k = 0u; k < plainCount; ++k)
+            sum += shadeLight(plainList[k], baseColor, metallic, roughness, n, p, v, false);
+        for (uint k = 0u; k < shadowedCount; ++k)
+            sum += shadeLight(shadowedList[k], baseColor, metallic, roughness, n, p, v, true);
     }
     return sum;
 }

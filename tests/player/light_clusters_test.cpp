@@ -166,3 +166,38 @@ TEST(LightClusters, LightsAMillionUnitsFromTheOriginAreCulledExactly) {
 }
 
 } // namespace pnb::player::test
+
+namespace pnb::player::test {
+
+TEST(LightClusters, EveryLightOfAPixelCountsPastTheShadingBatch) {
+    // 100 coincident lights of a hundredth of the intensity light the floor exactly as one: a
+    // pixel shades its lights in batches of 32 (lights.glsl), and none may be left out.
+    auto scene = [](uint32_t copies) {
+        gltf::Document doc = pointField({.lights = 0});
+        for (uint32_t k = 0; k < copies; ++k) {
+            gltf::Light l;
+            l.name = "copy" + std::to_string(k);
+            l.type = gltf::LightType::Point;
+            l.intensity = 20.0f / float(copies);
+            l.range = 30.0f;
+            doc.lights.push_back(l);
+            gltf::Node n;
+            n.name = l.name;
+            n.light = int32_t(doc.lights.size() - 1);
+            n.translation = {0.5f, 2.5f, 1.0f};
+            doc.nodes.push_back(n);
+        }
+        return doc;
+    };
+    for (LightCulling c : {LightCulling::Clusters, LightCulling::Off}) {
+        RenderSettings s = culling(c);
+        s.shadowLocal = false;
+        Rendered many = render(convert(scene(100), "hundred"), kView, 96, 64, s);
+        Rendered one = render(convert(scene(1), "one"), kView, 96, 64, s);
+        const ImageDiff d = compareRgba8(many.color, one.color);
+        EXPECT_LE(d.maxAbs, 1) << "mean " << d.meanAbs;
+        EXPECT_GT(compareRgba8(many.color, render(convert(scene(0), "none"), kView, 96, 64, s).color).meanAbs, 5.0);
+    }
+}
+
+} // namespace pnb::player::test
