@@ -279,6 +279,24 @@ source = "%s"
         self.assertIn("<td>110.0</td><td>0.0</td><td>0 %</td><td>+10 %</td>", page)
         self.assertIn("GI off: 100.0 ms per frame", page)
 
+    def test_scenes_named_by_light_count_get_a_chart_and_ratios(self):
+        import sweep_report
+        columns = ["key", "scene", "set:lights.culling", "gpu_ms:total"]
+        rows = []
+        for culling, per_light in (("off", 1.0), ("clusters", 0.01)):
+            for n in (8, 64, 1024):
+                rows.append({"key": culling + str(n), "scene": "field-%d" % n, "set:lights.culling": culling,
+                             "gpu_ms:total": 100.0 + per_light * n})
+        rows.append({"key": "x", "scene": "box-room", "set:lights.culling": "off", "gpu_ms:total": 5.0})
+        out = os.path.join(self.dir, "r")
+        page = self.read(sweep_report.write_report(columns, rows, out))
+        self.assertIn("<h2>Frame time by light count: field</h2>", page)
+        self.assertTrue(os.path.exists(os.path.join(out, "field_light_count.png")))
+        self.assertNotIn("light count: box-room", page)  # one scene of its name: no family
+        # off: 1124 ms at 1024 lights over 108 ms at 8; clusters: 110.24 over 100.08.
+        self.assertIn("<td>1124.0 ms (10.41x)</td>", page)
+        self.assertIn("<td>110.2 ms (1.10x)</td>", page)
+
     def test_the_pareto_front_keeps_what_nothing_beats(self):
         import sweep_report
         points = [(1.0, 5.0), (2.0, 3.0), (3.0, 4.0), (4.0, 1.0), (2.5, 3.0), (0.5, 9.0)]

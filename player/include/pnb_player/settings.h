@@ -87,7 +87,7 @@ struct RenderSettings {
 
     // lights.*: which lights each pixel shades (docs/PLAYER.md "Many lights").
     LightCulling lightCulling = LightCulling::Auto;
-    uint32_t lightClusterMin = 16; // auto: clusters from this many point and spot lights on
+    uint32_t lightClusterMin = 32; // auto: clusters from this many point and spot lights on
     uint32_t lightTilePx = 32;     // cluster tile side, pixels
     uint32_t lightSlices = 24;     // exponential depth slices between the near plane and the
                                    // farthest light's reach
