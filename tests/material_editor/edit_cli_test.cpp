@@ -226,7 +226,10 @@ TEST(EditCli, ImportTextureIsBudgetedLikeTheConverter) {
     EXPECT_EQ(r.exitCode, 2) << r.output;
     EXPECT_NE(r.output.find("huge.png"), std::string::npos) << r.output;
     EXPECT_NE(r.output.find("16384x16384"), std::string::npos) << r.output;
-    EXPECT_LT(r.seconds, test::startupBound(baseline));
+    // "At once": decoding the declared 1 GiB of pixels would take many seconds and the memory
+    // bound below; under the full suite's parallel load one run's start-up wanders by a second
+    // (1.35 s against a 1.29 s bound once), hence 2 s more than the usual start-up bound.
+    EXPECT_LT(r.seconds, test::startupBound(baseline) + 2.0);
     EXPECT_LT(r.maxRssBytes, test::kAddressSanitizer ? (1024ull << 20) : (512ull << 20));
 
     r = test::runChild({PNB_EDIT_EXE, path, "--max-memory", "64K", "--import-texture",

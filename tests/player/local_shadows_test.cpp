@@ -136,3 +136,49 @@ TEST(LocalShadows, NoAtlasWithoutShadowCastingLocalLights) {
 }
 
 } // namespace pnb::player::test
+
+namespace pnb::player::test {
+
+TEST(LocalShadows, ReceiversThatDoNotReceiveAreLitAsWithoutShadows) {
+    // A box over a floor under one bulb (the sun's maps off): the floor's shadow from the bulb
+    // is there, unless the floor's material does not receive shadows — deferred and forward.
+    gltf::Document doc;
+    gltf::Material floor, crate;
+    floor.name = "floor";
+    crate.name = "crate";
+    crate.baseColorFactor = {0.8f, 0.4f, 0.2f, 1};
+    doc.materials = {floor, crate};
+    addObject(doc, "floor", quad(8, 8, 0), {0, 0, 0}, {-0.70710678f, 0, 0, 0.70710678f});
+    addObject(doc, "crate", box(1, 1, 1, 1), {0, 0.5f, 0});
+    gltf::Light bulb;
+    bulb.name = "bulb";
+    bulb.type = gltf::LightType::Point;
+    bulb.intensity = 20.0f;
+    bulb.range = 12.0f;
+    doc.lights.push_back(bulb);
+    gltf::Node n;
+    n.name = "bulb";
+    n.light = 0;
+    n.translation = {1.3f, 1.5f, 0.6f}; // low and aside: a long shadow across the floor
+    doc.nodes.push_back(n);
+    const CameraState view = lookAt({0, 5, 5}, {0, 0, 0});
+    RenderSettings on, off;
+    on.shadowTechnique = off.shadowTechnique = ShadowTechnique::Off;
+    off.shadowLocal = false;
+    for (const char* path : {"deferred", "forward"}) {
+        SCOPED_TRACE(path);
+        const std::string receives = convert(doc, std::string("receives-") + path,
+                                             std::string(R"({"materials": {"*": {"shading_path": ")") + path + "\"}}}");
+        EXPECT_GT(compareRgba8(render(receives, view, 96, 64, on).color, render(receives, view, 96, 64, off).color)
+                      .fractionOver(8),
+                  0.02);
+        const std::string ignores = convert(
+            doc, std::string("ignores-") + path,
+            std::string(R"({"materials": {"*": {"shading_path": ")") + path +
+                R"("}, "floor": {"receives_shadows": false}, "crate": {"receives_shadows": false}}})");
+        const ImageDiff d = compareRgba8(render(ignores, view, 96, 64, on).color, render(ignores, view, 96, 64, off).color);
+        EXPECT_LE(d.maxAbs, 1) << "mean " << d.meanAbs;
+    }
+}
+
+} // namespace pnb::player::test
