@@ -51,6 +51,21 @@ void ensureAtlas(LocalShadowContext& ls, uint32_t size) {
     ls.atlasSize = size;
 }
 
+// A placed light's tiles: its range, and their half-angle's tangent — the face's or the cone's,
+// widened by the filter radius (+1.5 texels for the 2x2 tap) so a pixel's taps stay in its tile.
+struct TileShape {
+    float range = 0, tanHalf = 0;
+};
+TileShape tileShape(const SceneLight& l, const LocalShadowPlacement& p, float filterRadius) {
+    const float margin = 1.0f + 2.0f * (filterRadius + 1.5f) / float(p.size);
+    return {effectiveLightRange(l.desc), p.faces == 6 ? margin : std::tan(l.desc.outerConeRadians) * margin};
+}
+
+// Where tile `face` of a placed light looks: a cube face, or down the spot light's axis.
+glm::vec3 tileDirection(const SceneLight& l, const LocalShadowPlacement& p, uint32_t face) {
+    return p.faces == 6 ? kCubeFaceDirections[face] : l.direction;
+}
+
 bool sphereInView(const ViewMatrices& view, glm::vec3 centre, float radius) {
     for (const glm::vec4& plane : view.frustumPlanes)
         if (glm::dot(glm::vec3(plane), centre) + plane.w < -radius * glm::length(glm::vec3(plane))) return false;
@@ -148,19 +163,15 @@ void runLocalShadows(FrameContext& ctx) {
     uint32_t tile = 0;
     for (const LocalShadowPlacement& p : ls.placements) {
         const SceneLight& l = scene.lights[p.light];
-        const float range = effectiveLightRange(l.desc);
-        // The tile reaches past its face or cone by the filter's radius (plus the 2x2 tap), so
-        // a pixel's taps stay inside its tile.
-        const float margin = 1.0f + 2.0f * (s.shadowRadius + 1.5f) / float(p.size);
-        const float tanHalf = p.faces == 6 ? margin : std::tan(l.desc.outerConeRadians) * margin;
+        const TileShape shape = tileShape(l, p, s.shadowRadius);
         const float first = float(tile);
         std::memcpy(ctx.lights.listData + 16 + size_t(p.light) * 64 + 56, &first, sizeof first);
         for (uint32_t f = 0; f < p.faces; ++f, ++tile) {
-            const glm::vec3 dir = p.faces == 6 ? kCubeFaceDirections[f] : l.direction;
             GpuShadowTile t;
-            t.matrix = localShadowMatrix(glm::vec3(l.position - ctx.view.position), dir, tanHalf, range);
+            t.matrix = localShadowMatrix(glm::vec3(l.position - ctx.view.position), tileDirection(l, p, f),
+                                         shape.tanHalf, shape.range);
             t.rect = {float(p.origins[f].x) / atlas, float(p.origins[f].y) / atlas, float(p.size) / atlas,
-                      2.0f * tanHalf / float(p.size)};
+                      2.0f * shape.tanHalf / float(p.size)};
             std::memcpy(data + 16 + size_t(tile) * sizeof t, &t, sizeof t);
         }
     }
@@ -172,15 +183,12 @@ void runLocalShadows(FrameContext& ctx) {
     tile = 0;
     for (const LocalShadowPlacement& p : ls.placements) {
         const SceneLight& l = scene.lights[p.light];
-        const float range = effectiveLightRange(l.desc);
-        const float margin = 1.0f + 2.0f * (s.shadowRadius + 1.5f) / float(p.size);
-        const float tanHalf = p.faces == 6 ? margin : std::tan(l.desc.outerConeRadians) * margin;
+        const TileShape shape = tileShape(l, p, s.shadowRadius);
         ShadowBlock block{};
         bool blockPushed = false;
         for (uint32_t f = 0; f < p.faces; ++f, ++tile) {
-            const glm::vec3 dir = p.faces == 6 ? kCubeFaceDirections[f] : l.direction;
-            LocalShadowContext::TileKey key{p.light, p.size, f, p.origins[f], l.position, dir, range, tanHalf,
-                                            scene.materialsVersion};
+            LocalShadowContext::TileKey key{p.light, p.size, f, p.origins[f], l.position, tileDirection(l, p, f),
+                                            shape.range, shape.tanHalf, scene.materialsVersion};
             if (s.shadowLocalCache && !ctx.warmUp && ls.drawn[tile] == key) continue;
             ls.drawn[tile] = ctx.warmUp ? LocalShadowContext::TileKey{} : key;
             if (objectOffsets.empty()) {
@@ -200,8 +208,7 @@ void runLocalShadows(FrameContext& ctx) {
             if (!blockPushed) {
                 for (uint32_t k = 0; k < p.faces; ++k)
                     block.matrix[k] = localShadowMatrix(glm::vec3(l.position - ctx.view.position),
-                                                        p.faces == 6 ? kCubeFaceDirections[k] : l.direction, tanHalf,
-                                                        range);
+                                                        tileDirection(l, p, k), shape.tanHalf, shape.range);
                 const size_t offset = ctx.ring.push(&block, sizeof block);
                 glBindBufferRange(GL_UNIFORM_BUFFER, 4, ctx.ring.buffer(), GLintptr(offset), sizeof block);
                 blockPushed = true;
@@ -210,7 +217,7 @@ void runLocalShadows(FrameContext& ctx) {
             glScissor(GLint(p.origins[f].x), GLint(p.origins[f].y), GLsizei(p.size), GLsizei(p.size));
             const float far = 0.0f; // reversed-Z
             glClearNamedFramebufferfv(ls.framebuffer.id(), GL_DEPTH, 0, &far);
-            drawTile(ctx, l, range, f, objectOffsets);
+            drawTile(ctx, l, shape.range, f, objectOffsets);
             ++ls.tilesDrawn;
         }
     }
