@@ -20,7 +20,7 @@
 #define PNB_LIGHT_SPOT 2
 
 struct GpuLight {
-    vec4 positionRange;      // camera-relative position, range (0 = unlimited)
+    vec4 positionRange;      // camera-relative position, range (0: directional, or no light)
     vec4 directionType;      // direction the light travels (unit), type
     vec4 colorIntensity;     // linear rgb, intensity (lux or candela)
     vec4 cone;               // cos(outer), 1 / max(cos(inner) - cos(outer), 1e-4),
@@ -100,12 +100,14 @@ vec3 shadeLight(uint i, vec3 baseColor, float metallic, float roughness, vec3 n,
 #ifdef SHADOWS
     if (shadowed && float(i) == uShadowLight.w) radiance *= shadowVisibility(p, n);
     if (shadowed && light.cone.z >= 0.0 && attenuation > 0.0) {
-        float v = localShadowVisibility(int(light.cone.z), type == PNB_LIGHT_POINT || light.cone.x < 0.5,
-                                        light.positionRange.xyz, p, n, l);
-        radiance *= v;
+        // Six faces for point lights and spots wider than 60 degrees (cos < 0.5), as the player
+        // places them (pass_local_shadows.cpp).
+        float visibility = localShadowVisibility(int(light.cone.z), type == PNB_LIGHT_POINT || light.cone.x < 0.5,
+                                                 light.positionRange.xyz, p, n, l);
+        radiance *= visibility;
         if (float(i) == uShadowView.z) { // the judged light (shadows.judged_light): the capture
             gLocalJudged = dot(n, l) > 0.0;
-            gShadowVisibility = v;
+            gShadowVisibility = visibility;
             gShadowCascade = 0;
         }
     }
