@@ -159,7 +159,6 @@ void runLocalShadows(FrameContext& ctx) {
     const float atlas = float(ls.atlasSize);
     const glm::vec4 header(1.0f / atlas, float(s.shadowLocalTaps), s.shadowRadius, 0);
     std::memcpy(data, &header, sizeof header);
-    std::vector<glm::mat4> matrices;
     uint32_t tile = 0;
     for (const LocalShadowPlacement& p : ls.placements) {
         const SceneLight& l = scene.lights[p.light];
