@@ -23,6 +23,7 @@ set(PNB_TOOLS pnb-convert pnb-play pnb-edit pnb-inspect pnb-reference pnb-make-s
 set_target_properties(pnb_format PROPERTIES EXPORT_NAME format)
 set_target_properties(pnb_player PROPERTIES EXPORT_NAME player)
 set_target_properties(pnb_player_math PROPERTIES EXPORT_NAME player_math)
+set_target_properties(pnb_lighting PROPERTIES EXPORT_NAME lighting)
 set_target_properties(pnb_image_write PROPERTIES EXPORT_NAME image_write)
 set_target_properties(pnb_path_json PROPERTIES EXPORT_NAME path_json)
 
@@ -38,7 +39,7 @@ install(TARGETS pnb_format EXPORT PenumbraTargets
     ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR}
     LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR}
     INCLUDES DESTINATION ${CMAKE_INSTALL_INCLUDEDIR})
-install(TARGETS pnb_player pnb_player_math pnb_image_write pnb_path_json
+install(TARGETS pnb_player pnb_player_math pnb_lighting pnb_image_write pnb_path_json
     EXPORT PenumbraPlayerTargets
     ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR}
     LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR}

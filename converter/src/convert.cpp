@@ -469,7 +469,7 @@ Result<ConvertSummary, ConvertError> convertScene(const ConvertSettings& s,
             // ground below the horizon reflects too, in the light's colour, then scale the
             // whole sky by (the scene's sun) / (that physical sun). Sky and sun then keep their
             // physical ratio under one exposure (FORMAT.md "ENVM").
-            const double physicalSun = player::preethamSunIlluminance(p.turbidity, p.sunDirection);
+            const double physicalSun = lighting::preethamSunIlluminance(p.turbidity, p.sunDirection);
             const glm::dvec3 colour = sunLight >= 0 ? glm::dvec3(scene.lights[size_t(sunLight)].color.x,
                                                                  scene.lights[size_t(sunLight)].color.y,
                                                                  scene.lights[size_t(sunLight)].color.z)

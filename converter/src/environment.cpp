@@ -8,8 +8,8 @@
 
 #include "environment_internal.h"
 #include "pnb_converter/environment.h"
-#include "sh9.h"       // player/math
-#include "split_sum.h" // player/math
+#include "pnb_lighting/sh9.h"
+#include "pnb_lighting/split_sum.h"
 
 namespace pnb::converter {
 
@@ -119,9 +119,9 @@ Result<BakedEnvironment, ConvertError> bakeEnvironment(const RadianceImage& radi
         std::vector<float> rgb(mips[0].texelCount() * 3);
         for (size_t t = 0; t < mips[0].texelCount(); ++t)
             std::memcpy(&rgb[t * 3], &mips[0].texels[t * 4], 3 * sizeof(float));
-        const player::Sh9Rgb irradiance = player::sh9IrradianceCoefficients(
-            player::sh9ProjectEquirect(rgb, mips[0].width, mips[0].height),
-            player::ShWindow::NonNegative);
+        const lighting::Sh9Rgb irradiance = lighting::sh9IrradianceCoefficients(
+            lighting::sh9ProjectEquirect(rgb, mips[0].width, mips[0].height),
+            lighting::ShWindow::NonNegative);
         for (size_t k = 0; k < 9; ++k)
             out.envm.irradianceSh[k] = {float(irradiance.c[k].x), float(irradiance.c[k].y),
                                         float(irradiance.c[k].z)};
@@ -161,7 +161,7 @@ Result<BakedEnvironment, ConvertError> bakeEnvironment(const RadianceImage& radi
     out.lut = texture(TextureDimension::Tex2D, TextureFormat::RG16F, s.lutSize, s.lutSize, 1,
                       Wrap::ClampToEdge, Wrap::ClampToEdge);
     {
-        const std::vector<float> ab = player::splitSumLut(s.lutSize, s.lutSize, s.lutSamples);
+        const std::vector<float> ab = lighting::splitSumLut(s.lutSize, s.lutSize, s.lutSamples);
         std::vector<std::byte> bytes(ab.size() * 2);
         for (size_t k = 0; k < ab.size(); ++k) {
             const uint16_t h = texture_detail::floatToHalf(ab[k]);
@@ -178,7 +178,7 @@ Result<BakedEnvironment, ConvertError> bakeEnvironment(const RadianceImage& radi
         out.envm.sunDirection = {float(d.x), float(d.y), float(d.z)};
         // What the model used (it clamps turbidity to its fit's [2, 10] and albedo to [0, 1]), so
         // that a reader recomputing the sky from ENVM gets this one.
-        out.envm.turbidity = float(player::PreethamSky(*sky).turbidity());
+        out.envm.turbidity = float(lighting::PreethamSky(*sky).turbidity());
         const glm::dvec3 albedo = glm::clamp(sky->groundAlbedo, 0.0, 1.0);
         out.envm.groundAlbedo = {float(albedo.x), float(albedo.y), float(albedo.z)};
         // The scene's sun in lux: its luminous channel is what a reader puts beside the sky.

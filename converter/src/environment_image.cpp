@@ -7,7 +7,7 @@
 
 #include "pnb_converter/environment.h"
 #include "pnb_converter/memory_budget.h"
-#include "sh9.h" // player/math: equirectDirection, the one definition of the mapping
+#include "pnb_lighting/sh9.h" // equirectDirection, the one definition of the mapping
 #include "texture_internal.h"
 
 namespace pnb::converter {
@@ -93,12 +93,12 @@ RadianceImage bakePreethamSky(const PreethamSkyParams& params, uint32_t width) {
     out.width = std::max(1u, width);
     out.height = std::max(1u, out.width / 2);
     out.rgb.resize(size_t(out.width) * out.height * 3);
-    const player::PreethamSky sky(params);
+    const lighting::PreethamSky sky(params);
     for (uint32_t j = 0; j < out.height; ++j)
         for (uint32_t i = 0; i < out.width; ++i) {
             // Texel centres: the stored texel is the radiance at its centre, which the box mips
             // and the SH projection (texels as constant patches) then treat as its mean.
-            glm::dvec3 d = player::equirectDirection((i + 0.5) / out.width, (j + 0.5) / out.height);
+            glm::dvec3 d = lighting::equirectDirection((i + 0.5) / out.width, (j + 0.5) / out.height);
             glm::dvec3 L = sky.radiance(d);
             float* p = &out.rgb[(size_t(j) * out.width + i) * 3];
             p[0] = float(L.x);

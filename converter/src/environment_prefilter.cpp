@@ -26,7 +26,7 @@
 #include "environment_internal.h"
 #include "parallel_for.h"
 #include "pnb_converter/environment.h"
-#include "split_sum.h" // player/math: hammersley, ggxSampleHalfVector, ggxD, ggxAlpha
+#include "pnb_lighting/split_sum.h" // hammersley, ggxSampleHalfVector, ggxD, ggxAlpha
 
 namespace pnb::converter {
 
@@ -117,16 +117,16 @@ struct LobeSample {
 
 std::vector<LobeSample> lobeSamples(double roughness, uint32_t count, double texelSolidAngle) {
     std::vector<LobeSample> out;
-    const double alpha = player::ggxAlpha(roughness);
+    const double alpha = lighting::ggxAlpha(roughness);
     for (uint32_t k = 0; k < count; ++k) {
-        const glm::dvec3 h = player::ggxSampleHalfVector(player::hammersley(k, count), alpha);
+        const glm::dvec3 h = lighting::ggxSampleHalfVector(lighting::hammersley(k, count), alpha);
         const double nDotH = h.z;
         // l = reflect(-v, h) with v = n = +Z: 2 (v.h) h - v.
         LobeSample s{{2 * nDotH * h.x, 2 * nDotH * h.y, 2 * nDotH * nDotH - 1}, 0, 0};
         s.nDotL = s.l[2];
         if (!(s.nDotL > 0)) continue;
         // pdf(l) = D (n.h) / (4 v.h) = D / 4, since n = v makes n.h = v.h.
-        const double pdf = player::ggxD(nDotH, alpha) / 4.0;
+        const double pdf = lighting::ggxD(nDotH, alpha) / 4.0;
         const double sampleSolidAngle = 1.0 / (double(count) * pdf);
         s.lod = std::max(0.0, 0.5 * std::log2(sampleSolidAngle / texelSolidAngle) + kLodBias);
         out.push_back(s);

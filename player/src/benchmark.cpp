@@ -19,6 +19,7 @@
 #include "player_tools.h"
 #include "pnb_player/camera_path.h"
 #include "pnb_player/image_write.h"
+#include "pnb_lighting/scene_lights.h"
 
 namespace pnb::player {
 
@@ -62,9 +63,9 @@ std::string cpuModel() {
 
 // Unit vector toward the shadowing light (the first directional light that casts shadows).
 glm::vec3 shadowLightToward(const GpuScene& scene) {
-    for (const SceneLight& l : scene.lights)
-        if (l.desc.type == LightType::Directional && l.desc.castsShadows) return -l.direction;
-    return {0, 1, 0};
+    const int sun = lighting::shadowingSunIndex(scene.lights.size(),
+                                                [&](size_t i) -> const Light& { return scene.lights[i].desc; });
+    return sun >= 0 ? -scene.lights[size_t(sun)].direction : glm::vec3(0, 1, 0);
 }
 
 PlayResult<Done> writeText(const std::string& path, const std::string& text) {

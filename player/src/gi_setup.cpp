@@ -9,17 +9,17 @@
 #include <glm/gtc/matrix_transform.hpp>
 
 #include "frame_context.h"
+#include "pnb_lighting/scene_lights.h"
 
 namespace pnb::player {
 
 namespace {
 
-// The sun GI bounces: the shadowing light, else the first directional light; -1 if none.
-int giLight(const GpuScene& scene, const ShadowContext& shadows) {
-    if (shadows.light >= 0) return shadows.light;
-    for (size_t i = 0; i < scene.lights.size(); ++i)
-        if (scene.lights[i].desc.type == LightType::Directional) return int(i);
-    return -1;
+// The sun GI bounces: the shadowing light, else the first directional light; -1 if none
+// (the GI truth picks it by the same rule).
+int giLight(const GpuScene& scene) {
+    return lighting::bouncedSunIndex(scene.lights.size(),
+                                     [&](size_t i) -> const Light& { return scene.lights[i].desc; });
 }
 
 // Whether some drawn surface reflects and receives diffuse light: an opaque or masked material
@@ -69,7 +69,7 @@ void prepareGi(FrameContext& ctx) {
     f.cascades.clear();
     f.rsmItems.clear();
     f.rsmObjectOffsets.clear();
-    int sun = giLight(scene, ctx.shadows);
+    int sun = giLight(scene);
     if (s.giEnabled && gi.diffuseVersion != scene.materialsVersion) {
         gi.diffuse = anyDiffuseSurface(scene);
         gi.diffuseVersion = scene.materialsVersion;

@@ -5,9 +5,11 @@
 #include <cstdio>
 
 #include "frame_context.h"
-#include "sh9.h"
+#include "pnb_lighting/sh9.h"
 
 namespace pnb::player {
+
+using namespace lighting; // SH9 (pnb_lighting/sh9.h)
 
 void prepareIbl(FrameContext& ctx) {
     IblContext& ibl = ctx.ibl;

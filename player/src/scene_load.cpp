@@ -13,6 +13,7 @@
 #include "pnb/mesh_levels.h"
 #include "pnb/node_transform.h"
 #include "pnb/scene.h"
+#include "pnb_lighting/scene_lights.h"
 #include "lod_select.h"
 #include "program_compile.h"
 #include "scene_upload.h"
@@ -193,11 +194,11 @@ std::vector<MeshChain> appendMeshLevels(GpuScene& gpu, size_t m) {
 void buildSceneGraph(const Scene& scene, GpuScene& gpu) {
     std::vector<std::vector<MeshChain>> meshLevels;
     for (size_t m = 0; m < gpu.meshes.size(); ++m) meshLevels.push_back(appendMeshLevels(gpu, m));
-    std::vector<glm::dmat4> world(scene.nodes.nodes.size());
+    const std::vector<Matrix4d> worldMatrices = nodeWorldMatrices(scene.nodes);
+    std::vector<glm::dmat4> world(worldMatrices.size());
     for (size_t i = 0; i < scene.nodes.nodes.size(); ++i) {
         const Node& n = scene.nodes.nodes[i];
-        const glm::dmat4 local = glm::make_mat4(nodeLocalMatrix(n).data());
-        world[i] = n.parent == kNone ? local : world[n.parent] * local;
+        world[i] = glm::make_mat4(worldMatrices[i].data());
         if (n.mesh != kNone) {
             const GpuMesh& mesh = gpu.meshes[n.mesh];
             glm::mat3 normal = glm::mat3(glm::inverseTranspose(glm::dmat3(world[i])));
@@ -226,7 +227,7 @@ void buildSceneGraph(const Scene& scene, GpuScene& gpu) {
             l.desc = scene.lights.lights[n.light];
             l.name = scene.str(l.desc.name);
             l.position = glm::dvec3(world[i][3]);
-            l.direction = glm::normalize(glm::vec3(glm::dmat3(world[i]) * glm::dvec3(0, 0, -1)));
+            l.direction = glm::vec3(lighting::lightTravel(world[i]));
             gpu.lights.push_back(l);
         }
         if (n.camera != kNone) {

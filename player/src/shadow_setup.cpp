@@ -9,6 +9,7 @@
 
 #include "cascade_splits.h"
 #include "frame_context.h"
+#include "pnb_lighting/scene_lights.h"
 
 namespace pnb::player {
 
@@ -46,14 +47,8 @@ FitCamera fitCamera(const ViewMatrices& view) {
 
 void initShadowContext(const GpuScene& scene, ShadowContext& shadows) {
     shadows.casters.clear();
-    shadows.light = -1;
-    for (size_t i = 0; i < scene.lights.size(); ++i) {
-        const Light& l = scene.lights[i].desc;
-        if (l.type == LightType::Directional && l.castsShadows) {
-            shadows.light = int(i);
-            break;
-        }
-    }
+    shadows.light = lighting::shadowingSunIndex(scene.lights.size(),
+                                                [&](size_t i) -> const Light& { return scene.lights[i].desc; });
     shadows.sceneMin = glm::dvec3(std::numeric_limits<double>::infinity());
     shadows.sceneMax = -shadows.sceneMin;
     for (const DrawItem& item : scene.items) {

@@ -21,6 +21,7 @@
 #include "mesh_decode.h"
 #include "pnb/light_range.h"
 #include "pnb/node_transform.h"
+#include "pnb_lighting/scene_lights.h"
 #include "pnb_reference/local_light.h"
 #include "self_intersection.h"
 #include "texture_decode.h"
@@ -108,7 +109,7 @@ TracerResult<std::unique_ptr<IndirectTracer>> IndirectTracer::build(const Scene&
 
     // Lights, world transforms in double (pnb/node_transform.h).
     const std::vector<Matrix4d> worldMatrices = nodeWorldMatrices(scene.nodes);
-    int firstDirectional = -1;
+    std::vector<const Light*> placed; // impl.lights' descriptors, in the player's order (by node)
     for (size_t i = 0; i < scene.nodes.nodes.size(); ++i) {
         const Node& n = scene.nodes.nodes[i];
         if (n.light == kNone || n.light >= scene.lights.lights.size()) continue;
@@ -118,18 +119,16 @@ TracerResult<std::unique_ptr<IndirectTracer>> IndirectTracer::build(const Scene&
         info.type = l.type;
         info.radiance = glm::vec3(l.color.x, l.color.y, l.color.z) * l.intensity;
         info.position = glm::vec3(glm::dvec3(world[3]) - origin);
-        info.travel = glm::vec3(glm::normalize(glm::dmat3(world) * glm::dvec3(0, 0, -1)));
+        info.travel = glm::vec3(lighting::lightTravel(world));
         info.toward = -info.travel;
         info.range = pnb::effectiveLightRange(l); // as the player shades it (pnb/light_range.h)
         info.cosOuter = std::cos(l.outerConeRadians);
         info.cosInner = std::cos(l.innerConeRadians);
-        if (l.type == LightType::Directional) {
-            if (impl.sun < 0 && l.castsShadows) impl.sun = int(impl.lights.size());
-            if (firstDirectional < 0) firstDirectional = int(impl.lights.size());
-        }
         impl.lights.push_back(info);
+        placed.push_back(&l);
     }
-    if (impl.sun < 0) impl.sun = firstDirectional;
+    // The sun GI bounces, by the player's rule.
+    impl.sun = lighting::bouncedSunIndex(placed.size(), [&](size_t i) -> const Light& { return *placed[i]; });
     stats.lights = uint32_t(impl.lights.size());
 
     // Reflectors (triangle_scene.h), each with what a hit on it needs: its material, UVs of the

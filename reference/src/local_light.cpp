@@ -13,6 +13,7 @@
 #include "mesh_decode.h"
 #include "pnb/light_range.h"
 #include "pnb/node_transform.h"
+#include "pnb_lighting/scene_lights.h"
 
 namespace pnb::reference {
 
@@ -42,9 +43,8 @@ TracerResult<LocalLight> placeLocalLight(const Scene& scene, uint32_t index) {
         const glm::dmat4 m = glm::make_mat4(world[i].data());
         out.node = i;
         out.position = glm::dvec3(m[3]);
-        // A light shines down its node's -Z (KHR_lights_punctual). A degenerate (zero-scale) node
-        // has no direction; the spot then reaches nothing (cos of NaN compares false).
-        out.direction = glm::normalize(glm::dvec3(m * glm::dvec4(0.0, 0.0, -1.0, 0.0)));
+        // A degenerate (zero-scale) node has no direction; the spot then reaches nothing.
+        out.direction = lighting::lightTravel(m);
     }
     if (out.placementNodes == 0)
         return inputError(out.name + " is placed by no node (no NODE references it): it has no "

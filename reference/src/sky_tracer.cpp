@@ -16,7 +16,7 @@
 
 #include "cosine_sampling.h"
 #include "self_intersection.h"
-#include "sh9.h"
+#include "pnb_lighting/sh9.h"
 #include "texture_decode.h"
 #include "triangle_scene.h"
 
@@ -26,7 +26,7 @@ namespace {
 
 constexpr double kPi = 3.14159265358979323846;
 
-// The clamped cosine's zonal coefficients per band (player/math/sh9.h, FORMAT.md "ENVM").
+// The clamped cosine's zonal coefficients per band (pnb_lighting/sh9.h, FORMAT.md "ENVM").
 constexpr double kCosineLobe[3] = {kPi, 2.0 * kPi / 3.0, kPi / 4.0};
 constexpr int kBandOf[9] = {0, 1, 1, 1, 2, 2, 2, 2, 2};
 
@@ -43,7 +43,7 @@ const char* formatName(TextureFormat f) {
 struct SkyTracer::Impl {
     std::unique_ptr<detail::TriangleScene> occluders;
     std::optional<detail::LinearTexture> radiance; // the ENVM image, level 0
-    player::Sh9Rgb radianceSh;                     // irradianceSh / A_l (see sky_tracer.h)
+    lighting::Sh9Rgb radianceSh;                     // irradianceSh / A_l (see sky_tracer.h)
 };
 
 SkyTracer::SkyTracer() : mImpl(std::make_unique<Impl>()) {}
@@ -114,12 +114,12 @@ void SkyTracer::irradiance(std::span<const glm::vec3> positions, std::span<const
     // (sh9RotateY's sense); the Sh source is rotated once, exactly, by sh9RotateY itself.
     const double angle = std::isfinite(settings.rotationRadians) ? double(settings.rotationRadians) : 0.0;
     const double ca = std::cos(angle), sa = std::sin(angle);
-    const player::Sh9Rgb rotatedSh = player::sh9RotateY(impl.radianceSh, angle);
+    const lighting::Sh9Rgb rotatedSh = lighting::sh9RotateY(impl.radianceSh, angle);
     const double intensity = settings.intensity;
     auto radiance = [&](const glm::vec3& w) -> glm::dvec3 {
-        if (settings.source == SkySource::Sh) return player::sh9Evaluate(rotatedSh, glm::dvec3(w)) * intensity;
+        if (settings.source == SkySource::Sh) return lighting::sh9Evaluate(rotatedSh, glm::dvec3(w)) * intensity;
         const glm::dvec3 local(ca * w.x - sa * w.z, w.y, sa * w.x + ca * w.z); // R_y(-angle) w
-        return glm::dvec3(glm::vec3(impl.radiance->sample(glm::vec2(player::equirectUv(local))))) * intensity;
+        return glm::dvec3(glm::vec3(impl.radiance->sample(glm::vec2(lighting::equirectUv(local))))) * intensity;
     };
 
     const uint32_t samples = settings.samples;

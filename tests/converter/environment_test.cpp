@@ -24,8 +24,8 @@
 #include "pnb_assets/procedural_scenes.h"
 #include "pnb_converter/convert.h"
 #include "pnb_converter/environment.h"
-#include "sh9.h"
-#include "split_sum.h"
+#include "pnb_lighting/sh9.h"
+#include "pnb_lighting/split_sum.h"
 #include "environment_internal.h"
 #include "texture_internal.h"
 
@@ -124,8 +124,8 @@ std::vector<float> texels(const Scene& scene, uint32_t texture, uint32_t level) 
     return {};
 }
 
-player::Sh9Rgb shOf(const pnb::Environment& e) {
-    player::Sh9Rgb sh;
+lighting::Sh9Rgb shOf(const pnb::Environment& e) {
+    lighting::Sh9Rgb sh;
     for (size_t k = 0; k < 9; ++k)
         sh.c[k] = {e.irradianceSh[k].x, e.irradianceSh[k].y, e.irradianceSh[k].z};
     return sh;
@@ -155,7 +155,7 @@ TEST_F(Environment, ConstantEnvironmentGivesPiLIrradianceAndAConstantCube) {
     EXPECT_TRUE(isOk(validateEnvironment(b.scene, e)));
     EXPECT_EQ(b.scene.str(e.name), "grey.exr");
     for (const glm::dvec3& n : sphereDirections(7)) {
-        glm::dvec3 E = player::sh9Evaluate(shOf(e), n);
+        glm::dvec3 E = lighting::sh9Evaluate(shOf(e), n);
         for (int c = 0; c < 3; ++c) EXPECT_NEAR(E[c], kPi * L[c], 1e-5 * kPi * L[c]) << c;
     }
     const TextureDesc& cube = b.scene.textures.at(e.specular);
@@ -192,7 +192,7 @@ TEST_F(Environment, BrdfTableHoldsSplitSumAtTexelCentresRowZeroFirst) {
     ASSERT_EQ(ab.size(), 32u * 32u * 2u);
     // Texel (i, j): NdotV = (i + 0.5) / W along the row, roughness = (j + 0.5) / H down the rows.
     for (auto [i, j] : {std::pair{0u, 0u}, {31u, 0u}, {0u, 31u}, {5u, 20u}, {20u, 5u}, {31u, 31u}}) {
-        glm::dvec2 want = player::splitSumBrdf((i + 0.5) / 32.0, (j + 0.5) / 32.0, 256);
+        glm::dvec2 want = lighting::splitSumBrdf((i + 0.5) / 32.0, (j + 0.5) / 32.0, 256);
         EXPECT_NEAR(ab[(j * 32 + i) * 2 + 0], want.x, 2e-3) << i << "," << j;
         EXPECT_NEAR(ab[(j * 32 + i) * 2 + 1], want.y, 2e-3) << i << "," << j;
     }
@@ -244,7 +244,7 @@ TEST_F(Environment, CubeFacesFollowGlOrientationAndUHalfLooksAlongPlusX) {
     for (const glm::dvec3& w : sphereDirections(200)) {
         double uv[2], unit[3] = {w.x, w.y, w.z};
         environment_detail::equirectUvOfUnit(unit, uv);
-        glm::dvec2 want = player::equirectUv(w);
+        glm::dvec2 want = lighting::equirectUv(w);
         double du = std::abs(uv[0] - want.x);
         EXPECT_LT(std::min(du, 1.0 - du), 1e-12);
         EXPECT_NEAR(uv[1], want.y, 1e-12);
@@ -260,7 +260,7 @@ TEST_F(Environment, CubeFacesFollowGlOrientationAndUHalfLooksAlongPlusX) {
 // the integral of L(l) (n.l) D(h) / 4 over the sphere divided by that of (n.l) D(h) / 4, with
 // N = V = r (the estimator environment_prefilter.cpp samples), by 4x4 points per source texel.
 glm::dvec3 exactPrefilter(const RadianceImage& img, const glm::dvec3& r, double roughness) {
-    const double alpha = player::ggxAlpha(roughness);
+    const double alpha = lighting::ggxAlpha(roughness);
     glm::dvec3 acc(0);
     double weight = 0;
     for (uint32_t j = 0; j < img.height; ++j)
@@ -268,12 +268,12 @@ glm::dvec3 exactPrefilter(const RadianceImage& img, const glm::dvec3& r, double 
             for (int sj = 0; sj < 4; ++sj)
                 for (int si = 0; si < 4; ++si) {
                     double u = (i + (si + 0.5) / 4) / img.width, v = (j + (sj + 0.5) / 4) / img.height;
-                    glm::dvec3 l = player::equirectDirection(u, v);
+                    glm::dvec3 l = lighting::equirectDirection(u, v);
                     double nDotL = glm::dot(r, l);
                     if (nDotL <= 0) continue;
                     double dOmega = std::sin(kPi * v); // the common factors cancel
                     glm::dvec3 h = glm::normalize(l + r);
-                    double w = nDotL * player::ggxD(glm::dot(r, h), alpha) * dOmega;
+                    double w = nDotL * lighting::ggxD(glm::dot(r, h), alpha) * dOmega;
                     const float* p = &img.rgb[(size_t(j) * img.width + i) * 3];
                     acc += w * glm::dvec3(p[0], p[1], p[2]);
                     weight += w;
@@ -335,7 +335,7 @@ TEST_F(Environment, SunPixelsStayFiniteAndMakeNoFireflies) {
         for (uint32_t m = 0; m < b.scene.textures.at(t).mipCount; ++m)
             for (float v : texels(b.scene, t, m)) ASSERT_TRUE(std::isfinite(v) && v >= 0) << t << " " << m;
     for (const glm::dvec3& n : sphereDirections(64)) {
-        glm::dvec3 E = player::sh9Evaluate(shOf(e), n);
+        glm::dvec3 E = lighting::sh9Evaluate(shOf(e), n);
         for (int c = 0; c < 3; ++c) EXPECT_GE(E[c], 0.0) << n.x << " " << n.y << " " << n.z;
     }
 
@@ -475,15 +475,15 @@ TEST_F(Environment, SkyFollowsTheScenesSunAndLightsTowardsIt) {
     EXPECT_NEAR(e.sunDirection.y, toSun.y, 1e-5);
     EXPECT_NEAR(e.sunDirection.z, toSun.z, 1e-5);
     EXPECT_GT(toSun.y, 0.5) << "the default sun is 50 degrees up";
-    glm::dvec3 towards = player::sh9Evaluate(shOf(e), toSun);
-    glm::dvec3 away = player::sh9Evaluate(shOf(e), -toSun);
+    glm::dvec3 towards = lighting::sh9Evaluate(shOf(e), toSun);
+    glm::dvec3 away = lighting::sh9Evaluate(shOf(e), -toSun);
     for (int c2 = 0; c2 < 3; ++c2) EXPECT_GT(towards[c2], away[c2]) << c2;
     // The sky keeps its physical ratio to the scene's sun (3 lux here): a clear sky's light on
     // a surface facing the sun is a tenth to a half of the direct sun's, not 10^4 times it.
     const double ratio = towards.y / e.sunIlluminance;
     EXPECT_GT(ratio, 0.1);
     EXPECT_LT(ratio, 0.5);
-    const double physical = player::preethamSunIlluminance(3.0, toSun);
+    const double physical = lighting::preethamSunIlluminance(3.0, toSun);
     EXPECT_GT(physical, 60000.0) << "a clear sun 50 degrees up";
     EXPECT_LT(physical, 110000.0);
 }

@@ -18,10 +18,12 @@
 #include "pnb_player/gpu_scene.h"
 #include "pnb_player/image_write.h"
 #include "render_fixture.h"
-#include "sh9.h"
-#include "split_sum.h"
+#include "pnb_lighting/sh9.h"
+#include "pnb_lighting/split_sum.h"
 
 namespace pnb::player::test {
+
+using namespace lighting; // SH9 and split-sum (pnb_lighting)
 
 namespace {
 

@@ -16,7 +16,7 @@
 
 #include "pnb/scene_builder.h"
 #include "pnb_reference/sky_tracer.h"
-#include "sh9.h"
+#include "pnb_lighting/sh9.h"
 
 namespace pnb::reference::test {
 namespace {
@@ -51,7 +51,7 @@ void addQuad(SceneBuilder& b, glm::vec3 corner, glm::vec3 a, glm::vec3 e) {
 // An ENVM whose radiance image is width x height texels of radiance(direction at the texel's
 // centre), stored as RGBA32F or RGBA16F, and whose irradianceSh is `irradianceSh`.
 void setEnvironment(SceneBuilder& b, uint32_t width, uint32_t height, TextureFormat format,
-                    const std::function<glm::vec3(glm::dvec3)>& radiance, const player::Sh9Rgb& irradianceSh) {
+                    const std::function<glm::vec3(glm::dvec3)>& radiance, const lighting::Sh9Rgb& irradianceSh) {
     TextureDesc t;
     t.name = b.intern("sky");
     t.format = format;
@@ -67,7 +67,7 @@ void setEnvironment(SceneBuilder& b, uint32_t width, uint32_t height, TextureFor
     std::vector<uint16_t> f16;
     for (uint32_t j = 0; j < height; ++j)
         for (uint32_t i = 0; i < width; ++i) {
-            glm::vec3 l = radiance(player::equirectDirection((i + 0.5) / width, (j + 0.5) / height));
+            glm::vec3 l = radiance(lighting::equirectDirection((i + 0.5) / width, (j + 0.5) / height));
             for (float c : {l.x, l.y, l.z, 1.0f}) {
                 f32.push_back(c);
                 f16.push_back(glm::packHalf1x16(c));
@@ -86,9 +86,9 @@ void setEnvironment(SceneBuilder& b, uint32_t width, uint32_t height, TextureFor
 }
 
 // The irradiance SH of a constant radiance L: pi L Y0 / Y0(any) = L sqrt(4 pi) pi in band 0.
-player::Sh9Rgb constantIrradianceSh(glm::vec3 l) {
-    player::Sh9Rgb sh;
-    sh.c[0] = glm::dvec3(l) * (kPi / player::kSh9K0);
+lighting::Sh9Rgb constantIrradianceSh(glm::vec3 l) {
+    lighting::Sh9Rgb sh;
+    sh.c[0] = glm::dvec3(l) * (kPi / lighting::kSh9K0);
     return sh;
 }
 
@@ -180,8 +180,8 @@ glm::dvec3 lobeSky(const glm::dvec3& w) {
 TEST(SkyTracer, ShSourceWithoutVisibilityIsThePlayersShIrradianceAndRotatesLikeIt) {
     SceneBuilder b;
     addQuad(b, {-5, 10, -5}, {10, 0, 0}, {0, 0, 10}); // a roof: must not matter with visibility off
-    const player::Sh9Rgb irradiance = player::sh9IrradianceCoefficients(
-        player::sh9ProjectFunction(lobeSky), player::ShWindow::NonNegative);
+    const lighting::Sh9Rgb irradiance = lighting::sh9IrradianceCoefficients(
+        lighting::sh9ProjectFunction(lobeSky), lighting::ShWindow::NonNegative);
     setEnvironment(b, 64, 32, TextureFormat::RGBA32F, [](glm::dvec3 w) { return glm::vec3(lobeSky(w)); }, irradiance);
     auto tracer = build(b);
     ASSERT_TRUE(tracer);
@@ -195,10 +195,10 @@ TEST(SkyTracer, ShSourceWithoutVisibilityIsThePlayersShIrradianceAndRotatesLikeI
     s.intensity = 1.5f;
     for (double degrees : {0.0, 90.0, -37.0}) {
         s.rotationRadians = float(degrees * kPi / 180.0);
-        const player::Sh9Rgb rotated = player::sh9RotateY(irradiance, double(s.rotationRadians));
+        const lighting::Sh9Rgb rotated = lighting::sh9RotateY(irradiance, double(s.rotationRadians));
         Estimate e = trace(*tracer, points, normals, s);
         for (size_t i = 0; i < normals.size(); ++i) {
-            const glm::dvec3 truth = player::sh9Evaluate(rotated, glm::dvec3(normals[i])) * double(s.intensity);
+            const glm::dvec3 truth = lighting::sh9Evaluate(rotated, glm::dvec3(normals[i])) * double(s.intensity);
             for (int c = 0; c < 3; ++c)
                 EXPECT_NEAR(e.mean[i][c], truth[c], 4.0 * e.error[i][c] + 1e-5 * truth[c])
                     << degrees << " degrees, normal " << i << ", channel " << c;
@@ -218,7 +218,7 @@ TEST(SkyTracer, ShSourceWithoutVisibilityIsThePlayersShIrradianceAndRotatesLikeI
 TEST(SkyTracer, ImageSourceRotatesInTheShSense) {
     SceneBuilder b;
     setEnvironment(b, 64, 32, TextureFormat::RGBA32F, [](glm::dvec3 w) { return glm::vec3(lobeSky(w)); },
-                   player::Sh9Rgb{});
+                   lighting::Sh9Rgb{});
     auto tracer = build(b);
     ASSERT_TRUE(tracer);
     const std::vector<glm::vec3> normals = {{1, 0, 0}, {0, 0, 1}, {0, 0, -1}};
@@ -239,7 +239,7 @@ TEST(SkyTracer, ImageSourceRotatesInTheShSense) {
 TEST(SkyTracer, AOneByOneImageIsAConstantSky) {
     SceneBuilder b;
     const glm::vec3 l(2.0f, 3.0f, 0.5f); // exact in half precision
-    setEnvironment(b, 1, 1, TextureFormat::RGBA16F, [&](glm::dvec3) { return l; }, player::Sh9Rgb{});
+    setEnvironment(b, 1, 1, TextureFormat::RGBA16F, [&](glm::dvec3) { return l; }, lighting::Sh9Rgb{});
     auto tracer = build(b);
     ASSERT_TRUE(tracer);
     EXPECT_EQ(tracer->stats().radianceWidth, 1u);

@@ -7,7 +7,7 @@
 //     m / (levels - 1) (split-sum prefilter, N = V = R), by filtered importance sampling;
 //   - brdfLut: the split-sum table (A, B), RG16F;
 //   - irradianceSh: 9 SH coefficients of the irradiance, windowed so it is never negative.
-// Everything is computed on the CPU with the player's math (player/math: sh9.h, split_sum.h,
+// Everything is computed on the CPU with the shared lighting math (pnb_lighting: sh9.h, split_sum.h,
 // sky_preetham.h), so converter and shaders share one definition of each formula.
 //
 // Files: environment_image.cpp (load, clean, sky bake), environment_prefilter.cpp (the cube),
@@ -29,11 +29,11 @@
 #include "pnb/error.h"
 #include "pnb/scene_builder.h"
 #include "pnb_converter/scene_ir.h"
-#include "sky_preetham.h" // player/math (pnb::player_math)
+#include "pnb_lighting/sky_preetham.h"
 
 namespace pnb::converter {
 
-using player::PreethamSkyParams;
+using lighting::PreethamSkyParams;
 
 // Equirectangular radiance (FORMAT.md "ENVM": row 0 = top = zenith, u = 1/2 looks along +X),
 // linear, nits, three floats per texel.

@@ -46,7 +46,7 @@ struct SkySettings {
     uint32_t samples = 256; // cosine-weighted rays per point
     uint64_t seed = 1;      // the same seed gives the same estimate, on any number of threads
     SkySource source = SkySource::Image;
-    // The environment turned about +Y by this angle, in sh9RotateY's sense (player/math/sh9.h:
+    // The environment turned about +Y by this angle, in sh9RotateY's sense (pnb_lighting/sh9.h:
     // right-handed, seen from above +X turns towards -Z for a positive angle): a world direction
     // w sees the environment at R_y(-angle) w, R_y = glm::rotate(angle, +Y); a feature at d
     // appears at R_y(angle) d.

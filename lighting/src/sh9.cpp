@@ -1,13 +1,13 @@
 // Bands 0..2 real SH: basis, exact equirect projection, quadrature projection, irradiance,
 // window and rotation about +Y (see sh9.h).
-#include "sh9.h"
+#include "pnb_lighting/sh9.h"
 
 #include <algorithm>
 #include <cmath>
 #include <numbers>
 #include <vector>
 
-namespace pnb::player {
+namespace pnb::lighting {
 namespace {
 
 constexpr double kPi = std::numbers::pi;
@@ -218,4 +218,4 @@ Sh9Rgb sh9RotateY(const Sh9Rgb& sh, double angle) {
     return r;
 }
 
-} // namespace pnb::player
+} // namespace pnb::lighting

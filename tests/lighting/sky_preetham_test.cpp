@@ -6,10 +6,10 @@
 
 #include <gtest/gtest.h>
 
-#include "sh9.h"
-#include "sky_preetham.h"
+#include "pnb_lighting/sh9.h"
+#include "pnb_lighting/sky_preetham.h"
 
-namespace pnb::player {
+namespace pnb::lighting {
 namespace {
 
 constexpr double kPi = std::numbers::pi;
@@ -175,4 +175,4 @@ TEST(SkyPreetham, GarbageInputsStayFinite) {
 }
 
 } // namespace
-} // namespace pnb::player
+} // namespace pnb::lighting

@@ -8,9 +8,9 @@
 #include <glm/gtc/matrix_transform.hpp>
 #include <gtest/gtest.h>
 
-#include "sh9.h"
+#include "pnb_lighting/sh9.h"
 
-namespace pnb::player {
+namespace pnb::lighting {
 namespace {
 
 constexpr double kPi = std::numbers::pi;
@@ -258,4 +258,4 @@ TEST(Sh9, RotationEqualsProjectingTheRotatedEnvironment) {
 }
 
 } // namespace
-} // namespace pnb::player
+} // namespace pnb::lighting

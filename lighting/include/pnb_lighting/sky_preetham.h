@@ -1,4 +1,4 @@
-// player/math/sky_preetham.h — the analytic daylight sky of Preetham, Shirley & Smits 1999 ("A
+// pnb_lighting/sky_preetham.h — the analytic daylight sky of Preetham, Shirley & Smits 1999 ("A
 // Practical Analytic Model for Daylight", SIGGRAPH 99, Appendix A.2): sky radiance in any
 // direction for a turbidity and a sun direction, in physical units (cd/m^2 = nits, linear
 // Rec.709/sRGB primaries), so the player can put it beside its sun's illuminance (lux) under one
@@ -44,7 +44,7 @@
 
 #include <glm/glm.hpp>
 
-namespace pnb::player {
+namespace pnb::lighting {
 
 // The five Perez coefficients of one quantity.
 struct PerezCoefficients {
@@ -112,4 +112,4 @@ private:
     glm::dvec3 skyE_{0.0}, ground_{0.0};
 };
 
-} // namespace pnb::player
+} // namespace pnb::lighting

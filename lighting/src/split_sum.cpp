@@ -1,12 +1,12 @@
 // GGX, height-correlated Smith visibility, Hammersley, GGX sampling and the split-sum BRDF table
 // (see split_sum.h).
-#include "split_sum.h"
+#include "pnb_lighting/split_sum.h"
 
 #include <algorithm>
 #include <cmath>
 #include <numbers>
 
-namespace pnb::player {
+namespace pnb::lighting {
 namespace {
 
 constexpr double kPi = std::numbers::pi;
@@ -108,4 +108,4 @@ std::vector<float> splitSumLut(uint32_t width, uint32_t height, uint32_t samples
     return lut;
 }
 
-} // namespace pnb::player
+} // namespace pnb::lighting

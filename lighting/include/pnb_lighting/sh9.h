@@ -1,4 +1,4 @@
-// player/math/sh9.h — diffuse image-based lighting as real spherical harmonics of bands 0..2
+// pnb_lighting/sh9.h — diffuse image-based lighting as real spherical harmonics of bands 0..2
 // (9 coefficients per colour channel): projection of an environment's radiance, irradiance by
 // the cosine-lobe convolution, rotation about the up axis, and a window that keeps the
 // irradiance non-negative. Pure CPU (no GL): the converter bakes the coefficients, the shaders
@@ -69,7 +69,7 @@
 
 #include <glm/glm.hpp>
 
-namespace pnb::player {
+namespace pnb::lighting {
 
 inline constexpr double kSh9K0 = 0.28209479177387814;  // 1 / (2 sqrt(pi))
 inline constexpr double kSh9K1 = 0.48860251190291992;  // sqrt(3) / (2 sqrt(pi))
@@ -127,4 +127,4 @@ glm::dvec3 sh9Irradiance(const Sh9Rgb& radiance, const glm::dvec3& n, ShWindow w
 // at direction d appears at R_y(angle) d, with R_y the matrix of glm::rotate(angle, (0, 1, 0)).
 Sh9Rgb sh9RotateY(const Sh9Rgb& sh, double angle);
 
-} // namespace pnb::player
+} // namespace pnb::lighting

@@ -5,9 +5,9 @@
 
 #include <gtest/gtest.h>
 
-#include "split_sum.h"
+#include "pnb_lighting/split_sum.h"
 
-namespace pnb::player {
+namespace pnb::lighting {
 namespace {
 
 constexpr double kPi = std::numbers::pi;
@@ -175,4 +175,4 @@ TEST(SplitSum, GarbageInputsStayFinite) {
 }
 
 } // namespace
-} // namespace pnb::player
+} // namespace pnb::lighting

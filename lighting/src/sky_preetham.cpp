@@ -1,14 +1,14 @@
 // Preetham, Shirley & Smits 1999 daylight sky (see sky_preetham.h).
-#include "sky_preetham.h"
+#include "pnb_lighting/sky_preetham.h"
 
-#include "sh9.h"
+#include "pnb_lighting/sh9.h"
 
 #include <algorithm>
 #include <cmath>
 #include <numbers>
 #include <vector>
 
-namespace pnb::player {
+namespace pnb::lighting {
 namespace {
 
 constexpr double kPi = std::numbers::pi;
@@ -170,4 +170,4 @@ double preethamSunIlluminance(double turbidity, const glm::dvec3& sunDirection) 
     return 128000.0 * std::exp(-(0.25 + 0.07 * (t - 3.0)) * airMass);
 }
 
-} // namespace pnb::player
+} // namespace pnb::lighting

@@ -1,4 +1,4 @@
-// player/math/split_sum.h — the specular half of image-based lighting: the GGX microfacet
+// pnb_lighting/split_sum.h — the specular half of image-based lighting: the GGX microfacet
 // distribution, its visibility term, Hammersley points, GGX importance sampling (shared by the
 // prefiltered radiance cube and the BRDF table) and the split-sum BRDF lookup table of Karis 2013
 // ("Real Shading in Unreal Engine 4", SIGGRAPH course notes). Pure CPU (no GL): the converter or
@@ -37,7 +37,7 @@
 
 #include <glm/glm.hpp>
 
-namespace pnb::player {
+namespace pnb::lighting {
 
 // roughness^2 with roughness clamped to [0, 1] (NaN -> 1).
 double ggxAlpha(double roughness);
@@ -65,4 +65,4 @@ glm::dvec2 splitSumBrdf(double nDotV, double roughness, uint32_t samples);
 // empty vector.
 std::vector<float> splitSumLut(uint32_t width, uint32_t height, uint32_t samples);
 
-} // namespace pnb::player
+} // namespace pnb::lighting
