@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# pnb-play --error-maps end to end: the heat-maps of the metrics' last measured frame.
+# --error-maps end to end (pnb-judge for the truth metrics, pnb-play for --lod-metrics): the heat-maps of the metrics' last measured frame.
 #   shadow      error_shadow.png has --size, its red + blue pixels over its classified pixels are
 #               that frame's misclassified_pct (and its classified pixels the metric's `pixels`);
 #               a bad shadow configuration marks more pixels than a good one; the map overlays the

@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # GI end to end as a user runs it: convert with --gi, play, dump the indirect light, measure it
-# against the ray-traced truth with pnb-reference and with pnb-play --gi-metrics.
+# against the ray-traced truth with pnb-reference and with pnb-judge --gi-metrics.
 # Usage: gi_cli_test.sh PNB_CONVERT PNB_PLAY PNB_REFERENCE SCENE.glb
 set -euo pipefail
 convert=$1 play=$2 reference=$3 source=$4
