@@ -12,42 +12,46 @@
 #           of them it reads (the OBJ and glTF files it does not refuse).
 # pnb-convert runs with its shader validation cache in out/bench/convert/cache, filled by the
 # untimed first round (a user's second conversion); the `-nocache` row shows the first one.
-# Output: a table, the goals met or missed, and out/bench/convert.json with every sample.
-#   scripts/bench-convert                 # 5 rounds, 50 models (~5 minutes on 2 cores)
-#   scripts/bench-convert --reps 9        # more rounds
-#   scripts/bench-convert --tiny BUILD    # one round, the small box-room scene, 5 models, the
-#                                         # binaries of BUILD (no setup, no build): < 1 min,
-#                                         # run by ctest (converter.bench_convert_tiny); without
-#                                         # BUILD's bench programs (no PNB_BUILD_BENCH, as in the
-#                                         # asan preset) the OBJ case is assimp's OBJ/spider.obj
+# Output: a table, the goals met or missed, and convert.json with every sample.
+# The experiment sweep/experiments/convert-speed.toml runs this (scripts/bench-convert builds and
+# runs that through pnb-sweep, which gives --build and --json: the job's directory):
+#   bench/convert/bench_convert.sh                # 5 rounds, 50 models (~5 minutes on 2 cores)
+#   bench/convert/bench_convert.sh --reps 9       # more rounds
+#   bench/convert/bench_convert.sh --tiny BUILD   # one round, the small box-room scene, 5 models,
+#                                         # the binaries of BUILD: < 1 min, run by ctest
+#                                         # (converter.bench_convert_tiny); without BUILD's bench
+#                                         # programs (no PNB_BUILD_BENCH, as in the asan preset)
+#                                         # the OBJ case is assimp's OBJ/spider.obj
+#   --build DIR: the binaries (default build/release); --json FILE: where the samples go
+#   (default out/bench/convert.json; with --tiny a temporary directory's)
 # The machine is shared and noisy: compare ratios within one run, not absolute times across runs.
 set -euo pipefail
-cd "$(dirname "$0")/.."
+cd "$(dirname "$0")/../.."
 
 reps=5
 models=50
 scene=load-test
 tiny=0
 bin=build/release
+json=
 while [ $# -gt 0 ]; do
     case "$1" in
     --reps) reps=$2; shift 2 ;;
     --tiny) tiny=1; reps=1; models=5; scene=box-room; bin=$2; shift 2 ;;
-    *) echo "usage: scripts/bench-convert [--reps N] [--tiny BUILD_DIR]" >&2; exit 1 ;;
+    --build) bin=$2; shift 2 ;;
+    --json) json=$2; shift 2 ;;
+    *) echo "usage: bench/convert/bench_convert.sh [--reps N] [--tiny BUILD_DIR] [--build DIR] [--json FILE]" >&2
+       exit 1 ;;
     esac
 done
 
 if [ "$tiny" = 0 ]; then
-    scripts/setup
-    cmake --preset release >/dev/null
-    cmake --build --preset release -j "$(nproc)" --target pnb-convert pnb-make-scene \
-        pnb_load_inputs
     dir=out/bench/convert
-    json=out/bench/convert.json
+    json=${json:-out/bench/convert.json}
 else
     dir=$(mktemp -d "${TMPDIR:-/tmp}/pnb_bench_convert.XXXXXX")
     trap 'rm -rf "$dir"' EXIT
-    json=$dir/convert.json
+    json=${json:-$dir/convert.json}
 fi
 command -v gltfpack >/dev/null || { echo "bench-convert: gltfpack not found (scripts/setup)" >&2; exit 1; }
 

@@ -33,30 +33,30 @@
 # scene from each path, for a visual check; the script prints their largest pixel difference),
 # runs/ (each run's summary.json and frames.csv). About 3 minutes on 2 cores (each run also
 # pays ~0.6 s of process start, load and first frame, outside the statistics).
-#   scripts/bench-lights                            # 16 frames, 7 rounds, both sizes
-#   scripts/bench-lights --frames 60 --rounds 3 --sizes 960x540
+# The experiment sweep/experiments/lights-paths.toml runs this (scripts/bench-lights builds and
+# runs that through pnb-sweep, which gives --build and --out: the job's directory):
+#   bench/lights/bench_lights.sh                            # 16 frames, 7 rounds, both sizes
+#   bench/lights/bench_lights.sh --frames 60 --rounds 3 --sizes 960x540
+#   --build DIR: the binaries (default build/release); --out DIR: default out/bench/lights
 # The machine is shared and noisy: compare ratios within one run, not absolute times across runs.
 set -euo pipefail
-cd "$(dirname "$0")/.."
+cd "$(dirname "$0")/../.."
 
 frames=16
 rounds=7
 sizes="960x540 480x270"
+bin=build/release
+dir=out/bench/lights
 while [ $# -gt 0 ]; do
     case "$1" in
     --frames) frames=$2; shift 2 ;;
     --rounds) rounds=$2; shift 2 ;;
     --sizes) sizes=$2; shift 2 ;;
+    --build) bin=$2; shift 2 ;;
+    --out) dir=$2; shift 2 ;;
     *) echo "bench-lights: unknown argument $1 (see the header of $0)" >&2; exit 1 ;;
     esac
 done
-
-scripts/setup
-cmake --preset release >/dev/null
-cmake --build --preset release -j "$(nproc)" --target pnb-make-scene pnb-convert pnb-play
-
-bin=build/release
-dir=out/bench/lights
 lights=(1 8 64)
 rm -rf "$dir/runs"
 mkdir -p "$dir/runs"

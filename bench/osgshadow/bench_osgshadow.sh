@@ -42,7 +42,7 @@
 # About 2-4 minutes on 2 llvmpipe cores with the defaults. The machine is shared and noisy:
 # compare the ratios, not absolute times across runs.
 set -euo pipefail
-root=$(cd "$(dirname "$0")/.." && pwd)
+root=$(cd "$(dirname "$0")/../.." && pwd)
 cd "$root"
 
 die() {

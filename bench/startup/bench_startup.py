@@ -1,10 +1,11 @@
 #!/usr/bin/env python3
 """Time to first frame of pnb-play, from fresh processes (docs/PLAYER.md "Time to first frame").
 
-Usage: scripts/bench-startup [--runs N] [--frames N] [--out DIR] [--build DIR] [SCENE.pnb ...]
+Usage: bench_startup.py [--runs N] [--frames N] [--out DIR] [--build DIR] [SCENE.pnb ...]
        (default scenes: box-room and load-test, generated and converted into DIR if missing)
-       scripts/bench-startup --tiny --build DIR --out OUT   # one run of each configuration on
+       bench_startup.py --tiny --build DIR --out OUT   # one run of each configuration on
        the box room with 2 steady frames (~10 s): the test bench.startup_tiny, so it cannot rot
+The experiment sweep/experiments/startup.toml runs this (scripts/bench-startup runs that).
 
 Every figure is one fresh pnb-play process (--headless --bench, --frames steady frames after the
 first), N runs per configuration, configurations interleaved run by run; the page cache is warm
@@ -30,7 +31,7 @@ import sys
 import tempfile
 import time
 
-ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 BUILD = os.path.join(ROOT, "build", "release")  # --build replaces it
 PARTS = ["total", "process_start", "context", "load", "programs", "warmup", "first_frame", "other",
          "first_frame_thread_cpu"]

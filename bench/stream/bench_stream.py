@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Streaming playback on a large generated scene (docs/PLAYER.md "Streaming", issue 14's figures).
 
-Usage: scripts/bench-stream [--size 5G] [--budget-mib 512] [--frames 600] [--static-frames 300]
+Usage: bench_stream.py [--size 5G] [--budget-mib 512] [--frames 600] [--static-frames 300]
                             [--upload-mib 8] [--lod-frames 240] [--no-lod-rocks] [--build DIR]
                             [--out DIR] [--cold] [--keep]
 
@@ -20,6 +20,7 @@ fixed step):
                   --lod-metrics 8: triangles, and the image error against LOD 0 (PSNR)
 With --cold the page cache is dropped (/proc/sys/vm/drop_caches, root) before full-load and
 stream, so the disk is read too. Prints the table and the goals; writes DIR/stream.json.
+The experiment sweep/experiments/stream.toml runs this (scripts/bench-stream runs that).
 """
 import argparse
 import csv
@@ -30,7 +31,7 @@ import subprocess
 import sys
 import tempfile
 
-ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 
 
 def run(cmd, **kw):
