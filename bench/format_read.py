@@ -100,7 +100,7 @@ def main():
     with open(os.path.join(a.out, "figures.json.tmp"), "w") as f:
         json.dump(figures, f, indent=1)
     os.replace(os.path.join(a.out, "figures.json.tmp"), os.path.join(a.out, "figures.json"))
-    print("bench: JSON in %s" % json_path)
+    print("bench: JSON in format_read.json, figures in figures.json (the output directory)")
 
 
 if __name__ == "__main__":

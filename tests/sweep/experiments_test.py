@@ -122,6 +122,24 @@ class Experiments(unittest.TestCase):
         for f in glob.glob(os.path.join(REPO, "sweep", "experiments", "*.toml")):
             self.assertIn(os.path.relpath(f, REPO), page)
 
+    def test_a_written_plans_command_job_runs_alone(self):
+        # What a Slurm array task does (run --slurm writes the plan; each task runs run-job).
+        s = self.write("tiny.toml", WRITES_FIGURES)
+        plan_file = os.path.join(self.dir, "plan.json")
+        code, out = self.sweep("plan", s, "--results", self.results, "-o", plan_file, "--", "z")
+        self.assertEqual(code, 0)
+        self.assertIn("3 jobs, 3 pending", out)
+        code, out = self.sweep("run-job", plan_file, "1")
+        self.assertEqual((code, out.strip()), (0, "job 1: ran"))
+        code, out = self.sweep("run-job", plan_file, "1")
+        self.assertEqual(out.strip(), "job 1: skipped")
+        with open(plan_file) as f:
+            job = json.load(f)["jobs"][1]
+        figures = pnb_sweep.read_json(os.path.join(job["result"], "figures.json"))
+        self.assertEqual((figures["n"], figures["nargs"]), (int(job["settings"]["n"]), 1))
+        code, out = self.sweep("status", plan_file)
+        self.assertIn("1 of 3 jobs finished", out)
+
     def test_figures_taken_from_the_commands_json_and_csv(self):
         s = self.write("files.toml", """
 name = "from-files"
