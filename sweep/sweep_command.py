@@ -17,6 +17,7 @@ that directory's figures.json, which collect and report read.
     label = ["scene", "config", "run"]   # CSV: one figure per row and column, "label:column"
     columns = ["total"]
     # JSON instead: keys = ["ttff_ratio", "runs.*.peak_rss_bytes"]   (dotted paths, * = every key)
+    # or a JSON list of records like CSV rows: rows = "results", label = [...], columns = [...]
     [axes]                     # optional: {name} in the command takes each value (one job each)
     scene = ["box-room", "atrium"]
 """
@@ -111,11 +112,13 @@ def load_command_experiment(path, data, check_files=True):
     if figures is not None:
         if not isinstance(figures, dict) or not isinstance(figures.get("file"), str):
             raise ValueError("%s: 'figures' must be a table with 'file' (a glob in the job directory)" % path)
-        unknown = set(figures) - {"file", "keys", "label", "columns"}
+        unknown = set(figures) - {"file", "keys", "rows", "label", "columns"}
         if unknown:
-            raise ValueError("%s: figures: unknown key '%s' (known: file, keys, label, columns)"
+            raise ValueError("%s: figures: unknown key '%s' (known: file, keys, rows, label, columns)"
                              % (path, sorted(unknown)[0]))
-        if figures["file"].endswith(".csv"):
+        if "rows" in figures and not isinstance(figures["rows"], str):
+            raise ValueError("%s: figures.rows must be the dotted path of a list in the JSON" % path)
+        if figures["file"].endswith(".csv") or "rows" in figures:
             for k in ("label", "columns"):
                 _strings(path, "figures." + k, figures.get(k))
         else:
@@ -202,6 +205,26 @@ def extract_figures(spec, job_dir):
                 label = ":".join(r[c] for c in spec["label"])
                 for c in spec["columns"]:
                     out["%s%s:%s" % (prefix, label, c)] = _number(r[c])
+        elif "rows" in spec:  # a JSON list of records, named like CSV rows
+            with open(path) as f:
+                doc = json.load(f)
+            records = doc
+            for part in spec["rows"].split("."):
+                if not isinstance(records, dict) or part not in records:
+                    raise ValueError("%s: no key %s" % (source, spec["rows"]))
+                records = records[part]
+            if not isinstance(records, list):
+                raise ValueError("%s: %s is not a list" % (source, spec["rows"]))
+            for i, record in enumerate(records):
+                label = []
+                for c in spec["label"]:
+                    one = {}
+                    _walk(record, c.split("."), "", one, "%s: %s[%d]" % (source, spec["rows"], i))
+                    label.append(str(next(iter(one.values()))))
+                for c in spec["columns"]:
+                    one = {}
+                    _walk(record, c.split("."), "", one, "%s: %s[%d]" % (source, spec["rows"], i))
+                    out.update({"%s%s:%s" % (prefix, ":".join(label), k): v for k, v in one.items()})
         else:
             with open(path) as f:
                 doc = json.load(f)

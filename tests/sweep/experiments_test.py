@@ -163,6 +163,22 @@ keys = ["runs.*.ms", "ok", "rows.0.x"]
         row = [r for r in rows if r["scene"] == "from-csv"][0]
         self.assertEqual(row["fig:box:warm:total"], 12.5)
         self.assertEqual(row["fig:box:cold:total"], 30.0)
+        # A JSON list of records, named like CSV rows.
+        records = self.write("records.toml", """
+name = "from-records"
+kind = "command"
+command = ["{python}", "-c", "import json; json.dump({'results': [{'size': 'a', 'n': 1, 'd': {'ms': 3}}, {'size': 'b', 'n': 8, 'd': {'ms': 4}}]}, open('{out}/r.json', 'w'))"]
+[figures]
+file = "r.json"
+rows = "results"
+label = ["size", "n"]
+columns = ["d.ms"]
+""")
+        self.assertEqual(self.sweep("run", "--local", records, "--results", self.results)[0], 0)
+        _, rows = pnb_sweep.collect(self.results)
+        row = [r for r in rows if r["scene"] == "from-records"][0]
+        self.assertEqual({k: v for k, v in row.items() if k.startswith("fig:")},
+                         {"fig:a:1:d.ms": 3, "fig:b:8:d.ms": 4})
 
     def test_a_failing_or_silent_command_leaves_no_finished_job(self):
         cases = {
