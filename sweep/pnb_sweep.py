@@ -86,7 +86,8 @@ import tempfile
 import time
 import tomllib
 
-from sweep_command import SweepError, collect_row, describe, plan_command, run_command_job, value_text
+from sweep_command import (SweepError, collect_row, combinations, describe, load_command_experiment, plan_command,
+                           run_command_job, value_text)
 from sweep_report import LOAD_PHASES  # pnb-play's load phases, in the order they happen
 
 REPO = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
@@ -144,7 +145,6 @@ def load_sweep(path, check_files=True):
         raise SweepError("%s: the top level must be a table" % path)
     kind = data.get("kind", "play")
     if kind == "command":
-        from sweep_command import load_command_experiment
         try:
             return load_command_experiment(path, data, check_files)
         except ValueError as e:
@@ -274,7 +274,6 @@ def play_combinations(sweep):
 
 def job_count(sweep):
     """How many jobs a sweep expands into (without hashing anything: `list`)."""
-    from sweep_command import combinations
     if sweep["kind"] == "command":
         return len(combinations(sweep["axes"]))
     return len(sweep["scenes"]) * len(play_combinations(sweep))
@@ -284,7 +283,6 @@ def plan(sweep, bins, results, args=()):
     """The jobs of a sweep with their keys. `args`: extra arguments for a command experiment's
     command (pnb_sweep.py run ... -- ARGS)."""
     if sweep["kind"] == "command":
-        from sweep_command import combinations
         jobs = plan_command(sweep, bins["build"], results, args, combinations(sweep["axes"]), file_hash)
         return {"sweep": sweep["name"], "results": results, "binaries": bins, "jobs": jobs}
     if args:
@@ -743,8 +741,9 @@ def main(argv=None):
                                                        "; unfinished: see failed.txt" if missing else ""))
                     return 1 if missing else 0
                 return 0
-            run_local(data, data["jobs"] if a.rerun else pending, a.jobs, a.gpu_jobs, a.rerun)
-            print("%d jobs, %d run, results in %s" % (len(data["jobs"]), len(pending), results))
+            to_run = data["jobs"] if a.rerun else pending
+            run_local(data, to_run, a.jobs, a.gpu_jobs, a.rerun)
+            print("%d jobs, %d run, results in %s" % (len(data["jobs"]), len(to_run), results))
             return 0
         if a.command == "convert":
             converter = binaries(os.path.abspath(a.build))["convert"]
