@@ -19,6 +19,11 @@ A sweep (TOML or JSON, docs/SWEEP.md) names scenes, settings axes and what to me
 
 `axes` may be an array of tables ([[axes]]): the union of each one's combinations. Keys
 "convert.OPTION" are pnb-convert options swept like settings ("convert.quantize" = [false, true]).
+A file with kind = "command" is a command experiment instead (sweep_command.py): a command line
+per combination of its axes, whose job writes named figures; it plans, runs (locally or on Slurm),
+collects and reports like a sweep. Every experiment of the repository is a file in
+sweep/examples/ (pnb-play sweeps) or sweep/experiments/ (command experiments); scripts/bench-*
+run them through `experiment`.
 
 Subcommands:
     plan SWEEP [--results DIR]      the jobs (scene x every combination of the axes), each with its
@@ -38,6 +43,13 @@ Subcommands:
                                     depending on it (afterany) that writes DIR/results.csv and lists
                                     unfinished jobs in DIR/failed.txt. Run it again to resubmit
                                     exactly the jobs that did not finish.
+    run ... --rerun / -- ARGS       --local: runs every job again (a benchmark's new sample);
+                                    ARGS: extra arguments for a command experiment (new keys).
+    experiment SWEEP [--results DIR] [-o REPORT] [-- ARGS]
+                                    run --local --rerun, then the report of those jobs (default
+                                    DIR/report): what scripts/bench-* call.
+    list [FILE|DIR ...]             every experiment file (default sweep/examples and
+                                    sweep/experiments): kind, jobs, what it measures.
     run-job PLAN INDEX              runs one job of a written plan (what a batch scheduler's array
                                     task calls).
     convert (--local | --slurm) INPUTS -o OUTDIR [-- CONVERTER OPTIONS]
@@ -54,10 +66,12 @@ Subcommands:
                                     fronts of each measured error against its cost (per GL
                                     renderer), the GPU time per pass, load time against its floor,
                                     the last measured frames with their error maps; the extremes
-                                    table (sweep_report.py; needs matplotlib).
+                                    table (sweep_report.py; needs matplotlib); command
+                                    experiments' figures as tables; an index of every experiment.
 
 Relative paths in a sweep are relative to the sweep file. Binaries come from --build DIR
-(default build/release next to this script's repository).
+(default build/release next to this script's repository); jobs with truth metrics are played by
+pnb-judge when the build has it (player_for).
 """
 import argparse
 import csv
@@ -72,18 +86,20 @@ import tempfile
 import time
 import tomllib
 
+from sweep_command import (SweepError, collect_row, combinations, describe, load_command_experiment, plan_command,
+                           run_command_job, value_text)
 from sweep_report import LOAD_PHASES  # pnb-play's load phases, in the order they happen
 
 REPO = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 METRIC_FLAGS = {"shadow": "--shadow-metrics", "gi": "--gi-metrics", "sky": "--sky-metrics", "lod": "--lod-metrics"}
+# Metrics judged against a ray-traced truth: the ones pnb-judge measures (player_for).
+TRUTH_METRICS = {"shadow", "gi", "sky"}
+# Where the experiment files of the repository live: `list` and the report's index read these.
+EXPERIMENT_DIRS = [os.path.join(REPO, "sweep", "examples"), os.path.join(REPO, "sweep", "experiments")]
 # Axis and fixed keys with this prefix are pnb-convert options, not pnb-play settings:
 # "convert.quantize" = [false, true] -> (nothing) | --quantize; "convert.max-texture-size" = [512]
 # -> --max-texture-size 512.
 CONVERT_PREFIX = "convert."
-
-
-class SweepError(Exception):
-    pass
 
 
 _hashes = {}
@@ -115,7 +131,9 @@ def read_json(path):
         return json.load(f)
 
 
-def load_sweep(path):
+def load_sweep(path, check_files=True):
+    """A sweep file, checked. check_files=False: scenes and paths need not exist yet (pnb_sweep.py
+    list, which only counts the jobs)."""
     try:
         with open(path, "rb") as f:
             data = tomllib.load(f) if path.endswith(".toml") else json.load(f)
@@ -125,7 +143,15 @@ def load_sweep(path):
         raise SweepError("%s: not valid %s: %s" % (path, "TOML" if path.endswith(".toml") else "JSON", e))
     if not isinstance(data, dict):
         raise SweepError("%s: the top level must be a table" % path)
-    known = {"name", "frames", "size", "metrics", "fixed", "axes", "scenes"}
+    kind = data.get("kind", "play")
+    if kind == "command":
+        try:
+            return load_command_experiment(path, data, check_files)
+        except ValueError as e:
+            raise SweepError(str(e))
+    if kind != "play":
+        raise SweepError("%s: kind: '%s' is not a kind of experiment (play, command)" % (path, kind))
+    known = {"name", "kind", "description", "frames", "size", "metrics", "fixed", "axes", "scenes"}
     for key in data:
         if key not in known:
             raise SweepError("%s: unknown key '%s' (known: %s)" % (path, key, ", ".join(sorted(known))))
@@ -138,12 +164,12 @@ def load_sweep(path):
         if not isinstance(s, dict) or "source" not in s:
             raise SweepError("%s: scenes[%d] needs a 'source'" % (path, i))
         src = os.path.join(base, s["source"])
-        if not os.path.exists(src):
+        if check_files and not os.path.exists(src):
             raise SweepError("%s: scenes[%d].source: %s does not exist" % (path, i, src))
         scene_path = s.get("path")
         if scene_path is not None:
             scene_path = os.path.join(base, scene_path)
-            if not os.path.exists(scene_path):
+            if check_files and not os.path.exists(scene_path):
                 raise SweepError("%s: scenes[%d].path: %s does not exist" % (path, i, scene_path))
         convert = s.get("convert", [])
         if not isinstance(convert, list) or not all(isinstance(c, str) for c in convert):
@@ -170,7 +196,8 @@ def load_sweep(path):
         if m not in METRIC_FLAGS or not isinstance(every, int) or every < 1:
             raise SweepError("%s: metrics.%s: known metrics are %s, each with a frame interval >= 1"
                              % (path, m, ", ".join(METRIC_FLAGS)))
-    return {"name": data.get("name", os.path.splitext(os.path.basename(path))[0]),
+    return {"kind": "play", "name": data.get("name", os.path.splitext(os.path.basename(path))[0]),
+            "description": describe(path, data),
             "frames": int(data.get("frames", 30)), "size": str(data.get("size", "320x180")),
             "metrics": dict(sorted(metrics.items())),
             "fixed": {k: value_text(v) for k, v in sorted(data.get("fixed", {}).items())},
@@ -178,24 +205,32 @@ def load_sweep(path):
             "scenes": out_scenes}
 
 
-def value_text(v):
-    """A setting value as pnb-play's --set takes it (TOML booleans are true/false)."""
-    if isinstance(v, bool):
-        return "true" if v else "false"
-    return str(v)
-
-
-def binaries(build):
-    """The tools of a build tree, or of a directory that holds them (an installed bin/)."""
+def binaries(build, kind="play"):
+    """The tools of a build tree, or of a directory that holds them (an installed bin/). A command
+    experiment needs none of them (its `depends` names what it runs): only the directory."""
+    if kind == "command":
+        return {"build": build}
     flat = not os.path.isdir(os.path.join(build, "player")) and os.path.exists(os.path.join(build, "pnb-play"))
     convert = os.path.join(build, "pnb-convert" if flat else "converter/pnb-convert")
     play = os.path.join(build, "pnb-play" if flat else "player/pnb-play")
     for b in (convert, play):
         if not os.access(b, os.X_OK):
             raise SweepError("%s: not built (cmake --build --preset release --target pnb-convert pnb-play)" % b)
+    # pnb-judge: pnb-play with the truth metrics (optional until the build has it; player_for).
+    judge = os.path.join(build, "pnb-judge" if flat else "judge/pnb-judge")
     # The load-time floor (bench/load, not installed): optional, the report says when it is missing.
     probe = os.path.join(build, "bench", "load", "pnb_load_probe")
-    return {"convert": convert, "play": play, "probe": probe if os.access(probe, os.X_OK) else None}
+    return {"build": build, "convert": convert, "play": play,
+            "judge": judge if os.access(judge, os.X_OK) else None,
+            "probe": probe if os.access(probe, os.X_OK) else None}
+
+
+def player_for(metrics, bins):
+    """The binary that plays a job with these metrics: pnb-judge when it asks for a truth metric
+    and the build has one, else pnb-play. The only place that chooses; the job's key hashes it."""
+    if TRUTH_METRICS & set(metrics) and bins.get("judge"):
+        return bins["judge"]
+    return bins["play"]
 
 
 def convert_options(settings):
@@ -222,8 +257,9 @@ def conversion_key(scene, options, bins):
     return h.hexdigest()
 
 
-def plan(sweep, bins, results):
-    jobs = []
+def play_combinations(sweep):
+    """The settings of each job of a play sweep (per scene): the fixed settings under every
+    combination of each axis group, each once."""
     combos, seen = [], set()
     for group in sweep["axes"]:
         names = list(group.keys())
@@ -233,16 +269,38 @@ def plan(sweep, bins, results):
             if tuple(sorted(settings.items())) not in seen:  # groups may overlap
                 seen.add(tuple(sorted(settings.items())))
                 combos.append(settings)
+    return combos
+
+
+def job_count(sweep):
+    """How many jobs a sweep expands into (without hashing anything: `list`)."""
+    if sweep["kind"] == "command":
+        return len(combinations(sweep["axes"]))
+    return len(sweep["scenes"]) * len(play_combinations(sweep))
+
+
+def plan(sweep, bins, results, args=()):
+    """The jobs of a sweep with their keys. `args`: extra arguments for a command experiment's
+    command (pnb_sweep.py run ... -- ARGS)."""
+    if sweep["kind"] == "command":
+        jobs = plan_command(sweep, bins["build"], results, args, combinations(sweep["axes"]), file_hash)
+        return {"sweep": sweep["name"], "results": results, "binaries": bins, "jobs": jobs}
+    if args:
+        raise SweepError("%s: arguments after -- are for command experiments (kind = \"command\")" % sweep["name"])
+    jobs = []
+    combos = play_combinations(sweep)
     for scene in sweep["scenes"]:
         for settings in combos:
             options = scene["convert"] + convert_options(settings)
             ckey = conversion_key(scene, options, bins)
             scene_key = ckey or file_hash(scene["source"])
+            player = player_for(sweep["metrics"], bins)
             key = hashlib.sha256(json.dumps({
                 "scene": scene_key, "settings": sorted(settings.items()), "frames": sweep["frames"],
-                "size": sweep["size"], "metrics": sweep["metrics"], "player": file_hash(bins["play"])},
+                "size": sweep["size"], "metrics": sweep["metrics"], "player": file_hash(player)},
                 sort_keys=True).encode()).hexdigest()[:20]
             jobs.append({"index": len(jobs), "key": key, "scene": scene["name"], "source": scene["source"],
+                         "player": player,
                          "convert": options, "conversion": ckey, "path": scene["path"],
                          "settings": settings, "frames": sweep["frames"], "size": sweep["size"],
                          "metrics": sweep["metrics"], "result": os.path.join(results, key)})
@@ -279,10 +337,14 @@ def converted_scene(job, plan_data):
     return out
 
 
-def run_job(plan_data, index):
+def run_job(plan_data, index, force=False, echo=False):
+    """Runs job `index` of a plan unless it is finished (force: again). echo: a command job's
+    output also goes to this process's stdout."""
     job = plan_data["jobs"][index]
-    if done(job):
+    if done(job) and not force:
         return "skipped"
+    if job.get("kind") == "command":
+        return run_command_job(plan_data, index, echo)
     scene = converted_scene(job, plan_data)
     # Into a temporary directory beside the result, renamed when complete: an interrupted or
     # killed job leaves no result that looks finished.
@@ -295,7 +357,7 @@ def run_job(plan_data, index):
         # that frame's error maps.
         every = min(job["metrics"].values()) if job["metrics"] else 1
         shot = max(job["frames"] - 1, 0) // every * every
-        cmd = [plan_data["binaries"]["play"], scene, "--headless", "--bench", "--fixed-dt", "--frames",
+        cmd = [job.get("player") or plan_data["binaries"]["play"], scene, "--headless", "--bench", "--fixed-dt", "--frames",
                str(job["frames"]), "--size", job["size"], "--out", tmp, "--no-plot", "-q",
                "--screenshot", os.path.join(tmp, "frame.png"), "--frame", str(shot)]
         for k, v in job["settings"].items():
@@ -338,7 +400,7 @@ def run_job(plan_data, index):
     return "ran"
 
 
-def run_local(data, pending, jobs, gpu_jobs):
+def run_local(data, pending, jobs, gpu_jobs, force=False):
     """Runs `pending` on this machine: first every conversion they need, `jobs` at once (CPU
     work), then the jobs themselves, `gpu_jobs` at once (default 1: jobs that share a GPU would
     time each other). The first failure stops the run after the jobs in flight; finished jobs
@@ -358,13 +420,13 @@ def run_local(data, pending, jobs, gpu_jobs):
 
     first = {}
     for job in pending:
-        if job["conversion"] is not None:
+        if job.get("conversion") is not None:
             first.setdefault(job["conversion"], job)
     each(jobs, lambda job: converted_scene(job, data), list(first.values()))
 
     def play(job):
-        status = run_job(data, job["index"])
-        print("job %d %s: %s" % (job["index"], job["key"], status), flush=True)
+        status = run_job(data, job["index"], force, echo=gpu_jobs <= 1)
+        print("job %d %s: %s -> %s" % (job["index"], job["key"], status, job["result"]), flush=True)
     each(gpu_jobs, play, pending)
 
 
@@ -495,6 +557,9 @@ def collect(results, keys=None):
         if not os.path.exists(os.path.join(d, "job.json")):
             continue
         job = read_json(os.path.join(d, "job.json"))
+        if job.get("kind") == "command":
+            rows.append(collect_row(key, job, d))
+            continue
         summary = read_json(os.path.join(d, "summary.json"))
         row = {"key": key, "scene": job["scene"], "size": job.get("size", "")}
         for k, v in sorted(job["settings"].items()):
@@ -529,6 +594,29 @@ def collect(results, keys=None):
     return columns, rows
 
 
+def experiment_index(paths):
+    """Every experiment file under `paths` (files or directories): path, kind, name, jobs, one line
+    of what it measures; a file that does not load has its error instead (scenes need not exist)."""
+    files = []
+    for p in paths:
+        if p in EXPERIMENT_DIRS and not os.path.isdir(p):
+            continue  # installed: share/penumbra/sweep has no experiment files
+        if os.path.isdir(p):
+            files += sorted(os.path.join(p, f) for f in os.listdir(p) if f.endswith((".toml", ".json")))
+        else:
+            files.append(p)
+    out = []
+    for f in files:
+        e = {"path": os.path.abspath(f), "kind": "", "name": "", "jobs": 0, "description": "", "error": None}
+        try:
+            sweep = load_sweep(f, check_files=False)
+            e.update(kind=sweep["kind"], name=sweep["name"], jobs=job_count(sweep), description=sweep["description"])
+        except SweepError as err:
+            e["error"] = str(err)
+        out.append(e)
+    return out
+
+
 def main(argv=None):
     ap = argparse.ArgumentParser(prog="pnb-sweep", description=__doc__.split("\n")[0])
     # Installed, the pnb-sweep wrapper names its own bin/ in PNB_SWEEP_TOOLS.
@@ -554,6 +642,14 @@ def main(argv=None):
                    help="with --local: conversions at once (default: the cores)")
     r.add_argument("--gpu-jobs", type=int, default=1,
                    help="with --local: pnb-play jobs at once (default 1: jobs sharing a GPU time each other)")
+    r.add_argument("--rerun", action="store_true",
+                   help="with --local: run every job again, finished or not (a benchmark's second sample)")
+    ex = sub.add_parser("experiment", help="run --local --rerun, then report: what scripts/bench-* call")
+    ex.add_argument("sweep")
+    ex.add_argument("--results", default=None, help="default out/sweep/<name>")
+    ex.add_argument("-o", "--output", default=None, help="the report's directory (default RESULTS/report)")
+    ls = sub.add_parser("list", help="every experiment file with what it measures")
+    ls.add_argument("paths", nargs="*", help="files or directories (default: sweep/examples, sweep/experiments)")
     st = sub.add_parser("status")
     st.add_argument("plan")
     st.add_argument("--results", default=None)
@@ -593,10 +689,32 @@ def main(argv=None):
     a = ap.parse_args(argv)
     a.options = extra
     try:
+        if a.command == "list":
+            entries = experiment_index(a.paths or EXPERIMENT_DIRS)
+            for e in entries:
+                print("%-44s %-7s %5s  %s" % (os.path.relpath(e["path"]), e["kind"],
+                                              e["jobs"] if e["error"] is None else "!", e["error"] or e["description"]))
+            bad = [e for e in entries if e["error"]]
+            print("%d experiment files%s" % (len(entries), ", %d with errors" % len(bad) if bad else ""))
+            return 1 if bad else 0
+        if a.command == "experiment":
+            sweep = load_sweep(a.sweep)
+            results = os.path.abspath(a.results or os.path.join("out", "sweep", sweep["name"]))
+            data = plan(sweep, binaries(os.path.abspath(a.build), sweep["kind"]), results, extra)
+            run_local(data, data["jobs"], os.cpu_count() or 1, 1, force=True)
+            from sweep_report import write_report
+            columns, rows = collect(results, {j["key"] for j in data["jobs"]})
+            try:
+                page = write_report(columns, rows, a.output or os.path.join(results, "report"), results, None,
+                                    experiment_index(EXPERIMENT_DIRS))
+            except RuntimeError as e:
+                raise SweepError(str(e))
+            print("%s: %d jobs run, results in %s; report: %s" % (sweep["name"], len(data["jobs"]), results, page))
+            return 0
         if a.command in ("plan", "run"):
             sweep = load_sweep(a.sweep)
             results = os.path.abspath(a.results or os.path.join("out", "sweep", sweep["name"]))
-            data = plan(sweep, binaries(os.path.abspath(a.build)), results)
+            data = plan(sweep, binaries(os.path.abspath(a.build), sweep["kind"]), results, extra)
             pending = [job for job in data["jobs"] if not done(job)]
             if a.command == "plan":
                 if a.output:
@@ -604,10 +722,13 @@ def main(argv=None):
                         json.dump(data, f, indent=2)
                 for job in data["jobs"]:
                     print("%3d %s %-8s %-16s %s" % (job["index"], job["key"], "done" if done(job) else "pending",
-                                                    job["scene"], " ".join("%s=%s" % kv for kv in job["settings"].items())))
+                                                    job["scene"], " ".join(["%s=%s" % kv for kv in job["settings"].items()]
+                                                                           + job.get("args", []))))
                 print("%d jobs, %d pending; results in %s" % (len(data["jobs"]), len(pending), results))
                 return 0
             if a.slurm:
+                if a.rerun:
+                    raise SweepError("--rerun is for --local (on Slurm, give another --results)")
                 array_id, collect_id, n = slurm_submit(data, a)
                 if not n:
                     print("%d jobs, all finished: nothing submitted; results in %s" % (len(data["jobs"]), results))
@@ -620,8 +741,9 @@ def main(argv=None):
                                                        "; unfinished: see failed.txt" if missing else ""))
                     return 1 if missing else 0
                 return 0
-            run_local(data, pending, a.jobs, a.gpu_jobs)
-            print("%d jobs, %d run, results in %s" % (len(data["jobs"]), len(pending), results))
+            to_run = data["jobs"] if a.rerun else pending
+            run_local(data, to_run, a.jobs, a.gpu_jobs, a.rerun)
+            print("%d jobs, %d run, results in %s" % (len(data["jobs"]), len(to_run), results))
             return 0
         if a.command == "convert":
             converter = binaries(os.path.abspath(a.build))["convert"]
@@ -694,8 +816,11 @@ def main(argv=None):
             print("job %d: %s" % (a.index, run_job(data, a.index)))
             return 0
         if a.command in ("collect", "report") and a.sweep:
-            bins = binaries(os.path.abspath(a.build))
-            a.keys = {j["key"] for f in a.sweep for j in plan(load_sweep(f), bins, os.path.abspath(a.results))["jobs"]}
+            a.keys = set()
+            for f in a.sweep:
+                sweep = load_sweep(f)
+                bins = binaries(os.path.abspath(a.build), sweep["kind"])
+                a.keys |= {j["key"] for j in plan(sweep, bins, os.path.abspath(a.results))["jobs"]}
         else:
             a.keys = None
         if a.command == "report":
@@ -711,7 +836,7 @@ def main(argv=None):
                 extremes = None
             try:
                 from sweep_report import write_report
-                page = write_report(columns, rows, a.output, a.results, extremes)
+                page = write_report(columns, rows, a.output, a.results, extremes, experiment_index(EXPERIMENT_DIRS))
             except RuntimeError as e:
                 raise SweepError(str(e))
             print("report: %s (%d configurations)" % (page, len(rows)))

@@ -3,7 +3,8 @@ directory. Per scene: the Pareto front of each measured error against its cost o
 configuration swept, the front's configurations as a table, the GPU time per pass of every
 configuration and along the path for the front's, load time against the raw-bytes floor, and a gallery of each configuration's last
 measured frame beside its error maps. Then the numerical-extremes table of the ground-truth
-tests, when given.
+tests, when given. Command experiments (kind = "command", sweep_command.py) get a table of their
+jobs' figures, and the page opens with an index of every experiment file in the repository.
 
 Render errors are judged against the median GPU time of a frame (pnb-play's gpu_ms.total); the
 converter's errors (quantisation, texture compression) against the container's size. Lower is
@@ -32,6 +33,7 @@ HEADLINE_ERRORS = [
     ("convert:max_normal_error_deg", "mesh quantisation: max normal error, degrees") + SIZE,
     ("convert:texture_rmse8", "texture compression: worst texture RMSE, 8-bit levels") + SIZE,
 ]
+REPO = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 LOAD_PHASES = ("open", "read", "decode", "upload", "compile")  # pnb-play's summary.json load_ms
 
 
@@ -406,21 +408,84 @@ def extremes_section(path):
     return body
 
 
-def write_report(columns, rows, out_dir, results_dir=None, extremes=None):
-    """Writes out_dir/index.html, results.csv and one PNG per chart. Returns the HTML path."""
-    try:
-        import matplotlib
-        matplotlib.use("Agg")
-        import matplotlib.pyplot as plt
-    except ImportError:
-        raise RuntimeError("the report needs matplotlib (Debian: python3-matplotlib; scripts/setup installs it)")
+def command_section(rows, results_dir):
+    """Command experiments' jobs (kind = "command"): per experiment, a table of each job's
+    figures (one column per job: its axis values and extra arguments), and its log."""
+    out = []
+    for name in sorted({r["scene"] for r in rows}):
+        erows = [r for r in rows if r["scene"] == name]
+        figures = []
+        for r in erows:
+            figures += [c for c in r if c.startswith("fig:") and c not in figures and r[c] not in ("", None)]
+
+        def head(r):
+            what = " ".join(["%s=%s" % (c[4:], r[c]) for c in sorted(r) if c.startswith("set:")] +
+                            ([r["args"]] if r.get("args") else []))
+            link = html.escape(r["key"])
+            if results_dir:
+                link = "<a href=\"%s\">%s</a>" % (html.escape(os.path.join(os.path.abspath(results_dir), r["key"],
+                                                                           "log.txt")), link)
+            return "%s<br>%s" % (html.escape(what or "(defaults)"), link)
+
+        def cell(v):  # numbers (also as results.csv's text) right-aligned, 6 significant digits
+            if v in ("", None):
+                return "<td></td>"
+            if not isinstance(v, bool) and v not in ("True", "False"):
+                try:
+                    return "<td align=right>%.6g</td>" % float(v)
+                except ValueError:
+                    pass
+            return "<td>%s</td>" % html.escape(str(v))
+
+        out.append("<h2>%s (command)</h2><table border=1 cellpadding=3><tr><th>figure</th>%s</tr>"
+                   % (html.escape(name), "".join("<th>%s</th>" % head(r) for r in erows)))
+        for f in figures:
+            out.append("<tr><td>%s</td>%s</tr>" % (html.escape(f[4:]), "".join(cell(r.get(f)) for r in erows)))
+        out.append("</table>")
+    return out
+
+
+def index_section(experiments):
+    """The experiment files of the repository, each with what it measures and its jobs."""
+    out = ["<h2>Experiments</h2><p>Every experiment file (<code>pnb_sweep.py list</code>); run one with "
+           "<code>sweep/pnb_sweep.py run --local FILE</code> or <code>experiment FILE</code>.</p>",
+           "<table border=1 cellpadding=3><tr><th>file</th><th>kind</th><th>jobs</th><th>measures</th></tr>"]
+    for e in experiments:
+        out.append("<tr><td>%s</td><td>%s</td><td align=right>%s</td><td>%s</td></tr>" % (
+            html.escape(os.path.relpath(e["path"], REPO)), html.escape(e["kind"]),
+            e["jobs"] if e["error"] is None else "", html.escape(e["error"] or e["description"])))
+    out.append("</table>")
+    return out
+
+
+def write_report(columns, rows, out_dir, results_dir=None, extremes=None, experiments=None):
+    """Writes out_dir/index.html, results.csv and one PNG per chart. Returns the HTML path.
+    Command experiments' rows get a table of their figures; `experiments` (pnb_sweep's
+    experiment_index) an index of every experiment file."""
+    command_rows = [r for r in rows if r.get("kind") == "command"]
+    play_rows = [r for r in rows if r.get("kind") != "command"]
+    plt = None
+    if play_rows:  # command figures are tables: no matplotlib needed for them alone
+        try:
+            import matplotlib
+            matplotlib.use("Agg")
+            import matplotlib.pyplot as plt
+        except ImportError:
+            raise RuntimeError("the report needs matplotlib (Debian: python3-matplotlib; scripts/setup installs it)")
     os.makedirs(out_dir, exist_ok=True)
-    with open(os.path.join(out_dir, "results.csv"), "w", newline="") as f:
+    with open(os.path.join(out_dir, "results.csv.tmp"), "w", newline="") as f:
         w = csv.DictWriter(f, fieldnames=columns)
         w.writeheader()
         w.writerows(rows)
+    os.replace(os.path.join(out_dir, "results.csv.tmp"), os.path.join(out_dir, "results.csv"))
     body = ["<h1>pnb-sweep report</h1>",
             "<p>%d configurations. <a href=\"results.csv\">results.csv</a></p>" % len(rows)]
+    if experiments:
+        body += index_section(experiments)
+    body += command_section(command_rows, results_dir)
+    rows = play_rows
+    if not rows:
+        return finish_page(out_dir, body)
     renderers = sorted({r.get("gl_renderer", "") for r in rows})
     body.append("<p>GL renderers: %s</p>" % html.escape(", ".join(renderers)))
     body += light_count_section(plt, rows, out_dir)
@@ -441,6 +506,10 @@ def write_report(columns, rows, out_dir, results_dir=None, extremes=None):
         body.append("<h2>Numerical extremes</h2><p>Not included: give <code>--extremes</code> the "
                     "matrix.csv of <code>scripts/bench-extremes</code> or of the test "
                     "<code>reference.extremes_matrix</code>.</p>")
+    return finish_page(out_dir, body)
+
+
+def finish_page(out_dir, body):
     page = os.path.join(out_dir, "index.html")
     with open(page + ".tmp", "w") as f:
         f.write("<!doctype html><html><head><meta charset=\"utf-8\"><title>pnb-sweep report</title></head>"

@@ -1,7 +1,8 @@
 #!/usr/bin/env python3
-"""bench.load_tiny: runs bench_load.py --tiny and checks what it measured, not only that it ran.
+"""bench.load_tiny: runs the experiment sweep/experiments/load.toml (bench_load.py) with --tiny
+through pnb-sweep, as scripts/bench-load does, and checks what it measured, not only that it ran.
 
-usage: load_tiny_test.py BENCH_LOAD_PY BUILD_DIR OUT_DIR
+usage: load_tiny_test.py PNB_SWEEP_PY BUILD_DIR OUT_DIR
 
 Checks: every loader (pnb, assimp, tinygltf, floor) has a warm and a cold figure for the load
 test; the GL loaders agree on its triangle and texture counts (the same scene reached the GPU);
@@ -10,15 +11,30 @@ level per texture; every cold run was preceded by an eviction; the floor read th
 its loader; results.md states how cold is made and what each loader includes; load.png is a PNG.
 """
 import csv
+import json
+import shutil
 import subprocess
 import sys
 from pathlib import Path
 
-script, build, out = sys.argv[1], sys.argv[2], Path(sys.argv[3])
-subprocess.run([sys.executable, script, "--tiny", "--bin", build, "--out", str(out)], check=True,
-               stdout=subprocess.DEVNULL)
-rows = list(csv.DictReader(open(out / "results.csv")))
+sweep, build, results = sys.argv[1], sys.argv[2], Path(sys.argv[3])
+shutil.rmtree(results, ignore_errors=True)
+subprocess.run([sys.executable, sweep, "--build", build, "experiment",
+                str(Path(sweep).resolve().parent / "experiments" / "load.toml"), "--results", str(results),
+                "--", "--tiny"], check=True, stdout=subprocess.DEVNULL)
+jobs = [d for d in results.iterdir() if (d / "job.json").exists()]
+if len(jobs) != 1:
+    sys.exit(f"FAIL: {len(jobs)} finished jobs in {results}, 1 expected")
+out = jobs[0]
+with open(out / "results.csv") as f:
+    rows = list(csv.DictReader(f))
+with open(out / "figures.json") as f:
+    figures = json.load(f)
 failures = []
+for r in rows:  # the job's figures are the CSV's medians
+    name = f"{r['label']}:{r['cache']}:gpu_ready_ms_median"
+    if figures.get(name) != float(r["gpu_ready_ms_median"]):
+        failures.append(f"figure {name}: {figures.get(name)}, CSV {r['gpu_ready_ms_median']}")
 
 
 def expect(ok, what):

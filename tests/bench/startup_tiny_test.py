@@ -1,23 +1,34 @@
 #!/usr/bin/env python3
-"""bench.startup_tiny: scripts/bench-startup --tiny (one fresh pnb-play per configuration on the
-box room) must run and write a CSV whose figures hang together, so the time-to-first-frame
-benchmark cannot rot: every configuration present; no negative part; the parts add up to the
-total; the warm launch takes every program from the program cache and the first launch
-compiles them all; GPU-ready and the steady frame are positive.
+"""bench.startup_tiny: the experiment sweep/experiments/startup.toml in its tiny mode (one fresh
+pnb-play per configuration on the box room), run through pnb-sweep as scripts/bench-startup runs
+it, must write a CSV whose figures hang together, so the time-to-first-frame benchmark cannot
+rot: every configuration present; no negative part; the parts add up to the total; the warm
+launch takes every program from the program cache and the first launch compiles them all;
+GPU-ready and the steady frame are positive; the job's figures (pnb-sweep's figures.json) are
+the CSV's totals.
 
-Usage: startup_tiny_test.py SCRIPT BUILD_DIR OUT_DIR
+Usage: startup_tiny_test.py PNB_SWEEP_PY BUILD_DIR OUT_DIR
 """
 import csv
+import json
 import os
 import shutil
 import subprocess
 import sys
 
-script, build, out = sys.argv[1:4]
+sweep, build, out = sys.argv[1:4]
+experiment = os.path.join(os.path.dirname(os.path.abspath(sweep)), "experiments", "startup.toml")
 shutil.rmtree(out, ignore_errors=True)
-subprocess.run([sys.executable, script, "--tiny", "--build", build, "--out", out], check=True)
-with open(os.path.join(out, "startup.csv")) as f:
+subprocess.run([sys.executable, sweep, "--build", build, "experiment", experiment, "--results", out,
+                "--", "--tiny"], check=True)
+jobs = [d for d in os.listdir(out) if os.path.exists(os.path.join(out, d, "job.json"))]
+if len(jobs) != 1:
+    sys.exit(f"FAIL: {len(jobs)} finished jobs in {out}, 1 expected")
+job = os.path.join(out, jobs[0])
+with open(os.path.join(job, "startup.csv")) as f:
     rows = {r["config"]: r for r in csv.DictReader(f)}
+with open(os.path.join(job, "figures.json")) as f:
+    figures = json.load(f)
 
 failures = []
 
@@ -26,6 +37,11 @@ def check(ok, what):
     if not ok:
         failures.append(what)
 
+
+for config, r in rows.items():
+    name = f"{r['scene']}:{config}:{r['run']}:total"
+    check(figures.get(name) == float(r["total"]), f"figure {name}: {figures.get(name)}, CSV {r['total']}")
+check(os.path.exists(os.path.join(out, "report", "index.html")), "no report")
 
 PARTS = ["process_start", "context", "load", "programs", "warmup", "first_frame", "other"]
 for config in ["first-launch", "cold", "warm", "warm-no-warmup", "warm-no-cache"]:

@@ -3,7 +3,8 @@
 a 2-scene x 3-configuration sweep as an array job gives the local runner's results (identical
 error metrics, timings present); a rerun submits nothing; a task cancelled before it ran is
 listed as unfinished and its resubmission alone completes the set; a 4-file batch conversion as
-an array gives the local conversion's bytes and is skipped when rerun. Prints "SKIP: <reason>"
+an array gives the local conversion's bytes and is skipped when rerun; a command experiment's
+jobs as an array write the figures the local runner writes, and its collect job tables them. Prints "SKIP: <reason>"
 and exits 0 where the daemons cannot start (CTest reports the test as skipped).
 
 Usage: sweep_slurm_test.py BUILD_DIR SCENE_DIR
@@ -110,6 +111,23 @@ def main(build, scenes):
             check(len(os.listdir(os.path.join(work, "conv-slurm", "slurm"))) == jobs_before,
                   "an up-to-date rerun submits nothing (no new task logs)")
             print("conversion: 4 files on the cluster, byte-identical to local, skipped on rerun")
+            # A command experiment (kind = "command") as an array: each task writes its figures.
+            command_file = os.path.join(work, "command.toml")
+            with open(command_file, "w") as f:
+                f.write('name = "cmd"\nkind = "command"\ncommand = ["{python}", "-c", "import json; '
+                        'json.dump({\'square\': {n} * {n}}, open(\'{out}/figures.json\', \'w\'))"]\n'
+                        '[axes]\nn = [2, 3, 5]\n')
+            experiment = pnb_sweep.load_sweep(command_file)
+            cmd_bins = pnb_sweep.binaries(build, "command")
+            cmd_plan = pnb_sweep.plan(experiment, cmd_bins, os.path.join(work, "cmd"))
+            array5, collect5, n5 = pnb_sweep.slurm_submit(cmd_plan, args)
+            check(n5 == 3, "3 command jobs submitted, not %d" % n5)
+            pnb_sweep.slurm_wait([array5, collect5], timeout=600)
+            _, rows = pnb_sweep.collect(os.path.join(work, "cmd"))
+            check(sorted(r["fig:square"] for r in rows) == [4, 9, 25], "the array's figures: %s" % rows)
+            with open(os.path.join(work, "cmd", "results.csv")) as f:
+                check("fig:square" in f.readline(), "the collect job tabled the figures")
+            print("command experiment: 3 jobs on the cluster, their figures collected")
     except ClusterUnavailable as e:
         print("SKIP: no Slurm cluster can start here: %s" % e.reason)
         return 0
