@@ -216,7 +216,7 @@ def binaries(build, kind="play"):
     for b in (convert, play):
         if not os.access(b, os.X_OK):
             raise SweepError("%s: not built (cmake --build --preset release --target pnb-convert pnb-play)" % b)
-    # pnb-judge: pnb-play with the truth metrics (optional until the build has it; player_for).
+    # pnb-judge: pnb-play with the truth metrics (only jobs that ask for one need it: player_for).
     judge = os.path.join(build, "pnb-judge" if flat else "judge/pnb-judge")
     # The load-time floor (bench/load, not installed): optional, the report says when it is missing.
     probe = os.path.join(build, "bench", "load", "pnb_load_probe")
@@ -226,9 +226,14 @@ def binaries(build, kind="play"):
 
 
 def player_for(metrics, bins):
-    """The binary that plays a job with these metrics: pnb-judge when it asks for a truth metric
-    and the build has one, else pnb-play. The only place that chooses; the job's key hashes it."""
-    if TRUTH_METRICS & set(metrics) and bins.get("judge"):
+    """The binary that plays a job with these metrics: pnb-judge (pnb-play with the Embree truth)
+    when it asks for a truth metric, else the lean pnb-play. The only place that chooses; the
+    job's key hashes it."""
+    if TRUTH_METRICS & set(metrics):
+        if not bins.get("judge"):
+            raise SweepError("a truth metric (%s) needs pnb-judge, which this build does not have "
+                             "(cmake --build --preset release --target pnb-judge)"
+                             % ", ".join(sorted(TRUTH_METRICS & set(metrics))))
         return bins["judge"]
     return bins["play"]
 

@@ -240,13 +240,15 @@ columns = ["d.ms"]
             pnb_sweep.plan(pnb_sweep.load_sweep(s), {"play": scene, "convert": scene}, self.results, ["--x"])
         self.assertIn("command experiments", str(e.exception))
 
-    def test_truth_metrics_are_judged_by_pnb_judge_when_the_build_has_it(self):
+    def test_truth_metrics_are_judged_by_pnb_judge_and_the_rest_by_the_lean_player(self):
         bins = {"play": "/b/player/pnb-play", "judge": "/b/judge/pnb-judge"}
         self.assertEqual(pnb_sweep.player_for({"shadow": 8}, bins), bins["judge"])
         self.assertEqual(pnb_sweep.player_for({"gi": 4, "lod": 8}, bins), bins["judge"])
         self.assertEqual(pnb_sweep.player_for({"lod": 8}, bins), bins["play"])
         self.assertEqual(pnb_sweep.player_for({}, bins), bins["play"])
-        self.assertEqual(pnb_sweep.player_for({"sky": 2}, dict(bins, judge=None)), bins["play"])
+        with self.assertRaises(pnb_sweep.SweepError) as e:  # never the lean player, which refuses them
+            pnb_sweep.player_for({"sky": 2}, dict(bins, judge=None))
+        self.assertIn("needs pnb-judge", str(e.exception))
 
 
 if __name__ == "__main__":

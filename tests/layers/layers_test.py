@@ -1,0 +1,66 @@
+#!/usr/bin/env python3
+"""scripts/check-layers: the repository has no arrow against its floors, and the checker sees the
+kinds of arrow it claims to (a sideways include, an upward bare include, a sideways CMake link)."""
+import importlib.machinery
+import importlib.util
+import os
+import subprocess
+import sys
+import tempfile
+import unittest
+
+REPO = os.path.abspath(sys.argv.pop(1) if len(sys.argv) > 1 else os.path.join(os.path.dirname(__file__), "..", ".."))
+CHECK = os.path.join(REPO, "scripts", "check-layers")
+loader = importlib.machinery.SourceFileLoader("check_layers", CHECK)
+spec = importlib.util.spec_from_loader("check_layers", loader)
+check_layers = importlib.util.module_from_spec(spec)
+loader.exec_module(check_layers)
+
+
+class Layers(unittest.TestCase):
+    def test_the_repository_keeps_its_floors(self):
+        r = subprocess.run([sys.executable, CHECK, REPO], capture_output=True, text=True)
+        self.assertEqual(r.returncode, 0, r.stdout + r.stderr)
+        self.assertIn("0 arrow(s) against the floors", r.stdout)
+        # The floors the architecture document draws.
+        graph, _ = check_layers.check(REPO)
+        self.assertEqual(graph["lighting"], {"format"})
+        for middle in ("converter", "player", "reference"):
+            self.assertTrue(graph[middle] <= {"format", "lighting", "shaders"}, (middle, graph[middle]))
+        self.assertEqual(graph["judge"] - {"format", "lighting"}, {"player", "reference"})
+
+    def fake_repo(self, files):
+        d = tempfile.mkdtemp()
+        for path, text in files.items():
+            os.makedirs(os.path.join(d, os.path.dirname(path)), exist_ok=True)
+            with open(os.path.join(d, path), "w") as f:
+                f.write(text)
+        subprocess.run(["git", "init", "-q", d], check=True)
+        subprocess.run(["git", "-C", d, "add", "-A"], check=True)
+        return d
+
+    def test_it_finds_sideways_upward_and_linked_arrows(self):
+        d = self.fake_repo({
+            "format/include/pnb/chunks.h": "",
+            "player/math/sh9.h": "",
+            "player/include/pnb_player/renderer.h": '#include "pnb/chunks.h"\n',
+            "converter/src/env.cpp": '#include "sh9.h"\n#include "pnb/chunks.h"\n',
+            "reference/src/t.cpp": '#include "pnb_player/renderer.h"\n',
+            "format/src/x.cpp": '#include "pnb_player/renderer.h"\n',
+            "player/CMakeLists.txt": "add_library(pnb_player a.cpp)\nadd_library(pnb::player ALIAS pnb_player)\n",
+            "reference/CMakeLists.txt": "add_library(pnb_reference b.cpp)\n"
+                                        "target_link_libraries(pnb_reference PRIVATE\n  pnb::player) # links\n",
+        })
+        graph, bad = check_layers.check(d)
+        text = "\n".join(bad)
+        self.assertIn('converter -> player (floor 2 -> 2): converter/src/env.cpp:1 includes "sh9.h"', text)
+        self.assertIn("reference -> player (floor 2 -> 2): reference/src/t.cpp:1", text)
+        self.assertIn("format -> player (floor 0 -> 2): format/src/x.cpp:1", text)
+        self.assertIn("reference -> player (floor 2 -> 2): reference/CMakeLists.txt: pnb_reference links pnb::player", text)
+        self.assertEqual(len(bad), 4, text)  # downward arrows (player -> format) are not reported
+        r = subprocess.run([sys.executable, CHECK, d], capture_output=True, text=True)
+        self.assertEqual(r.returncode, 1)
+
+
+if __name__ == "__main__":
+    unittest.main()
