@@ -183,10 +183,10 @@ Args parseArgs(int argc, char** argv) {
     for (int i = 1; i < argc; ++i) {
         std::string s = argv[i];
         if (s == "-h" || s == "--help") {
+            // The usage lines name the player that runs (pnb-judge takes the same options).
             std::string usage = kUsage;
-            for (size_t at; (at = usage.find("pnb-play SCENE")) != std::string::npos ||
-                            (at = usage.find("pnb-play -")) != std::string::npos;)
-                usage.replace(at, 8, gProgram);
+            for (const char* line : {"pnb-play SCENE", "pnb-play - "})
+                if (size_t at = usage.find(line); at != std::string::npos) usage.replace(at, 8, gProgram);
             std::fputs(usage.c_str(), stdout);
             std::exit(0);
         } else if (s == "--list-settings") {

@@ -23,8 +23,10 @@ for metric in --shadow-metrics --gi-metrics --sky-metrics; do
 done
 
 # pnb-judge is pnb-play's command line under its own name ...
-"$judge" --help | grep -q '^usage: pnb-judge SCENE.pnb' || fail "pnb-judge --help does not name pnb-judge"
-"$play" --help | grep -q '^usage: pnb-play SCENE.pnb' || fail "pnb-play --help does not name pnb-play"
+"$judge" --help >"$tmp/judge-help"
+"$play" --help >"$tmp/play-help"
+grep -q '^usage: pnb-judge SCENE.pnb' "$tmp/judge-help" || fail "pnb-judge --help does not name pnb-judge"
+grep -q '^usage: pnb-play SCENE.pnb' "$tmp/play-help" || fail "pnb-play --help does not name pnb-play"
 set +e
 "$judge" "$scene" --headless --shadow-metrics 2 >"$tmp/out" 2>&1
 code=$?
