@@ -1,4 +1,4 @@
-// gltf_internal.h — helpers shared by the glTF importer's files (import_gltf.cpp,
+// gltf_internal.h — helpers shared by the glTF importer's files (import_gltf*.cpp,
 // gltf_meshopt.cpp). Internal.
 //
 // The JSON readers read glTF JSON (nlohmann) the way tinygltf reads it: both files inspect or
