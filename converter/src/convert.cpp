@@ -354,6 +354,7 @@ Result<ConvertSummary, ConvertError> convertScene(const ConvertSettings& s,
         sum.notes.push_back("textures: " + std::to_string(prefetch->taken()) + " of " +
                             std::to_string(textures.size()) +
                             " decoded while the source was being imported");
+    prefetch.reset(); // images of materials no mesh uses are not kept through the write
     report("textures", textures.size(), textures.size());
     clock.stop();
 
