@@ -13,7 +13,9 @@
 #include <optional>
 #include <set>
 
+#include "image_prefetch.h"
 #include "parallel_for.h"
+#include "pnb/compression_memo.h"
 #include "pnb/mesh_levels.h"
 #include "pnb/scene_builder.h"
 #include "pnb/user_cache_directory.h"
@@ -22,6 +24,7 @@
 #include "pnb_converter/environment.h"
 #include "pnb_converter/importers.h"
 #include "pnb_converter/material_resolve.h"
+#include "pnb_converter/memory_budget.h"
 #include "pnb_converter/shader_permutations.h"
 #include "pnb_converter/shader_validation_cache.h"
 
@@ -236,7 +239,18 @@ Result<ConvertSummary, ConvertError> convertScene(const ConvertSettings& s,
     // [SECTION] import
     clock.start("import");
     report("import", 0, 1);
-    auto imported = importScene(s.input);
+    // The texture files an OBJ's materials name are decoded on a second thread while the OBJ is
+    // still being parsed (image_prefetch.h: same pixels, so the same bytes); not with -j 1. It
+    // may hold a quarter of the texture memory budget, which processTextures then leaves out.
+    std::optional<ImagePrefetch> prefetch;
+    std::function<void(const std::string&)> imageFound;
+    if (resolveJobs(s.jobs) > 1) {
+        const uint64_t budget =
+            s.texture.maxMemoryBytes ? s.texture.maxMemoryBytes : defaultMemoryBudget();
+        prefetch.emplace(s.texture.maxSourceTexels, budget / 4);
+        imageFound = [&prefetch](const std::string& path) { prefetch->add(path); };
+    }
+    auto imported = importScene(s.input, imageFound);
     if (!imported) return imported.error();
     IrScene& scene = *imported;
     sum.warnings = scene.warnings;
@@ -330,11 +344,17 @@ Result<ConvertSummary, ConvertError> convertScene(const ConvertSettings& s,
     report("textures", 0, materials.textures.size());
     TextureSettings textureSettings = s.texture;
     textureSettings.jobs = s.jobs;
-    auto texturesResult = processTextures(materials.textures, textureSettings);
+    auto texturesResult = processTextures(materials.textures, textureSettings,
+                                          prefetch && prefetch->used() ? &*prefetch : nullptr);
     if (!texturesResult) return texturesResult.error();
     std::vector<ProcessedTexture>& textures = *texturesResult;
     for (const IrImage& img : scene.images)
         if (!img.path.empty()) sum.dependencies.push_back(img.path);
+    if (prefetch && prefetch->used())
+        sum.notes.push_back("textures: " + std::to_string(prefetch->taken()) + " of " +
+                            std::to_string(textures.size()) +
+                            " decoded while the source was being imported");
+    prefetch.reset(); // images of materials no mesh uses are not kept through the write
     report("textures", textures.size(), textures.size());
     clock.stop();
 
@@ -622,6 +642,10 @@ Result<ConvertSummary, ConvertError> convertScene(const ConvertSettings& s,
 
     WriteOptions wo;
     wo.checksums = s.checksums;
+    // Shared by every conversion of the process: a batch compresses the shader sources, which
+    // most inputs share, once (compression_memo.h; the bytes written are the same).
+    static const auto memo = std::make_shared<CompressionMemo>();
+    wo.compressionMemo = memo;
     auto writer = Writer::create(s.output, wo);
     if (!writer) return outputError(writer.error().message);
     Status st = writeScene(*writer, out, s.compressBulk ? Compression::Zstd : Compression::None);

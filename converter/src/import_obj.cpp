@@ -41,21 +41,32 @@
 //   still missing falls back to <obj name>.mtl next to the OBJ (as assimp does) with a warning.
 //   Missing textures are dropped with a warning, the material kept. MTL files read are listed
 //   in IrScene::dependencies (the --depfile); textures are listed by the texture stage.
+// - Early texture report: each texture file an MTL's materials would use (base colour, normal,
+//   emissive) is passed to the caller's `found` callback when the MTL is read, during the parse,
+//   so convertScene can decode it meanwhile (image_prefetch.h).
+// - The OBJ file is read with one read() into pre-faulted memory (ObjText): it is the largest
+//   input the converter reads.
 //
 // Does NOT do: processing of any kind, image decoding, smoothing groups (the mesh stage's
 // normals are smooth), tinyobjloader's extensions (vw skin weights, t subdivision tags).
 #include "pnb_converter/importers.h"
 
+#include <fcntl.h>
+#include <sys/mman.h>
+#include <sys/stat.h>
 #include <tiny_obj_loader.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <cctype>
+#include <cerrno>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
+#include <functional>
 #include <istream>
 #include <map>
 #include <optional>
@@ -103,11 +114,64 @@ std::optional<std::string> readFile(const fs::path& path) {
     return data;
 }
 
-// An istream over bytes we already hold, without copying them into a stringbuf.
+// The OBJ file's bytes, read with one read() into memory that mmap(MAP_POPULATE) gave whole:
+// reading the 94 MB benchmark OBJ with readFile cost ~10 % of its conversion, in a copy through
+// stdio's buffer and one page fault per 4 KiB page of the growing string. The file itself is
+// not mapped: another program truncating it during the parse would kill us with SIGBUS.
+class ObjText {
+public:
+    bool open(const fs::path& path) {
+        const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+        if (fd < 0) return false;
+        struct stat st {};
+        bool ok = false;
+        if (::fstat(fd, &st) == 0 && st.st_size > 0) {
+            void* p = ::mmap(nullptr, size_t(st.st_size), PROT_READ | PROT_WRITE,
+                             MAP_PRIVATE | MAP_ANONYMOUS | MAP_POPULATE, -1, 0);
+            if (p != MAP_FAILED) {
+                mMapped = static_cast<char*>(p);
+                mCapacity = size_t(st.st_size);
+                ok = true;
+                while (mSize < mCapacity) { // a file that shrank meanwhile is read as it is
+                    const ssize_t n = ::read(fd, mMapped + mSize, mCapacity - mSize);
+                    if (n < 0 && errno == EINTR) continue;
+                    if (n < 0) ok = false;
+                    if (n <= 0) break;
+                    mSize += size_t(n);
+                }
+            }
+        }
+        ::close(fd);
+        if (mMapped) return ok;
+        std::optional<std::string> bytes = readFile(path); // empty, or not mappable
+        if (!bytes) return false;
+        mCopy = std::move(*bytes);
+        return true;
+    }
+    ObjText() = default;
+    ObjText(const ObjText&) = delete;
+    ObjText& operator=(const ObjText&) = delete;
+    ~ObjText() {
+        if (mMapped) ::munmap(mMapped, mCapacity);
+    }
+
+    std::string_view view() const {
+        return mMapped ? std::string_view(mMapped, mSize) : std::string_view(mCopy);
+    }
+    char* data() { return mMapped ? mMapped : mCopy.data(); }
+
+private:
+    char* mMapped = nullptr;
+    size_t mSize = 0, mCapacity = 0;
+    std::string mCopy; // when not mapped
+};
+
+// An istream over bytes we already hold, without copying them into a stringbuf (read only).
 class MemoryBuffer : public std::streambuf {
 public:
-    explicit MemoryBuffer(std::string& bytes) {
-        setg(bytes.data(), bytes.data(), bytes.data() + bytes.size());
+    explicit MemoryBuffer(std::string_view bytes) {
+        char* begin = const_cast<char*>(bytes.data()); // streambuf's get area is not const
+        setg(begin, begin, begin + bytes.size());
     }
 };
 
@@ -150,8 +214,10 @@ void scanMtlKeys(std::string_view text, std::map<std::string, MtlKeys>& out) {
 class MtlReader : public tinyobj::MaterialReader {
 public:
     MtlReader(fs::path sourceDir, fs::path objPath, IrScene& out,
-              std::map<std::string, MtlKeys>& keys)
-        : mSourceDir(std::move(sourceDir)), mObjPath(std::move(objPath)), mOut(out), mKeys(keys) {}
+              std::map<std::string, MtlKeys>& keys,
+              const std::function<void(const std::string&)>& found)
+        : mSourceDir(std::move(sourceDir)), mObjPath(std::move(objPath)), mOut(out), mKeys(keys),
+          mFound(found) {}
 
     bool operator()(const std::string& name, std::vector<tinyobj::material_t>* materials,
                     std::map<std::string, int>* byName, std::string* /*warn*/,
@@ -187,6 +253,19 @@ public:
         std::istream stream(&buffer);
         std::string warn, err;
         tinyobj::LoadMtl(byName, materials, &stream, &warn, &err);
+        // The texture files these materials would use (convertMaterial's slots), resolved as
+        // imageForReference will resolve them, for the caller to start decoding.
+        if (mFound) {
+            for (size_t i = first; i < materials->size(); ++i) {
+                const tinyobj::material_t& m = (*materials)[i];
+                const std::string& normal =
+                    m.normal_texname.empty() ? m.bump_texname : m.normal_texname;
+                for (const std::string* ref : {&m.diffuse_texname, &normal, &m.emissive_texname}) {
+                    if (ref->empty()) continue;
+                    if (auto r = resolveReference(mSourceDir, *ref)) mFound(r->path.string());
+                }
+            }
+        }
         // usemtl keeps only its first word (header block): alias spaced names by it.
         for (size_t i = first; i < materials->size(); ++i) {
             const std::string& full = (*materials)[i].name;
@@ -208,20 +287,23 @@ private:
     fs::path mSourceDir, mObjPath;
     IrScene& mOut;
     std::map<std::string, MtlKeys>& mKeys;
+    const std::function<void(const std::string&)>& mFound;
 };
 
 // Blanks every "vw" line (tinyobjloader's skin-weight extension, which the importer ignores)
 // in place, keeping the line count: tinyobjloader converts a vw joint id to int without a range
 // check, which is undefined for a huge number (found by the obj_import fuzzer: "vw 6e21 ...").
-void blankSkinWeightLines(std::string& text) {
+void blankSkinWeightLines(ObjText& obj) {
+    const std::string_view text = obj.view();
+    char* bytes = obj.data();
     size_t pos = 0;
     while (pos < text.size()) {
         size_t end = text.find_first_of("\r\n", pos); // tinyobjloader ends a line at either
-        if (end == std::string::npos) end = text.size();
+        if (end == std::string_view::npos) end = text.size();
         size_t at = pos;
         while (at < end && (text[at] == ' ' || text[at] == '\t')) ++at;
         if (end - at > 2 && text[at] == 'v' && text[at + 1] == 'w' && (text[at + 2] == ' ' || text[at + 2] == '\t'))
-            std::fill(text.begin() + std::ptrdiff_t(pos), text.begin() + std::ptrdiff_t(end), ' ');
+            std::fill(bytes + pos, bytes + end, ' ');
         pos = end + 1;
     }
 }
@@ -519,7 +601,8 @@ IrPrimitive buildPrimitive(const tinyobj::attrib_t& attrib, const tinyobj::mesh_
 
 } // namespace
 
-Result<IrScene, ConvertError> importObj(const std::string& path) {
+Result<IrScene, ConvertError> importObj(const std::string& path,
+                                        const std::function<void(const std::string&)>& found) {
     auto inputError = [&](std::string message) {
         return ConvertError{ConvertErrorKind::Input, path + ": " + message};
     };
@@ -527,9 +610,10 @@ Result<IrScene, ConvertError> importObj(const std::string& path) {
     // tinyobjloader reports bad data through its error string, but std::bad_alloc must not
     // cross our module boundary either.
     try {
-        std::optional<std::string> text = readFile(path);
-        if (!text) return inputError("could not be read");
-        blankSkinWeightLines(*text);
+        ObjText obj;
+        if (!obj.open(path)) return inputError("could not be read");
+        blankSkinWeightLines(obj);
+        const std::string_view text = obj.view();
         const fs::path sourceParent = fs::path(path).parent_path();
         Context ctx;
         ctx.path = path;
@@ -542,10 +626,10 @@ Result<IrScene, ConvertError> importObj(const std::string& path) {
         std::vector<tinyobj::shape_t> shapes;
         std::vector<tinyobj::material_t> materials;
         std::string warn, err;
-        MtlReader mtlReader(ctx.sourceDir, fs::path(path), out, ctx.keys);
+        MtlReader mtlReader(ctx.sourceDir, fs::path(path), out, ctx.keys, found);
         bool parsed;
         {
-            MemoryBuffer buffer(*text);
+            MemoryBuffer buffer(text);
             std::istream stream(&buffer);
             parsed = tinyobj::LoadObj(&attrib, &shapes, &materials, &warn, &err, &stream,
                                       &mtlReader, /*triangulate=*/true,
@@ -560,13 +644,13 @@ Result<IrScene, ConvertError> importObj(const std::string& path) {
             if (line > 0 && err.rfind("Failed parse `", 0) == 0 && err.size() > 15) {
                 return inputError(format("line %zu: malformed '%c' element (an index is 0 or not "
                                          "a number): \"%s\"", line, err[14],
-                                         lineText(*text, line).c_str()));
+                                         lineText(text, line).c_str()));
             }
             return inputError(err.empty() ? std::string("not a valid OBJ file") : err);
         }
         const size_t vertexCount = attrib.vertices.size() / 3;
         auto badIndex = [&]() {
-            const size_t line = lineOfBadIndex(*text, vertexCount);
+            const size_t line = lineOfBadIndex(text, vertexCount);
             return inputError(line > 0 ? format("line %zu: vertex index out of range 1..%zu",
                                                 line, vertexCount)
                                        : format("vertex index out of range 1..%zu", vertexCount));

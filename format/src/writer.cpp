@@ -3,6 +3,7 @@
 #include "pnb/writer.h"
 
 #include "pnb/atomic_file.h"
+#include "pnb/compression_memo.h"
 #include "pnb/reader.h"
 
 #include <algorithm>
@@ -102,9 +103,18 @@ Status Writer::addChunk(Tag tag, uint16_t version, std::span<const std::byte> ra
     std::span<const std::byte> stored = raw;
     Compression used = Compression::None;
     if (compression == Compression::Zstd && !raw.empty()) {
-        w.scratch.resize(ZSTD_compressBound(raw.size()));
-        size_t n = ZSTD_compress(w.scratch.data(), w.scratch.size(), raw.data(), raw.size(),
-                                 w.options.zstdLevel);
+        CompressionMemo* memo = w.options.compressionMemo.get();
+        size_t n;
+        if (auto frame = memo ? memo->find(raw, w.options.zstdLevel) : std::nullopt) {
+            w.scratch = std::move(*frame);
+            n = w.scratch.size();
+        } else {
+            w.scratch.resize(ZSTD_compressBound(raw.size()));
+            n = ZSTD_compress(w.scratch.data(), w.scratch.size(), raw.data(), raw.size(),
+                              w.options.zstdLevel);
+            if (memo && !ZSTD_isError(n))
+                memo->remember(raw, w.options.zstdLevel, {w.scratch.data(), n});
+        }
         if (!ZSTD_isError(n) && n < raw.size()) {
             stored = {w.scratch.data(), n};
             used = Compression::Zstd;

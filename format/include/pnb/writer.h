@@ -21,13 +21,17 @@
 
 namespace pnb {
 
-class Container; // reader.h
+class CompressionMemo; // compression_memo.h
+class Container;       // reader.h
 
 struct WriteOptions {
     // Store an XXH3 checksum of every payload. Default: true. The TOC always has one.
     bool checksums = true;
     // zstd level for chunks added with Compression::Zstd. Default: 9 (ratio/speed balance).
     int zstdLevel = 9;
+    // When set, zstd results are looked up in and added to this memo (compression_memo.h):
+    // the same bytes, computed once per process for payloads several containers share.
+    std::shared_ptr<CompressionMemo> compressionMemo;
 };
 
 class Writer {
