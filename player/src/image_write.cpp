@@ -18,7 +18,7 @@ namespace pnb::player {
 namespace {
 
 // The deflate level stb_image_write's PNGs get: zlib's default. On 1280x720 screenshots level 6
-// came within 3 % of level 9's size in a fifth of the time or less, and gave the old hand-written
+// came within 3 % of level 9's size in about a fifth of the time, and gave the old hand-written
 // writer's bytes exactly; stb's own deflate wrote 1.4-6x larger files (docs/PLAYER.md,
 // "Screenshots and dumps: the image writers").
 constexpr int kZlibLevel = 6;
