@@ -2,9 +2,9 @@
 // scripts/bench-load read, so that those are what real assets are:
 //
 //   pnb_load_inputs --reencode-glb IN.glb OUT.glb png|jpeg
-//       every embedded image decoded and re-encoded by stb_image_write: "png" with zlib
-//       (level 8; pnb-make-scene's PNGs are stored-deflate, which no exporter writes and which
-//       decode many times faster), "jpeg" at quality 90 (and image/jpeg as its mimeType).
+//       every embedded image decoded and re-encoded by stb_image_write: "png" with its own
+//       deflate at level 8 (what a tool built on stb writes; pnb-make-scene's PNGs use zlib
+//       level 6), "jpeg" at quality 90 (and image/jpeg as its mimeType).
 //       Everything else is unchanged (written back through tinygltf).
 //   pnb_load_inputs --export-obj IN.glb OUT.obj
 //       IN as OBJ + MTL through assimp's exporter, its embedded images written unchanged as

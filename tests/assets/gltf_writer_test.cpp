@@ -1,6 +1,6 @@
 // The glTF writer and the PNG encoder on small hand-made inputs: container layout, alignment,
-// index widths, document validation, atomic writes, and a PNG decoded back by an independent
-// stored-deflate inflater.
+// index widths, document validation, atomic writes, and PNGs decoded back by an independent
+// decoder (libpng).
 
 #include <gtest/gtest.h>
 
@@ -12,6 +12,9 @@
 #include <fstream>
 #include <iterator>
 #include <string_view>
+#include <vector>
+
+#include <png.h>
 
 #include "glb_check.h"
 #include "pnb_assets/gltf_writer.h"
@@ -212,60 +215,36 @@ TEST(PngWriter, ChecksumsMatchTheirCheckValues) {
     EXPECT_EQ(adler32(ff), (b << 16) | a);
 }
 
-uint32_t be32(const uint8_t* p) {
-    return uint32_t(p[0]) << 24 | uint32_t(p[1]) << 16 | uint32_t(p[2]) << 8 | uint32_t(p[3]);
+// Decodes a PNG with libpng (an independent decoder: it checks every critical chunk's CRC, and
+// zlib the Adler-32 trailer) into the file's own sample layout. Returns the pixels, or an empty
+// vector on any error; `channels` from the colour type (1 grey, 2 grey+alpha, 3 RGB, 4 RGBA).
+std::vector<uint8_t> decodePng(const std::vector<uint8_t>& png, uint32_t& w, uint32_t& h,
+                               uint32_t& channels) {
+    png_image image{};
+    image.version = PNG_IMAGE_VERSION;
+    if (!png_image_begin_read_from_memory(&image, png.data(), png.size())) {
+        ADD_FAILURE() << "libpng: " << image.message;
+        return {};
+    }
+    w = image.width;
+    h = image.height;
+    channels = PNG_IMAGE_SAMPLE_CHANNELS(image.format);
+    if (image.format & (PNG_FORMAT_FLAG_LINEAR | PNG_FORMAT_FLAG_COLORMAP)) {
+        ADD_FAILURE() << "not an 8-bit direct-colour PNG (format " << image.format << ")";
+        png_image_free(&image);
+        return {};
+    }
+    std::vector<uint8_t> pixels(PNG_IMAGE_SIZE(image));
+    if (!png_image_finish_read(&image, nullptr, pixels.data(), 0, nullptr)) {
+        ADD_FAILURE() << "libpng: " << image.message;
+        return {};
+    }
+    return pixels;
 }
 
-// Decodes a PNG made of stored deflate blocks, checking every CRC, the zlib header and the
-// Adler-32 trailer. Returns the pixels, or an empty vector on any error.
-std::vector<uint8_t> decodeStoredPng(const std::vector<uint8_t>& png, uint32_t& w, uint32_t& h,
-                                     uint32_t& channels) {
-    const uint8_t sig[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1A, '\n'};
-    if (png.size() < 8 || std::memcmp(png.data(), sig, 8) != 0) return {};
-    std::vector<uint8_t> zlib;
-    bool sawEnd = false;
-    for (size_t at = 8; at < png.size();) {
-        if (png.size() - at < 12) return {};
-        uint32_t len = be32(&png[at]);
-        if (png.size() - at - 12 < len) return {};
-        std::string type(png.begin() + long(at + 4), png.begin() + long(at + 8));
-        const uint8_t* data = &png[at + 8];
-        if (crc32({&png[at + 4], len + 4}) != be32(data + len)) return {};
-        if (type == "IHDR") {
-            w = be32(data);
-            h = be32(data + 4);
-            if (data[8] != 8 || (data[9] != 2 && data[9] != 6) || data[10] || data[11] || data[12])
-                return {};
-            channels = data[9] == 6 ? 4 : 3;
-        } else if (type == "IDAT") {
-            zlib.insert(zlib.end(), data, data + len);
-        } else if (type == "IEND") {
-            sawEnd = at + 12 == png.size();
-        }
-        at += 12 + len;
-    }
-    if (!sawEnd || zlib.size() < 6 || (zlib[0] * 256 + zlib[1]) % 31 != 0 || (zlib[0] & 15) != 8)
-        return {};
-    std::vector<uint8_t> raw;
-    size_t at = 2;
-    for (bool last = false; !last;) {
-        if (zlib.size() - at < 5 || (zlib[at] & 6) != 0) return {}; // stored blocks only
-        last = zlib[at] & 1;
-        uint16_t len = uint16_t(zlib[at + 1] | zlib[at + 2] << 8);
-        uint16_t nlen = uint16_t(zlib[at + 3] | zlib[at + 4] << 8);
-        if (uint16_t(~nlen) != len || zlib.size() - at - 5 < len) return {};
-        raw.insert(raw.end(), &zlib[at + 5], &zlib[at + 5] + len);
-        at += 5 + size_t(len);
-    }
-    if (zlib.size() - at != 4 || be32(&zlib[at]) != adler32(raw)) return {};
-    const size_t row = size_t(w) * channels;
-    if (raw.size() != (row + 1) * h) return {};
-    std::vector<uint8_t> pixels;
-    for (uint32_t y = 0; y < h; ++y) {
-        if (raw[y * (row + 1)] != 0) return {}; // filter type None
-        pixels.insert(pixels.end(), raw.begin() + long(y * (row + 1) + 1),
-                      raw.begin() + long((y + 1) * (row + 1)));
-    }
+std::vector<uint8_t> testPixels(size_t n) {
+    std::vector<uint8_t> pixels(n);
+    for (size_t i = 0; i < n; ++i) pixels[i] = uint8_t(i * 7 + i / 13);
     return pixels;
 }
 
@@ -273,20 +252,42 @@ TEST(PngWriter, EncodedImagesDecodeBackExactly) {
     struct Case {
         uint32_t w, h, channels;
     };
-    // 200 x 120 RGBA is 96 120 bytes of scanlines: two stored blocks.
-    for (Case c : {Case{1, 1, 3}, Case{3, 2, 3}, Case{64, 64, 3}, Case{200, 120, 4}}) {
-        std::vector<uint8_t> pixels(size_t(c.w) * c.h * c.channels);
-        for (size_t i = 0; i < pixels.size(); ++i)
-            pixels[i] = uint8_t(i * 7 + i / 13);
+    for (Case c : {Case{1, 1, 3}, Case{3, 2, 3}, Case{64, 64, 3}, Case{200, 120, 4},
+                   Case{5, 7, 1}, Case{9, 4, 2}, Case{1024, 3, 4}}) {
+        SCOPED_TRACE(testing::Message() << c.w << "x" << c.h << "x" << c.channels);
+        std::vector<uint8_t> pixels = testPixels(size_t(c.w) * c.h * c.channels);
         std::vector<uint8_t> png = encodePng(c.w, c.h, c.channels, pixels);
         uint32_t w = 0, h = 0, ch = 0;
-        std::vector<uint8_t> back = decodeStoredPng(png, w, h, ch);
+        std::vector<uint8_t> back = decodePng(png, w, h, ch);
         EXPECT_EQ(w, c.w);
         EXPECT_EQ(h, c.h);
         EXPECT_EQ(ch, c.channels);
-        EXPECT_TRUE(back == pixels) << c.w << "x" << c.h;
+        EXPECT_TRUE(back == pixels);
         EXPECT_TRUE(encodePng(c.w, c.h, c.channels, pixels) == png) << "deterministic";
     }
+}
+
+TEST(PngWriter, TexturesAreCompressed) {
+    // A checker like the procedural scenes' (64 x 64 RGB, 8-texel squares): a real deflate
+    // stream, far below the 12 KiB of its raw scanlines.
+    const uint32_t size = 64;
+    std::vector<uint8_t> pixels;
+    for (uint32_t y = 0; y < size; ++y)
+        for (uint32_t x = 0; x < size; ++x) {
+            const uint8_t v = ((x / 8 + y / 8) & 1) ? 200 : 60;
+            pixels.insert(pixels.end(), {v, v, uint8_t(v / 2)});
+        }
+    std::vector<uint8_t> png = encodePng(size, size, 3, pixels);
+    EXPECT_LT(png.size(), pixels.size() / 20) << png.size() << " bytes";
+    uint32_t w = 0, h = 0, ch = 0;
+    EXPECT_TRUE(decodePng(png, w, h, ch) == pixels);
+}
+
+TEST(PngWriterDeathTest, BadImagesAbortWithTheReason) {
+    std::vector<uint8_t> pixels(4 * 4 * 3, 1);
+    EXPECT_DEATH(encodePng(4, 4, 4, pixels), "expected 4x4x4");
+    EXPECT_DEATH(encodePng(0, 4, 3, pixels), "non-zero");
+    EXPECT_DEATH(encodePng(4, 4, 5, pixels), "channels must be 1..4");
 }
 
 } // namespace

@@ -207,6 +207,27 @@ TEST_F(ImageWrite, PngGradient300x200) {
     }
 }
 
+TEST_F(ImageWrite, PngScreenshotSized) {
+    // 1280 x 720 RGBA, a smooth picture with noisy patches (rows pick different filters), and
+    // one very wide row (500 000 RGB pixels; libpng reads at most 1 000 000 per row).
+    const uint32_t w = 1280, h = 720;
+    std::vector<uint8_t> samples(size_t(w) * h * 4);
+    auto grain = noise(samples.size(), 7);
+    for (uint32_t y = 0; y < h; ++y)
+        for (uint32_t x = 0; x < w; ++x) {
+            uint8_t* p = &samples[(size_t(y) * w + x) * 4];
+            const size_t i = size_t(y) * w + x;
+            const bool noisy = ((x / 160) + (y / 90)) % 3 == 0;
+            p[0] = noisy ? grain[i * 4] : uint8_t(x * 255 / (w - 1));
+            p[1] = noisy ? grain[i * 4 + 1] : uint8_t(y * 255 / (h - 1));
+            p[2] = uint8_t((x + y) / 8);
+            p[3] = 255;
+        }
+    expectPngRoundTrip(path("screenshot.png"), w, h, 4, samples);
+    auto wide = noise(size_t(500000) * 3, 9);
+    expectPngRoundTrip(path("wide.png"), 500000, 1, 3, wide);
+}
+
 TEST_F(ImageWrite, PngOfFlatImageIsSmall) {
     const uint32_t w = 512, h = 256, c = 4;
     std::vector<uint8_t> samples(size_t(w) * h * c);
@@ -264,9 +285,17 @@ TEST_F(ImageWrite, ExrRoundTripExactFloats) {
 }
 
 TEST_F(ImageWrite, ExrRoundTripNaN) {
-    // NaN is stored bit-exactly too (OpenEXR passes float channels through).
-    std::vector<float> samples = {std::numeric_limits<float>::quiet_NaN(), 1.0f, 2.0f};
-    expectExrRoundTrip(path("nan.exr"), 1, 1, 3, samples);
+    // NaN is stored bit-exactly too (OpenEXR passes float channels through), payload and sign
+    // included: an error, not a crash, is never the answer to a NaN.
+    auto fromBits = [](uint32_t b) {
+        float f;
+        std::memcpy(&f, &b, 4);
+        return f;
+    };
+    std::vector<float> samples = {std::numeric_limits<float>::quiet_NaN(), 1.0f, 2.0f,
+                                  fromBits(0x7fc12345u), fromBits(0xffc00001u),
+                                  -std::numeric_limits<float>::quiet_NaN()};
+    expectExrRoundTrip(path("nan.exr"), 2, 1, 3, samples);
 }
 
 TEST_F(ImageWrite, ExrChannelsAreAlphabeticalInTheFile) {
@@ -293,6 +322,69 @@ TEST_F(ImageWrite, ExrChannelsAreAlphabeticalInTheFile) {
                                             : 4.0f;
         EXPECT_EQ(back.samples[i], want) << back.names[i];
     }
+}
+
+// The header's attributes in file order: name, type, and value bytes.
+struct ExrAttribute {
+    std::string name, type;
+    std::vector<uint8_t> value;
+};
+
+std::vector<ExrAttribute> exrHeader(const std::vector<uint8_t>& exr, size_t& end) {
+    std::vector<ExrAttribute> attributes;
+    size_t pos = 8; // magic, version
+    auto cstring = [&](std::string& out) {
+        size_t zero = pos;
+        while (zero < exr.size() && exr[zero] != 0) ++zero;
+        if (zero >= exr.size()) return false;
+        out.assign(reinterpret_cast<const char*>(&exr[pos]), zero - pos);
+        pos = zero + 1;
+        return true;
+    };
+    while (pos < exr.size() && exr[pos] != 0) {
+        ExrAttribute a;
+        if (!cstring(a.name) || !cstring(a.type) || exr.size() - pos < 4) break;
+        uint32_t size = uint32_t(exr[pos]) | uint32_t(exr[pos + 1]) << 8 |
+                        uint32_t(exr[pos + 2]) << 16 | uint32_t(exr[pos + 3]) << 24;
+        pos += 4;
+        if (exr.size() - pos < size) break;
+        a.value.assign(exr.begin() + long(pos), exr.begin() + long(pos + size));
+        pos += size;
+        attributes.push_back(std::move(a));
+    }
+    end = pos + 1; // past the header's terminating null
+    return attributes;
+}
+
+TEST_F(ImageWrite, ExrHeaderHoldsExactlyTheRequiredAttributes) {
+    // What pnb-reference, the sweep scripts and the tests were written against: the eight
+    // required attributes, no compression, increasing Y, FLOAT channels, windows = the image.
+    std::vector<float> samples(5 * 3 * 4, 0.25f);
+    auto exr = pnb::player::encodeExr({5, 3, 4, {}, samples});
+    ASSERT_FALSE(exr.empty());
+    size_t end = 0;
+    auto attributes = exrHeader(exr, end);
+    std::vector<std::string> names;
+    for (const auto& a : attributes) names.push_back(a.name + ":" + a.type);
+    EXPECT_EQ(names, (std::vector<std::string>{
+                         "channels:chlist", "compression:compression", "dataWindow:box2i",
+                         "displayWindow:box2i", "lineOrder:lineOrder", "pixelAspectRatio:float",
+                         "screenWindowCenter:v2f", "screenWindowWidth:float"}));
+    ASSERT_EQ(attributes.size(), 8u);
+    // chlist: per channel name\0, int pixel type 2 (FLOAT), pLinear 0 + 3 reserved, x/y sampling 1.
+    std::vector<uint8_t> chlist;
+    for (const char* name : {"A", "B", "G", "R"}) {
+        chlist.insert(chlist.end(), {uint8_t(name[0]), 0, 2, 0, 0, 0, 0, 0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0});
+    }
+    chlist.push_back(0);
+    EXPECT_EQ(attributes[0].value, chlist);
+    EXPECT_EQ(attributes[1].value, std::vector<uint8_t>{0}) << "NO_COMPRESSION";
+    const std::vector<uint8_t> window = {0, 0, 0, 0, 0, 0, 0, 0, 4, 0, 0, 0, 2, 0, 0, 0};
+    EXPECT_EQ(attributes[2].value, window);
+    EXPECT_EQ(attributes[3].value, window);
+    EXPECT_EQ(attributes[4].value, std::vector<uint8_t>{0}) << "INCREASING_Y";
+    // Then 3 line offsets and 3 blocks of 8 + 4 channels * 5 px * 4 bytes: nothing else.
+    EXPECT_EQ(exr.size(), end + 3 * 8 + 3 * (8 + 80));
 }
 
 TEST_F(ImageWrite, ExrLayoutIsExactlyAsSpecified) {
@@ -357,6 +449,10 @@ TEST_F(ImageWrite, BadViewsAreErrors) {
         {"PNG width", {0x80000000u, 1, 1, {u8.data(), 0x80000000u}, {}}, false, "2^31-1"},
         {"EXR width", {0x80000000u, 1, 1, {}, {f32.data(), 0x80000000u}}, true, "2^31-1"},
         {"EXR scanline", {0x20000000u, 1, 4, {}, {f32.data(), 0x80000000u}}, true, "block"},
+        // stb_image_write counts in int: rows up to 16 MiB, scanlines up to 2 GiB - 16 MiB.
+        {"PNG row", {0x01000000u, 1, 1, {u8.data(), 0x01000000u}, {}}, false, "per row"},
+        {"PNG scanlines", {0x4000u, 0x20000u, 1, {u8.data(), size_t(0x4000u) * 0x20000u}, {}},
+         false, "2 GiB"},
     };
     for (const Case& c : cases) {
         SCOPED_TRACE(c.what);

@@ -26,6 +26,10 @@ fi
 if ldd "$play" | grep -qiE 'assimp|draco|OpenImageIO'; then
     fail "pnb-play links an importer library"
 fi
+# Its image writers are compiled in (pnb_image_write: stb_image_write, tinyexr), not loaded.
+if ldd "$play" | grep -qi 'tinyexr'; then
+    fail "pnb-play loads libtinyexr (pnb_image_write compiles tinyexr in)"
+fi
 
 expect_exit 0 "$play" --help
 grep -q -- "--bench" "$tmp/out" || fail "--help does not describe --bench"

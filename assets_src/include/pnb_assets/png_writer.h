@@ -1,15 +1,13 @@
-// pnb_assets/png_writer.h — a minimal PNG encoder for the procedural scenes' small textures.
+// pnb_assets/png_writer.h — the procedural scenes' PNG textures, and the checksums tests use to
+// craft PNG and zlib streams by hand.
 //
-// Writes 8-bit RGB or RGBA images as a valid PNG whose zlib stream uses only *stored*
-// (uncompressed) deflate blocks, so no compression library is needed. The files are larger than
-// a real encoder's, which is fine for the few small checker textures the procedural scenes embed.
+// encodePng is pnb::player::encodePng (pnb_player/image_write.h, library pnb_image_write:
+// stb_image_write with zlib) under the signature the scene generator calls: one PNG encoder for
+// the player's screenshots and the generated textures. 8-bit grey, grey+alpha, RGB or RGBA,
+// adaptive filters, deflate level 6, no ancillary chunks (no timestamps: the output is
+// byte-for-byte deterministic for one zlib version).
 //
-// Does NOT do: compression, filtering (every scanline uses filter type 0), palettes, 16-bit
-// channels, interlacing, ancillary chunks (no gAMA/sRGB/tIME, so no timestamps and the output is
-// byte-for-byte deterministic).
-//
-// Based on: the PNG specification (W3C, 2nd edition), RFC 1950 (zlib) and RFC 1951 (deflate,
-// section 3.2.4 for stored blocks).
+// crc32 and adler32 are zlib's, with spans and a continuation argument.
 #pragma once
 
 #include <cstddef>
@@ -28,9 +26,10 @@ uint32_t crc32(std::span<const uint8_t> bytes, uint32_t crc = 0);
 // pass 1 to start. Thread-safe. Check value: adler32("Wikipedia") == 0x11E60398.
 uint32_t adler32(std::span<const uint8_t> bytes, uint32_t adler = 1);
 
-// Encodes a `width` x `height` image with `channels` (3 = RGB, 4 = RGBA) 8-bit samples per
-// pixel, rows top to bottom, tightly packed (pixels.size() == width * height * channels).
-// Preconditions (asserted): width, height >= 1; channels is 3 or 4; the size matches.
+// Encodes a `width` x `height` image with `channels` (1 grey, 2 grey+alpha, 3 RGB, 4 RGBA) 8-bit
+// samples per pixel, rows top to bottom, tightly packed (pixels.size() == width * height *
+// channels). Preconditions (checked; a violation aborts with pnb_image_write's message): width,
+// height >= 1; channels 1..4; the size matches; within pnb_image_write's PNG limits.
 // Returns the complete PNG file. Deterministic: the same pixels give the same bytes.
 std::vector<uint8_t> encodePng(uint32_t width, uint32_t height, uint32_t channels,
                                std::span<const uint8_t> pixels);
