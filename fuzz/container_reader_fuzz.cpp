@@ -17,7 +17,7 @@
 // Does NOT do: fuzz the writer with arbitrary Scenes (only ones the reader produced), or
 // Container::open (it is fromMemory over an mmap).
 //
-// Run it with scripts/fuzz; reproduce a finding with `build/fuzz/fuzz/container_reader_fuzz FILE`.
+// Run it with scripts/fuzz; reproduce a finding with `build/asan/fuzz/container_reader_fuzz FILE`.
 
 #include <sys/mman.h>
 #include <unistd.h>

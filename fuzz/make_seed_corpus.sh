@@ -15,9 +15,9 @@ cd "$(dirname "$0")/.."
 
 make_sample=${1:-}
 if [ -z "$make_sample" ]; then
-    cmake --preset fuzz >/dev/null
-    cmake --build --preset fuzz --target pnb-make-sample >/dev/null
-    make_sample=build/fuzz/assets_src/pnb-make-sample
+    cmake --preset asan >/dev/null
+    cmake --build --preset asan --target pnb-make-sample >/dev/null
+    make_sample=build/asan/assets_src/pnb-make-sample
 fi
 
 out=fuzz/corpus/container_reader

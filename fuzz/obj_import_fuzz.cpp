@@ -12,7 +12,7 @@
 // of whole vertices, materials and images in range, parents before children).
 //
 // Run it with `scripts/fuzz SECONDS obj_import`; reproduce a finding with
-// `build/fuzz/fuzz/obj_import_fuzz FILE`.
+// `build/asan/fuzz/obj_import_fuzz FILE`.
 #define TINYOBJLOADER_IMPLEMENTATION
 #include <tiny_obj_loader.h>
 

@@ -3,6 +3,8 @@
 // limit. Header-only, for tests that check a CLI fails fast and small.
 #pragma once
 
+#include "sanitizers.h"
+
 #include <sys/resource.h>
 #include <sys/time.h>
 #include <sys/wait.h>
@@ -29,7 +31,7 @@ struct ChildResult {
 // Whether this build runs under AddressSanitizer (whose shadow memory needs an address space no
 // RLIMIT_AS allows).
 constexpr bool kAddressSanitizer =
-#if defined(__SANITIZE_ADDRESS__)
+#if defined(PNB_ASAN)
     true;
 #else
     false;

@@ -4,7 +4,9 @@
 // that thread; leak checking stays on everywhere else.
 #pragma once
 
-#if defined(__SANITIZE_ADDRESS__)
+#include "../common/sanitizers.h"
+
+#if defined(PNB_ASAN)
 #include <sanitizer/lsan_interface.h>
 #define PNB_IGNORE_OIIO_LEAKS __lsan::ScopedDisabler lsanDisabler
 #else

@@ -152,6 +152,11 @@ struct Sampler {
     }
 };
 
+// One texel of one level (a function, so a macro's argument list holds it without braces).
+int sampleAt(const ProcessedTexture& t, uint32_t level, uint32_t x, uint32_t y, int c) {
+    return Sampler{t, level}(x, y, c);
+}
+
 using Sw = Swizzle;
 std::array<Swizzle, 4> swz(Sw r, Sw g, Sw b, Sw a) {
     return {r, g, b, a};
@@ -328,9 +333,9 @@ TEST_F(TextureProcessing, SrgbMipsAverageInLinearLight) {
     ProcessedTexture g = processOne(requestFor(greyIr, ColorSpace::Srgb));
     ASSERT_EQ(g.desc.format, TextureFormat::R8);
     EXPECT_EQ(g.desc.colorSpace, ColorSpace::Linear);
-    EXPECT_EQ(Sampler(g, 1)(0, 0, 0), 128);
+    EXPECT_EQ(sampleAt(g, 1, 0, 0, 0), 128);
     // Linear data is averaged as is.
-    EXPECT_EQ(Sampler(processOne(requestFor(colourIr)), 1)(2, 1, 0), 128);
+    EXPECT_EQ(sampleAt(processOne(requestFor(colourIr)), 1, 2, 1, 0), 128);
 }
 
 TEST_F(TextureProcessing, NonPowerOfTwoUsesFloorHalvingAndAreaWeights) {
@@ -355,9 +360,9 @@ TEST_F(TextureProcessing, NonPowerOfTwoUsesFloorHalvingAndAreaWeights) {
     // Level 1 texel 0 covers x in [0, 2.5): columns 0 and 1 fully, column 2 half, so its value
     // is (0 + 50 + 0.5 * 100) / 2.5 + (0 + 20 + 40) / 3 = 60; a 2×2 average that drops the odd
     // column would give 45. The 1×1 level is the mean of the whole image, 100 + 20.
-    EXPECT_NEAR(Sampler(t, 1)(0, 0, 0), 60, 0.51);
-    EXPECT_NEAR(Sampler(t, 1)(1, 0, 0), 180, 0.51); // (0.5 * 100 + 150 + 200) / 2.5 + 20
-    EXPECT_NEAR(Sampler(t, 2)(0, 0, 0), sum / 15.0, 0.51);
+    EXPECT_NEAR(sampleAt(t, 1, 0, 0, 0), 60, 0.51);
+    EXPECT_NEAR(sampleAt(t, 1, 1, 0, 0), 180, 0.51); // (0.5 * 100 + 150 + 200) / 2.5 + 20
+    EXPECT_NEAR(sampleAt(t, 2, 0, 0, 0), sum / 15.0, 0.51);
 }
 
 TEST_F(TextureProcessing, NonMipmappedFilterStoresOneLevel) {

@@ -2,6 +2,7 @@
 // of SIGBUS). Reads past the new end of file must give an IoError naming the file, never a
 // signal; SIGBUS on memory that is not a container's mapping must still kill as before.
 
+#include "../common/sanitizers.h"
 #include <gtest/gtest.h>
 
 #include <fcntl.h>
@@ -93,7 +94,7 @@ TEST_F(TruncatedMapping, AnUntouchedFileStaysIntactAndOtherSigbusStillKills) {
     }
     int status = 0;
     ASSERT_EQ(::waitpid(child, &status, 0), child);
-#if defined(__SANITIZE_ADDRESS__)
+#if defined(PNB_ASAN)
     // AddressSanitizer's own SIGBUS handler (the one the guard chains to) reports and exits.
     EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) != 0) << "status " << status;
 #else

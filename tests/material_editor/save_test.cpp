@@ -2,6 +2,7 @@
 // FORMAT.md §4.1 wants them, a kill at any point leaves the original intact, history survives a
 // save, and a save costs about what a file copy does.
 
+#include "../common/sanitizers.h"
 #include <gtest/gtest.h>
 
 #include <fcntl.h>
@@ -487,7 +488,7 @@ void printFigure(const char* what, uint64_t bytes, const Timing& t) {
 // under AddressSanitizer that user-space work is instrumented (CI measured 5.2x a durable copy of
 // 128 MiB with the suite running beside it, 1.2-3x in a release build). The bound still catches a
 // save that rewrites or re-encodes the file more than once.
-#if defined(__SANITIZE_ADDRESS__)
+#if defined(PNB_ASAN)
 constexpr double kSaveOverDurableCopy = 10.0;
 #else
 constexpr double kSaveOverDurableCopy = 5.0;

@@ -1,5 +1,6 @@
 // UploadHeap: the driver's copy of the scene lands in transparent huge pages, and malloc's
 // behaviour is back to normal afterwards.
+#include "../common/sanitizers.h"
 #include <cstdlib>
 #include <cstring>
 #include <fstream>
@@ -51,7 +52,7 @@ uint64_t anonHugePagesKib() {
 }
 
 bool transparentHugePagesUsable(std::string& why) {
-#if !defined(__GLIBC__) || defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
+#if !defined(__GLIBC__) || defined(PNB_ASAN) || defined(PNB_TSAN)
     why = "malloc is not glibc's here (a sanitizer's or another C library's): UploadHeap does nothing";
     return false;
 #else
