@@ -194,8 +194,8 @@ obj_ratio = med(("obj", "pnb")) / med(("obj", "gltfpack -noq"))
 glb_ratio = med(("glb", "pnb")) / med(("glb", "gltfpack -noq"))
 batch_speedup = med(("dir", "pnb per file")) / med(("dir", "pnb batch"))
 print()
-print(f"goal: 1M-tri OBJ in <= 1.5x gltfpack's wall time, building mips: "
-      f"{obj_ratio:.2f}x -> {'met' if obj_ratio <= 1.5 else 'missed'}"
+print(f"goal: 1M-tri OBJ in <= 1.0x gltfpack's wall time, building mips (issue 30): "
+      f"{obj_ratio:.2f}x -> {'met' if obj_ratio <= 1.0 else 'missed'}"
       + ("" if n_models >= 50 else " (tiny run: not the 1M-triangle scene)"))
 print(f"      same scene as .glb: {glb_ratio:.2f}x gltfpack")
 print(f"goal: {len(models)} models >= 5x faster in one batch than in one process each: "
