@@ -19,7 +19,6 @@
 #include "player_tools.h"
 #include "pnb_player/camera_path.h"
 #include "pnb_player/image_write.h"
-#include "pnb_lighting/scene_lights.h"
 
 namespace pnb::player {
 
@@ -59,13 +58,6 @@ std::string cpuModel() {
     for (std::string line; std::getline(in, line);)
         if (line.rfind("model name", 0) == 0) return line.substr(line.find(':') + 2);
     return "unknown";
-}
-
-// Unit vector toward the shadowing light (the first directional light that casts shadows).
-glm::vec3 shadowLightToward(const GpuScene& scene) {
-    const int sun = lighting::shadowingSunIndex(scene.lights.size(),
-                                                [&](size_t i) -> const Light& { return scene.lights[i].desc; });
-    return sun >= 0 ? -scene.lights[size_t(sun)].direction : glm::vec3(0, 1, 0);
 }
 
 PlayResult<Done> writeText(const std::string& path, const std::string& text) {
@@ -272,7 +264,7 @@ PlayResult<BenchResult> runBenchmark(const GpuScene& scene, Renderer& renderer,
                 // What a ground-truth tracer needs besides the buffers (docs/REFERENCE.md).
                 std::string jsonPath = c.path.substr(0, c.path.rfind('_')) + "_frame.json";
                 glm::dvec3 eye = renderer.lastView().position;
-                glm::vec3 toward = shadowLightToward(scene);
+                glm::vec3 toward = towardShadowingSun(scene);
                 nlohmann::json fj = {{"camera_position", {eye.x, eye.y, eye.z}},
                                      {"toward_light", {toward.x, toward.y, toward.z}},
                                      {"width", options.width}, {"height", options.height},

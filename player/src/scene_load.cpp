@@ -434,4 +434,14 @@ PlayResult<Done> updateMaterials(GpuScene& gpu, const Scene& scene) {
     return compileNeededPrograms(scene, gpu);
 }
 
+int shadowingSun(const GpuScene& scene) {
+    return lighting::shadowingSunIndex(scene.lights.size(),
+                                       [&](size_t i) -> const Light& { return scene.lights[i].desc; });
+}
+
+glm::vec3 towardShadowingSun(const GpuScene& scene) {
+    const int sun = shadowingSun(scene);
+    return sun >= 0 ? -scene.lights[size_t(sun)].direction : glm::vec3(0, 1, 0);
+}
+
 } // namespace pnb::player

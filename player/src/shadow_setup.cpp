@@ -9,7 +9,6 @@
 
 #include "cascade_splits.h"
 #include "frame_context.h"
-#include "pnb_lighting/scene_lights.h"
 
 namespace pnb::player {
 
@@ -47,8 +46,7 @@ FitCamera fitCamera(const ViewMatrices& view) {
 
 void initShadowContext(const GpuScene& scene, ShadowContext& shadows) {
     shadows.casters.clear();
-    shadows.light = lighting::shadowingSunIndex(scene.lights.size(),
-                                                [&](size_t i) -> const Light& { return scene.lights[i].desc; });
+    shadows.light = shadowingSun(scene);
     shadows.sceneMin = glm::dvec3(std::numeric_limits<double>::infinity());
     shadows.sceneMax = -shadows.sceneMin;
     for (const DrawItem& item : scene.items) {

@@ -21,7 +21,6 @@
 #include "lod_quality.h"
 #include "input_actions.h"
 #include "window_session.h"
-#include "pnb_lighting/scene_lights.h"
 #include "pnb_player/benchmark.h"
 #include "pnb_player/gl_context.h"
 #include "pnb_player/path_json.h"
@@ -499,6 +498,15 @@ int pnb::player::runPlayer(int argc, char** argv, const char* program, const Tru
                                            "lighting.sun_turn_deg must be 0 with them"});
     // The truth metrics (pnb-judge): one judge each, measuring the same replayed frames.
     std::vector<std::unique_ptr<TruthJudge>> judges;
+    TruthRequest request;
+    request.scene = args.scene;
+    request.origin = first.position;
+    request.judgedLight = settings.shadowJudgedLight;
+    request.towardSun = towardShadowingSun(*scene);
+    request.giSamples = std::max(1u, args.giSamples);
+    request.giAllLights = args.giAllLights;
+    request.skySamples = std::max(1u, args.skySamples);
+    request.skyFromSh = args.skyFromSh;
     struct Wanted {
         TruthMetric metric;
         uint32_t every;
@@ -518,17 +526,6 @@ int pnb::player::runPlayer(int argc, char** argv, const char* program, const Tru
             return fail({PlayErrorKind::Usage, "--gi-metrics: the container has no GI (pnb-convert --gi)"});
         if (w.metric == TruthMetric::Sky && !scene->environment)
             return fail({PlayErrorKind::Usage, "--sky-metrics: the container has no environment (pnb-convert --sky or --environment)"});
-        TruthRequest request;
-        request.scene = args.scene;
-        request.origin = first.position;
-        request.judgedLight = settings.shadowJudgedLight;
-        const int sun = pnb::lighting::shadowingSunIndex(
-            scene->lights.size(), [&](size_t i) -> const pnb::Light& { return scene->lights[i].desc; });
-        if (sun >= 0) request.towardSun = -scene->lights[size_t(sun)].direction;
-        request.giSamples = std::max(1u, args.giSamples);
-        request.giAllLights = args.giAllLights;
-        request.skySamples = std::max(1u, args.skySamples);
-        request.skyFromSh = args.skyFromSh;
         auto judge = truth(w.metric, request);
         if (!judge) return fail(judge.error());
         TruthJudge* j = judges.emplace_back(std::move(*judge)).get();

@@ -207,4 +207,12 @@ PlayResult<std::unique_ptr<GpuScene>> uploadScene(const Scene& scene, LoadStats*
 // references must name uploaded textures.
 PlayResult<Done> updateMaterials(GpuScene& gpu, const Scene& scene);
 
+// Index of the light whose shadows the player renders (lighting::shadowingSunIndex: the first
+// directional light that casts them), or -1.
+int shadowingSun(const GpuScene& scene);
+
+// Unit vector toward that light, +Y when the scene has none: what the benchmark's dumps and the
+// truth judges give the ray tracer.
+glm::vec3 towardShadowingSun(const GpuScene& scene);
+
 } // namespace pnb::player
