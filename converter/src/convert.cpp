@@ -250,7 +250,7 @@ Result<ConvertSummary, ConvertError> convertScene(const ConvertSettings& s,
         prefetch.emplace(s.texture.maxSourceTexels, budget / 4);
         imageFound = [&prefetch](const std::string& path) { prefetch->add(path); };
     }
-    auto imported = importScene(s.input, imageFound);
+    auto imported = importScene(s.input, imageFound, s.jobs);
     if (!imported) return imported.error();
     IrScene& scene = *imported;
     sum.warnings = scene.warnings;

@@ -33,16 +33,20 @@ Result<IrScene, ConvertError> importGltf(const std::string& path);
 // soon as the importer knows it (an MTL is read at its mtllib line, usually the file's first),
 // with the path IrImage::path will hold: convertScene starts decoding those files while the
 // OBJ is still being parsed (image_prefetch.h). Files reported may end up unused.
+// `jobs`: threads for the parse and the vertex numbering (0 = all cores; the result does not
+// depend on it).
 Result<IrScene, ConvertError> importObj(const std::string& path,
-                                        const std::function<void(const std::string&)>& found = {});
+                                        const std::function<void(const std::string&)>& found = {},
+                                        unsigned jobs = 0);
 
 // The other formats assimp reads (FBX, Collada, 3DS, PLY, STL, .blend, ...; OBJ too, though
 // importScene sends .obj to importObj). Same MTL mapping for OBJ.
 Result<IrScene, ConvertError> importWithAssimp(const std::string& path);
 
 // Picks the importer by extension (.gltf/.glb → glTF, .obj → OBJ, anything else → assimp).
-// `found` as for importObj (the other importers do not call it).
+// `found` and `jobs` as for importObj (the other importers use neither).
 Result<IrScene, ConvertError> importScene(const std::string& path,
-                                          const std::function<void(const std::string&)>& found = {});
+                                          const std::function<void(const std::string&)>& found = {},
+                                          unsigned jobs = 0);
 
 } // namespace pnb::converter
