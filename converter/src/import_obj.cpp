@@ -52,7 +52,6 @@
 #include "pnb_converter/importers.h"
 
 #include <fcntl.h>
-#include <sys/mman.h>
 #include <sys/stat.h>
 #include <tiny_obj_loader.h>
 #include <unistd.h>
@@ -113,36 +112,33 @@ std::optional<std::string> readFile(const fs::path& path) {
     return data;
 }
 
-// The OBJ file's bytes, read with one read() into memory that mmap(MAP_POPULATE) gave whole:
-// reading the 94 MB benchmark OBJ with readFile cost ~10 % of its conversion, in a copy through
-// stdio's buffer and one page fault per 4 KiB page of the growing string. The file itself is
-// not mapped: another program truncating it during the parse would kill us with SIGBUS.
+// The OBJ file's bytes, read with one read() into memory allocateLarge gives in transparent huge
+// pages (obj_parse.h): the 94 MB benchmark OBJ took 0.17 s to read into 4 KiB pages populated up
+// front (mmap(MAP_POPULATE)) and as long again to scan once (TLB misses), 0.02 s and 0.04 s in
+// huge pages (docs/CONVERTER.md, "Issue 30"). The file itself is not mapped: another program
+// truncating it during the parse would kill us with SIGBUS (and the page cache's 4 KiB pages
+// scan slowly too).
 class ObjText {
 public:
     bool open(const fs::path& path) {
         const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
         if (fd < 0) return false;
         struct stat st {};
-        bool ok = false;
+        bool ok = true;
         if (::fstat(fd, &st) == 0 && st.st_size > 0) {
-            void* p = ::mmap(nullptr, size_t(st.st_size), PROT_READ | PROT_WRITE,
-                             MAP_PRIVATE | MAP_ANONYMOUS | MAP_POPULATE, -1, 0);
-            if (p != MAP_FAILED) {
-                mMapped = static_cast<char*>(p);
-                mCapacity = size_t(st.st_size);
-                ok = true;
-                while (mSize < mCapacity) { // a file that shrank meanwhile is read as it is
-                    const ssize_t n = ::read(fd, mMapped + mSize, mCapacity - mSize);
-                    if (n < 0 && errno == EINTR) continue;
-                    if (n < 0) ok = false;
-                    if (n <= 0) break;
-                    mSize += size_t(n);
-                }
+            mCapacity = size_t(st.st_size);
+            mBytes = static_cast<char*>(allocateLarge(mCapacity));
+            while (mSize < mCapacity) { // a file that shrank meanwhile is read as it is
+                const ssize_t n = ::read(fd, mBytes + mSize, mCapacity - mSize);
+                if (n < 0 && errno == EINTR) continue;
+                if (n < 0) ok = false;
+                if (n <= 0) break;
+                mSize += size_t(n);
             }
         }
         ::close(fd);
-        if (mMapped) return ok;
-        std::optional<std::string> bytes = readFile(path); // empty, or not mappable
+        if (mBytes) return ok;
+        std::optional<std::string> bytes = readFile(path); // empty, or no size (not a plain file)
         if (!bytes) return false;
         mCopy = std::move(*bytes);
         return true;
@@ -151,18 +147,18 @@ public:
     ObjText(const ObjText&) = delete;
     ObjText& operator=(const ObjText&) = delete;
     ~ObjText() {
-        if (mMapped) ::munmap(mMapped, mCapacity);
+        if (mBytes) freeLarge(mBytes, mCapacity);
     }
 
     std::string_view view() const {
-        return mMapped ? std::string_view(mMapped, mSize) : std::string_view(mCopy);
+        return mBytes ? std::string_view(mBytes, mSize) : std::string_view(mCopy);
     }
-    char* data() { return mMapped ? mMapped : mCopy.data(); }
+    char* data() { return mBytes ? mBytes : mCopy.data(); }
 
 private:
-    char* mMapped = nullptr;
+    char* mBytes = nullptr;
     size_t mSize = 0, mCapacity = 0;
-    std::string mCopy; // when not mapped
+    std::string mCopy; // when the size is unknown
 };
 
 // Which MTL keys a material sets; tinyobjloader fills defaults that cannot be told apart.
@@ -565,9 +561,14 @@ void buildPrimitive(const ObjGeometry& g, PrimitiveJob& job) {
         last = std::max(last, c.v);
     });
     VertexNumbering numbering(first, last);
-    prim.indices.reserve(size_t(job.run.end - job.run.begin) * 3);
+    auto reserve = [](auto& v, size_t n) {
+        v.reserve(n);
+        adviseHugePages(v.data(), n * sizeof(v[0]));
+    };
+    reserve(prim.indices, size_t(job.run.end - job.run.begin) * 3);
     // Positions first; the other streams follow only if valid for every corner.
-    std::vector<ObjCorner> corners; // the first corner of each vertex
+    std::vector<ObjCorner> corners; // the first corner of each vertex (at most one per corner)
+    reserve(corners, size_t(job.run.end - job.run.begin) * 3);
     bool normalsValid = true, uvsValid = true;
     tris.forEachCorner(job.run.begin, job.run.end, [&](const ObjCorner& c) {
         bool isNew = false;
@@ -579,20 +580,20 @@ void buildPrimitive(const ObjGeometry& g, PrimitiveJob& job) {
         uvsValid &= c.vt >= 0 && size_t(c.vt) < uvCount;
     });
     const size_t count = corners.size();
-    prim.positions.reserve(count * 3);
+    reserve(prim.positions, count * 3);
     for (const ObjCorner& c : corners) {
         const float* p = &g.positions[size_t(c.v) * 3];
         for (int i = 0; i < 3; ++i) prim.positions.push_back(p[i]);
     }
     if (normalsValid && normalCount > 0) {
-        prim.normals.reserve(count * 3);
+        reserve(prim.normals, count * 3);
         for (const ObjCorner& c : corners) {
             const float* n = &g.normals[size_t(c.vn) * 3];
             for (int i = 0; i < 3; ++i) prim.normals.push_back(n[i]);
         }
     }
     if (uvsValid && uvCount > 0) {
-        prim.uv0.reserve(count * 2);
+        reserve(prim.uv0, count * 2);
         for (const ObjCorner& c : corners) {
             const float* t = &g.texcoords[size_t(c.vt) * 2];
             prim.uv0.push_back(t[0]);
@@ -600,7 +601,7 @@ void buildPrimitive(const ObjGeometry& g, PrimitiveJob& job) {
         }
     }
     if (!g.colors.empty()) {
-        prim.colors.reserve(count * 4);
+        reserve(prim.colors, count * 4);
         for (const ObjCorner& c : corners) {
             const float* col = &g.colors[size_t(c.v) * 3];
             for (int i = 0; i < 3; ++i) prim.colors.push_back(col[i]);

@@ -48,6 +48,13 @@ void* allocateLarge(size_t bytes) {
     return reinterpret_cast<void*>(aligned);
 }
 
+void adviseHugePages(const void* p, size_t bytes) {
+    const uintptr_t start = reinterpret_cast<uintptr_t>(p);
+    const uintptr_t first = (start + kHugePage - 1) & ~uintptr_t(kHugePage - 1);
+    const uintptr_t last = (start + bytes) & ~uintptr_t(kHugePage - 1);
+    if (last > first) ::madvise(reinterpret_cast<void*>(first), last - first, MADV_HUGEPAGE);
+}
+
 void freeLarge(void* p, size_t bytes) {
     if (bytes < kHugePage) ::operator delete(p);
     else ::munmap(p, roundToHugePages(bytes));
@@ -127,12 +134,8 @@ public:
     explicit ChunkParser(Chunk& c) : mC(c) {}
 
     void run() {
-        const size_t bytes = size_t(mC.end - mC.begin);
-        // Generous guesses (a line is rarely under 16 bytes): reserved, not touched.
-        mC.positions.reserve(bytes / 16 * 3 / 2);
-        mC.normals.reserve(bytes / 16 * 3 / 2);
-        mC.texcoords.reserve(bytes / 16);
-        mC.corners.reserve(bytes / 8);
+        // No reservations by guess: a huge page reserved is a huge page zeroed when first
+        // touched, and doubling costs less than the guesses' waste did.
         for (const char* p = mC.begin; p < mC.end;) {
             const char* nl = static_cast<const char*>(std::memchr(p, '\n', size_t(mC.end - p)));
             const char* lineEnd = nl ? nl : mC.end;

@@ -43,6 +43,9 @@ namespace pnb::converter {
 // parse itself on the VMs we measured (docs/CONVERTER.md, "Issue 30").
 void* allocateLarge(size_t bytes);
 void freeLarge(void* p, size_t bytes);
+// The same for memory allocated elsewhere (a reserved std::vector the IR holds): the whole
+// 2 MiB pages inside [p, p + bytes) are advised.
+void adviseHugePages(const void* p, size_t bytes);
 
 template <class T> struct LargeAllocator {
     using value_type = T;
