@@ -196,8 +196,9 @@ Result<ObjRead, ConvertError> readObjWithTinyobj(const std::string& path, char* 
     g.colors.assign(attrib.colors.begin(), attrib.colors.end());
     g.texcoords.assign(attrib.texcoords.begin(), attrib.texcoords.end());
     g.normals.assign(attrib.normals.begin(), attrib.normals.end());
+    g.triangles.offset = {0};
     g.triangles.start = {0, block.size() / 3};
-    g.triangles.blocks.push_back(std::move(block));
+    g.triangles.corners = std::move(block);
     return read;
 }
 

@@ -1,15 +1,15 @@
 // obj_parse.cpp — the parallel OBJ text parser (obj_parse.h says what it accepts and why).
 //
-// Three steps:
-// 1. The text is cut into chunks at line ends and each chunk is parsed on its own (in
-//    parallel) into its own attribute arrays, its faces (corners resolved against the chunk's
-//    own counts) and its events. Anything outside the accepted subset stops the chunk with a
-//    reason, and the whole parse returns nullopt.
-// 2. Sequentially: the chunks' counts give each chunk's first position/uv/normal (its base), the
-//    position indices are checked against the file's counts with each chunk's extremes (no pass
-//    over the faces), and the attribute arrays are joined.
-// 3. In parallel: faces that need the bases or the joined positions (relative indices, quads)
-//    are finished in place. The chunks' corner arrays become ObjTriangles' blocks uncopied.
+// The text is cut into chunks at line ends (about 1/16 of it each, at least 256 KiB), then:
+// 1. In parallel, each chunk counts its v, vt, vn and f lines.
+// 2. The counts give every chunk its first slot in each output array (its base) and the arrays
+//    their final size, allocated once; in parallel, each chunk parses its lines straight into
+//    its slots, relative indices resolved with its bases and every position index checked.
+//    Anything outside the accepted subset stops the chunk with a reason, and the whole parse
+//    returns nullopt.
+// 3. In parallel, quads are split (their positions may be in an earlier chunk).
+// No array grows, and nothing is copied to join the chunks: on this kind of VM, touching fresh
+// memory costs more than parsing (docs/CONVERTER.md, "Issue 30").
 #include "obj_parse.h"
 
 #include <sys/mman.h>
@@ -103,47 +103,60 @@ bool parseNumber(const char* b, const char* e, float& out) {
     return true;
 }
 
-// Relative-index bits of a face: corner i's v, vt, vn are bits 3i, 3i+1, 3i+2.
-constexpr uint16_t kRelativeV = 1, kRelativeVt = 2, kRelativeVn = 4;
+// The line kinds that take room in the output arrays (step 1 counts them, step 2 fills them),
+// classified as ChunkParser::line does.
+enum class Kind { Other, V, Vt, Vn, F };
 
-// A face that step 3 finishes: relative indices get the chunk's bases, a quad is split.
-struct Fixup {
-    size_t corner;     // its first corner in the chunk's array
-    uint16_t relative; // kRelative* << 3i for corner i
-    bool quad;         // 4 corners written, 6 slots reserved
+Kind kindOf(const char* p, const char* e) {
+    while (p < e && isBlank(*p)) ++p;
+    const size_t n = size_t(e - p);
+    if (n >= 2 && *p == 'v') {
+        if (isBlank(p[1])) return Kind::V;
+        if (n >= 3 && isBlank(p[2])) return p[1] == 't' ? Kind::Vt : p[1] == 'n' ? Kind::Vn : Kind::Other;
+    }
+    if (n >= 2 && *p == 'f' && isBlank(p[1])) return Kind::F;
+    return Kind::Other;
+}
+
+// Calls fn(begin, end) for each line of [p, end), its "\n" or "\r\n" removed.
+template <class Fn> bool forEachLine(const char* p, const char* end, Fn&& fn) {
+    while (p < end) {
+        const char* nl = static_cast<const char*>(std::memchr(p, '\n', size_t(end - p)));
+        const char* e = nl ? nl : end;
+        const char* content = e > p && e[-1] == '\r' ? e - 1 : e;
+        if (!fn(p, content)) return false;
+        p = nl ? nl + 1 : end;
+    }
+    return true;
+}
+
+struct Counts {
+    uint64_t v = 0, vt = 0, vn = 0, faces = 0;
 };
 
 struct Chunk {
     const char* begin = nullptr;
     const char* end = nullptr;
-    ObjFloats positions, colors, texcoords, normals;
-    bool allColors = true; // every "v" line had a colour (else `colors` is dropped)
-    ObjCorners corners;
-    std::vector<Fixup> fixups;
-    std::vector<ObjEvent> events; // triangle: the chunk's own count
-    uint64_t triangles = 0;
-    // Position index extremes, checked once the bases are known (step 2).
-    int64_t maxAbsolute = -1;                                     // must be < file's count
-    int64_t minRelative = 0;                                      // base + it must be >= 0
-    int64_t maxQuadAhead = std::numeric_limits<int64_t>::min(); // must be < base
+    Counts count; // its lines of each kind (step 1)
+    Counts base;  // what the chunks before it hold: its first slot in each array
+    bool allColors = true; // every "v" line had a colour (else ObjGeometry::colors is dropped)
+    uint64_t corners = 0, triangles = 0; // written
+    std::vector<size_t> quads;           // first corner of each quad, split in step 3
+    std::vector<ObjEvent> events;        // triangle: the chunk's own count until step 3
     std::string failure; // why tinyobjloader must read the file, if it must
 };
 
+// Step 2 for one chunk: parses its lines into the file's arrays at the chunk's slots.
 class ChunkParser {
 public:
-    explicit ChunkParser(Chunk& c) : mC(c) {}
+    ChunkParser(Chunk& c, ObjGeometry& g, const Counts& total)
+        : mC(c), mTotal(total), mPositions(g.positions.data() + c.base.v * 3),
+          mColors(g.colors.data() + c.base.v * 3), mTexcoords(g.texcoords.data() + c.base.vt * 2),
+          mNormals(g.normals.data() + c.base.vn * 3),
+          mCorners(g.triangles.corners.data() + c.base.faces * 6) {}
 
     void run() {
-        // No reservations by guess: a huge page reserved is a huge page zeroed when first
-        // touched, and doubling costs less than the guesses' waste did.
-        for (const char* p = mC.begin; p < mC.end;) {
-            const char* nl = static_cast<const char*>(std::memchr(p, '\n', size_t(mC.end - p)));
-            const char* lineEnd = nl ? nl : mC.end;
-            const char* e = lineEnd;
-            if (e > p && e[-1] == '\r') --e;
-            if (!line(p, e)) return;
-            p = nl ? nl + 1 : mC.end;
-        }
+        forEachLine(mC.begin, mC.end, [this](const char* p, const char* e) { return line(p, e); });
     }
 
 private:
@@ -153,12 +166,19 @@ private:
     }
 
     // tinyobjloader ends a line at "\n", "\r\n" or a lone "\r", and reads it up to a NUL.
-    bool clean(const char* p, const char* e) {
+    static bool clean(const char* p, const char* e) {
         return std::memchr(p, '\r', size_t(e - p)) == nullptr &&
                std::memchr(p, '\0', size_t(e - p)) == nullptr;
     }
 
     bool line(const char* p, const char* e) {
+        switch (kindOf(p, e)) {
+        case Kind::V: return vertex(p, e);
+        case Kind::Vt: return numbers(p, e, mTexcoords, mVt, 2, 3);
+        case Kind::Vn: return numbers(p, e, mNormals, mVn, 3, 3);
+        case Kind::F: return face(p, e);
+        case Kind::Other: break;
+        }
         while (p < e && isBlank(*p)) ++p;
         if (p == e) return true;
         auto at = [&](size_t i) { return size_t(e - p) > i ? p[i] : '\0'; };
@@ -166,15 +186,9 @@ private:
             return size_t(e - p) >= word.size() && std::memcmp(p, word.data(), word.size()) == 0;
         };
         const char c = *p;
-        // The order of tinyobjloader's checks.
-        if (c == 'v') {
-            if (isBlank(at(1))) return vertex(p + 2, e);
-            if (at(1) == 'n' && isBlank(at(2))) return numbers(p + 3, e, mC.normals, 3, 3);
-            if (at(1) == 't' && isBlank(at(2))) return numbers(p + 3, e, mC.texcoords, 2, 3);
-            if (at(1) == 'w' && isBlank(at(2))) return fail("a 'vw' line");
-        }
+        // The rest of tinyobjloader's checks, in its order.
+        if (c == 'v' && at(1) == 'w' && isBlank(at(2))) return fail("a 'vw' line");
         if ((c == 'l' || c == 'p') && isBlank(at(1))) return fail("points or lines");
-        if (c == 'f' && isBlank(at(1))) return face(p + 2, e);
         if (startsWith("usemtl")) {
             const char* n = p + 6;
             if (n == e || !isBlank(*n) || !clean(n, e)) return fail("an unusual 'usemtl' line");
@@ -213,18 +227,16 @@ private:
         return true;
     }
 
-    // Element by element: a range insert of 2 or 3 floats is a memmove call each.
-    static void push(ObjFloats& to, const float* v, int n) {
-        for (int i = 0; i < n; ++i) to.push_back(v[i]);
-    }
-
     bool event(ObjEvent::Kind kind, std::string text) {
         mC.events.push_back(ObjEvent{kind, mC.triangles, std::move(text)});
         return true;
     }
 
-    // Up to `max` numbers into vals; how many, or -1 if a token is not one.
-    int readNumbers(const char* p, const char* e, float* vals, int max) {
+    // The numbers after the line's keyword: up to `max` into vals; how many, or -1 if a token
+    // is not one.
+    static int readNumbers(const char* p, const char* e, float* vals, int max) {
+        while (p < e && isBlank(*p)) ++p;
+        while (p < e && !isBlank(*p)) ++p; // the keyword
         int n = 0;
         for (;;) {
             while (p < e && isBlank(*p)) ++p;
@@ -240,98 +252,93 @@ private:
         float v[6];
         const int n = readNumbers(p, e, v, 6);
         if (n != 3 && n != 6) return fail("a 'v' line without 3 or 6 numbers");
-        push(mC.positions, v, 3);
-        if (n == 6 && mC.allColors) {
-            push(mC.colors, v + 3, 3);
-        } else if (n == 3 && mC.allColors) {
-            mC.allColors = false;
-            mC.colors = {};
-        }
+        std::copy(v, v + 3, mPositions + mV * 3);
+        if (n == 3) mC.allColors = false;
+        else if (mC.allColors) std::copy(v + 3, v + 6, mColors + mV * 3);
+        ++mV;
         return true;
     }
 
-    bool numbers(const char* p, const char* e, ObjFloats& out, int keep, int max) {
+    bool numbers(const char* p, const char* e, float* out, uint64_t& count, int keep, int max) {
         float v[3];
-        const int n = readNumbers(p, e, v, max);
-        if (n < keep) return fail("a 'vn' or 'vt' line with too few numbers");
-        push(out, v, keep); // tinyobjloader ignores a vt's w
+        if (readNumbers(p, e, v, max) < keep) return fail("a 'vn' or 'vt' line with too few numbers");
+        std::copy(v, v + keep, out + count * uint64_t(keep)); // tinyobjloader ignores a vt's w
+        ++count;
         return true;
     }
 
-    // One OBJ index of at most 9 digits, not 0, zero-based against `count` elements read so far
-    // (tinyobjloader's fixIndex). Advances p.
-    static bool index(const char*& p, const char* e, size_t count, int32_t& out, bool& relative) {
+    // One OBJ index of at most 9 digits, not 0, zero-based among `total` elements of which
+    // `seen` precede the line (tinyobjloader's fixIndex: k > 0 is k - 1, k < 0 is seen + k).
+    // Advances p. `valid`: whether it lies in [0, total) (only positions must).
+    static bool index(const char*& p, const char* e, uint64_t seen, int32_t& out, bool& valid,
+                      uint64_t total) {
         bool negative = false;
         if (p < e && (*p == '+' || *p == '-')) negative = *p++ == '-';
-        int32_t value = 0;
+        int64_t value = 0;
         const char* digits = p;
         while (p < e && isDigit(*p) && p - digits < 9) value = value * 10 + (*p++ - '0');
         if (p == digits || (p < e && isDigit(*p)) || value == 0) return false;
-        relative = negative;
-        out = negative ? int32_t(int64_t(count) - value) : value - 1;
+        const int64_t k = negative ? int64_t(seen) - value : value - 1;
+        valid = k >= 0 && k < int64_t(total);
+        out = int32_t(std::max<int64_t>(k, std::numeric_limits<int32_t>::min()));
         return true;
     }
 
     bool face(const char* p, const char* e) {
+        while (p < e && isBlank(*p)) ++p;
+        p += 2; // "f" and a blank
         ObjCorner c[4];
-        uint16_t relative = 0;
         int n = 0;
-        const size_t vCount = mC.positions.size() / 3, vtCount = mC.texcoords.size() / 2,
-                     vnCount = mC.normals.size() / 3;
+        const uint64_t v = mC.base.v + mV, vt = mC.base.vt + mVt, vn = mC.base.vn + mVn;
+        bool valid = true, unused = true;
+        uint64_t latest = 0; // the largest position index
         for (;;) {
             while (p < e && isBlank(*p)) ++p;
             if (p == e) break;
             if (n == 4) return fail("a polygon with more than 4 corners");
             ObjCorner& k = c[n];
             k.vt = k.vn = -1;
-            bool rel = false;
-            const int shift = 3 * n;
-            if (!index(p, e, vCount, k.v, rel)) return fail("an unusual face corner");
-            if (rel) {
-                relative |= uint16_t(kRelativeV << shift);
-                mC.minRelative = std::min<int64_t>(mC.minRelative, k.v);
-            } else {
-                mC.maxAbsolute = std::max<int64_t>(mC.maxAbsolute, k.v);
-            }
+            if (!index(p, e, v, k.v, valid, mTotal.v)) return fail("an unusual face corner");
+            if (!valid) return fail("a position index out of range");
+            latest = std::max(latest, uint64_t(k.v));
             if (p < e && *p == '/') {
                 ++p;
-                if (p < e && *p != '/') {
-                    if (!index(p, e, vtCount, k.vt, rel)) return fail("an unusual face corner");
-                    if (rel) relative |= uint16_t(kRelativeVt << shift);
-                }
+                if (p < e && *p != '/' && !index(p, e, vt, k.vt, unused, mTotal.vt))
+                    return fail("an unusual face corner");
                 if (p < e && *p == '/') {
                     ++p;
-                    if (!index(p, e, vnCount, k.vn, rel)) return fail("an unusual face corner");
-                    if (rel) relative |= uint16_t(kRelativeVn << shift);
+                    if (!index(p, e, vn, k.vn, unused, mTotal.vn))
+                        return fail("an unusual face corner");
                 }
             }
             if (p < e && !isBlank(*p)) return fail("an unusual face corner");
             ++n;
         }
         if (n < 3) return fail("a face with fewer than 3 corners");
-        const size_t first = mC.corners.size();
-        for (int i = 0; i < n; ++i) mC.corners.push_back(c[i]);
+        ObjCorner* out = mCorners + mC.corners;
+        std::copy(c, c + n, out);
         if (n == 4) {
             // tinyobjloader checks a quad's positions when it splits it, at the next usemtl/g/o
-            // or the end: one defined after the quad is accepted only if it came before that.
-            // Step 2 rejects any position defined after the quad (the check needs the base).
-            for (int i = 0; i < 4; ++i) {
-                if (!(relative & (kRelativeV << (3 * i)))) {
-                    mC.maxQuadAhead = std::max<int64_t>(mC.maxQuadAhead, int64_t(c[i].v) -
-                                                                             int64_t(vCount));
-                }
-            }
-            mC.corners.push_back(c[0]); // two slots more: step 3 writes both triangles
-            mC.corners.push_back(c[0]);
+            // or the end, so one defined after the quad may or may not pass: left to it.
+            if (latest >= v) return fail("a quad naming a later position");
+            mC.quads.push_back(size_t(out - mCorners) + mC.base.faces * 6);
+            mC.corners += 6; // two slots more: step 3 writes both triangles
             mC.triangles += 2;
         } else {
+            mC.corners += 3;
             mC.triangles += 1;
         }
-        if (n == 4 || relative != 0) mC.fixups.push_back(Fixup{first, relative, n == 4});
         return true;
     }
 
     Chunk& mC;
+    const Counts& mTotal;
+    float* mPositions;
+    float* mColors;
+    float* mTexcoords;
+    float* mNormals;
+    ObjCorner* mCorners;
+    uint64_t mV = 0, mVt = 0, mVn = 0; // elements written
 };
 
 // Chunks of about `size` bytes, each ending after a "\n" (the last at the end of the text).
@@ -353,19 +360,15 @@ std::vector<Chunk> cut(std::string_view text, size_t size) {
     return chunks;
 }
 
-void append(ObjFloats& to, const ObjFloats& from) {
-    to.insert(to.end(), from.begin(), from.end());
-}
-
 // tinyobjloader's quad split, in the same float arithmetic: along the shorter diagonal,
 // (0 1 2)(0 2 3) if 0-2 is shorter, else (0 1 3)(1 2 3). Its library is built without FMA
 // contraction, as this file is (no -march flags), so ties and NaNs go the same way.
-void splitQuad(ObjCorner* c, const ObjFloats& positions) {
+void splitQuad(ObjCorner* c, const float* positions) {
     const ObjCorner q[4] = {c[0], c[1], c[2], c[3]};
-    const float* p0 = &positions[size_t(q[0].v) * 3];
-    const float* p1 = &positions[size_t(q[1].v) * 3];
-    const float* p2 = &positions[size_t(q[2].v) * 3];
-    const float* p3 = &positions[size_t(q[3].v) * 3];
+    const float* p0 = positions + size_t(q[0].v) * 3;
+    const float* p1 = positions + size_t(q[1].v) * 3;
+    const float* p2 = positions + size_t(q[2].v) * 3;
+    const float* p3 = positions + size_t(q[3].v) * 3;
     const float e02x = p2[0] - p0[0], e02y = p2[1] - p0[1], e02z = p2[2] - p0[2];
     const float e13x = p3[0] - p1[0], e13y = p3[1] - p1[1], e13z = p3[2] - p1[2];
     const float sqr02 = e02x * e02x + e02y * e02y + e02z * e02z;
@@ -383,91 +386,79 @@ void splitQuad(ObjCorner* c, const ObjFloats& positions) {
 
 std::optional<ObjParse> parseObjText(std::string_view text, const ObjParseOptions& options,
                                      std::string* why) {
-    // Chunk size depends on the text only, never on the job count.
+    // The chunk size depends on the text only: the parse is the same for any job count (and
+    // for any chunk size: tests force tiny ones).
     const size_t size = options.chunkBytes
                             ? options.chunkBytes
                             : std::clamp<size_t>(text.size() / 16, size_t(256) << 10, size_t(8) << 20);
     std::vector<Chunk> chunks = cut(text, size);
-
-    // Step 1.
-    parallelFor(chunks.size(), options.jobs, [&](size_t i) { ChunkParser(chunks[i]).run(); });
     auto refuse = [&](std::string reason) -> std::optional<ObjParse> {
         if (why) *why = std::move(reason);
         return std::nullopt;
     };
+
+    // Step 1: count what each chunk holds, so that the arrays are allocated once at their
+    // final size and each chunk writes its own part (no growth, no joining copies).
+    parallelFor(chunks.size(), options.jobs, [&](size_t i) {
+        Counts& n = chunks[i].count;
+        forEachLine(chunks[i].begin, chunks[i].end, [&](const char* p, const char* e) {
+            switch (kindOf(p, e)) {
+            case Kind::V: ++n.v; break;
+            case Kind::Vt: ++n.vt; break;
+            case Kind::Vn: ++n.vn; break;
+            case Kind::F: ++n.faces; break;
+            case Kind::Other: break;
+            }
+            return true;
+        });
+    });
+    Counts total;
+    for (Chunk& c : chunks) {
+        c.base = total;
+        total.v += c.count.v;
+        total.vt += c.count.vt;
+        total.vn += c.count.vn;
+        total.faces += c.count.faces;
+    }
+    constexpr uint64_t kMaxCount = uint64_t(std::numeric_limits<int32_t>::max());
+    if (total.v > kMaxCount || total.vt > kMaxCount || total.vn > kMaxCount)
+        return refuse("more elements than tinyobjloader's int indices reach");
+    ObjParse out;
+    ObjGeometry& g = out.geometry;
+    // Not value-initialised (LargeAllocator): every element read is written first. The corner
+    // array has room for a quad's 6 corners per face; pages a chunk leaves unused are never
+    // touched.
+    g.positions.resize(total.v * 3);
+    g.colors.resize(total.v * 3);
+    g.texcoords.resize(total.vt * 2);
+    g.normals.resize(total.vn * 3);
+    g.triangles.corners.resize(total.faces * 6);
+
+    // Step 2.
+    parallelFor(chunks.size(), options.jobs, [&](size_t i) { ChunkParser(chunks[i], g, total).run(); });
     for (const Chunk& c : chunks) {
         if (!c.failure.empty()) return refuse(c.failure);
     }
 
-    // Step 2: bases, index checks, joined attributes.
-    struct Base {
-        int64_t v = 0, vt = 0, vn = 0;
-    };
-    std::vector<Base> bases(chunks.size());
-    Base total;
-    bool allColors = true;
-    for (size_t i = 0; i < chunks.size(); ++i) {
-        bases[i] = total;
-        total.v += int64_t(chunks[i].positions.size() / 3);
-        total.vt += int64_t(chunks[i].texcoords.size() / 2);
-        total.vn += int64_t(chunks[i].normals.size() / 3);
-        allColors &= chunks[i].allColors;
-    }
-    constexpr int64_t kMaxCount = std::numeric_limits<int32_t>::max();
-    if (total.v > kMaxCount || total.vt > kMaxCount || total.vn > kMaxCount)
-        return refuse("more elements than tinyobjloader's int indices reach");
-    for (size_t i = 0; i < chunks.size(); ++i) {
-        const Chunk& c = chunks[i];
-        if (c.maxAbsolute >= total.v || bases[i].v + c.minRelative < 0)
-            return refuse("a position index out of range");
-        if (c.maxQuadAhead >= bases[i].v) return refuse("a quad naming a later position");
-    }
-    ObjParse out;
-    ObjGeometry& g = out.geometry;
-    g.positions.reserve(size_t(total.v) * 3);
-    g.texcoords.reserve(size_t(total.vt) * 2);
-    g.normals.reserve(size_t(total.vn) * 3);
-    if (allColors && total.v > 0) g.colors.reserve(size_t(total.v) * 3);
-    for (Chunk& c : chunks) {
-        append(g.positions, c.positions);
-        append(g.texcoords, c.texcoords);
-        append(g.normals, c.normals);
-        if (allColors) append(g.colors, c.colors);
-        c.positions = c.texcoords = c.normals = c.colors = {};
-    }
-
-    // Step 3.
+    // Step 3: quads (their positions may be another chunk's), block offsets, events.
     parallelFor(chunks.size(), options.jobs, [&](size_t i) {
-        Chunk& c = chunks[i];
-        const Base& b = bases[i];
-        for (const Fixup& f : c.fixups) {
-            ObjCorner* k = &c.corners[f.corner];
-            if (f.relative) {
-                for (int j = 0; j < (f.quad ? 4 : 3); ++j) {
-                    const unsigned bits = unsigned(f.relative >> (3 * j));
-                    // In range of int32: the totals are (checked above), and so is the sum.
-                    if (bits & kRelativeV) k[j].v = int32_t(b.v + k[j].v);
-                    if (bits & kRelativeVt) k[j].vt = int32_t(b.vt + k[j].vt);
-                    if (bits & kRelativeVn) k[j].vn = int32_t(b.vn + k[j].vn);
-                }
-            }
-            if (f.quad) splitQuad(k, g.positions);
-        }
-        c.fixups = {};
+        for (size_t q : chunks[i].quads) splitQuad(&g.triangles.corners[q], g.positions.data());
     });
-
+    bool allColors = total.v > 0;
     ObjTriangles& t = g.triangles;
     uint64_t start = 0;
-    for (size_t i = 0; i < chunks.size(); ++i) {
-        for (ObjEvent& e : chunks[i].events) {
+    for (Chunk& c : chunks) {
+        allColors &= c.allColors;
+        for (ObjEvent& e : c.events) {
             e.triangle += start;
             out.events.push_back(std::move(e));
         }
         t.start.push_back(start);
-        start += chunks[i].triangles;
-        t.blocks.push_back(std::move(chunks[i].corners));
+        t.offset.push_back(c.base.faces * 6);
+        start += c.triangles;
     }
     t.start.push_back(start);
+    if (!allColors) g.colors = {};
     return out;
 }
 

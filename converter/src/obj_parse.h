@@ -34,6 +34,7 @@
 #include <optional>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 namespace pnb::converter {
@@ -53,6 +54,12 @@ template <class T> struct LargeAllocator {
     template <class U> LargeAllocator(const LargeAllocator<U>&) {}
     T* allocate(size_t n) { return static_cast<T*>(allocateLarge(n * sizeof(T))); }
     void deallocate(T* p, size_t n) { freeLarge(p, n * sizeof(T)); }
+    // resize() default-initialises (leaves floats unwritten): the parse writes every element
+    // it later reads, and zeroing first would touch every page once more.
+    template <class U, class... Args> void construct(U* p, Args&&... args) {
+        if constexpr (sizeof...(Args) == 0) ::new (static_cast<void*>(p)) U;
+        else ::new (static_cast<void*>(p)) U(std::forward<Args>(args)...);
+    }
     template <class U> bool operator==(const LargeAllocator<U>&) const { return true; }
 };
 
@@ -65,22 +72,24 @@ struct ObjCorner {
 using ObjFloats = std::vector<float, LargeAllocator<float>>;
 using ObjCorners = std::vector<ObjCorner, LargeAllocator<ObjCorner>>;
 
-// The triangles of the file in order, three corners each, stored in blocks (one per parsed
-// chunk, so joining them costs no copy). Triangle t is block b's triangle t - start[b].
+// The triangles of the file in order, three corners each, in blocks (one per parsed chunk,
+// each written where the chunk's faces could have needed room: a quad takes 6). Triangle t is
+// block b's triangle t - start[b], at corners[offset[b] + 3 * (t - start[b])].
 struct ObjTriangles {
-    std::vector<ObjCorners> blocks;
-    std::vector<uint64_t> start; // first triangle of each block; then the total
+    ObjCorners corners;
+    std::vector<uint64_t> offset; // first corner of each block
+    std::vector<uint64_t> start;  // first triangle of each block; then the total
 
     uint64_t count() const { return start.empty() ? 0 : start.back(); }
 
     // Calls fn(const ObjCorner&) for every corner of triangles [begin, end), in order.
     template <class Fn> void forEachCorner(uint64_t begin, uint64_t end, Fn&& fn) const {
-        size_t b = 0;
-        while (b + 1 < start.size() && start[b + 1] <= begin) ++b;
-        for (; b < blocks.size() && start[b] < end; ++b) {
+        size_t b = size_t(std::upper_bound(start.begin(), start.end(), begin) - start.begin());
+        b = b > 0 ? b - 1 : 0;
+        for (; b < offset.size() && start[b] < end; ++b) {
             const uint64_t from = std::max(begin, start[b]) - start[b];
             const uint64_t to = std::min(end, start[b + 1]) - start[b];
-            const ObjCorner* c = blocks[b].data();
+            const ObjCorner* c = corners.data() + offset[b];
             for (uint64_t i = from * 3; i < to * 3; ++i) fn(c[i]);
         }
     }

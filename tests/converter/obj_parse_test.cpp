@@ -319,7 +319,7 @@ TEST(ObjParse, ChunkBoundariesDoNotChangeTheParse) {
     // A sub-range across blocks: the corners of triangles [5, 40).
     auto p = parseObjText(text, ObjParseOptions{2, 50});
     ASSERT_TRUE(p.has_value());
-    ASSERT_GT(p->geometry.triangles.blocks.size(), 10u);
+    ASSERT_GT(p->geometry.triangles.offset.size(), 10u);
     size_t i = 15;
     p->geometry.triangles.forEachCorner(5, 40, [&](const ObjCorner& c) {
         EXPECT_EQ(c.v, expected[i].v) << i;
