@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -189,6 +190,24 @@ TEST(ObjParseEquivalence, FuzzSeedCorpusGivesTheReferenceIr) {
         ++seeds;
     }
     EXPECT_GE(seeds, 6u);
+}
+
+// Any OBJ named by PNB_OBJ_COMPARE (skipped without): the fast reader against the reference,
+// once each with the default jobs and chunks; prints how many float values differ. How the
+// figures for the benchmark OBJ in docs/CONVERTER.md were taken.
+TEST(ObjParseEquivalence, FileNamedByEnvironmentGivesTheReferenceIr) {
+    const char* file = std::getenv("PNB_OBJ_COMPARE");
+    if (file == nullptr) GTEST_SKIP() << "set PNB_OBJ_COMPARE=file.obj";
+    ObjImportOptions reference;
+    reference.tinyobjOnly = true;
+    auto want = importObjWith(file, {}, reference);
+    ObjReader used = ObjReader::Tinyobj;
+    auto got = importObjWith(file, {}, ObjImportOptions{}, &used);
+    ASSERT_EQ(got.ok(), want.ok());
+    FloatCompare floats;
+    if (got.ok()) expectSameScene(*got, *want, floats, file);
+    std::cout << (used == ObjReader::Fast ? "fast path: " : "tinyobjloader: ") << floats.differing
+              << " of " << floats.compared << " float values differ (by at most 1 ulp)\n";
 }
 
 // [SECTION] generated files
