@@ -1,6 +1,10 @@
-// import_obj.cpp — Wavefront OBJ/MTL into the scene IR through tinyobjloader (Debian's
-// libtinyobjloader-dev). Replaces assimp for .obj: parsing the 1M-triangle benchmark OBJ took
-// assimp 1.37 s CPU and tinyobjloader 0.87 s (docs/CONVERTER.md, "Speed").
+// import_obj.cpp — Wavefront OBJ/MTL into the scene IR. The OBJ text is read by our parallel
+// parser (obj_parse.h) when it stays in that parser's subset (v/vt/vn lines, triangles and quads,
+// usemtl, mtllib, o, g, comments: what exporters write), else by tinyobjloader (Debian's
+// libtinyobjloader-dev, import_obj_tinyobj.cpp), which also gives every error message; both give
+// the same IR (tests/converter/obj_parse_test.cpp). MTL files are read by tinyobjloader's
+// LoadMtl. Parsing the 1M-triangle benchmark OBJ took assimp 1.37 s CPU, tinyobjloader 0.87 s,
+// obj_parse ~0.17 s on one thread (docs/CONVERTER.md, "Speed" and "Issue 30").
 //
 // A translation, not a processing step: welding, normals, tangents and optimisations are the
 // mesh stage's (mesh_processing.h). The behaviour is the assimp importer's for OBJ
@@ -11,8 +15,13 @@
 //   IrMesh with two primitives on one node.
 // - Vertices: one per distinct (v, vt, vn) index triple of a primitive, in order of first use
 //   (assimp gave every face corner its own vertex; the mesh stage's weld makes the two
-//   equivalent, and fewer vertices make it faster). Polygons are triangulated by tinyobjloader
-//   (quads along the shorter diagonal, larger polygons by ear clipping).
+//   equivalent, and fewer vertices make it faster). Polygons are triangulated as tinyobjloader
+//   does (quads along the shorter diagonal, in its float arithmetic; larger polygons by its ear
+//   clipping, through the tinyobjloader reader). Primitives are built in parallel (`jobs`); the
+//   result does not depend on the job count.
+// - Numbers: obj_parse rounds correctly (std::from_chars); tinyobjloader's conversion is
+//   approximate, but equals it on every value of the assimp test models and of the benchmark
+//   OBJ (the tests allow one ulp). A number beyond float's range is ±Inf, below it ±0.
 // - V flip: IR UVs follow glTF (v = 0 is the top row), OBJ's v = 0 is the bottom row: (u, 1 - v).
 // - Streams: a primitive gets normals (uvs) only when every corner has a valid vn (vt) index;
 //   otherwise they are dropped with a warning naming the mesh and the mesh stage generates
@@ -21,7 +30,8 @@
 //   Vertex colours ("v x y z r g b") are kept when every vertex of the file has one.
 // - Errors (exit code 2), naming the file and the line: a face or point/line index that is 0 or
 //   not a number (tinyobjloader's parse error), a position index outside the file's vertices
-//   (found again by scanning the text, since tinyobjloader keeps no line numbers).
+//   (found again by scanning the text, since tinyobjloader keeps no line numbers). obj_parse
+//   hands any such file to tinyobjloader, so the messages are its reader's.
 // - Points and lines: dropped with a warning naming the mesh (the IR is triangles only).
 //   tinyobjloader discards a "g" group that has only points or lines before we see it, so those
 //   go unreported; a file with no triangles at all is an error.
@@ -42,10 +52,10 @@
 //   Missing textures are dropped with a warning, the material kept. MTL files read are listed
 //   in IrScene::dependencies (the --depfile); textures are listed by the texture stage.
 // - Early texture report: each texture file an MTL's materials would use (base colour, normal,
-//   emissive) is passed to the caller's `found` callback when the MTL is read, during the parse,
-//   so convertScene can decode it meanwhile (image_prefetch.h).
-// - The OBJ file is read with one read() into pre-faulted memory (ObjText): it is the largest
-//   input the converter reads.
+//   emissive) is passed to the caller's `found` callback when the MTL is read (after obj_parse's
+//   parse, or during tinyobjloader's).
+// - The OBJ file is read with one read() into memory in transparent huge pages (ObjText): it is
+//   the largest input the converter reads.
 //
 // Does NOT do: processing of any kind, image decoding, smoothing groups (the mesh stage's
 // normals are smooth), tinyobjloader's extensions (vw skin weights, t subdivision tags).
@@ -76,6 +86,7 @@
 #include <unordered_map>
 #include <vector>
 
+#include "huge_pages.h"
 #include "import_obj_internal.h"
 #include "import_paths.h"
 #include "obj_parse.h"

@@ -34,34 +34,11 @@
 #include <optional>
 #include <string>
 #include <string_view>
-#include <utility>
 #include <vector>
 
+#include "huge_pages.h"
+
 namespace pnb::converter {
-
-// Allocates arrays of 2 MiB and more in transparent huge pages (madvise): the parse writes
-// ~60 MB of fresh arrays for the benchmark OBJ, and one page fault per 4 KiB cost more than the
-// parse itself on the VMs we measured (docs/CONVERTER.md, "Issue 30").
-void* allocateLarge(size_t bytes);
-void freeLarge(void* p, size_t bytes);
-// The same for memory allocated elsewhere (a reserved std::vector the IR holds): the whole
-// 2 MiB pages inside [p, p + bytes) are advised.
-void adviseHugePages(const void* p, size_t bytes);
-
-template <class T> struct LargeAllocator {
-    using value_type = T;
-    LargeAllocator() = default;
-    template <class U> LargeAllocator(const LargeAllocator<U>&) {}
-    T* allocate(size_t n) { return static_cast<T*>(allocateLarge(n * sizeof(T))); }
-    void deallocate(T* p, size_t n) { freeLarge(p, n * sizeof(T)); }
-    // resize() default-initialises (leaves floats unwritten): the parse writes every element
-    // it later reads, and zeroing first would touch every page once more.
-    template <class U, class... Args> void construct(U* p, Args&&... args) {
-        if constexpr (sizeof...(Args) == 0) ::new (static_cast<void*>(p)) U;
-        else ::new (static_cast<void*>(p)) U(std::forward<Args>(args)...);
-    }
-    template <class U> bool operator==(const LargeAllocator<U>&) const { return true; }
-};
 
 // One face corner, zero-based (tinyobjloader's index_t values): vt/vn -1 when absent; vt/vn
 // may be out of range (the importer drops that stream with a warning), v never is.

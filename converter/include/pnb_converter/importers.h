@@ -25,14 +25,14 @@ namespace pnb::converter {
 // Unsupported error names the texture and image when there is none.
 Result<IrScene, ConvertError> importGltf(const std::string& path);
 
-// Wavefront OBJ/MTL through tinyobjloader. MTL parameters map onto PBR as mtl_to_pbr.h
+// Wavefront OBJ/MTL through our parallel OBJ parser, or tinyobjloader for what it leaves (and for
+// errors), and tinyobjloader's MTL reader. MTL parameters map onto PBR as mtl_to_pbr.h
 // documents; map_Kd → base colour, map_d → alpha (a warning if it is not the base colour's
 // alpha), norm/bump/map_bump → normal map, map_Ke → emissive. Errors name the file and, for
 // malformed faces, the line. The MTL files read are listed in IrScene::dependencies.
 // `found`, when set, is called during the import with each image file a material names, as
-// soon as the importer knows it (an MTL is read at its mtllib line, usually the file's first),
-// with the path IrImage::path will hold: convertScene starts decoding those files while the
-// OBJ is still being parsed (image_prefetch.h). Files reported may end up unused.
+// soon as the importer knows it (when it reads the MTL), with the path IrImage::path will hold.
+// Files reported may end up unused.
 // `jobs`: threads for the parse and the vertex numbering (0 = all cores; the result does not
 // depend on it).
 Result<IrScene, ConvertError> importObj(const std::string& path,
