@@ -51,9 +51,6 @@
 //   still missing falls back to <obj name>.mtl next to the OBJ (as assimp does) with a warning.
 //   Missing textures are dropped with a warning, the material kept. MTL files read are listed
 //   in IrScene::dependencies (the --depfile); textures are listed by the texture stage.
-// - Early texture report: each texture file an MTL's materials would use (base colour, normal,
-//   emissive) is passed to the caller's `found` callback when the MTL is read (after obj_parse's
-//   parse, or during tinyobjloader's).
 // - The OBJ file is read with one read() into memory in transparent huge pages (ObjText): it is
 //   the largest input the converter reads.
 //
@@ -75,7 +72,6 @@
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
-#include <functional>
 #include <istream>
 #include <limits>
 #include <map>
@@ -211,10 +207,8 @@ void scanMtlKeys(std::string_view text, std::map<std::string, MtlKeys>& out) {
 class MtlReader : public tinyobj::MaterialReader {
 public:
     MtlReader(fs::path sourceDir, fs::path objPath, IrScene& out,
-              std::map<std::string, MtlKeys>& keys,
-              const std::function<void(const std::string&)>& found)
-        : mSourceDir(std::move(sourceDir)), mObjPath(std::move(objPath)), mOut(out), mKeys(keys),
-          mFound(found) {}
+              std::map<std::string, MtlKeys>& keys)
+        : mSourceDir(std::move(sourceDir)), mObjPath(std::move(objPath)), mOut(out), mKeys(keys) {}
 
     bool operator()(const std::string& name, std::vector<tinyobj::material_t>* materials,
                     std::map<std::string, int>* byName, std::string* /*warn*/,
@@ -250,19 +244,6 @@ public:
         std::istream stream(&buffer);
         std::string warn, err;
         tinyobj::LoadMtl(byName, materials, &stream, &warn, &err);
-        // The texture files these materials would use (convertMaterial's slots), resolved as
-        // imageForReference will resolve them, for the caller to start decoding.
-        if (mFound) {
-            for (size_t i = first; i < materials->size(); ++i) {
-                const tinyobj::material_t& m = (*materials)[i];
-                const std::string& normal =
-                    m.normal_texname.empty() ? m.bump_texname : m.normal_texname;
-                for (const std::string* ref : {&m.diffuse_texname, &normal, &m.emissive_texname}) {
-                    if (ref->empty()) continue;
-                    if (auto r = resolveReference(mSourceDir, *ref)) mFound(r->path.string());
-                }
-            }
-        }
         // usemtl keeps only its first word (header block): alias spaced names by it.
         for (size_t i = first; i < materials->size(); ++i) {
             const std::string& full = (*materials)[i].name;
@@ -284,7 +265,6 @@ private:
     fs::path mSourceDir, mObjPath;
     IrScene& mOut;
     std::map<std::string, MtlKeys>& mKeys;
-    const std::function<void(const std::string&)>& mFound;
 };
 
 // [SECTION] materials
@@ -706,7 +686,6 @@ Result<IrScene, ConvertError> buildScene(Context& ctx, const ObjRead& read, unsi
 } // namespace
 
 Result<IrScene, ConvertError> importObjWith(const std::string& path,
-                                            const std::function<void(const std::string&)>& found,
                                             const ObjImportOptions& options, ObjReader* used) {
     auto inputError = [&](std::string message) {
         return ConvertError{ConvertErrorKind::Input, path + ": " + message};
@@ -723,7 +702,7 @@ Result<IrScene, ConvertError> importObjWith(const std::string& path,
         IrScene out;
         out.sourcePath = path;
         ctx.out = &out;
-        MtlReader mtlReader(ctx.sourceDir, fs::path(path), out, ctx.keys, found);
+        MtlReader mtlReader(ctx.sourceDir, fs::path(path), out, ctx.keys);
 
         std::optional<ObjParse> parsed;
         if (!options.tinyobjOnly) {
@@ -746,10 +725,8 @@ Result<IrScene, ConvertError> importObjWith(const std::string& path,
     }
 }
 
-Result<IrScene, ConvertError> importObj(const std::string& path,
-                                        const std::function<void(const std::string&)>& found,
-                                        unsigned jobs) {
-    return importObjWith(path, found, ObjImportOptions{jobs});
+Result<IrScene, ConvertError> importObj(const std::string& path, unsigned jobs) {
+    return importObjWith(path, ObjImportOptions{jobs});
 }
 
 } // namespace pnb::converter

@@ -11,7 +11,6 @@
 
 #include <cstddef>
 #include <cstdint>
-#include <functional>
 #include <streambuf>
 #include <string>
 #include <string_view>
@@ -70,7 +69,6 @@ enum class ObjReader { Fast, Tinyobj };
 
 // importObj with options; `used`, if given, says which reader read the file.
 Result<IrScene, ConvertError> importObjWith(const std::string& path,
-                                            const std::function<void(const std::string&)>& found,
                                             const ObjImportOptions& options,
                                             ObjReader* used = nullptr);
 

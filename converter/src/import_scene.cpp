@@ -14,13 +14,12 @@
 namespace pnb::converter {
 
 Result<IrScene, ConvertError> importScene(const std::string& path,
-                                          const std::function<void(const std::string&)>& found,
                                           unsigned jobs) {
     std::string extension = std::filesystem::path(path).extension().string();
     std::transform(extension.begin(), extension.end(), extension.begin(),
                    [](unsigned char c) { return char(std::tolower(c)); });
     if (extension == ".gltf" || extension == ".glb") return importGltf(path);
-    if (extension == ".obj") return importObj(path, found, jobs);
+    if (extension == ".obj") return importObj(path, jobs);
     return importWithAssimp(path);
 }
 

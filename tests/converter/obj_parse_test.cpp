@@ -113,14 +113,14 @@ Comparison compareReaders(const std::string& file, FloatCompare& floats) {
     Comparison c;
     ObjImportOptions reference;
     reference.tinyobjOnly = true;
-    auto want = importObjWith(file, {}, reference);
+    auto want = importObjWith(file, reference);
     for (unsigned jobs : {1u, 2u, 3u}) {
         for (size_t chunk : {size_t(0), size_t(1), size_t(13), size_t(200)}) {
             ObjImportOptions o;
             o.jobs = jobs;
             o.chunkBytes = chunk;
             ObjReader used = ObjReader::Tinyobj;
-            auto got = importObjWith(file, {}, o, &used);
+            auto got = importObjWith(file, o, &used);
             const std::string what = file + " jobs " + std::to_string(jobs) + " chunk " +
                                      std::to_string(chunk);
             if (jobs == 1 && chunk == 0) c.reader = used;
@@ -200,9 +200,9 @@ TEST(ObjParseEquivalence, FileNamedByEnvironmentGivesTheReferenceIr) {
     if (file == nullptr) GTEST_SKIP() << "set PNB_OBJ_COMPARE=file.obj";
     ObjImportOptions reference;
     reference.tinyobjOnly = true;
-    auto want = importObjWith(file, {}, reference);
+    auto want = importObjWith(file, reference);
     ObjReader used = ObjReader::Tinyobj;
-    auto got = importObjWith(file, {}, ObjImportOptions{}, &used);
+    auto got = importObjWith(file, ObjImportOptions{}, &used);
     ASSERT_EQ(got.ok(), want.ok());
     FloatCompare floats;
     if (got.ok()) expectSameScene(*got, *want, floats, file);
@@ -453,7 +453,7 @@ TEST(ObjParseEquivalence, MalformedFilesFailWithTheLineAtFault) {
             o.jobs = jobs;
             o.chunkBytes = 64;
             ObjReader used = ObjReader::Fast;
-            auto r = importObjWith(file, {}, o, &used);
+            auto r = importObjWith(file, o, &used);
             ASSERT_FALSE(r.ok()) << c.expect;
             EXPECT_EQ(used, ObjReader::Tinyobj);
             EXPECT_NE(r.error().message.find(c.expect), std::string::npos) << r.error().message;

@@ -8,7 +8,6 @@
 // naming it; order nodes parents first; convert to +Y-up right-handed metres.
 #pragma once
 
-#include <functional>
 #include <string>
 
 #include "pnb/error.h"
@@ -30,23 +29,16 @@ Result<IrScene, ConvertError> importGltf(const std::string& path);
 // documents; map_Kd → base colour, map_d → alpha (a warning if it is not the base colour's
 // alpha), norm/bump/map_bump → normal map, map_Ke → emissive. Errors name the file and, for
 // malformed faces, the line. The MTL files read are listed in IrScene::dependencies.
-// `found`, when set, is called during the import with each image file a material names, as
-// soon as the importer knows it (when it reads the MTL), with the path IrImage::path will hold.
-// Files reported may end up unused.
 // `jobs`: threads for the parse and the vertex numbering (0 = all cores; the result does not
 // depend on it).
-Result<IrScene, ConvertError> importObj(const std::string& path,
-                                        const std::function<void(const std::string&)>& found = {},
-                                        unsigned jobs = 0);
+Result<IrScene, ConvertError> importObj(const std::string& path, unsigned jobs = 0);
 
 // The other formats assimp reads (FBX, Collada, 3DS, PLY, STL, .blend, ...; OBJ too, though
 // importScene sends .obj to importObj). Same MTL mapping for OBJ.
 Result<IrScene, ConvertError> importWithAssimp(const std::string& path);
 
 // Picks the importer by extension (.gltf/.glb → glTF, .obj → OBJ, anything else → assimp).
-// `found` and `jobs` as for importObj (the other importers use neither).
-Result<IrScene, ConvertError> importScene(const std::string& path,
-                                          const std::function<void(const std::string&)>& found = {},
-                                          unsigned jobs = 0);
+// `jobs` as for importObj (the other importers do not use it).
+Result<IrScene, ConvertError> importScene(const std::string& path, unsigned jobs = 0);
 
 } // namespace pnb::converter
