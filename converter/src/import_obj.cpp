@@ -120,7 +120,7 @@ std::optional<std::string> readFile(const fs::path& path) {
 }
 
 // The OBJ file's bytes, read with one read() into memory allocateLarge gives in transparent huge
-// pages (obj_parse.h): the 94 MB benchmark OBJ took 0.17 s to read into 4 KiB pages populated up
+// pages (huge_pages.h): the 94 MB benchmark OBJ took 0.17 s to read into 4 KiB pages populated up
 // front (mmap(MAP_POPULATE)) and as long again to scan once (TLB misses), 0.02 s and 0.04 s in
 // huge pages (docs/CONVERTER.md, "Issue 30"). The file itself is not mapped: another program
 // truncating it during the parse would kill us with SIGBUS (and the page cache's 4 KiB pages

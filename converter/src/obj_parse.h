@@ -3,9 +3,9 @@
 // Why: tinyobjloader's LoadObj parsed the 1M-triangle benchmark OBJ on one thread, through a
 // std::string per line, its own approximate float parser and per-face vectors, into arrays
 // that the importer then copied again (docs/CONVERTER.md, "Issue 30"). This parser splits the
-// text into chunks at line boundaries, parses the chunks on `jobs` threads (numbers with
-// std::from_chars), and resolves relative indices and splits quads once every chunk's counts
-// are known.
+// text into chunks at line boundaries, counts what each chunk holds, then parses the chunks on
+// `jobs` threads (numbers with std::from_chars) straight into arrays of their final size
+// (obj_parse.cpp says how).
 //
 // What it accepts is a strict subset of what tinyobjloader reads, on which it gives
 // tinyobjloader's result (import_obj.cpp's header block is the contract; the ObjParseEquivalence
@@ -24,8 +24,8 @@
 // as 0), a lone "\r" or a NUL byte (tinyobjloader's line splitting differs), a quad naming a
 // position defined after it.
 //
-// Output for every job count is the same (chunks are parsed independently and joined in file
-// order).
+// The output is the same for every job count and chunk size (each chunk writes its own slots;
+// the chunk size depends on the text's size only).
 #pragma once
 
 #include <algorithm>
