@@ -3,7 +3,8 @@
 // Why: on the VMs we measure on (docs/CONVERTER.md, "Issue 30"), every 4 KiB page fault and TLB
 // miss is expensive: reading the 94 MB benchmark OBJ into 4 KiB pages and scanning it once took
 // 0.35 s, in huge pages 0.05 s. THP is in "madvise" mode on Debian, so memory must ask for them.
-// Used by the OBJ importer for the file's bytes and its parse arrays.
+// Used by the OBJ importer (the file's bytes, its parse arrays, the primitives' streams) and the
+// texture stage (decoded PNG images, mip levels).
 #pragma once
 
 #include <cstddef>
