@@ -9,7 +9,9 @@
 //
 // Findings: crashes, sanitizer reports, leaks; and the harness abort()s when an import that
 // succeeds breaks what scene_ir.h promises (every index inside its primitive's vertices, streams
-// of whole vertices, materials and images in range, parents before children).
+// of whole vertices, materials and images in range, parents before children), or when the
+// parallel OBJ parser read the file (two jobs, tiny chunks) and the tinyobjloader reader gives
+// another result (floats may differ by one ulp: import_obj.cpp's header block).
 //
 // Run it with `scripts/fuzz SECONDS obj_import`; reproduce a finding with
 // `build/asan/fuzz/obj_import_fuzz FILE`.
@@ -22,10 +24,14 @@
 #include <cstddef>
 #include <cstdint>
 #include <cstdio>
+#include <cmath>
 #include <cstdlib>
+#include <cstring>
+#include <vector>
 #include <string>
 #include <string_view>
 
+#include "import_obj_internal.h"
 #include "pnb_converter/importers.h"
 
 namespace {
@@ -74,6 +80,43 @@ void checkScene(const pnb::converter::IrScene& scene) {
     }
 }
 
+// Within one ulp, or both NaN.
+bool withinUlp(float a, float b) {
+    if (a == b || (std::isnan(a) && std::isnan(b))) return true;
+    if (!std::isfinite(a) || !std::isfinite(b) || std::signbit(a) != std::signbit(b)) return false;
+    uint32_t x, y;
+    std::memcpy(&x, &a, 4);
+    std::memcpy(&y, &b, 4);
+    return (x > y ? x - y : y - x) <= 1;
+}
+
+void checkClose(const std::vector<float>& a, const std::vector<float>& b) {
+    check(a.size() == b.size());
+    for (size_t i = 0; i < a.size(); ++i) check(withinUlp(a[i], b[i]));
+}
+
+// The two readers agree (names, structure, indices, streams, warnings, materials).
+void checkSame(const pnb::converter::IrScene& a, const pnb::converter::IrScene& b) {
+    check(a.warnings == b.warnings && a.dependencies == b.dependencies);
+    check(a.nodes.size() == b.nodes.size() && a.meshes.size() == b.meshes.size());
+    for (size_t i = 0; i < a.nodes.size(); ++i)
+        check(a.nodes[i].name == b.nodes[i].name && a.nodes[i].mesh == b.nodes[i].mesh);
+    check(a.materials.size() == b.materials.size());
+    for (size_t i = 0; i < a.materials.size(); ++i) check(a.materials[i].name == b.materials[i].name);
+    for (size_t m = 0; m < a.meshes.size(); ++m) {
+        const auto &x = a.meshes[m], &y = b.meshes[m];
+        check(x.name == y.name && x.primitives.size() == y.primitives.size());
+        for (size_t p = 0; p < x.primitives.size(); ++p) {
+            const auto &u = x.primitives[p], &v = y.primitives[p];
+            check(u.indices == v.indices && u.material == v.material);
+            checkClose(u.positions, v.positions);
+            checkClose(u.normals, v.normals);
+            checkClose(u.uv0, v.uv0);
+            checkClose(u.colors, v.colors);
+        }
+    }
+}
+
 } // namespace
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
@@ -84,8 +127,20 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     writeFile(obj, input.substr(0, split));
     if (split != std::string_view::npos) writeFile(mtl, input.substr(split + 6));
     else ::unlink(mtl.c_str());
-    auto result = pnb::converter::importObj(obj);
+    using namespace pnb::converter;
+    ObjImportOptions fast;
+    fast.jobs = 2;
+    fast.chunkBytes = 1 + size % 61; // chunk boundaries everywhere
+    ObjReader used = ObjReader::Tinyobj;
+    auto result = importObjWith(obj, fast, &used);
     if (result) checkScene(*result);
     else check(result.error().message.find(obj) != std::string::npos); // names the file
+    if (used == ObjReader::Fast) {
+        ObjImportOptions reference;
+        reference.tinyobjOnly = true;
+        auto want = importObjWith(obj, reference);
+        check(result.ok() == want.ok());
+        if (result.ok()) checkSame(*result, *want);
+    }
     return 0;
 }

@@ -13,7 +13,6 @@
 #include <optional>
 #include <set>
 
-#include "image_prefetch.h"
 #include "parallel_for.h"
 #include "pnb/compression_memo.h"
 #include "pnb/mesh_levels.h"
@@ -24,7 +23,6 @@
 #include "pnb_converter/environment.h"
 #include "pnb_converter/importers.h"
 #include "pnb_converter/material_resolve.h"
-#include "pnb_converter/memory_budget.h"
 #include "pnb_converter/shader_permutations.h"
 #include "pnb_converter/shader_validation_cache.h"
 
@@ -239,18 +237,7 @@ Result<ConvertSummary, ConvertError> convertScene(const ConvertSettings& s,
     // [SECTION] import
     clock.start("import");
     report("import", 0, 1);
-    // The texture files an OBJ's materials name are decoded on a second thread while the OBJ is
-    // still being parsed (image_prefetch.h: same pixels, so the same bytes); not with -j 1. It
-    // may hold a quarter of the texture memory budget, which processTextures then leaves out.
-    std::optional<ImagePrefetch> prefetch;
-    std::function<void(const std::string&)> imageFound;
-    if (resolveJobs(s.jobs) > 1) {
-        const uint64_t budget =
-            s.texture.maxMemoryBytes ? s.texture.maxMemoryBytes : defaultMemoryBudget();
-        prefetch.emplace(s.texture.maxSourceTexels, budget / 4);
-        imageFound = [&prefetch](const std::string& path) { prefetch->add(path); };
-    }
-    auto imported = importScene(s.input, imageFound);
+    auto imported = importScene(s.input, s.jobs);
     if (!imported) return imported.error();
     IrScene& scene = *imported;
     sum.warnings = scene.warnings;
@@ -344,17 +331,11 @@ Result<ConvertSummary, ConvertError> convertScene(const ConvertSettings& s,
     report("textures", 0, materials.textures.size());
     TextureSettings textureSettings = s.texture;
     textureSettings.jobs = s.jobs;
-    auto texturesResult = processTextures(materials.textures, textureSettings,
-                                          prefetch && prefetch->used() ? &*prefetch : nullptr);
+    auto texturesResult = processTextures(materials.textures, textureSettings);
     if (!texturesResult) return texturesResult.error();
     std::vector<ProcessedTexture>& textures = *texturesResult;
     for (const IrImage& img : scene.images)
         if (!img.path.empty()) sum.dependencies.push_back(img.path);
-    if (prefetch && prefetch->used())
-        sum.notes.push_back("textures: " + std::to_string(prefetch->taken()) + " of " +
-                            std::to_string(textures.size()) +
-                            " decoded while the source was being imported");
-    prefetch.reset(); // images of materials no mesh uses are not kept through the write
     report("textures", textures.size(), textures.size());
     clock.stop();
 

@@ -19,6 +19,7 @@
 #include <cstring>
 #include <memory>
 
+#include "huge_pages.h"
 #include "texture_internal.h"
 
 namespace pnb::converter::texture_detail {
@@ -140,6 +141,9 @@ std::optional<Result<DecodedImage, ConvertError>> decodePng(const IrImage& image
     out.sourceChannels = layout.channels;
     out.image.width = layout.width;
     out.image.height = layout.height;
+    // Float RGBA: 16 MB for a 1024² texture, in huge pages (huge_pages.h: page faults are dear).
+    out.image.texels.reserve(texels * 4);
+    adviseHugePages(out.image.texels.data(), texels * 4 * sizeof(float));
     out.image.texels.assign(texels * 4, 0.0f);
     if (layout.bitDepth == 8)
         widen(pixels.get(), texels, layout.channels, 1.0f / 255.0f, out.image.texels.data());

@@ -1,6 +1,10 @@
-// import_obj.cpp — Wavefront OBJ/MTL into the scene IR through tinyobjloader (Debian's
-// libtinyobjloader-dev). Replaces assimp for .obj: parsing the 1M-triangle benchmark OBJ took
-// assimp 1.37 s CPU and tinyobjloader 0.87 s (docs/CONVERTER.md, "Speed").
+// import_obj.cpp — Wavefront OBJ/MTL into the scene IR. The OBJ text is read by our parallel
+// parser (obj_parse.h) when it stays in that parser's subset (v/vt/vn lines, triangles and quads,
+// usemtl, mtllib, o, g, comments: what exporters write), else by tinyobjloader (Debian's
+// libtinyobjloader-dev, import_obj_tinyobj.cpp), which also gives every error message; both give
+// the same IR (tests/converter/obj_parse_test.cpp). MTL files are read by tinyobjloader's
+// LoadMtl. Parsing the 1M-triangle benchmark OBJ took assimp 1.37 s CPU, tinyobjloader 0.87 s,
+// obj_parse ~0.17 s on one thread (docs/CONVERTER.md, "Speed" and "Issue 30").
 //
 // A translation, not a processing step: welding, normals, tangents and optimisations are the
 // mesh stage's (mesh_processing.h). The behaviour is the assimp importer's for OBJ
@@ -11,8 +15,13 @@
 //   IrMesh with two primitives on one node.
 // - Vertices: one per distinct (v, vt, vn) index triple of a primitive, in order of first use
 //   (assimp gave every face corner its own vertex; the mesh stage's weld makes the two
-//   equivalent, and fewer vertices make it faster). Polygons are triangulated by tinyobjloader
-//   (quads along the shorter diagonal, larger polygons by ear clipping).
+//   equivalent, and fewer vertices make it faster). Polygons are triangulated as tinyobjloader
+//   does (quads along the shorter diagonal, in its float arithmetic; larger polygons by its ear
+//   clipping, through the tinyobjloader reader). Primitives are built in parallel (`jobs`); the
+//   result does not depend on the job count.
+// - Numbers: obj_parse rounds correctly (std::from_chars); tinyobjloader's conversion is
+//   approximate, but equals it on every value of the assimp test models and of the benchmark
+//   OBJ (the tests allow one ulp). A number beyond float's range is ±Inf, below it ±0.
 // - V flip: IR UVs follow glTF (v = 0 is the top row), OBJ's v = 0 is the bottom row: (u, 1 - v).
 // - Streams: a primitive gets normals (uvs) only when every corner has a valid vn (vt) index;
 //   otherwise they are dropped with a warning naming the mesh and the mesh stage generates
@@ -21,7 +30,8 @@
 //   Vertex colours ("v x y z r g b") are kept when every vertex of the file has one.
 // - Errors (exit code 2), naming the file and the line: a face or point/line index that is 0 or
 //   not a number (tinyobjloader's parse error), a position index outside the file's vertices
-//   (found again by scanning the text, since tinyobjloader keeps no line numbers).
+//   (found again by scanning the text, since tinyobjloader keeps no line numbers). obj_parse
+//   hands any such file to tinyobjloader, so the messages are its reader's.
 // - Points and lines: dropped with a warning naming the mesh (the IR is triangles only).
 //   tinyobjloader discards a "g" group that has only points or lines before we see it, so those
 //   go unreported; a file with no triangles at all is an error.
@@ -41,18 +51,14 @@
 //   still missing falls back to <obj name>.mtl next to the OBJ (as assimp does) with a warning.
 //   Missing textures are dropped with a warning, the material kept. MTL files read are listed
 //   in IrScene::dependencies (the --depfile); textures are listed by the texture stage.
-// - Early texture report: each texture file an MTL's materials would use (base colour, normal,
-//   emissive) is passed to the caller's `found` callback when the MTL is read, during the parse,
-//   so convertScene can decode it meanwhile (image_prefetch.h).
-// - The OBJ file is read with one read() into pre-faulted memory (ObjText): it is the largest
-//   input the converter reads.
+// - The OBJ file is read with one read() into memory in transparent huge pages (ObjText): it is
+//   the largest input the converter reads.
 //
 // Does NOT do: processing of any kind, image decoding, smoothing groups (the mesh stage's
 // normals are smooth), tinyobjloader's extensions (vw skin weights, t subdivision tags).
 #include "pnb_converter/importers.h"
 
 #include <fcntl.h>
-#include <sys/mman.h>
 #include <sys/stat.h>
 #include <tiny_obj_loader.h>
 #include <unistd.h>
@@ -66,19 +72,21 @@
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
-#include <functional>
 #include <istream>
+#include <limits>
 #include <map>
 #include <optional>
 #include <set>
-#include <sstream>
-#include <streambuf>
 #include <string>
 #include <string_view>
 #include <unordered_map>
 #include <vector>
 
+#include "huge_pages.h"
+#include "import_obj_internal.h"
 #include "import_paths.h"
+#include "obj_parse.h"
+#include "parallel_for.h"
 #include "pnb_converter/mtl_to_pbr.h"
 
 namespace pnb::converter {
@@ -87,9 +95,6 @@ namespace {
 
 namespace fs = std::filesystem;
 using namespace import_detail;
-
-static_assert(sizeof(tinyobj::real_t) == sizeof(float),
-              "Debian's libtinyobjloader.so is built with float; the streams are copied as such");
 
 // assimp's values for what an MTL leaves out (ObjFileData.h), kept so switching importers does
 // not change materials.
@@ -114,36 +119,33 @@ std::optional<std::string> readFile(const fs::path& path) {
     return data;
 }
 
-// The OBJ file's bytes, read with one read() into memory that mmap(MAP_POPULATE) gave whole:
-// reading the 94 MB benchmark OBJ with readFile cost ~10 % of its conversion, in a copy through
-// stdio's buffer and one page fault per 4 KiB page of the growing string. The file itself is
-// not mapped: another program truncating it during the parse would kill us with SIGBUS.
+// The OBJ file's bytes, read with one read() into memory allocateLarge gives in transparent huge
+// pages (huge_pages.h): the 94 MB benchmark OBJ took 0.17 s to read into 4 KiB pages populated up
+// front (mmap(MAP_POPULATE)) and as long again to scan once (TLB misses), 0.02 s and 0.04 s in
+// huge pages (docs/CONVERTER.md, "Issue 30"). The file itself is not mapped: another program
+// truncating it during the parse would kill us with SIGBUS (and the page cache's 4 KiB pages
+// scan slowly too).
 class ObjText {
 public:
     bool open(const fs::path& path) {
         const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
         if (fd < 0) return false;
         struct stat st {};
-        bool ok = false;
+        bool ok = true;
         if (::fstat(fd, &st) == 0 && st.st_size > 0) {
-            void* p = ::mmap(nullptr, size_t(st.st_size), PROT_READ | PROT_WRITE,
-                             MAP_PRIVATE | MAP_ANONYMOUS | MAP_POPULATE, -1, 0);
-            if (p != MAP_FAILED) {
-                mMapped = static_cast<char*>(p);
-                mCapacity = size_t(st.st_size);
-                ok = true;
-                while (mSize < mCapacity) { // a file that shrank meanwhile is read as it is
-                    const ssize_t n = ::read(fd, mMapped + mSize, mCapacity - mSize);
-                    if (n < 0 && errno == EINTR) continue;
-                    if (n < 0) ok = false;
-                    if (n <= 0) break;
-                    mSize += size_t(n);
-                }
+            mCapacity = size_t(st.st_size);
+            mBytes = static_cast<char*>(allocateLarge(mCapacity));
+            while (mSize < mCapacity) { // a file that shrank meanwhile is read as it is
+                const ssize_t n = ::read(fd, mBytes + mSize, mCapacity - mSize);
+                if (n < 0 && errno == EINTR) continue;
+                if (n < 0) ok = false;
+                if (n <= 0) break;
+                mSize += size_t(n);
             }
         }
         ::close(fd);
-        if (mMapped) return ok;
-        std::optional<std::string> bytes = readFile(path); // empty, or not mappable
+        if (mBytes) return ok;
+        std::optional<std::string> bytes = readFile(path); // empty, or no size (not a plain file)
         if (!bytes) return false;
         mCopy = std::move(*bytes);
         return true;
@@ -152,27 +154,18 @@ public:
     ObjText(const ObjText&) = delete;
     ObjText& operator=(const ObjText&) = delete;
     ~ObjText() {
-        if (mMapped) ::munmap(mMapped, mCapacity);
+        if (mBytes) freeLarge(mBytes, mCapacity);
     }
 
     std::string_view view() const {
-        return mMapped ? std::string_view(mMapped, mSize) : std::string_view(mCopy);
+        return mBytes ? std::string_view(mBytes, mSize) : std::string_view(mCopy);
     }
-    char* data() { return mMapped ? mMapped : mCopy.data(); }
+    char* data() { return mBytes ? mBytes : mCopy.data(); }
 
 private:
-    char* mMapped = nullptr;
+    char* mBytes = nullptr;
     size_t mSize = 0, mCapacity = 0;
-    std::string mCopy; // when not mapped
-};
-
-// An istream over bytes we already hold, without copying them into a stringbuf (read only).
-class MemoryBuffer : public std::streambuf {
-public:
-    explicit MemoryBuffer(std::string_view bytes) {
-        char* begin = const_cast<char*>(bytes.data()); // streambuf's get area is not const
-        setg(begin, begin, begin + bytes.size());
-    }
+    std::string mCopy; // when the size is unknown
 };
 
 // Which MTL keys a material sets; tinyobjloader fills defaults that cannot be told apart.
@@ -214,10 +207,8 @@ void scanMtlKeys(std::string_view text, std::map<std::string, MtlKeys>& out) {
 class MtlReader : public tinyobj::MaterialReader {
 public:
     MtlReader(fs::path sourceDir, fs::path objPath, IrScene& out,
-              std::map<std::string, MtlKeys>& keys,
-              const std::function<void(const std::string&)>& found)
-        : mSourceDir(std::move(sourceDir)), mObjPath(std::move(objPath)), mOut(out), mKeys(keys),
-          mFound(found) {}
+              std::map<std::string, MtlKeys>& keys)
+        : mSourceDir(std::move(sourceDir)), mObjPath(std::move(objPath)), mOut(out), mKeys(keys) {}
 
     bool operator()(const std::string& name, std::vector<tinyobj::material_t>* materials,
                     std::map<std::string, int>* byName, std::string* /*warn*/,
@@ -253,19 +244,6 @@ public:
         std::istream stream(&buffer);
         std::string warn, err;
         tinyobj::LoadMtl(byName, materials, &stream, &warn, &err);
-        // The texture files these materials would use (convertMaterial's slots), resolved as
-        // imageForReference will resolve them, for the caller to start decoding.
-        if (mFound) {
-            for (size_t i = first; i < materials->size(); ++i) {
-                const tinyobj::material_t& m = (*materials)[i];
-                const std::string& normal =
-                    m.normal_texname.empty() ? m.bump_texname : m.normal_texname;
-                for (const std::string* ref : {&m.diffuse_texname, &normal, &m.emissive_texname}) {
-                    if (ref->empty()) continue;
-                    if (auto r = resolveReference(mSourceDir, *ref)) mFound(r->path.string());
-                }
-            }
-        }
         // usemtl keeps only its first word (header block): alias spaced names by it.
         for (size_t i = first; i < materials->size(); ++i) {
             const std::string& full = (*materials)[i].name;
@@ -287,73 +265,7 @@ private:
     fs::path mSourceDir, mObjPath;
     IrScene& mOut;
     std::map<std::string, MtlKeys>& mKeys;
-    const std::function<void(const std::string&)>& mFound;
 };
-
-// Blanks every "vw" line (tinyobjloader's skin-weight extension, which the importer ignores)
-// in place, keeping the line count: tinyobjloader converts a vw joint id to int without a range
-// check, which is undefined for a huge number (found by the obj_import fuzzer: "vw 6e21 ...").
-void blankSkinWeightLines(ObjText& obj) {
-    const std::string_view text = obj.view();
-    char* bytes = obj.data();
-    size_t pos = 0;
-    while (pos < text.size()) {
-        size_t end = text.find_first_of("\r\n", pos); // tinyobjloader ends a line at either
-        if (end == std::string_view::npos) end = text.size();
-        size_t at = pos;
-        while (at < end && (text[at] == ' ' || text[at] == '\t')) ++at;
-        if (end - at > 2 && text[at] == 'v' && text[at + 1] == 'w' && (text[at + 2] == ' ' || text[at + 2] == '\t'))
-            std::fill(bytes + pos, bytes + end, ' ');
-        pos = end + 1;
-    }
-}
-
-// The first line of `text` with a face index outside `vertexCount` positions (tinyobjloader's
-// rules: k > 0 is k - 1, k < 0 counts back from the vertices read so far), or 0. Only called
-// once something is known to be wrong. (Point and line indices are not checked: those elements
-// are dropped.)
-size_t lineOfBadIndex(std::string_view text, size_t vertexCount) {
-    size_t line = 0, seen = 0, pos = 0;
-    while (pos < text.size()) {
-        size_t end = text.find_first_of("\r\n", pos); // tinyobjloader ends a line at either
-        if (end == std::string_view::npos) end = text.size();
-        std::string_view l = text.substr(pos, end - pos);
-        pos = end + 1;
-        ++line;
-        while (!l.empty() && (l.front() == ' ' || l.front() == '\t')) l.remove_prefix(1);
-        if (l.size() < 2 || (l[1] != ' ' && l[1] != '\t')) continue;
-        if (l[0] == 'v') {
-            ++seen;
-            continue;
-        }
-        if (l[0] != 'f') continue;
-        const std::string s(l.substr(2));
-        const char* p = s.c_str();
-        while (*p != '\0') {
-            p += std::strspn(p, " \t\r");
-            if (*p == '\0') break;
-            const long k = std::strtol(p, nullptr, 10);
-            const long index = k > 0 ? k - 1 : long(seen) + k;
-            if (index < 0 || size_t(index) >= vertexCount) return line;
-            p += std::strcspn(p, " \t\r");
-        }
-    }
-    return 0;
-}
-
-// Line `number` (1-based) of `text`, shortened for a message.
-std::string lineText(std::string_view text, size_t number) {
-    size_t pos = 0;
-    for (size_t line = 1; line < number && pos < text.size(); ++line) {
-        const size_t end = text.find('\n', pos);
-        pos = end == std::string_view::npos ? text.size() : end + 1;
-    }
-    std::string_view l = text.substr(std::min(pos, text.size()));
-    l = l.substr(0, std::min(l.find_first_of("\r\n"), size_t(80)));
-    std::string out;
-    for (char c : l) out += std::isprint(static_cast<unsigned char>(c)) ? c : '?';
-    return out;
-}
 
 // [SECTION] materials
 
@@ -476,46 +388,127 @@ IrMaterial convertMaterial(Context& ctx, const tinyobj::material_t& mat) {
     return out;
 }
 
+// [SECTION] the fast reader's events
+
+// tinyobjloader's split of an mtllib line: at spaces, '\' escaping the next character; empty
+// names between spaces skipped, the last kept even when empty.
+std::vector<std::string> splitMtllib(const std::string& s) {
+    std::vector<std::string> names;
+    std::string name;
+    bool escaping = false;
+    for (char c : s) {
+        if (escaping) {
+            escaping = false;
+        } else if (c == '\\') {
+            escaping = true;
+            continue;
+        } else if (c == ' ') {
+            if (!name.empty()) names.push_back(name);
+            name.clear();
+            continue;
+        }
+        name += c;
+    }
+    names.push_back(name);
+    return names;
+}
+
+// The events of obj_parse in order, as LoadObj acts on those lines: mtllib reads MTL files
+// (the first of its names that loads, skipping those read before), usemtl switches the
+// material of the following faces (a name no MTL read so far defines is -1, with a warning
+// after the MTL reader's), "g"/"o" start a new shape. A shape with no faces is not kept.
+ObjRead readObjEvents(ObjParse&& parsed, tinyobj::MaterialReader& mtl, IrScene& out) {
+    ObjRead read;
+    read.geometry = std::move(parsed.geometry);
+    std::map<std::string, int> materialByName;
+    std::set<std::string> mtlFiles;
+    std::vector<std::string> usemtlWarnings;
+    int material = -1;
+    ObjShape shape;
+    uint64_t runStart = 0;
+    auto endRun = [&](uint64_t at) {
+        if (at > runStart) shape.runs.push_back(ObjRun{runStart, at, material});
+        runStart = at;
+    };
+    auto endShape = [&](uint64_t at, std::string nextName) {
+        endRun(at);
+        if (!shape.runs.empty()) read.shapes.push_back(std::move(shape));
+        shape = ObjShape{};
+        shape.name = std::move(nextName);
+    };
+    for (ObjEvent& e : parsed.events) {
+        switch (e.kind) {
+        case ObjEvent::Kind::MtlLib:
+            for (const std::string& name : splitMtllib(e.text)) {
+                if (mtlFiles.count(name)) continue;
+                std::string warn, err;
+                if (mtl(name, &read.materials, &materialByName, &warn, &err)) {
+                    mtlFiles.insert(name);
+                    break;
+                }
+            }
+            break;
+        case ObjEvent::Kind::UseMtl: {
+            const auto it = materialByName.find(e.text);
+            const int id = it == materialByName.end() ? -1 : it->second;
+            if (it == materialByName.end()) {
+                usemtlWarnings.push_back(format("usemtl '%s': no MTL file read defines it; its "
+                                                "faces use the default material",
+                                                e.text.c_str()));
+            }
+            if (id != material) {
+                endRun(e.triangle);
+                material = id;
+            }
+            break;
+        }
+        case ObjEvent::Kind::Group:
+        case ObjEvent::Kind::Object:
+            endShape(e.triangle, std::move(e.text));
+            break;
+        }
+    }
+    endShape(read.geometry.triangles.count(), {});
+    for (std::string& w : usemtlWarnings) out.warnings.push_back(std::move(w));
+    return read;
+}
+
 // [SECTION] meshes
 
 // Distinct (v, vt, vn) index triples of one primitive → its vertex numbers, in order of first
-// use. Most triples are the only one with their position index, so a flat table indexed by
-// position catches them; only further triples on a position go to the hash map.
+// use. Most triples are the only one with their position index, so a flat table over the
+// primitive's range of position indices catches them; only further triples on a position go
+// to the hash map.
 class VertexNumbering {
 public:
-    explicit VertexNumbering(size_t positionCount) : mByPosition(positionCount) {}
+    VertexNumbering(int32_t firstPosition, int32_t lastPosition)
+        : mFirst(firstPosition), mByPosition(size_t(lastPosition - firstPosition) + 1) {}
 
-    // Starts a new primitive: every earlier entry becomes stale at once.
-    void reset() {
-        ++mGeneration;
-        mOthers.clear();
-    }
-
-    // The vertex number of `idx`, and whether it is new (== the count before the call).
-    uint32_t find(const tinyobj::index_t& idx, uint32_t next, bool& isNew) {
-        Slot& s = mByPosition[size_t(idx.vertex_index)];
-        if (s.generation != mGeneration) {
-            s = {mGeneration, next, idx.texcoord_index, idx.normal_index};
+    // The vertex number of `c`, and whether it is new (== `next`, the count before the call).
+    uint32_t find(const ObjCorner& c, uint32_t next, bool& isNew) {
+        Slot& s = mByPosition[size_t(c.v - mFirst)];
+        if (s.vertex == kNone) {
+            s = {next, c.vt, c.vn};
             isNew = true;
             return next;
         }
-        if (s.vt == idx.texcoord_index && s.vn == idx.normal_index) {
+        if (s.vt == c.vt && s.vn == c.vn) {
             isNew = false;
             return s.vertex;
         }
-        const Key key{idx.vertex_index, idx.texcoord_index, idx.normal_index};
-        auto [it, inserted] = mOthers.emplace(key, next);
+        auto [it, inserted] = mOthers.emplace(Key{c.v, c.vt, c.vn}, next);
         isNew = inserted;
         return it->second;
     }
 
 private:
+    static constexpr uint32_t kNone = ~0u;
     struct Slot {
-        uint32_t generation = 0, vertex = 0;
-        int vt = 0, vn = 0;
+        uint32_t vertex = kNone;
+        int32_t vt = 0, vn = 0;
     };
     struct Key {
-        int v, vt, vn;
+        int32_t v, vt, vn;
         bool operator==(const Key& o) const { return v == o.v && vt == o.vt && vn == o.vn; }
     };
     struct KeyHash {
@@ -526,94 +519,182 @@ private:
             return size_t(h ^ (h >> 29));
         }
     };
+    int32_t mFirst;
     std::vector<Slot> mByPosition;
     std::unordered_map<Key, uint32_t, KeyHash> mOthers;
-    uint32_t mGeneration = 0;
 };
 
-bool allFinite(const std::vector<float>& v) {
+template <class Floats> bool allFinite(const Floats& v) {
     bool ok = true;
     for (float x : v) ok &= std::isfinite(x);
     return ok;
 }
 
-// Faces [begin, end) of `shape` (triangles, one material) as a primitive.
-IrPrimitive buildPrimitive(const tinyobj::attrib_t& attrib, const tinyobj::mesh_t& mesh,
-                           size_t begin, size_t end, VertexNumbering& numbering,
-                           bool& normalsValid, bool& uvsValid) {
-    const size_t normalCount = attrib.normals.size() / 3;
-    const size_t uvCount = attrib.texcoords.size() / 2;
-    const bool hasColors = !attrib.colors.empty();
+// One primitive under construction: run `run` of a shape, built on any thread; its warnings
+// are issued afterwards, in order.
+struct PrimitiveJob {
+    ObjRun run;
     IrPrimitive prim;
-    prim.indices.resize((end - begin) * 3);
-    numbering.reset();
-    normalsValid = uvsValid = true;
-    uint32_t count = 0;
+    bool normalsValid = true, uvsValid = true;
+    bool normalsFinite = true, uvsFinite = true, colorsFinite = true;
+};
+
+// Triangles of `job.run` as a primitive. Each stream is written after a reserve: these
+// vectors are large, and value-initialising them first only costs page faults and a memset.
+void buildPrimitive(const ObjGeometry& g, PrimitiveJob& job) {
+    const ObjTriangles& tris = g.triangles;
+    const size_t normalCount = g.normals.size() / 3;
+    const size_t uvCount = g.texcoords.size() / 2;
+    IrPrimitive& prim = job.prim;
+    int32_t first = std::numeric_limits<int32_t>::max(), last = 0;
+    tris.forEachCorner(job.run.begin, job.run.end, [&](const ObjCorner& c) {
+        first = std::min(first, c.v);
+        last = std::max(last, c.v);
+    });
+    VertexNumbering numbering(first, last);
+    auto reserve = [](auto& v, size_t n) {
+        v.reserve(n);
+        adviseHugePages(v.data(), n * sizeof(v[0]));
+    };
+    reserve(prim.indices, size_t(job.run.end - job.run.begin) * 3);
     // Positions first; the other streams follow only if valid for every corner.
-    std::vector<const tinyobj::index_t*> corners;
-    corners.reserve((end - begin) * 3);
-    for (size_t c = begin * 3; c < end * 3; ++c) {
-        const tinyobj::index_t& idx = mesh.indices[c];
+    std::vector<ObjCorner> corners; // the first corner of each vertex (at most one per corner)
+    reserve(corners, size_t(job.run.end - job.run.begin) * 3);
+    bool normalsValid = true, uvsValid = true;
+    tris.forEachCorner(job.run.begin, job.run.end, [&](const ObjCorner& c) {
         bool isNew = false;
-        const uint32_t v = numbering.find(idx, count, isNew);
-        prim.indices[c - begin * 3] = v;
-        if (!isNew) continue;
-        ++count;
-        corners.push_back(&idx);
-        normalsValid &= idx.normal_index >= 0 && size_t(idx.normal_index) < normalCount;
-        uvsValid &= idx.texcoord_index >= 0 && size_t(idx.texcoord_index) < uvCount;
-    }
-    prim.positions.resize(size_t(count) * 3);
-    float* pos = prim.positions.data();
-    for (const tinyobj::index_t* idx : corners) {
-        std::memcpy(pos, &attrib.vertices[size_t(idx->vertex_index) * 3], 3 * sizeof(float));
-        pos += 3;
+        const uint32_t v = numbering.find(c, uint32_t(corners.size()), isNew);
+        prim.indices.push_back(v);
+        if (!isNew) return;
+        corners.push_back(c);
+        normalsValid &= c.vn >= 0 && size_t(c.vn) < normalCount;
+        uvsValid &= c.vt >= 0 && size_t(c.vt) < uvCount;
+    });
+    const size_t count = corners.size();
+    reserve(prim.positions, count * 3);
+    for (const ObjCorner& c : corners) {
+        const float* p = &g.positions[size_t(c.v) * 3];
+        for (int i = 0; i < 3; ++i) prim.positions.push_back(p[i]);
     }
     if (normalsValid && normalCount > 0) {
-        prim.normals.resize(size_t(count) * 3);
-        float* n = prim.normals.data();
-        for (const tinyobj::index_t* idx : corners) {
-            std::memcpy(n, &attrib.normals[size_t(idx->normal_index) * 3], 3 * sizeof(float));
-            n += 3;
+        reserve(prim.normals, count * 3);
+        for (const ObjCorner& c : corners) {
+            const float* n = &g.normals[size_t(c.vn) * 3];
+            for (int i = 0; i < 3; ++i) prim.normals.push_back(n[i]);
         }
     }
     if (uvsValid && uvCount > 0) {
-        prim.uv0.resize(size_t(count) * 2);
-        float* uv = prim.uv0.data();
-        for (const tinyobj::index_t* idx : corners) {
-            const float* t = &attrib.texcoords[size_t(idx->texcoord_index) * 2];
-            uv[0] = t[0];
-            uv[1] = 1.0f - t[1]; // OBJ v-up → glTF v-down (header block)
-            uv += 2;
+        reserve(prim.uv0, count * 2);
+        for (const ObjCorner& c : corners) {
+            const float* t = &g.texcoords[size_t(c.vt) * 2];
+            prim.uv0.push_back(t[0]);
+            prim.uv0.push_back(1.0f - t[1]); // OBJ v-up → glTF v-down (header block)
         }
     }
-    if (hasColors) {
-        prim.colors.resize(size_t(count) * 4);
-        float* col = prim.colors.data();
-        for (const tinyobj::index_t* idx : corners) {
-            std::memcpy(col, &attrib.colors[size_t(idx->vertex_index) * 3], 3 * sizeof(float));
-            col[3] = 1.0f;
-            col += 4;
+    if (!g.colors.empty()) {
+        reserve(prim.colors, count * 4);
+        for (const ObjCorner& c : corners) {
+            const float* col = &g.colors[size_t(c.v) * 3];
+            for (int i = 0; i < 3; ++i) prim.colors.push_back(col[i]);
+            prim.colors.push_back(1.0f);
         }
     }
-    return prim;
+    job.normalsValid = normalsValid;
+    job.uvsValid = uvsValid;
+    job.normalsFinite = allFinite(prim.normals);
+    job.uvsFinite = allFinite(prim.uv0);
+    job.colorsFinite = allFinite(prim.colors);
+    if (!job.normalsFinite) prim.normals.clear();
+    if (!job.uvsFinite) prim.uv0.clear();
+    if (!job.colorsFinite) prim.colors.clear();
+}
+
+// The shapes as nodes and meshes under a root named after the file: primitives built in
+// parallel, then warnings and materials (converted on first use) in shape and run order.
+Result<IrScene, ConvertError> buildScene(Context& ctx, const ObjRead& read, unsigned jobs) {
+    IrScene& out = *ctx.out;
+    std::vector<PrimitiveJob> prims;
+    for (const ObjShape& shape : read.shapes) {
+        for (const ObjRun& run : shape.runs) prims.push_back(PrimitiveJob{run, {}});
+    }
+    parallelFor(prims.size(), jobs, [&](size_t i) { buildPrimitive(read.geometry, prims[i]); });
+
+    std::vector<int> materialOf(read.materials.size(), -2); // -2 = not converted yet
+    auto materialFor = [&](int id) {
+        if (id < 0 || size_t(id) >= read.materials.size()) return -1;
+        int& cached = materialOf[size_t(id)];
+        if (cached == -2) {
+            out.materials.push_back(convertMaterial(ctx, read.materials[size_t(id)]));
+            cached = int(out.materials.size() - 1);
+        }
+        return cached;
+    };
+    IrNode root;
+    root.name = fs::path(ctx.path).filename().string();
+    out.nodes.push_back(root);
+    size_t next = 0; // prims[next] is the next shape's first run
+    for (const ObjShape& shape : read.shapes) {
+        const std::string name = shape.name.empty() ? kDefaultObjectName : shape.name;
+        const std::string label = format("mesh '%s'", name.c_str());
+        if (shape.lines + shape.points > 0) {
+            std::string what;
+            if (shape.points > 0) what = format("%zu point(s)", shape.points);
+            if (shape.lines > 0) what += format("%s%zu line(s)", what.empty() ? "" : ", ", shape.lines);
+            ctx.warn(format("%s: dropped %s; only triangles are imported", label.c_str(),
+                            what.c_str()));
+        }
+        if (shape.runs.empty()) continue;
+        IrMesh irMesh;
+        irMesh.name = name;
+        bool warnedNormals = false, warnedUvs = false;
+        for (size_t r = 0; r < shape.runs.size(); ++r) {
+            PrimitiveJob& job = prims[next++];
+            if (!job.normalsValid && !read.geometry.normals.empty() && !warnedNormals) {
+                ctx.warn(label + ": normal indices missing or out of range on some faces; "
+                                 "normals dropped (they will be generated)");
+                warnedNormals = true;
+            }
+            if (!job.uvsValid && !read.geometry.texcoords.empty() && !warnedUvs) {
+                ctx.warn(label + ": texture coordinate indices missing or out of range on "
+                                 "some faces; UVs dropped");
+                warnedUvs = true;
+            }
+            if (!job.normalsFinite)
+                ctx.warn(label + ": non-finite normals; dropped (they will be generated)");
+            if (!job.uvsFinite) ctx.warn(label + ": non-finite UV set 0; dropped");
+            if (!job.colorsFinite) ctx.warn(label + ": non-finite vertex colours; dropped");
+            job.prim.material = materialFor(job.run.material);
+            irMesh.primitives.push_back(std::move(job.prim));
+        }
+        IrNode node;
+        node.name = name;
+        node.parent = 0;
+        node.mesh = int(out.meshes.size());
+        out.meshes.push_back(std::move(irMesh));
+        out.nodes.push_back(std::move(node));
+    }
+    if (out.meshes.empty()) {
+        return ConvertError{ConvertErrorKind::Input,
+                            ctx.path + ": " +
+                                format("no triangle meshes (%zu object(s) in the file, none with "
+                                       "triangles)",
+                                       read.shapes.size())};
+    }
+    return std::move(out);
 }
 
 } // namespace
 
-Result<IrScene, ConvertError> importObj(const std::string& path,
-                                        const std::function<void(const std::string&)>& found) {
+Result<IrScene, ConvertError> importObjWith(const std::string& path,
+                                            const ObjImportOptions& options, ObjReader* used) {
     auto inputError = [&](std::string message) {
         return ConvertError{ConvertErrorKind::Input, path + ": " + message};
     };
     if (!isRegularFile(path)) return inputError("no such file (or not a regular file)");
-    // tinyobjloader reports bad data through its error string, but std::bad_alloc must not
-    // cross our module boundary either.
+    // std::bad_alloc must not cross our module boundary.
     try {
         ObjText obj;
         if (!obj.open(path)) return inputError("could not be read");
-        blankSkinWeightLines(obj);
-        const std::string_view text = obj.view();
         const fs::path sourceParent = fs::path(path).parent_path();
         Context ctx;
         ctx.path = path;
@@ -621,169 +702,31 @@ Result<IrScene, ConvertError> importObj(const std::string& path,
         IrScene out;
         out.sourcePath = path;
         ctx.out = &out;
+        MtlReader mtlReader(ctx.sourceDir, fs::path(path), out, ctx.keys);
 
-        tinyobj::attrib_t attrib;
-        std::vector<tinyobj::shape_t> shapes;
-        std::vector<tinyobj::material_t> materials;
-        std::string warn, err;
-        MtlReader mtlReader(ctx.sourceDir, fs::path(path), out, ctx.keys, found);
-        bool parsed;
-        {
-            MemoryBuffer buffer(text);
-            std::istream stream(&buffer);
-            parsed = tinyobj::LoadObj(&attrib, &shapes, &materials, &warn, &err, &stream,
-                                      &mtlReader, /*triangulate=*/true,
-                                      /*default_vcols_fallback=*/false);
+        std::optional<ObjParse> parsed;
+        if (!options.tinyobjOnly) {
+            parsed = parseObjText(obj.view(), ObjParseOptions{options.jobs, options.chunkBytes});
         }
-        if (!parsed) {
-            // tinyobjloader: "Failed parse `f' line(e.g. zero value for face index. line 5.)"
-            while (!err.empty() && (err.back() == '\n' || err.back() == ' ')) err.pop_back();
-            const size_t at = err.rfind("line ");
-            const size_t line =
-                at == std::string::npos ? 0 : std::strtoul(&err[at + 5], nullptr, 10);
-            if (line > 0 && err.rfind("Failed parse `", 0) == 0 && err.size() > 15) {
-                return inputError(format("line %zu: malformed '%c' element (an index is 0 or not "
-                                         "a number): \"%s\"", line, err[14],
-                                         lineText(text, line).c_str()));
-            }
-            return inputError(err.empty() ? std::string("not a valid OBJ file") : err);
+        if (used) *used = parsed ? ObjReader::Fast : ObjReader::Tinyobj;
+        ObjRead read;
+        if (parsed) {
+            read = readObjEvents(std::move(*parsed), mtlReader, out);
+        } else {
+            auto r = readObjWithTinyobj(path, obj.data(), obj.view().size(), mtlReader, out);
+            if (!r) return r.error();
+            read = std::move(*r);
         }
-        const size_t vertexCount = attrib.vertices.size() / 3;
-        auto badIndex = [&]() {
-            const size_t line = lineOfBadIndex(text, vertexCount);
-            return inputError(line > 0 ? format("line %zu: vertex index out of range 1..%zu",
-                                                line, vertexCount)
-                                       : format("vertex index out of range 1..%zu", vertexCount));
-        };
-        // tinyobjloader only warns about out-of-range indices (and skips such a polygon).
-        {
-            std::istringstream lines(warn);
-            std::string line;
-            bool degenerateNoted = false;
-            while (std::getline(lines, line)) {
-                if (line.empty() || line == ".") continue;
-                if (line.find("Vertex indices out of bounds") != std::string::npos ||
-                    line.find("invalid vertex index") != std::string::npos) {
-                    return badIndex();
-                }
-                // Normal/texcoord index problems are reported per mesh below.
-                if (line.find("indices out of bounds") != std::string::npos) continue;
-                if (line.find("Degenerated face") != std::string::npos) {
-                    if (!degenerateNoted) {
-                        out.warnings.push_back("faces with fewer than 3 vertices dropped");
-                        degenerateNoted = true;
-                    }
-                    continue;
-                }
-                // "material [ 'name' ] not found in .mtl"
-                if (line.rfind("material [ '", 0) == 0) {
-                    const size_t close = line.rfind("' ]");
-                    const std::string name =
-                        close != std::string::npos && close > 12 ? line.substr(12, close - 12)
-                                                                  : line;
-                    out.warnings.push_back(format("usemtl '%s': no MTL file read defines it; "
-                                                  "its faces use the default material",
-                                                  name.c_str()));
-                    continue;
-                }
-                if (line.find("Failed to load material file") != std::string::npos) continue;
-                out.warnings.push_back(line);
-            }
-        }
-
-        std::vector<int> materialOf(materials.size(), -2); // -2 = not converted yet
-        auto materialFor = [&](int id) {
-            if (id < 0 || size_t(id) >= materials.size()) return -1;
-            int& cached = materialOf[size_t(id)];
-            if (cached == -2) {
-                out.materials.push_back(convertMaterial(ctx, materials[size_t(id)]));
-                cached = int(out.materials.size() - 1);
-            }
-            return cached;
-        };
-
-        IrNode root;
-        root.name = fs::path(path).filename().string();
-        out.nodes.push_back(root);
-        VertexNumbering numbering(vertexCount);
-        for (const tinyobj::shape_t& shape : shapes) {
-            const tinyobj::mesh_t& mesh = shape.mesh;
-            const std::string name = shape.name.empty() ? kDefaultObjectName : shape.name;
-            const std::string label = format("mesh '%s'", name.c_str());
-            const size_t lineCount = shape.lines.num_line_vertices.size();
-            const size_t pointCount = shape.points.indices.size();
-            if (lineCount + pointCount > 0) {
-                std::string what;
-                if (pointCount > 0) what = format("%zu point(s)", pointCount);
-                if (lineCount > 0) {
-                    what += format("%s%zu line(s)", what.empty() ? "" : ", ", lineCount);
-                }
-                ctx.warn(format("%s: dropped %s; only triangles are imported", label.c_str(),
-                                what.c_str()));
-            }
-            const size_t faces = mesh.num_face_vertices.size();
-            if (faces == 0) continue;
-            if (mesh.indices.size() != faces * 3 || mesh.material_ids.size() != faces) {
-                return inputError(format("object '%s': inconsistent triangulation",
-                                         name.c_str()));
-            }
-            for (const tinyobj::index_t& idx : mesh.indices) {
-                if (idx.vertex_index < 0 || size_t(idx.vertex_index) >= vertexCount) {
-                    return badIndex();
-                }
-            }
-            IrMesh irMesh;
-            irMesh.name = name;
-            bool warnedNormals = false, warnedUvs = false;
-            for (size_t begin = 0; begin < faces;) {
-                size_t end = begin + 1;
-                while (end < faces && mesh.material_ids[end] == mesh.material_ids[begin]) ++end;
-                bool normalsValid = true, uvsValid = true;
-                IrPrimitive prim = buildPrimitive(attrib, mesh, begin, end, numbering,
-                                                  normalsValid, uvsValid);
-                if (!normalsValid && !attrib.normals.empty() && !warnedNormals) {
-                    ctx.warn(label + ": normal indices missing or out of range on some faces; "
-                                     "normals dropped (they will be generated)");
-                    warnedNormals = true;
-                }
-                if (!uvsValid && !attrib.texcoords.empty() && !warnedUvs) {
-                    ctx.warn(label + ": texture coordinate indices missing or out of range on "
-                                     "some faces; UVs dropped");
-                    warnedUvs = true;
-                }
-                if (!allFinite(prim.normals)) {
-                    prim.normals.clear();
-                    ctx.warn(label + ": non-finite normals; dropped (they will be generated)");
-                }
-                if (!allFinite(prim.uv0)) {
-                    prim.uv0.clear();
-                    ctx.warn(label + ": non-finite UV set 0; dropped");
-                }
-                if (!allFinite(prim.colors)) {
-                    prim.colors.clear();
-                    ctx.warn(label + ": non-finite vertex colours; dropped");
-                }
-                prim.material = materialFor(mesh.material_ids[begin]);
-                irMesh.primitives.push_back(std::move(prim));
-                begin = end;
-            }
-            IrNode node;
-            node.name = name;
-            node.parent = 0;
-            node.mesh = int(out.meshes.size());
-            out.meshes.push_back(std::move(irMesh));
-            out.nodes.push_back(std::move(node));
-        }
-        if (out.meshes.empty()) {
-            return inputError(format("no triangle meshes (%zu object(s) in the file, none with "
-                                     "triangles)", shapes.size()));
-        }
-        return out;
+        return buildScene(ctx, read, options.jobs);
     } catch (const std::exception& e) {
         return inputError(format("import failed: %s", e.what()));
     } catch (...) {
         return inputError("import failed (unknown exception)");
     }
+}
+
+Result<IrScene, ConvertError> importObj(const std::string& path, unsigned jobs) {
+    return importObjWith(path, ObjImportOptions{jobs});
 }
 
 } // namespace pnb::converter

@@ -19,6 +19,7 @@
 #include <cassert>
 #include <cmath>
 
+#include "huge_pages.h"
 #include "texture_internal.h"
 
 namespace pnb::converter::texture_detail {
@@ -81,6 +82,8 @@ ImageF downsample(const ImageF& src) {
             std::copy(acc, acc + 4, out + x * 4);
         }
     }
+    dst.texels.reserve(dst.texelCount() * 4);
+    adviseHugePages(dst.texels.data(), dst.texelCount() * 4 * sizeof(float)); // huge_pages.h
     dst.texels.assign(dst.texelCount() * 4, 0.0f);
     size_t rowFloats = size_t(dst.width) * 4;
     for (uint32_t y = 0; y < dst.height; ++y) {

@@ -33,7 +33,6 @@
 #include <system_error>
 #include <thread>
 
-#include "image_prefetch.h"
 #include "pnb_converter/memory_budget.h"
 #include "texture_internal.h"
 
@@ -76,7 +75,6 @@ ValueRange sanitize(ImageF& image) {
 // The memory one texture may plan to hold: its job's share of the budget.
 struct MemoryShare {
     uint64_t bytes = 0, budget = 0;
-    uint64_t reserved = 0; // of the budget, for images decoded ahead (image_prefetch.h)
     size_t jobs = 1;
 };
 
@@ -86,11 +84,7 @@ AdmitImage admitWithin(const MemoryShare& share, const TextureSettings& settings
         uint64_t need =
             estimateTextureBytes(h.width, h.height, h.channels, h.bytesPerChannel, settings);
         if (need <= share.bytes) return std::nullopt;
-        std::string budget = share.reserved
-            ? "its share of the memory budget (" + formatBytes(share.bytes) + " = (--max-memory " +
-                  formatBytes(share.budget) + " - " + formatBytes(share.reserved) +
-                  " for images decoded ahead) / " + std::to_string(share.jobs) + " job(s))"
-            : share.jobs > 1
+        std::string budget = share.jobs > 1
             ? "its share of the memory budget (" + formatBytes(share.bytes) + " = --max-memory " +
                   formatBytes(share.budget) + " / " + std::to_string(share.jobs) +
                   " parallel jobs)"
@@ -104,16 +98,11 @@ AdmitImage admitWithin(const MemoryShare& share, const TextureSettings& settings
 
 Result<ProcessedTexture, ConvertError> processOne(const TextureRequest& request,
                                                   const TextureSettings& settings,
-                                                  const MemoryShare& share,
-                                                  ImagePrefetch* prefetch) {
+                                                  const MemoryShare& share) {
     if (!request.image)
         return ConvertError{ConvertErrorKind::Input, "texture '" + request.name + "': no image"};
-    const AdmitImage admit = admitWithin(share, settings);
-    std::optional<DecodedImage> prefetched;
-    if (prefetch && !request.image->path.empty())
-        prefetched = prefetch->take(request.image->path, admit);
-    auto decoded = prefetched ? Result<DecodedImage, ConvertError>(std::move(*prefetched))
-                              : decodeImage(*request.image, settings.maxSourceTexels, admit);
+    auto decoded =
+        decodeImage(*request.image, settings.maxSourceTexels, admitWithin(share, settings));
     if (!decoded) return decoded.error();
 
     ProcessedTexture out;
@@ -205,15 +194,14 @@ Result<ProcessedTexture, ConvertError> processOne(const TextureRequest& request,
 // the thread boundary or the module's interface.
 Result<ProcessedTexture, ConvertError> processGuarded(const TextureRequest& request,
                                                       const TextureSettings& settings,
-                                                      const MemoryShare& share,
-                                                      ImagePrefetch* prefetch) {
+                                                      const MemoryShare& share) {
     auto fail = [&](const std::string& what) {
         std::string name =
             request.image ? describeImage(*request.image) : "texture '" + request.name + "'";
         return ConvertError{ConvertErrorKind::Input, name + ": " + what};
     };
     try {
-        return processOne(request, settings, share, prefetch);
+        return processOne(request, settings, share);
     } catch (const std::bad_alloc&) {
         return fail("out of memory");
     } catch (const std::exception& e) {
@@ -246,18 +234,15 @@ uint64_t estimateTextureBytes(uint32_t width, uint32_t height, uint32_t channels
 }
 
 Result<std::vector<ProcessedTexture>, ConvertError>
-processTextures(const std::vector<TextureRequest>& requests, const TextureSettings& settings,
-                ImagePrefetch* prefetch) {
+processTextures(const std::vector<TextureRequest>& requests, const TextureSettings& settings) {
     size_t count = requests.size();
     size_t jobs = settings.jobs ? settings.jobs : std::max(1u, std::thread::hardware_concurrency());
     jobs = std::min(jobs, count);
     // Up to `jobs` textures are in flight at once, each within an equal share of the budget.
     MemoryShare share;
     share.budget = settings.maxMemoryBytes ? settings.maxMemoryBytes : defaultMemoryBudget();
-    // Images the prefetch still holds count against the budget too (image_prefetch.h).
-    if (prefetch) share.reserved = std::min(share.budget / 2, prefetch->maxHeldBytes());
     share.jobs = std::max<size_t>(jobs, 1);
-    share.bytes = (share.budget - share.reserved) / share.jobs;
+    share.bytes = share.budget / share.jobs;
     std::vector<std::optional<Result<ProcessedTexture, ConvertError>>> results(count);
     std::atomic<size_t> next{0};
     std::atomic<bool> failed{false};
@@ -265,7 +250,7 @@ processTextures(const std::vector<TextureRequest>& requests, const TextureSettin
         while (!failed.load(std::memory_order_relaxed)) {
             size_t i = next.fetch_add(1);
             if (i >= count) break;
-            results[i] = processGuarded(requests[i], settings, share, prefetch);
+            results[i] = processGuarded(requests[i], settings, share);
             if (!results[i]->ok()) failed = true;
         }
     };

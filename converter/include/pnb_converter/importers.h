@@ -8,7 +8,6 @@
 // naming it; order nodes parents first; convert to +Y-up right-handed metres.
 #pragma once
 
-#include <functional>
 #include <string>
 
 #include "pnb/error.h"
@@ -25,24 +24,21 @@ namespace pnb::converter {
 // Unsupported error names the texture and image when there is none.
 Result<IrScene, ConvertError> importGltf(const std::string& path);
 
-// Wavefront OBJ/MTL through tinyobjloader. MTL parameters map onto PBR as mtl_to_pbr.h
+// Wavefront OBJ/MTL through our parallel OBJ parser, or tinyobjloader for what it leaves (and for
+// errors), and tinyobjloader's MTL reader. MTL parameters map onto PBR as mtl_to_pbr.h
 // documents; map_Kd → base colour, map_d → alpha (a warning if it is not the base colour's
 // alpha), norm/bump/map_bump → normal map, map_Ke → emissive. Errors name the file and, for
 // malformed faces, the line. The MTL files read are listed in IrScene::dependencies.
-// `found`, when set, is called during the import with each image file a material names, as
-// soon as the importer knows it (an MTL is read at its mtllib line, usually the file's first),
-// with the path IrImage::path will hold: convertScene starts decoding those files while the
-// OBJ is still being parsed (image_prefetch.h). Files reported may end up unused.
-Result<IrScene, ConvertError> importObj(const std::string& path,
-                                        const std::function<void(const std::string&)>& found = {});
+// `jobs`: threads for the parse and the vertex numbering (0 = all cores; the result does not
+// depend on it).
+Result<IrScene, ConvertError> importObj(const std::string& path, unsigned jobs = 0);
 
 // The other formats assimp reads (FBX, Collada, 3DS, PLY, STL, .blend, ...; OBJ too, though
 // importScene sends .obj to importObj). Same MTL mapping for OBJ.
 Result<IrScene, ConvertError> importWithAssimp(const std::string& path);
 
 // Picks the importer by extension (.gltf/.glb → glTF, .obj → OBJ, anything else → assimp).
-// `found` as for importObj (the other importers do not call it).
-Result<IrScene, ConvertError> importScene(const std::string& path,
-                                          const std::function<void(const std::string&)>& found = {});
+// `jobs` as for importObj (the other importers do not use it).
+Result<IrScene, ConvertError> importScene(const std::string& path, unsigned jobs = 0);
 
 } // namespace pnb::converter

@@ -37,8 +37,6 @@ struct TextureRequest {
     Wrap wrapU = Wrap::Repeat, wrapV = Wrap::Repeat;
 };
 
-class ImagePrefetch; // image_prefetch.h (internal)
-
 struct TextureSettings {
     bool compress = false;     // BC1/BC3/BC4/BC5 block compression. Default: false.
     uint32_t maxSize = 0;      // longest edge in texels after resizing; 0 = unlimited. Default: 0.
@@ -90,12 +88,7 @@ struct ProcessedTexture {
 // - HDR sources (float files such as EXR and Radiance HDR, or values outside [0, 1]):
 //   R16F/RG16F/RGBA16F, Linear, never block compressed (psnrDb stays 0).
 // - mipCount is the full chain to 1×1 for mipmapping min filters, 1 for Nearest/Linear.
-//
-// `prefetch` (internal, image_prefetch.h), when given, holds images decoded while the scene was
-// still being imported; they are used instead of decoding the file again (the same pixels), and
-// its memory allowance is taken off maxMemoryBytes before the jobs share it.
 Result<std::vector<ProcessedTexture>, ConvertError>
-processTextures(const std::vector<TextureRequest>& requests, const TextureSettings& settings,
-                ImagePrefetch* prefetch = nullptr);
+processTextures(const std::vector<TextureRequest>& requests, const TextureSettings& settings);
 
 } // namespace pnb::converter

@@ -1,0 +1,426 @@
+// obj_parse.cpp — the parallel OBJ text parser (obj_parse.h says what it accepts and why).
+//
+// The text is cut into chunks at line ends (about 1/16 of it each, at least 256 KiB), then:
+// 1. In parallel, each chunk counts its v, vt, vn and f lines.
+// 2. The counts give every chunk its first slot in each output array (its base) and the arrays
+//    their final size, allocated once; in parallel, each chunk parses its lines straight into
+//    its slots, relative indices resolved with its bases and every position index checked.
+//    Anything outside the accepted subset stops the chunk with a reason, and the whole parse
+//    returns nullopt.
+// 3. In parallel, quads are split (their positions may be in an earlier chunk).
+// No array grows, and nothing is copied to join the chunks: on this kind of VM, touching fresh
+// memory costs more than parsing (docs/CONVERTER.md, "Issue 30").
+#include "obj_parse.h"
+
+#include <charconv>
+#include <cmath>
+#include <cstring>
+#include <limits>
+
+#include "parallel_for.h"
+
+namespace pnb::converter {
+
+namespace {
+
+bool isBlank(char c) { return c == ' ' || c == '\t'; }
+bool isDigit(char c) { return static_cast<unsigned char>(c - '0') < 10; }
+
+// A number in tinyobjloader's grammar, [+-] (digits [. [digits]] | . digits) [(e|E) [+-] digits],
+// filling the whole token: correctly rounded to float. false for anything else (tinyobjloader
+// reads those leniently: a prefix, or 0); also for exponents beyond 9 digits, where
+// tinyobjloader's own exponent overflows.
+bool parseNumber(const char* b, const char* e, float& out) {
+    const char* p = b;
+    if (p < e && (*p == '+' || *p == '-')) ++p;
+    const char* digits = p;
+    while (p < e && isDigit(*p)) ++p;
+    bool any = p != digits;
+    if (p < e && *p == '.') {
+        const char* frac = ++p;
+        while (p < e && isDigit(*p)) ++p;
+        any |= p != frac;
+    }
+    if (!any) return false;
+    if (p < e && (*p == 'e' || *p == 'E')) {
+        ++p;
+        if (p < e && (*p == '+' || *p == '-')) ++p;
+        const char* exp = p;
+        while (p < e && isDigit(*p)) ++p;
+        if (p == exp || p - exp > 9) return false;
+    }
+    if (p != e) return false;
+    const char* from = *b == '+' ? b + 1 : b; // from_chars takes '-' only
+    auto [end, ec] = std::from_chars(from, e, out);
+    if (ec == std::errc() && end == e) return true;
+    if (ec != std::errc::result_out_of_range) return false;
+    // Beyond float's range: ±Inf for a large magnitude, ±0 for a small one (tinyobjloader's
+    // double, converted). A value beyond double's range too is left to tinyobjloader.
+    double d = 0;
+    auto [dend, dec] = std::from_chars(from, e, d);
+    if (dec != std::errc() || dend != e) return false;
+    const float magnitude = std::fabs(d) >= 1 ? std::numeric_limits<float>::infinity() : 0.0f;
+    out = *b == '-' ? -magnitude : magnitude;
+    return true;
+}
+
+// The line kinds that take room in the output arrays (step 1 counts them, step 2 fills them),
+// classified as ChunkParser::line does.
+enum class Kind { Other, V, Vt, Vn, F };
+
+Kind kindOf(const char* p, const char* e) {
+    while (p < e && isBlank(*p)) ++p;
+    const size_t n = size_t(e - p);
+    if (n >= 2 && *p == 'v') {
+        if (isBlank(p[1])) return Kind::V;
+        if (n >= 3 && isBlank(p[2])) return p[1] == 't' ? Kind::Vt : p[1] == 'n' ? Kind::Vn : Kind::Other;
+    }
+    if (n >= 2 && *p == 'f' && isBlank(p[1])) return Kind::F;
+    return Kind::Other;
+}
+
+// Calls fn(begin, end) for each line of [p, end), its "\n" or "\r\n" removed.
+template <class Fn> bool forEachLine(const char* p, const char* end, Fn&& fn) {
+    while (p < end) {
+        const char* nl = static_cast<const char*>(std::memchr(p, '\n', size_t(end - p)));
+        const char* e = nl ? nl : end;
+        const char* content = e > p && e[-1] == '\r' ? e - 1 : e;
+        if (!fn(p, content)) return false;
+        p = nl ? nl + 1 : end;
+    }
+    return true;
+}
+
+struct Counts {
+    uint64_t v = 0, vt = 0, vn = 0, faces = 0;
+};
+
+struct Chunk {
+    const char* begin = nullptr;
+    const char* end = nullptr;
+    Counts count; // its lines of each kind (step 1)
+    Counts base;  // what the chunks before it hold: its first slot in each array
+    bool allColors = true; // every "v" line had a colour (else ObjGeometry::colors is dropped)
+    uint64_t corners = 0, triangles = 0; // written
+    std::vector<size_t> quads;           // first corner of each quad, split in step 3
+    std::vector<ObjEvent> events;        // triangle: the chunk's own count until step 3
+    std::string failure; // why tinyobjloader must read the file, if it must
+};
+
+// Step 2 for one chunk: parses its lines into the file's arrays at the chunk's slots.
+class ChunkParser {
+public:
+    ChunkParser(Chunk& c, ObjGeometry& g, const Counts& total)
+        : mC(c), mTotal(total), mPositions(g.positions.data() + c.base.v * 3),
+          mColors(g.colors.data() + c.base.v * 3), mTexcoords(g.texcoords.data() + c.base.vt * 2),
+          mNormals(g.normals.data() + c.base.vn * 3),
+          mCorners(g.triangles.corners.data() + c.base.faces * 6) {}
+
+    void run() {
+        forEachLine(mC.begin, mC.end, [this](const char* p, const char* e) { return line(p, e); });
+    }
+
+private:
+    bool fail(const char* why) {
+        mC.failure = why;
+        return false;
+    }
+
+    // tinyobjloader ends a line at "\n", "\r\n" or a lone "\r", and reads it up to a NUL.
+    static bool clean(const char* p, const char* e) {
+        return std::memchr(p, '\r', size_t(e - p)) == nullptr &&
+               std::memchr(p, '\0', size_t(e - p)) == nullptr;
+    }
+
+    bool line(const char* p, const char* e) {
+        switch (kindOf(p, e)) {
+        case Kind::V: return vertex(p, e);
+        case Kind::Vt: return numbers(p, e, mTexcoords, mVt, 2, 3);
+        case Kind::Vn: return numbers(p, e, mNormals, mVn, 3, 3);
+        case Kind::F: return face(p, e);
+        case Kind::Other: break;
+        }
+        while (p < e && isBlank(*p)) ++p;
+        if (p == e) return true;
+        auto at = [&](size_t i) { return size_t(e - p) > i ? p[i] : '\0'; };
+        auto startsWith = [&](std::string_view word) {
+            return size_t(e - p) >= word.size() && std::memcmp(p, word.data(), word.size()) == 0;
+        };
+        const char c = *p;
+        // The rest of tinyobjloader's checks, in its order.
+        if (c == 'v' && at(1) == 'w' && isBlank(at(2))) return fail("a 'vw' line");
+        if ((c == 'l' || c == 'p') && isBlank(at(1))) return fail("points or lines");
+        if (startsWith("usemtl")) {
+            const char* n = p + 6;
+            if (n == e || !isBlank(*n) || !clean(n, e)) return fail("an unusual 'usemtl' line");
+            while (n < e && isBlank(*n)) ++n;
+            const char* nameEnd = n;
+            while (nameEnd < e && !isBlank(*nameEnd)) ++nameEnd;
+            if (nameEnd == n) return fail("'usemtl' without a name");
+            return event(ObjEvent::Kind::UseMtl, std::string(n, nameEnd));
+        }
+        if (startsWith("mtllib") && isBlank(at(6))) {
+            if (!clean(p, e)) return fail("an unusual 'mtllib' line");
+            return event(ObjEvent::Kind::MtlLib, std::string(p + 7, e));
+        }
+        if (c == 'g' && isBlank(at(1))) {
+            if (!clean(p, e)) return fail("an unusual 'g' line");
+            std::string names;
+            for (const char* n = p + 1;;) {
+                while (n < e && isBlank(*n)) ++n;
+                if (n == e) break;
+                const char* nameEnd = n;
+                while (nameEnd < e && !isBlank(*nameEnd)) ++nameEnd;
+                if (!names.empty()) names += ' ';
+                names.append(n, nameEnd);
+                n = nameEnd;
+            }
+            if (names.empty()) return fail("'g' without a name"); // tinyobjloader warns
+            return event(ObjEvent::Kind::Group, std::move(names));
+        }
+        if (c == 'o' && isBlank(at(1))) {
+            if (!clean(p, e)) return fail("an unusual 'o' line");
+            return event(ObjEvent::Kind::Object, std::string(p + 2, e));
+        }
+        if (c == 't' && isBlank(at(1))) return fail("a 't' line");
+        // Comments, "s" and lines tinyobjloader ignores: only a lone "\r" would change them.
+        if (std::memchr(p, '\r', size_t(e - p)) != nullptr) return fail("a lone carriage return");
+        return true;
+    }
+
+    bool event(ObjEvent::Kind kind, std::string text) {
+        mC.events.push_back(ObjEvent{kind, mC.triangles, std::move(text)});
+        return true;
+    }
+
+    // The numbers after the line's keyword: up to `max` into vals; how many, or -1 if a token
+    // is not one.
+    static int readNumbers(const char* p, const char* e, float* vals, int max) {
+        while (p < e && isBlank(*p)) ++p;
+        while (p < e && !isBlank(*p)) ++p; // the keyword
+        int n = 0;
+        for (;;) {
+            while (p < e && isBlank(*p)) ++p;
+            if (p == e) return n;
+            if (n == max) return -1;
+            const char* t = p;
+            while (p < e && !isBlank(*p)) ++p;
+            if (!parseNumber(t, p, vals[n++])) return -1;
+        }
+    }
+
+    bool vertex(const char* p, const char* e) {
+        float v[6];
+        const int n = readNumbers(p, e, v, 6);
+        if (n != 3 && n != 6) return fail("a 'v' line without 3 or 6 numbers");
+        std::copy(v, v + 3, mPositions + mV * 3);
+        if (n == 3) mC.allColors = false;
+        else if (mC.allColors) std::copy(v + 3, v + 6, mColors + mV * 3);
+        ++mV;
+        return true;
+    }
+
+    bool numbers(const char* p, const char* e, float* out, uint64_t& count, int keep, int max) {
+        float v[3];
+        if (readNumbers(p, e, v, max) < keep) return fail("a 'vn' or 'vt' line with too few numbers");
+        std::copy(v, v + keep, out + count * uint64_t(keep)); // tinyobjloader ignores a vt's w
+        ++count;
+        return true;
+    }
+
+    // One OBJ index of at most 9 digits, not 0, zero-based among `total` elements of which
+    // `seen` precede the line (tinyobjloader's fixIndex: k > 0 is k - 1, k < 0 is seen + k).
+    // Advances p. `valid`: whether it lies in [0, total) (only positions must).
+    static bool index(const char*& p, const char* e, uint64_t seen, int32_t& out, bool& valid,
+                      uint64_t total) {
+        bool negative = false;
+        if (p < e && (*p == '+' || *p == '-')) negative = *p++ == '-';
+        int64_t value = 0;
+        const char* digits = p;
+        while (p < e && isDigit(*p) && p - digits < 9) value = value * 10 + (*p++ - '0');
+        if (p == digits || (p < e && isDigit(*p)) || value == 0) return false;
+        const int64_t k = negative ? int64_t(seen) - value : value - 1;
+        valid = k >= 0 && k < int64_t(total);
+        out = int32_t(std::max<int64_t>(k, std::numeric_limits<int32_t>::min()));
+        return true;
+    }
+
+    bool face(const char* p, const char* e) {
+        while (p < e && isBlank(*p)) ++p;
+        p += 2; // "f" and a blank
+        ObjCorner c[4];
+        int n = 0;
+        const uint64_t v = mC.base.v + mV, vt = mC.base.vt + mVt, vn = mC.base.vn + mVn;
+        bool valid = true, unused = true;
+        uint64_t latest = 0; // the largest position index
+        for (;;) {
+            while (p < e && isBlank(*p)) ++p;
+            if (p == e) break;
+            if (n == 4) return fail("a polygon with more than 4 corners");
+            ObjCorner& k = c[n];
+            k.vt = k.vn = -1;
+            if (!index(p, e, v, k.v, valid, mTotal.v)) return fail("an unusual face corner");
+            if (!valid) return fail("a position index out of range");
+            latest = std::max(latest, uint64_t(k.v));
+            if (p < e && *p == '/') {
+                ++p;
+                if (p < e && *p != '/' && !index(p, e, vt, k.vt, unused, mTotal.vt))
+                    return fail("an unusual face corner");
+                if (p < e && *p == '/') {
+                    ++p;
+                    if (!index(p, e, vn, k.vn, unused, mTotal.vn))
+                        return fail("an unusual face corner");
+                }
+            }
+            if (p < e && !isBlank(*p)) return fail("an unusual face corner");
+            ++n;
+        }
+        if (n < 3) return fail("a face with fewer than 3 corners");
+        ObjCorner* out = mCorners + mC.corners;
+        std::copy(c, c + n, out);
+        if (n == 4) {
+            // tinyobjloader checks a quad's positions when it splits it, at the next usemtl/g/o
+            // or the end, so one defined after the quad may or may not pass: left to it.
+            if (latest >= v) return fail("a quad naming a later position");
+            mC.quads.push_back(size_t(out - mCorners) + mC.base.faces * 6);
+            mC.corners += 6; // two slots more: step 3 writes both triangles
+            mC.triangles += 2;
+        } else {
+            mC.corners += 3;
+            mC.triangles += 1;
+        }
+        return true;
+    }
+
+    Chunk& mC;
+    const Counts& mTotal;
+    float* mPositions;
+    float* mColors;
+    float* mTexcoords;
+    float* mNormals;
+    ObjCorner* mCorners;
+    uint64_t mV = 0, mVt = 0, mVn = 0; // elements written
+};
+
+// Chunks of about `size` bytes, each ending after a "\n" (the last at the end of the text).
+std::vector<Chunk> cut(std::string_view text, size_t size) {
+    std::vector<Chunk> chunks;
+    const char* p = text.data();
+    const char* end = p + text.size();
+    while (p < end) {
+        const char* stop = size_t(end - p) > size ? p + size : end;
+        if (stop < end) {
+            const char* nl = static_cast<const char*>(std::memchr(stop, '\n', size_t(end - stop)));
+            stop = nl ? nl + 1 : end;
+        }
+        Chunk& c = chunks.emplace_back();
+        c.begin = p;
+        c.end = stop;
+        p = stop;
+    }
+    return chunks;
+}
+
+// tinyobjloader's quad split, in the same float arithmetic: along the shorter diagonal,
+// (0 1 2)(0 2 3) if 0-2 is shorter, else (0 1 3)(1 2 3). Its library is built without FMA
+// contraction, as this file is (no -march flags), so ties and NaNs go the same way.
+void splitQuad(ObjCorner* c, const float* positions) {
+    const ObjCorner q[4] = {c[0], c[1], c[2], c[3]};
+    const float* p0 = positions + size_t(q[0].v) * 3;
+    const float* p1 = positions + size_t(q[1].v) * 3;
+    const float* p2 = positions + size_t(q[2].v) * 3;
+    const float* p3 = positions + size_t(q[3].v) * 3;
+    const float e02x = p2[0] - p0[0], e02y = p2[1] - p0[1], e02z = p2[2] - p0[2];
+    const float e13x = p3[0] - p1[0], e13y = p3[1] - p1[1], e13z = p3[2] - p1[2];
+    const float sqr02 = e02x * e02x + e02y * e02y + e02z * e02z;
+    const float sqr13 = e13x * e13x + e13y * e13y + e13z * e13z;
+    if (sqr02 < sqr13) {
+        const ObjCorner t[6] = {q[0], q[1], q[2], q[0], q[2], q[3]};
+        std::copy(t, t + 6, c);
+    } else {
+        const ObjCorner t[6] = {q[0], q[1], q[3], q[1], q[2], q[3]};
+        std::copy(t, t + 6, c);
+    }
+}
+
+} // namespace
+
+std::optional<ObjParse> parseObjText(std::string_view text, const ObjParseOptions& options,
+                                     std::string* why) {
+    // The chunk size depends on the text only: the parse is the same for any job count (and
+    // for any chunk size: tests force tiny ones).
+    const size_t size = options.chunkBytes
+                            ? options.chunkBytes
+                            : std::clamp<size_t>(text.size() / 16, size_t(256) << 10, size_t(8) << 20);
+    std::vector<Chunk> chunks = cut(text, size);
+    auto refuse = [&](std::string reason) -> std::optional<ObjParse> {
+        if (why) *why = std::move(reason);
+        return std::nullopt;
+    };
+
+    // Step 1: count what each chunk holds, so that the arrays are allocated once at their
+    // final size and each chunk writes its own part (no growth, no joining copies).
+    parallelFor(chunks.size(), options.jobs, [&](size_t i) {
+        Counts& n = chunks[i].count;
+        forEachLine(chunks[i].begin, chunks[i].end, [&](const char* p, const char* e) {
+            switch (kindOf(p, e)) {
+            case Kind::V: ++n.v; break;
+            case Kind::Vt: ++n.vt; break;
+            case Kind::Vn: ++n.vn; break;
+            case Kind::F: ++n.faces; break;
+            case Kind::Other: break;
+            }
+            return true;
+        });
+    });
+    Counts total;
+    for (Chunk& c : chunks) {
+        c.base = total;
+        total.v += c.count.v;
+        total.vt += c.count.vt;
+        total.vn += c.count.vn;
+        total.faces += c.count.faces;
+    }
+    constexpr uint64_t kMaxCount = uint64_t(std::numeric_limits<int32_t>::max());
+    if (total.v > kMaxCount || total.vt > kMaxCount || total.vn > kMaxCount)
+        return refuse("more elements than tinyobjloader's int indices reach");
+    ObjParse out;
+    ObjGeometry& g = out.geometry;
+    // Not value-initialised (LargeAllocator): every element read is written first. The corner
+    // array has room for a quad's 6 corners per face; pages a chunk leaves unused are never
+    // touched.
+    g.positions.resize(total.v * 3);
+    g.colors.resize(total.v * 3);
+    g.texcoords.resize(total.vt * 2);
+    g.normals.resize(total.vn * 3);
+    g.triangles.corners.resize(total.faces * 6);
+
+    // Step 2.
+    parallelFor(chunks.size(), options.jobs, [&](size_t i) { ChunkParser(chunks[i], g, total).run(); });
+    for (const Chunk& c : chunks) {
+        if (!c.failure.empty()) return refuse(c.failure);
+    }
+
+    // Step 3: quads (their positions may be another chunk's), block offsets, events.
+    parallelFor(chunks.size(), options.jobs, [&](size_t i) {
+        for (size_t q : chunks[i].quads) splitQuad(&g.triangles.corners[q], g.positions.data());
+    });
+    bool allColors = total.v > 0;
+    ObjTriangles& t = g.triangles;
+    uint64_t start = 0;
+    for (Chunk& c : chunks) {
+        allColors &= c.allColors;
+        for (ObjEvent& e : c.events) {
+            e.triangle += start;
+            out.events.push_back(std::move(e));
+        }
+        t.start.push_back(start);
+        t.offset.push_back(c.base.faces * 6);
+        start += c.triangles;
+    }
+    t.start.push_back(start);
+    if (!allColors) g.colors = {};
+    return out;
+}
+
+} // namespace pnb::converter

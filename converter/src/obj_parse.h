@@ -1,0 +1,111 @@
+// obj_parse.h — the OBJ text into geometry arrays and an event list, in parallel. Internal.
+//
+// Why: tinyobjloader's LoadObj parsed the 1M-triangle benchmark OBJ on one thread, through a
+// std::string per line, its own approximate float parser and per-face vectors, into arrays
+// that the importer then copied again (docs/CONVERTER.md, "Issue 30"). This parser splits the
+// text into chunks at line boundaries, counts what each chunk holds, then parses the chunks on
+// `jobs` threads (numbers with std::from_chars) straight into arrays of their final size
+// (obj_parse.cpp says how).
+//
+// What it accepts is a strict subset of what tinyobjloader reads, on which it gives
+// tinyobjloader's result (import_obj.cpp's header block is the contract; the ObjParseEquivalence
+// tests compare the two): lines "v x y z" and "v x y z r g b", "vn x y z", "vt u v [w]",
+// "f" with 3 or 4 corners in the forms v, v/vt, v//vn, v/vt/vn (negative = relative; at most 9
+// digits), "usemtl name", "mtllib ...", "o ...", "g names...", comments, blank lines, "s" and
+// other lines tinyobjloader ignores; "\n" or "\r\n" line ends. Numbers follow tinyobjloader's
+// grammar ([+-] digits [. digits] [e [+-] digits]); they are rounded correctly, where
+// tinyobjloader's own conversion is approximate (a value may differ from it in the last bit).
+// A number too large for a float is ±Inf, one too small is ±0, as with tinyobjloader.
+//
+// Everything else returns nullopt, and the importer reads the file with tinyobjloader instead:
+// errors (a zero or unparsable index, a position index out of range: tinyobjloader's messages
+// and line numbers stay the contract), polygons of other sizes, points, lines, "vw"/"t"
+// extensions, text tinyobjloader reads leniently ("v 1 2" with a default z, "1x" as 1, words
+// as 0), a lone "\r" or a NUL byte (tinyobjloader's line splitting differs), a quad naming a
+// position defined after it.
+//
+// The output is the same for every job count and chunk size (each chunk writes its own slots;
+// the chunk size depends on the text's size only).
+#pragma once
+
+#include <algorithm>
+#include <cstddef>
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "huge_pages.h"
+
+namespace pnb::converter {
+
+// One face corner, zero-based (tinyobjloader's index_t values): vt/vn -1 when absent; vt/vn
+// may be out of range (the importer drops that stream with a warning), v never is.
+struct ObjCorner {
+    int32_t v, vt, vn;
+};
+
+using ObjFloats = std::vector<float, LargeAllocator<float>>;
+using ObjCorners = std::vector<ObjCorner, LargeAllocator<ObjCorner>>;
+
+// The triangles of the file in order, three corners each, in blocks (one per parsed chunk,
+// each written where the chunk's faces could have needed room: a quad takes 6). Triangle t is
+// block b's triangle t - start[b], at corners[offset[b] + 3 * (t - start[b])].
+struct ObjTriangles {
+    ObjCorners corners;
+    std::vector<uint64_t> offset; // first corner of each block
+    std::vector<uint64_t> start;  // first triangle of each block; then the total
+
+    uint64_t count() const { return start.empty() ? 0 : start.back(); }
+
+    // Calls fn(const ObjCorner&) for every corner of triangles [begin, end), in order.
+    template <class Fn> void forEachCorner(uint64_t begin, uint64_t end, Fn&& fn) const {
+        size_t b = size_t(std::upper_bound(start.begin(), start.end(), begin) - start.begin());
+        b = b > 0 ? b - 1 : 0;
+        for (; b < offset.size() && start[b] < end; ++b) {
+            const uint64_t from = std::max(begin, start[b]) - start[b];
+            const uint64_t to = std::min(end, start[b + 1]) - start[b];
+            const ObjCorner* c = corners.data() + offset[b];
+            for (uint64_t i = from * 3; i < to * 3; ++i) fn(c[i]);
+        }
+    }
+};
+
+// What the importer builds its meshes from, whichever parser read the file.
+struct ObjGeometry {
+    ObjFloats positions; // xyz
+    ObjFloats colors;    // rgb per position, or empty (not every "v" line had one)
+    ObjFloats texcoords; // uv, OBJ orientation
+    ObjFloats normals;   // xyz
+    ObjTriangles triangles;
+};
+
+// A line that changes what the following faces belong to, in file order.
+struct ObjEvent {
+    enum class Kind : uint8_t {
+        MtlLib, // text: the rest of the line after "mtllib " (tinyobjloader splits it)
+        UseMtl, // text: the material name (its first word)
+        Group,  // "g": text: the names joined by one space
+        Object, // "o": text: the rest of the line after "o "
+    };
+    Kind kind;
+    uint64_t triangle; // triangles before this line
+    std::string text;
+};
+
+struct ObjParse {
+    ObjGeometry geometry;
+    std::vector<ObjEvent> events;
+};
+
+struct ObjParseOptions {
+    unsigned jobs = 0;     // threads (parallel_for.h: 0 = all cores)
+    size_t chunkBytes = 0; // bytes per chunk (0 = chosen by size; tests force small chunks)
+};
+
+// nullopt: the text needs tinyobjloader (see above); `why`, if given, says what was found.
+std::optional<ObjParse> parseObjText(std::string_view text, const ObjParseOptions& options,
+                                     std::string* why = nullptr);
+
+} // namespace pnb::converter

@@ -1,0 +1,525 @@
+// Tests of the parallel OBJ parser (obj_parse.h) and of the importer's two readers
+// (import_obj_internal.h): on every OBJ the fast parser accepts, importObj gives the IR the
+// tinyobjloader reader gives (the reference), whatever the job count and chunk size; the files it
+// leaves to tinyobjloader give that reader's result and errors. Floats may differ by one ulp:
+// from_chars rounds correctly where tinyobjloader's own conversion is approximate (the tests
+// print how many values differ).
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <cstdlib>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <limits>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "import_obj_internal.h"
+#include "import_test_support.h"
+#include "obj_parse.h"
+#include "pnb_converter/convert.h"
+#include "pnb_converter/importers.h"
+
+namespace {
+
+using namespace pnb;
+using namespace pnb::converter;
+using namespace pnb::converter::test;
+namespace fs = std::filesystem;
+
+// [SECTION] comparing scenes
+
+// Float equality up to `maxUlps` (NaN equals NaN); counts the values that are not bit-equal.
+struct FloatCompare {
+    int maxUlps = 1;
+    size_t differing = 0, compared = 0;
+
+    bool equal(float a, float b) {
+        ++compared;
+        uint32_t x, y;
+        std::memcpy(&x, &a, 4);
+        std::memcpy(&y, &b, 4);
+        if (x == y) return true;
+        ++differing;
+        if (std::isnan(a) && std::isnan(b)) return true;
+        if (!std::isfinite(a) || !std::isfinite(b) || std::signbit(a) != std::signbit(b))
+            return a == b; // +0 == -0 only
+        return (x > y ? x - y : y - x) <= uint32_t(maxUlps);
+    }
+};
+
+// Fails the test with the first difference between `got` and the reference `want`.
+void expectSameScene(const IrScene& got, const IrScene& want, FloatCompare& floats,
+                     const std::string& what) {
+    SCOPED_TRACE(what);
+    ASSERT_EQ(got.warnings, want.warnings);
+    ASSERT_EQ(got.dependencies, want.dependencies);
+    ASSERT_EQ(got.nodes.size(), want.nodes.size());
+    for (size_t i = 0; i < got.nodes.size(); ++i) {
+        EXPECT_EQ(got.nodes[i].name, want.nodes[i].name);
+        EXPECT_EQ(got.nodes[i].parent, want.nodes[i].parent);
+        EXPECT_EQ(got.nodes[i].mesh, want.nodes[i].mesh);
+    }
+    ASSERT_EQ(got.materials.size(), want.materials.size());
+    for (size_t i = 0; i < got.materials.size(); ++i) {
+        const IrMaterial &a = got.materials[i], &b = want.materials[i];
+        EXPECT_EQ(a.name, b.name);
+        EXPECT_EQ(a.pbr.baseColorFactor.x, b.pbr.baseColorFactor.x);
+        EXPECT_EQ(a.pbr.roughnessFactor, b.pbr.roughnessFactor);
+        EXPECT_EQ(a.pbr.alphaMode, b.pbr.alphaMode);
+        for (size_t t = 0; t < a.textures.size(); ++t)
+            EXPECT_EQ(a.textures[t].image, b.textures[t].image) << a.name << " slot " << t;
+    }
+    ASSERT_EQ(got.images.size(), want.images.size());
+    for (size_t i = 0; i < got.images.size(); ++i) EXPECT_EQ(got.images[i].path, want.images[i].path);
+    ASSERT_EQ(got.meshes.size(), want.meshes.size());
+    for (size_t m = 0; m < got.meshes.size(); ++m) {
+        const IrMesh &a = got.meshes[m], &b = want.meshes[m];
+        EXPECT_EQ(a.name, b.name);
+        ASSERT_EQ(a.primitives.size(), b.primitives.size()) << a.name;
+        for (size_t p = 0; p < a.primitives.size(); ++p) {
+            const IrPrimitive &x = a.primitives[p], &y = b.primitives[p];
+            SCOPED_TRACE("mesh '" + a.name + "' primitive " + std::to_string(p));
+            EXPECT_EQ(x.material, y.material);
+            ASSERT_EQ(x.indices, y.indices);
+            auto same = [&](const std::vector<float>& u, const std::vector<float>& v,
+                            const char* stream) {
+                ASSERT_EQ(u.size(), v.size()) << stream;
+                for (size_t i = 0; i < u.size(); ++i)
+                    ASSERT_TRUE(floats.equal(u[i], v[i]))
+                        << stream << "[" << i << "]: " << u[i] << " vs " << v[i];
+            };
+            same(x.positions, y.positions, "positions");
+            same(x.normals, y.normals, "normals");
+            same(x.uv0, y.uv0, "uv0");
+            same(x.colors, y.colors, "colors");
+        }
+    }
+}
+
+struct Comparison {
+    ObjReader reader = ObjReader::Tinyobj; // which reader importObj used
+    bool ok = false;
+};
+
+// Imports `file` with the reference reader and with the fast path at several job counts and
+// chunk sizes (tiny chunks put boundaries everywhere); expects the same IR, or the same error.
+Comparison compareReaders(const std::string& file, FloatCompare& floats) {
+    Comparison c;
+    ObjImportOptions reference;
+    reference.tinyobjOnly = true;
+    auto want = importObjWith(file, reference);
+    for (unsigned jobs : {1u, 2u, 3u}) {
+        for (size_t chunk : {size_t(0), size_t(1), size_t(13), size_t(200)}) {
+            ObjImportOptions o;
+            o.jobs = jobs;
+            o.chunkBytes = chunk;
+            ObjReader used = ObjReader::Tinyobj;
+            auto got = importObjWith(file, o, &used);
+            const std::string what = file + " jobs " + std::to_string(jobs) + " chunk " +
+                                     std::to_string(chunk);
+            if (jobs == 1 && chunk == 0) c.reader = used;
+            else EXPECT_EQ(used, c.reader) << what << ": the reader must not depend on chunks";
+            EXPECT_EQ(got.ok(), want.ok()) << what << ": "
+                                           << (got.ok() ? want.error().message
+                                                        : got.error().message);
+            if (!got.ok() || !want.ok()) {
+                if (!got.ok() && !want.ok()) {
+                    EXPECT_EQ(got.error().message, want.error().message);
+                }
+                continue;
+            }
+            expectSameScene(*got, *want, floats, what);
+            if (::testing::Test::HasFatalFailure()) return c;
+        }
+    }
+    c.ok = want.ok();
+    return c;
+}
+
+// [SECTION] corpora
+
+// Every OBJ of Debian's assimp test models (models/ and models-nonbsd/).
+TEST(ObjParseEquivalence, AssimpModelsGiveTheReferenceIr) {
+    FloatCompare floats;
+    size_t files = 0, fast = 0;
+    for (const fs::path& root : {kModels / "OBJ", fs::path("/usr/share/assimp/models-nonbsd/OBJ")}) {
+        if (!fs::exists(root)) continue;
+        for (const auto& entry : fs::recursive_directory_iterator(root)) {
+            if (entry.path().extension() != ".obj") continue;
+            ++files;
+            const Comparison c = compareReaders(entry.path().string(), floats);
+            if (HasFatalFailure()) return;
+            if (c.reader == ObjReader::Fast) ++fast;
+            std::cout << (c.reader == ObjReader::Fast ? "fast      " : "tinyobj   ")
+                      << entry.path().filename().string() << "\n";
+        }
+    }
+    std::cout << fast << " of " << files << " files on the fast path; " << floats.differing
+              << " of " << floats.compared << " float values differ from tinyobjloader's (by "
+              << "at most 1 ulp)\n";
+    EXPECT_GE(files, 20u);
+    EXPECT_GE(fast, 10u) << "the common files must take the fast path";
+}
+
+// The obj_import fuzzer's seeds (an OBJ, optionally "\n#MTL\n" and its MTL, as the harness
+// splits them).
+TEST(ObjParseEquivalence, FuzzSeedCorpusGivesTheReferenceIr) {
+    const fs::path corpus = fs::path(PNB_SOURCE_DIR) / "fuzz/corpus/obj_import";
+    ASSERT_TRUE(fs::exists(corpus)) << corpus;
+    TempDir dir("obj_parse_fuzz_seeds");
+    FloatCompare floats;
+    size_t seeds = 0;
+    for (const auto& entry : fs::directory_iterator(corpus)) {
+        std::ifstream in(entry.path(), std::ios::binary);
+        std::stringstream bytes;
+        bytes << in.rdbuf();
+        const std::string input = bytes.str();
+        const size_t split = input.find("\n#MTL\n");
+        const fs::path obj = dir.path / "f.obj", mtl = dir.path / "f.mtl";
+        writeFile(obj, input.substr(0, split));
+        fs::remove(mtl);
+        if (split != std::string::npos) writeFile(mtl, input.substr(split + 6));
+        compareReaders(obj.string(), floats);
+        if (HasFatalFailure()) return;
+        ++seeds;
+    }
+    EXPECT_GE(seeds, 6u);
+}
+
+// Any OBJ named by PNB_OBJ_COMPARE (skipped without): the fast reader against the reference,
+// once each with the default jobs and chunks; prints how many float values differ. How the
+// figures for the benchmark OBJ in docs/CONVERTER.md were taken.
+TEST(ObjParseEquivalence, FileNamedByEnvironmentGivesTheReferenceIr) {
+    const char* file = std::getenv("PNB_OBJ_COMPARE");
+    if (file == nullptr) GTEST_SKIP() << "set PNB_OBJ_COMPARE=file.obj";
+    ObjImportOptions reference;
+    reference.tinyobjOnly = true;
+    auto want = importObjWith(file, reference);
+    ObjReader used = ObjReader::Tinyobj;
+    auto got = importObjWith(file, ObjImportOptions{}, &used);
+    ASSERT_EQ(got.ok(), want.ok());
+    FloatCompare floats;
+    if (got.ok()) expectSameScene(*got, *want, floats, file);
+    std::cout << (used == ObjReader::Fast ? "fast path: " : "tinyobjloader: ") << floats.differing
+              << " of " << floats.compared << " float values differ (by at most 1 ulp)\n";
+}
+
+// [SECTION] generated files
+
+// Writes `text` as dir/name (and the MTL of two materials next to it).
+std::string writeObj(const TempDir& dir, const std::string& name, const std::string& text) {
+    writeFile(dir.path / "two.mtl", "newmtl red\nKd 1 0 0\n\nnewmtl green tree\nKd 0 1 0\n");
+    writeFile(dir.path / name, text);
+    return (dir.path / name).string();
+}
+
+// A grid of quads and triangles over several objects and materials, with relative indices, so
+// that any chunk boundary falls between a face and the vertices it names.
+std::string gridObj(bool colors, bool relative) {
+    std::ostringstream s;
+    s << "# generated\nmtllib two.mtl\n";
+    int vertices = 0;
+    for (int object = 0; object < 4; ++object) {
+        if (object % 2) s << "o object " << object << "  \n";
+        else s << "g part" << object << " extra\n";
+        const int base = vertices;
+        for (int y = 0; y < 4; ++y) {
+            for (int x = 0; x < 4; ++x) {
+                s << "v " << x + object * 0.5 << " " << y * 0.25 << " " << (x * y) % 3 * 0.1;
+                if (colors) s << " " << x / 3.0 << " 0.5 " << y / 3.0;
+                s << "\n";
+                ++vertices;
+            }
+        }
+        for (int i = 0; i < 16; ++i) s << "vt " << (i % 4) / 3.0 << " " << (i / 4) / 3.0 << "\n";
+        s << "vn 0 0 1\n";
+        for (int y = 0; y < 3; ++y) {
+            s << (y == 1 ? "usemtl green tree\n" : y == 2 ? "usemtl nosuch\n" : "usemtl red\n");
+            s << "s 1\n";
+            for (int x = 0; x < 3; ++x) {
+                const int a = base + y * 4 + x + 1, b = a + 1, c = a + 5, d = a + 4;
+                auto corner = [&](int v) {
+                    // Relative forms count back from the last vertex/uv/normal.
+                    if (relative && v % 2) {
+                        return std::to_string(v - 1 - vertices) + "/" +
+                               std::to_string(v - base - 1 - 16) + "/-1";
+                    }
+                    return std::to_string(v) + "/" + std::to_string(object * 16 + v - base) +
+                           "/" + std::to_string(object + 1);
+                };
+                if ((x + y) % 2) s << "f " << corner(a) << " " << corner(b) << " " << corner(c) << " " << corner(d) << "\n";
+                else s << "f\t" << corner(a) << "  " << corner(b) << " " << corner(c) << "\n"
+                       << "f " << a << "//" << object + 1 << " " << c << "//" << object + 1 << " " << d << "//" << object + 1 << "\n";
+            }
+        }
+    }
+    return s.str();
+}
+
+std::string withCrLf(const std::string& text) {
+    std::string out;
+    for (char c : text) {
+        if (c == '\n') out += '\r';
+        out += c;
+    }
+    return out;
+}
+
+TEST(ObjParseEquivalence, GeneratedGridsAtEveryChunkSizeGiveTheReferenceIr) {
+    TempDir dir("obj_parse_grid");
+    FloatCompare floats;
+    for (bool colors : {false, true}) {
+        for (bool relative : {false, true}) {
+            std::string text = gridObj(colors, relative);
+            const std::vector<std::pair<std::string, std::string>> variants = {
+                {"lf.obj", text},
+                {"crlf.obj", withCrLf(text)},
+                {"noeol.obj", text.substr(0, text.size() - 1)},
+                {"noeolcr.obj", withCrLf(text).substr(0, withCrLf(text).size() - 1)},
+            };
+            for (const auto& [name, content] : variants) {
+                const std::string file = writeObj(dir, name, content);
+                const Comparison c = compareReaders(file, floats);
+                if (HasFatalFailure()) return;
+                EXPECT_EQ(c.reader, ObjReader::Fast) << name << " colors " << colors;
+                EXPECT_TRUE(c.ok) << name;
+            }
+        }
+    }
+    std::cout << floats.differing << " of " << floats.compared << " float values differ\n";
+}
+
+// Every chunk size from 1 byte to past the file, parsed directly: the same arrays and events.
+TEST(ObjParse, ChunkBoundariesDoNotChangeTheParse) {
+    const std::string text = gridObj(true, true);
+    auto whole = parseObjText(text, ObjParseOptions{1, text.size() + 1});
+    ASSERT_TRUE(whole.has_value());
+    const ObjGeometry& w = whole->geometry;
+    ASSERT_EQ(w.positions.size(), 4u * 16 * 3);
+    ASSERT_EQ(w.colors.size(), w.positions.size());
+    ASSERT_EQ(w.triangles.count(), 4u * (5 * 2 + 4 * 2));
+    std::vector<ObjCorner> expected;
+    w.triangles.forEachCorner(0, w.triangles.count(), [&](const ObjCorner& c) { expected.push_back(c); });
+    for (const ObjCorner& c : expected) {
+        ASSERT_GE(c.v, 0);
+        ASSERT_LT(c.v, 64);
+        ASSERT_GE(c.vt, -1); // -1: the "v//vn" faces
+        ASSERT_LT(c.vt, 64);
+    }
+    for (size_t chunk = 1; chunk < text.size() + 2; chunk += chunk < 64 ? 1 : 37) {
+        auto p = parseObjText(text, ObjParseOptions{2, chunk});
+        ASSERT_TRUE(p.has_value()) << chunk;
+        EXPECT_TRUE(p->geometry.positions == w.positions) << chunk;
+        EXPECT_TRUE(p->geometry.colors == w.colors) << chunk;
+        EXPECT_TRUE(p->geometry.texcoords == w.texcoords) << chunk;
+        EXPECT_TRUE(p->geometry.normals == w.normals) << chunk;
+        std::vector<ObjCorner> got;
+        p->geometry.triangles.forEachCorner(0, p->geometry.triangles.count(),
+                                            [&](const ObjCorner& c) { got.push_back(c); });
+        ASSERT_EQ(got.size(), expected.size()) << chunk;
+        for (size_t i = 0; i < got.size(); ++i) {
+            ASSERT_EQ(got[i].v, expected[i].v) << chunk << " corner " << i;
+            ASSERT_EQ(got[i].vt, expected[i].vt) << chunk << " corner " << i;
+            ASSERT_EQ(got[i].vn, expected[i].vn) << chunk << " corner " << i;
+        }
+        ASSERT_EQ(p->events.size(), whole->events.size()) << chunk;
+        for (size_t i = 0; i < p->events.size(); ++i) {
+            EXPECT_EQ(p->events[i].kind, whole->events[i].kind);
+            EXPECT_EQ(p->events[i].triangle, whole->events[i].triangle);
+            EXPECT_EQ(p->events[i].text, whole->events[i].text);
+        }
+    }
+    // A sub-range across blocks: the corners of triangles [5, 40).
+    auto p = parseObjText(text, ObjParseOptions{2, 50});
+    ASSERT_TRUE(p.has_value());
+    ASSERT_GT(p->geometry.triangles.offset.size(), 10u);
+    size_t i = 15;
+    p->geometry.triangles.forEachCorner(5, 40, [&](const ObjCorner& c) {
+        EXPECT_EQ(c.v, expected[i].v) << i;
+        ++i;
+    });
+    EXPECT_EQ(i, 120u);
+}
+
+TEST(ObjParse, RelativeIndicesResolveAcrossChunks) {
+    const std::string text = "v 0 0 0\nv 1 0 0\nvt 0 0\nv 0 1 0\nvn 0 0 1\n"
+                             "f -3/-1/-1 -2/-1/-1 -1/-1/-1\nv 1 1 0\nf 1 -3 -1 -2\n";
+    for (size_t chunk : {size_t(1), size_t(9), size_t(0)}) {
+        auto p = parseObjText(text, ObjParseOptions{2, chunk});
+        ASSERT_TRUE(p.has_value());
+        std::vector<ObjCorner> c;
+        p->geometry.triangles.forEachCorner(0, 3, [&](const ObjCorner& k) { c.push_back(k); });
+        ASSERT_EQ(c.size(), 9u);
+        EXPECT_EQ(c[0].v, 0);
+        EXPECT_EQ(c[1].v, 1);
+        EXPECT_EQ(c[2].v, 2);
+        EXPECT_EQ(c[0].vt, 0);
+        EXPECT_EQ(c[2].vn, 0);
+        // Quad 0 1 3 2 (positions 0,0 1,0 1,1 0,1): equal diagonals, so (0 1 3)(1 2 3) as
+        // tinyobjloader splits it (0-2 is not shorter).
+        EXPECT_EQ(c[3].v, 0);
+        EXPECT_EQ(c[4].v, 1);
+        EXPECT_EQ(c[5].v, 2);
+        EXPECT_EQ(c[6].v, 1);
+        EXPECT_EQ(c[7].v, 3);
+        EXPECT_EQ(c[8].v, 2);
+        EXPECT_EQ(c[3].vt, -1);
+        EXPECT_EQ(c[3].vn, -1);
+    }
+}
+
+TEST(ObjParse, NumbersFollowTinyobjloadersGrammarAndRoundCorrectly) {
+    auto p = parseObjText("v +1.5 -.25 5.\nv 1e39 -1e39 1e-50\nv 2.5E+2 -0 0.1\n",
+                          ObjParseOptions{1, 0});
+    ASSERT_TRUE(p.has_value());
+    const ObjFloats& v = p->geometry.positions;
+    ASSERT_EQ(v.size(), 9u);
+    EXPECT_EQ(v[0], 1.5f);
+    EXPECT_EQ(v[1], -0.25f);
+    EXPECT_EQ(v[2], 5.0f);
+    EXPECT_EQ(v[3], std::numeric_limits<float>::infinity()) << "too large for a float: Inf";
+    EXPECT_EQ(v[4], -std::numeric_limits<float>::infinity());
+    EXPECT_EQ(v[5], 0.0f) << "too small: 0";
+    EXPECT_EQ(v[6], 250.0f);
+    EXPECT_TRUE(std::signbit(v[7]));
+    EXPECT_EQ(v[8], 0.1f) << "correctly rounded";
+}
+
+// What the fast parser leaves to tinyobjloader, and why.
+TEST(ObjParse, UnusualTextIsLeftToTinyobjloader) {
+    const char* cases[] = {
+        "v 1 2\n",                      // tinyobjloader's default z
+        "v 1 2 3 4\n",                  // w
+        "v nan 0 0\n",                  // a word (tinyobjloader: 0)
+        "v 1x 0 0\n",                   // a prefix (tinyobjloader: 1)
+        "v 1e400 0 0\n",                // beyond double
+        "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 0\n",   // index 0: an error
+        "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 4\n",   // out of range: an error
+        "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 -4\n",  // relative out of range
+        "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2\n",     // degenerate
+        "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nv 2 2 0\nf 1 2 3 4 5\n", // pentagon
+        "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3 4\nv 1 1 0\n",   // quad naming a later vertex
+        "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1/ 2 3\n",  // lenient corner
+        "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3 # c\n",
+        "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 1234567890\n", // 10 digits
+        "v 0 0 0\nv 1 0 0\nv 0 1 0\nl 1 2\n",
+        "v 0 0 0\nv 1 0 0\nv 0 1 0\np 1\n",
+        "vw 0 0 1\n",
+        "t crease 1/1/0\n",
+        "# a\rv 0 0 0\n",                // lone CR ends a line for tinyobjloader
+        "usemtl\n",
+        "usemtlx\n",
+        "g \n",
+    };
+    for (const char* text : cases) {
+        std::string why;
+        EXPECT_FALSE(parseObjText(text, ObjParseOptions{1, 0}, &why).has_value()) << text;
+        EXPECT_FALSE(why.empty()) << text;
+    }
+    const std::string withNul("o a\0b\n", 6);
+    EXPECT_FALSE(parseObjText(withNul, ObjParseOptions{1, 0}).has_value());
+    // And what it keeps: comments, s, unknown lines, blank lines, tabs, w of a vt.
+    auto p = parseObjText("# c\n\n  \t\ns off\nvp 1 2\ncstype bezier\nvt 0.5 0.5 0\n"
+                          "v\t1 2 3\n",
+                          ObjParseOptions{1, 0});
+    ASSERT_TRUE(p.has_value());
+    EXPECT_EQ(p->geometry.texcoords.size(), 2u);
+    EXPECT_EQ(p->geometry.positions.size(), 3u);
+}
+
+// Errors keep tinyobjloader's message and line number (the file is read again by it).
+TEST(ObjParseEquivalence, MalformedFilesFailWithTheLineAtFault) {
+    TempDir dir("obj_parse_errors");
+    std::string big = gridObj(false, false);
+    const size_t lines = size_t(std::count(big.begin(), big.end(), '\n'));
+    struct Case {
+        std::string text, expect;
+    } cases[] = {
+        {big + "f 1 0 2\n", "line " + std::to_string(lines + 1) + ": malformed 'f'"},
+        {big + "f 1 2 999\n", "line " + std::to_string(lines + 1) + ": vertex index out of range"},
+        {big + "f -1 -2 -999\n", "line " + std::to_string(lines + 1) + ": vertex index out of range"},
+        {"v 0 0 0\nv 1 0 0\nv 0 1 0\n\nf 1//1 2/x/1 3\n", "line 5: malformed 'f'"},
+    };
+    for (const Case& c : cases) {
+        const std::string file = writeObj(dir, "bad.obj", c.text);
+        for (unsigned jobs : {1u, 2u}) {
+            ObjImportOptions o;
+            o.jobs = jobs;
+            o.chunkBytes = 64;
+            ObjReader used = ObjReader::Fast;
+            auto r = importObjWith(file, o, &used);
+            ASSERT_FALSE(r.ok()) << c.expect;
+            EXPECT_EQ(used, ObjReader::Tinyobj);
+            EXPECT_NE(r.error().message.find(c.expect), std::string::npos) << r.error().message;
+            EXPECT_EQ(r.error().kind, ConvertErrorKind::Input);
+        }
+    }
+    FloatCompare floats;
+    for (const Case& c : cases) compareReaders(writeObj(dir, "bad.obj", c.text), floats);
+}
+
+// Non-finite values: Inf from huge numbers on the fast path, dropped streams with warnings as
+// the contract says; NaN/Inf words go to tinyobjloader (which reads them as 0).
+TEST(ObjParseEquivalence, HugeNumbersAndNonFiniteValues) {
+    TempDir dir("obj_parse_nonfinite");
+    const std::string tri = "f 1/1/1 2/2/2 3/3/3\n";
+    const std::string cases[] = {
+        "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 1e39 1\nvn 0 0 1\nvn 0 0 1\nvn 0 -1e39 1\n" + tri,
+        "v 0 0 0 1 0 0\nv 1 0 0 0 1e300 0\nv 0 1e39 0 0 0 1\nvt 0 0\nvt 1 0\nvt 0 1\nvn 0 0 1\nvn 0 0 1\nvn 0 0 1\n" + tri,
+        "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt nan 1\nvn 0 0 1\nvn 0 0 1\nvn inf 0 1\n" + tri,
+        "v 123456789012345678901234567890 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 0 1\nvn 0 0 1\nvn 0 0 1\nvn 0 0 1\n" + tri,
+    };
+    FloatCompare floats;
+    for (size_t i = 0; i < std::size(cases); ++i) {
+        const std::string file = writeObj(dir, "n" + std::to_string(i) + ".obj", cases[i]);
+        const Comparison c = compareReaders(file, floats);
+        EXPECT_TRUE(c.ok) << i;
+        EXPECT_EQ(c.reader, i == 2 ? ObjReader::Tinyobj : ObjReader::Fast) << i;
+    }
+    auto r = importObj(writeObj(dir, "n0.obj", cases[0]));
+    ASSERT_TRUE(r.ok());
+    EXPECT_TRUE(hasWarning(*r, {"non-finite normals"})) << allWarnings(*r);
+    EXPECT_TRUE(hasWarning(*r, {"non-finite UV"})) << allWarnings(*r);
+    auto colors = importObj(writeObj(dir, "n1.obj", cases[1]));
+    ASSERT_TRUE(colors.ok());
+    EXPECT_TRUE(hasWarning(*colors, {"non-finite vertex colours"})) << allWarnings(*colors);
+    ASSERT_EQ(colors->meshes.size(), 1u);
+    EXPECT_TRUE(std::isinf(colors->meshes[0].primitives[0].positions[7]));
+}
+
+// [SECTION] whole conversions
+
+// The container does not depend on the job count (the parse's chunks, the primitives built in
+// parallel).
+TEST(ObjParseEquivalence, ConversionBytesAreTheSameForOneAndTwoJobs) {
+    TempDir dir("obj_parse_jobs");
+    // Larger than one default chunk (256 KiB), so two jobs parse in parallel.
+    std::string text = "mtllib two.mtl\n";
+    for (int i = 0; i < 40; ++i) text += gridObj(i % 2, i % 3 == 0).substr(std::strlen("# generated\nmtllib two.mtl\n"));
+    while (text.size() < (size_t(600) << 10)) text += "# padding to pass a chunk boundary\n";
+    text += gridObj(false, true).substr(std::strlen("# generated\nmtllib two.mtl\n"));
+    const std::string file = writeObj(dir, "scene.obj", text);
+    auto bytes = [&](unsigned jobs) {
+        ConvertSettings s;
+        s.input = file;
+        s.jobs = jobs;
+        s.output = (dir.path / ("j" + std::to_string(jobs) + ".pnb")).string();
+        auto r = convertScene(s);
+        EXPECT_TRUE(r.ok()) << (r.ok() ? "" : r.error().message);
+        std::ifstream in(s.output, std::ios::binary);
+        std::stringstream b;
+        b << in.rdbuf();
+        return b.str();
+    };
+    const std::string one = bytes(1), two = bytes(2);
+    ASSERT_GT(one.size(), 1000u);
+    EXPECT_TRUE(one == two) << "-j 1 and -j 2 wrote different containers";
+}
+
+} // namespace
