@@ -192,12 +192,15 @@ TEST(ObjParseEquivalence, FuzzSeedCorpusGivesTheReferenceIr) {
     EXPECT_GE(seeds, 6u);
 }
 
-// Any OBJ named by PNB_OBJ_COMPARE (skipped without): the fast reader against the reference,
-// once each with the default jobs and chunks; prints how many float values differ. How the
-// figures for the benchmark OBJ in docs/CONVERTER.md were taken.
-TEST(ObjParseEquivalence, FileNamedByEnvironmentGivesTheReferenceIr) {
+// A measurement, not part of the suite (disabled; gtest runs it when asked): the OBJ named by
+// PNB_OBJ_COMPARE through the fast reader against the reference, with the default jobs and
+// chunks; prints how many float values differ. How the figures for the benchmark OBJ in
+// docs/CONVERTER.md were taken:
+//   PNB_OBJ_COMPARE=scene.obj pnb_converter_tests --gtest_also_run_disabled_tests
+//       --gtest_filter='*FileNamedByEnvironment*'
+TEST(ObjParseEquivalence, DISABLED_FileNamedByEnvironmentGivesTheReferenceIr) {
     const char* file = std::getenv("PNB_OBJ_COMPARE");
-    if (file == nullptr) GTEST_SKIP() << "set PNB_OBJ_COMPARE=file.obj";
+    ASSERT_NE(file, nullptr) << "set PNB_OBJ_COMPARE=file.obj";
     ObjImportOptions reference;
     reference.tinyobjOnly = true;
     auto want = importObjWith(file, reference);
