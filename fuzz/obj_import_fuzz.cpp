@@ -4,7 +4,7 @@
 // written to a private temporary directory (importObj reads files, and the MTL is found through
 // the same resolver as in real use: "mtllib f.mtl", or the <obj name>.mtl fallback), then
 // imported. tinyobjloader is compiled into this target from Debian's header
-// (TINYOBJLOADER_IMPLEMENTATION) instead of linking libtinyobjloader.so, so its parser is
+// (tinyobjloader_impl.cpp) instead of linking libtinyobjloader.so, so its parser is
 // instrumented too and coverage guides mutations through it.
 //
 // Findings: crashes, sanitizer reports, leaks; and the harness abort()s when an import that
@@ -15,9 +15,6 @@
 //
 // Run it with `scripts/fuzz SECONDS obj_import`; reproduce a finding with
 // `build/asan/fuzz/obj_import_fuzz FILE`.
-#define TINYOBJLOADER_IMPLEMENTATION
-#include <tiny_obj_loader.h>
-
 #include <stdlib.h>
 #include <unistd.h>
 
