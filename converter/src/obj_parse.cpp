@@ -264,7 +264,8 @@ private:
             latest = std::max(latest, uint64_t(k.v));
             if (p < e && *p == '/') {
                 ++p;
-                if (p < e && *p != '/' && !index(p, e, vt, k.vt, unused, mTotal.vt))
+                // "v/" ends nowhere (tinyobjloader rejects it), also at the line's end.
+                if ((p == e || *p != '/') && !index(p, e, vt, k.vt, unused, mTotal.vt))
                     return fail("an unusual face corner");
                 if (p < e && *p == '/') {
                     ++p;

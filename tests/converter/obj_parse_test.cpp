@@ -409,6 +409,8 @@ TEST(ObjParse, UnusualTextIsLeftToTinyobjloader) {
         "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nv 2 2 0\nf 1 2 3 4 5\n", // pentagon
         "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3 4\nv 1 1 0\n",   // quad naming a later vertex
         "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1/ 2 3\n",  // lenient corner
+        "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3/\n",  // the same at the line's end (fuzzer)
+        "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3/",    // and at the file's end
         "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3 # c\n",
         "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 1234567890\n", // 10 digits
         "v 0 0 0\nv 1 0 0\nv 0 1 0\nl 1 2\n",
