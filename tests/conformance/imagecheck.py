@@ -164,20 +164,34 @@ def lum_stats(img, pixels):
     return mean, math.sqrt(sum((v - mean) ** 2 for v in vals) / n)
 
 
-def lit_side(img, region):
-    """Where the light comes from within a region, as the offset of its luminance-weighted
-    centroid from its plain centroid, in units of the region's radius: (dx, dy, magnitude)."""
+def lit_side(img, region, inner=None):
+    """Where the light comes from within a region: the offset of its centroid weighted by luma
+    above the darkest pixel's from its plain centroid, in units of the region's radius:
+    (dx, dy, magnitude). inner: only the disc of that fraction of the region's half-size around
+    its box centre (the bump of a test cell, without the flat frame around it)."""
     px, w = img.px, region.w
-    sw = sx = sy = 0.0
-    for i in region.pixels:
-        l = lum(px[3 * i], px[3 * i + 1], px[3 * i + 2])
-        sw += l
-        sx += l * (i % w)
-        sy += l * (i // w)
+    pixels = region.pixels
+    if inner:
+        bx, by = (region.x0 + region.x1 - 1) / 2, (region.y0 + region.y1 - 1) / 2
+        rad = inner * min(region.width, region.height) / 2
+        pixels = [i for i in pixels if (i % w - bx) ** 2 + (i // w - by) ** 2 <= rad * rad]
+    if not pixels:
+        return 0.0, 0.0, 0.0
+    ls = [lum(px[3 * i], px[3 * i + 1], px[3 * i + 2]) for i in pixels]
+    lo = min(ls)
+    sw = sx = sy = cx = cy = 0.0
+    for i, l in zip(pixels, ls):
+        x, y = i % w, i // w
+        cx += x
+        cy += y
+        sw += l - lo
+        sx += (l - lo) * x
+        sy += (l - lo) * y
     if sw <= 0:
         return 0.0, 0.0, 0.0
-    r = max(math.sqrt(region.size / math.pi), 1.0)
-    dx, dy = (sx / sw - region.cx) / r, (sy / sw - region.cy) / r
+    n = len(pixels)
+    r = max(math.sqrt(n / math.pi), 1.0)
+    dx, dy = (sx / sw - cx / n) / r, (sy / sw - cy / n) / r
     return dx, dy, math.hypot(dx, dy)
 
 
