@@ -37,9 +37,10 @@ void main() {
     float metallic = floor(packedBits / 256.0) / 255.0;
     float occlusion = mod(packedBits, 256.0) / 255.0;
     float roughnessBits = floor(nm.z * 65535.0 + 0.5);
-    float roughness = floor(roughnessBits / 2.0) / 32767.0;
+    float roughness = floor(roughnessBits / 4.0) / 16383.0;
+    bool unlit = mod(roughnessBits, 4.0) > 1.5;
     bool receivesShadows = mod(roughnessBits, 2.0) > 0.5;
-    vec3 v = normalize(-position);
+    vec3 v = viewVector(position);
     // The captures describe the surface whose depth the frame kept (the truth is traced there):
     // a translucent layer writes no depth, so it leaves the value below it (alpha 0).
     float captureAlpha = base.a < 1.0 ? 0.0 : 1.0;
@@ -56,6 +57,10 @@ void main() {
         return;
     }
 #endif
+    if (unlit) { // KHR_materials_unlit: the colour as authored, no light at all
+        outColor = vec4(base.rgb + texture(uGEmissive, vUv).rgb, base.a);
+        return;
+    }
     // Occlusion darkens indirect light only (glTF's definition): the ambient term (or the
     // environment's light, which replaces it) and GI.
     vec3 indirect = uAmbient.rgb * base.rgb;

@@ -14,7 +14,7 @@ layout(location = 0) out vec4 outColor;
 
 void main() {
     Surface s = evaluateSurface(surfaceInput());
-    vec3 v = normalize(-vPosition); // camera at the origin of camera-relative space
+    vec3 v = viewVector(vPosition); // camera at the origin of camera-relative space
 #ifdef GI
     if (giCaptureIrradiance()) { // CaptureBuffer::Indirect: the irradiance GI adds, per pixel
         // Blended surfaces write no depth: the value below them, whose depth the frame kept,
@@ -23,6 +23,10 @@ void main() {
         return;
     }
 #endif
+    if (uAlphaParams.w > 0.5) { // KHR_materials_unlit: the colour as authored, no light at all
+        outColor = vec4(s.baseColor + s.emissive, s.alpha);
+        return;
+    }
     vec3 color = shadeLights(s.baseColor, s.metallic, s.roughness, s.normal, vPosition, v, true);
 #ifdef IBL
     if (iblCaptureSky()) { // CaptureBuffer::Sky (forward surfaces: no sky visibility term)

@@ -34,7 +34,10 @@ void main() {
     vec3 normal = uObjectParams.x > 0.5 ? octDecode(inNormal.xy) : inNormal;
     vNormal = mat3(uNormalMatrix) * normal;
 #ifdef HAS_TANGENT
-    vTangent = vec4(mat3(uModel) * inTangent.xyz, inTangent.w);
+    // The bitangent is cross(N, T) * w in object space; a mirroring model matrix flips the
+    // handedness of the transformed frame, so w carries the mirror's sign too (glTF's
+    // NormalTangentMirrorTest and NegativeScaleTest).
+    vTangent = vec4(mat3(uModel) * inTangent.xyz, inTangent.w * uObjectParams.z);
 #else
     vTangent = vec4(1.0, 0.0, 0.0, 1.0);
 #endif

@@ -150,6 +150,12 @@ json nodeJson(const Node& n) {
 }
 
 json cameraJson(const Camera& c) {
+    if (c.orthographic) {
+        json o = {{"xmag", num(c.xmag)}, {"ymag", num(c.ymag)}, {"znear", num(c.znear)}, {"zfar", num(c.zfar)}};
+        json j = {{"type", "orthographic"}, {"orthographic", std::move(o)}};
+        if (!c.name.empty()) j["name"] = c.name;
+        return j;
+    }
     json p = {{"yfov", num(c.yfovRadians)}, {"znear", num(c.znear)}};
     if (c.zfar > 0) p["zfar"] = num(c.zfar);
     if (c.aspectRatio > 0) p["aspectRatio"] = num(c.aspectRatio);
@@ -239,6 +245,11 @@ std::string validateDocument(const Document& doc) {
         if (doc.images[i].png.empty()) return bad("image", i, "has no bytes");
     for (size_t i = 0; i < doc.cameras.size(); ++i) {
         const Camera& c = doc.cameras[i];
+        if (c.orthographic) {
+            if (!(c.xmag > 0) || !(c.ymag > 0) || !(c.znear >= 0) || !(c.zfar > c.znear))
+                return bad("camera", i, "invalid orthographic projection");
+            continue;
+        }
         if (!(c.yfovRadians > 0 && c.yfovRadians < 3.14159f) || !(c.znear > 0) ||
             (c.zfar != 0 && !(c.zfar > c.znear)) || !(c.aspectRatio >= 0))
             return bad("camera", i, "invalid projection");

@@ -124,6 +124,43 @@ Sphere transformSphere(const Mat4d& m, const Sphere& s) {
     return {{float(c[0]), float(c[1]), float(c[2])}, float(s.radius * maxScale)};
 }
 
+// The world bounds of a node's mesh: of every EXT_mesh_gpu_instancing copy when it has them.
+Aabb instancedBounds(const Mat4d& node, const std::vector<InstanceTransform>& instances,
+                     const Aabb& mesh) {
+    if (instances.empty()) return transformBounds(node, mesh);
+    Aabb out;
+    for (const InstanceTransform& t : instances) {
+        const Aabb b = transformBounds(multiply(node, trs(t.translation, t.rotation, t.scale)), mesh);
+        if (b.min.x > b.max.x) continue;
+        out.grow(b.min);
+        out.grow(b.max);
+    }
+    return out;
+}
+
+// A sphere holding every copy's sphere: centred on their centres' box, as large as the farthest.
+Sphere instancedSphere(const Mat4d& node, const std::vector<InstanceTransform>& instances,
+                       const Sphere& mesh) {
+    if (instances.empty()) return transformSphere(node, mesh);
+    std::vector<Sphere> copies;
+    Aabb centres;
+    for (const InstanceTransform& t : instances) {
+        const Sphere s = transformSphere(multiply(node, trs(t.translation, t.rotation, t.scale)), mesh);
+        if (!(s.radius > 0)) continue;
+        copies.push_back(s);
+        centres.grow(s.center);
+    }
+    if (copies.empty()) return {};
+    const Vec3 c{(centres.min.x + centres.max.x) / 2, (centres.min.y + centres.max.y) / 2,
+                 (centres.min.z + centres.max.z) / 2};
+    double radius = 0;
+    for (const Sphere& s : copies) {
+        const double dx = s.center.x - c.x, dy = s.center.y - c.y, dz = s.center.z - c.z;
+        radius = std::max(radius, std::sqrt(dx * dx + dy * dy + dz * dz) + s.radius);
+    }
+    return {c, float(radius)};
+}
+
 std::string defaultSidecarPath(const std::string& input) {
     fs::path p(input);
     return (p.parent_path() / (p.stem().string() + ".pnb.json")).string();
@@ -198,6 +235,15 @@ int nodeOfLight(const IrScene& scene, size_t light) {
 }
 
 } // namespace
+
+std::vector<std::string> addedDefaults(const ConvertSummary& r) {
+    std::vector<std::string> out;
+    if (r.defaultSun) out.push_back("default sun");
+    if (r.defaultEnvironment) out.push_back("default environment");
+    if (r.defaultCamera) out.push_back("default camera");
+    if (r.defaultPath) out.push_back("default orbit");
+    return out;
+}
 
 Result<ConvertSummary, ConvertError> convertScene(const ConvertSettings& s,
                                                   const ProgressFn& progress) {
@@ -343,6 +389,9 @@ Result<ConvertSummary, ConvertError> convertScene(const ConvertSettings& s,
     clock.start("scene");
     bool hasSun = std::any_of(scene.lights.begin(), scene.lights.end(),
                               [](const IrLight& l) { return l.type == LightType::Directional; });
+    // The default environment goes with a source that has no light of its own (before the
+    // default sun): a scene that lights itself (a lamp in a closed room) keeps its look.
+    const bool sourceHasLights = !scene.lights.empty();
     std::vector<bool> generatedLight(scene.lights.size(), false);
     // World bounds first: the default camera and path frame them.
     std::vector<Mat4d> world(scene.nodes.size());
@@ -354,8 +403,8 @@ Result<ConvertSummary, ConvertError> convertScene(const ConvertSettings& s,
         Mat4d local = trs(n.translation, n.rotation, n.scale);
         world[i] = n.parent >= 0 ? multiply(world[size_t(n.parent)], local) : local;
         if (n.mesh >= 0 && size_t(n.mesh) < meshes.size()) {
-            nodeBounds[i] = transformBounds(world[i], meshes[size_t(n.mesh)]->bounds);
-            nodeSpheres[i] = transformSphere(world[i], meshes[size_t(n.mesh)]->boundingSphere);
+            nodeBounds[i] = instancedBounds(world[i], n.instances, meshes[size_t(n.mesh)]->bounds);
+            nodeSpheres[i] = instancedSphere(world[i], n.instances, meshes[size_t(n.mesh)]->boundingSphere);
             if (nodeBounds[i].min.x <= nodeBounds[i].max.x) {
                 sceneBounds.grow(nodeBounds[i].min);
                 sceneBounds.grow(nodeBounds[i].max);
@@ -393,19 +442,22 @@ Result<ConvertSummary, ConvertError> convertScene(const ConvertSettings& s,
         world.push_back(trs(node.translation, node.rotation, node.scale));
         nodeBounds.emplace_back();
         nodeSpheres.emplace_back();
-        sum.defaultSun = true;
-        sum.warnings.push_back("no directional light in the source: added 'default-sun' "
-                               "(flagged as generated)");
+        sum.defaultSun = true; // a summary line (ConvertSummary::added), not a warning
     }
     if (scene.cameras.empty()) {
+        // Where the default orbit starts (camera_path.h "framing"): the bounding sphere inside
+        // the frustum with a 10 % margin, near and far planes from the sphere.
+        const Framing framing = frameBounds(sceneBounds);
         IrCamera cam;
         cam.name = "default-camera";
-        cam.znear = std::max(radius * 1e-3f, 1e-4f);
+        cam.yfovRadians = kDefaultYfovRadians;
+        cam.znear = framing.znear;
+        cam.zfar = framing.zfar;
         scene.cameras.push_back(cam);
         IrNode node;
         node.name = "default-camera";
-        node.translation = {center.x, center.y + radius * 0.5f, center.z + radius * 2.2f};
-        node.rotation = lookAtRotation(node.translation, center);
+        node.translation = framingPosition(framing, 0.0f);
+        node.rotation = lookAtRotation(node.translation, framing.center);
         node.camera = 0;
         scene.nodes.push_back(node);
         world.push_back(trs(node.translation, node.rotation, node.scale));
@@ -430,8 +482,16 @@ Result<ConvertSummary, ConvertError> convertScene(const ConvertSettings& s,
 
     // [SECTION] environment: after the lights, since the sky follows the scene's sun (the
     // default one if the converter added it)
-    std::optional<BakedEnvironment> environment;
+    std::optional<BakedEnvironment> ownEnvironment;
+    const BakedEnvironment* environment = nullptr;
     float sunIlluminance = 0;
+    if (!env.any() && s.defaultEnvironment && !sourceHasLights) {
+        // The neutral studio (environment.h "default-studio"), baked once per process.
+        clock.start("environment");
+        environment = &defaultStudioEnvironment(s.jobs);
+        sum.defaultEnvironment = true;
+        clock.stop();
+    }
     if (env.any()) {
         clock.start("environment");
         const auto environmentStart = std::chrono::steady_clock::now();
@@ -490,14 +550,15 @@ Result<ConvertSummary, ConvertError> convertScene(const ConvertSettings& s,
         // The summary's time is the whole stage: loading or baking the sky image too.
         baked->summary.seconds =
             std::chrono::duration<double>(std::chrono::steady_clock::now() - environmentStart).count();
-        environment = std::move(*baked);
+        ownEnvironment = std::move(*baked);
+        environment = &*ownEnvironment;
         clock.stop();
     }
 
     // [SECTION] shaders
     clock.start("shaders");
     SceneShaderNeeds needs;
-    needs.ibl = environment.has_value();
+    needs.ibl = environment != nullptr;
     // Any shadow-casting light, sun or lamp: point and spot shadows use the same SHADOWS define.
     // (The default sun makes this true for every scene today; it stays right without it.)
     const bool shadowLight = std::any_of(scene.lights.begin(), scene.lights.end(),
@@ -557,7 +618,13 @@ Result<ConvertSummary, ConvertError> convertScene(const ConvertSettings& s,
                 sum.minTexturePsnrDb == 0 ? t.psnrDb : std::min(sum.minTexturePsnrDb, t.psnrDb);
     }
     // The environment's textures follow the materials' (whose indices materials already hold).
-    if (environment) sum.environment = appendEnvironment(b, *environment, environment->summary.name);
+    if (environment) {
+        sum.environment = appendEnvironment(b, *environment, environment->summary.name);
+        // The default one is baked once per process: this conversion's time is its stage's.
+        if (sum.defaultEnvironment)
+            for (const StageTiming& t : sum.stages)
+                if (t.stage == "environment") sum.environment->seconds = t.seconds;
+    }
     std::set<uint16_t> layers;
     for (size_t i = 0; i < materials.materials.size(); ++i) {
         Material m = materials.materials[i];
@@ -612,6 +679,10 @@ Result<ConvertSummary, ConvertError> convertScene(const ConvertSettings& s,
         node.worldBounds = nodeBounds[i];
         node.worldSphere = nodeSpheres[i];
         out.nodes.nodes.push_back(node);
+        if (!n.instances.empty() && node.mesh != kNone) {
+            out.nodes.instances.push_back(NodeInstances{uint32_t(i), n.instances});
+            sum.instances += n.instances.size();
+        }
     }
     for (const PathSpec& p : paths)
         out.cameraPaths.push_back(CameraPath{b.intern(p.name), p.interpolation, p.loop, p.keys});

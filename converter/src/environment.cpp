@@ -5,6 +5,8 @@
 #include <chrono>
 #include <cmath>
 #include <cstring>
+#include <mutex>
+#include <optional>
 
 #include "environment_internal.h"
 #include "pnb_converter/environment.h"
@@ -233,6 +235,28 @@ Result<EnvironmentSummary, ConvertError> addEnvironment(SceneBuilder& b,
     auto baked = bakeEnvironment(radiance, s, source, name, jobs, sky);
     if (!baked) return baked.error();
     return appendEnvironment(b, *baked, name);
+}
+
+EnvironmentSettings defaultStudioSettings() {
+    EnvironmentSettings s;
+    s.specularSize = 32;
+    s.specularLevels = 6;
+    s.prefilterSamples = 128;
+    return s;
+}
+
+const BakedEnvironment& defaultStudioEnvironment(uint32_t jobs) {
+    static std::once_flag once;
+    static std::optional<BakedEnvironment> baked;
+    std::call_once(once, [jobs] {
+        // Fixed, valid settings and a non-empty image: the bake cannot fail.
+        auto r = bakeEnvironment(bakeDefaultStudio(), defaultStudioSettings(),
+                                 EnvironmentSource::Image, kDefaultEnvironmentName, jobs);
+        baked = std::move(*r);
+        baked->envm.generated = true;
+        baked->summary.generated = true;
+    });
+    return *baked;
 }
 
 } // namespace pnb::converter

@@ -1,6 +1,7 @@
 // converter/src/environment_image.cpp — the environment's radiance image: loaded from a file
 // (through the converter's image decoders, so every format a texture may be in works here too),
 // cleaned, or baked from the analytic sky (environment.h).
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <optional>
@@ -106,6 +107,41 @@ RadianceImage bakePreethamSky(const PreethamSkyParams& params, uint32_t width) {
             p[2] = float(L.z);
         }
     out.cleanedTexels = cleanRadiance(out); // the model promises finite, >= 0: counted, not hidden
+    return out;
+}
+
+float studioRadiance(const double d[3]) {
+    auto smoothstep = [](double e0, double e1, double x) {
+        const double t = std::clamp((x - e0) / (e1 - e0), 0.0, 1.0);
+        return t * t * (3 - 2 * t);
+    };
+    const double y = std::clamp(d[1], -1.0, 1.0);
+    const double walls = kStudioHorizon + (kStudioZenith - kStudioHorizon) * std::max(y, 0.0);
+    double L = kStudioGround + (walls - kStudioGround) * smoothstep(-0.15, 0.0, y);
+    constexpr double kDeg = 3.14159265358979323846 / 180.0;
+    for (const StudioLight& l : kStudioLights) {
+        const double el = l.elevationDegrees * kDeg, az = l.azimuthDegrees * kDeg;
+        const double c = d[0] * std::cos(el) * std::sin(az) + d[1] * std::sin(el) +
+                         d[2] * std::cos(el) * std::cos(az);
+        const double r = l.radiusDegrees * kDeg;
+        L += l.radiance * smoothstep(std::cos(1.25 * r), std::cos(0.75 * r), c);
+    }
+    return float(L);
+}
+
+RadianceImage bakeDefaultStudio(uint32_t width) {
+    RadianceImage out;
+    out.width = std::max(1u, width);
+    out.height = std::max(1u, out.width / 2);
+    out.rgb.resize(size_t(out.width) * out.height * 3);
+    for (uint32_t j = 0; j < out.height; ++j)
+        for (uint32_t i = 0; i < out.width; ++i) {
+            const glm::dvec3 d =
+                lighting::equirectDirection((i + 0.5) / out.width, (j + 0.5) / out.height);
+            const double dir[3] = {d.x, d.y, d.z};
+            float* p = &out.rgb[(size_t(j) * out.width + i) * 3];
+            p[0] = p[1] = p[2] = studioRadiance(dir);
+        }
     return out;
 }
 

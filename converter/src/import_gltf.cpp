@@ -305,7 +305,7 @@ Result<std::vector<uint8_t>, ConvertError> readFile(const std::string& path,
 constexpr std::string_view kSupportedExtensions[] = {
     "KHR_draco_mesh_compression", "KHR_texture_transform", "KHR_materials_emissive_strength",
     "KHR_lights_punctual", "KHR_mesh_quantization", "KHR_materials_pbrSpecularGlossiness",
-    "EXT_meshopt_compression",
+    "EXT_meshopt_compression", "KHR_materials_unlit", "EXT_mesh_gpu_instancing",
 };
 
 bool isSupported(const std::string& extension) {

@@ -196,7 +196,9 @@ Result<std::vector<uint32_t>, ConvertError> readIndices(const Ctx& ctx, int inde
 // (the Ctx maps memoise); `who` names the referrer in messages.
 
 // import_gltf_meshes.cpp: the mesh with its primitives as triangle lists (Draco decoded).
-Result<int, ConvertError> importMesh(Ctx& ctx, int index, const std::string& who);
+// `nodeWeights`: the node's morph weights (empty: the mesh's default weights).
+Result<int, ConvertError> importMesh(Ctx& ctx, int index, const std::vector<double>& nodeWeights,
+                                     const std::string& who);
 
 // import_gltf_materials.cpp: the material with its textures and images.
 Result<int, ConvertError> importMaterial(Ctx& ctx, int index, const std::string& who);

@@ -10,6 +10,7 @@
 #include <optional>
 #include <span>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "import_gltf_internal.h"
@@ -180,9 +181,18 @@ Result<IrTextureRef, ConvertError> importTextureRef(Ctx& ctx, const TexInfo& inf
                 image && *image >= 0 && size_t(*image) < m.images.size()
                     ? label("image", *image, m.images)
                     : std::string("its image");
-            return ctx.fail(strf("%s: texture %d: %s needs %s, which is not supported, and the "
-                                 "texture has no fallback source image",
-                                 who.c_str(), info.index, imageWho.c_str(), name),
+            // KTX2 says what to do: Debian 12 packages no KTX2/Basis Universal decoder (no
+            // libktx, no basisu transcoder library), so the file must be re-exported.
+            const bool ktx2 = std::string_view(name) == "KHR_texture_basisu";
+            return ctx.fail(strf("%s: texture %d: %s needs %s%s, which is not supported, and the "
+                                 "texture has no fallback source image%s",
+                                 who.c_str(), info.index, imageWho.c_str(), name,
+                                 ktx2 ? " (a KTX2 / Basis Universal image)" : " (a WebP image)",
+                                 ktx2 ? "; Penumbra does not decode KTX2 (no decoder is packaged "
+                                        "in Debian 12): re-export the model with PNG or JPEG "
+                                        "textures, e.g. `gltf-transform ktxdecompress in.glb "
+                                        "out.glb`, or add a PNG fallback `source`"
+                                      : "; re-export the model with PNG or JPEG textures"),
                             ConvertErrorKind::Unsupported);
         }
         ctx.warn(strf("%s: texture %d has no image in a format we read; dropped", who.c_str(),
@@ -243,6 +253,7 @@ Result<int, ConvertError> importMaterial(Ctx& ctx, int index, const std::string&
     }
     pbr.alphaCutoff = clampOr(src.alphaCutoff, 0, std::numeric_limits<float>::max(), 0.5f);
     pbr.doubleSided = src.doubleSided;
+    pbr.unlit = extensionObject(src.extensions, "KHR_materials_unlit") != nullptr;
 
     struct Slot { TextureSlotKind kind; TexInfo info; const char* name; };
     Slot slots[] = {
@@ -254,9 +265,10 @@ Result<int, ConvertError> importMaterial(Ctx& ctx, int index, const std::string&
         {TextureSlotKind::Emissive, texInfo(src.emissiveTexture), "emissiveTexture"},
     };
 
-    // KHR_materials_pbrSpecularGlossiness (archived): files usually carry a metallic-roughness
-    // fallback, and it is what we use when it is there. Otherwise we approximate: diffuse
-    // becomes base colour, metallic is 0 and roughness is 1 - glossiness. Specular is lost.
+    // KHR_materials_pbrSpecularGlossiness (archived): a metallic-roughness fallback in the file
+    // is what we use when it is there. Otherwise the spec-gloss factors and textures are kept
+    // for material resolve, which converts them with Khronos's published conversion
+    // (pnb_converter/spec_gloss.h), per texel where there are textures.
     if (const tinygltf::Value* sg =
             extensionObject(src.extensions, "KHR_materials_pbrSpecularGlossiness")) {
         const bool hasFallback = mr.baseColorTexture.index >= 0 ||
@@ -267,25 +279,28 @@ Result<int, ConvertError> importMaterial(Ctx& ctx, int index, const std::string&
             ctx.warn(matWho + ": KHR_materials_pbrSpecularGlossiness ignored; using its "
                               "metallic-roughness fallback");
         } else {
-            ctx.warn(matWho + ": KHR_materials_pbrSpecularGlossiness approximated (diffuse as "
-                              "base colour, metallic 0, roughness 1 - glossiness, specular "
-                              "ignored)");
-            float diffuse[4];
-            if (numbersOf(member(sg, "diffuseFactor"), diffuse, 4)) {
-                pbr.baseColorFactor = {std::clamp(diffuse[0], 0.0f, 1.0f),
-                                       std::clamp(diffuse[1], 0.0f, 1.0f),
-                                       std::clamp(diffuse[2], 0.0f, 1.0f),
-                                       std::clamp(diffuse[3], 0.0f, 1.0f)};
-            }
-            pbr.metallicFactor = 0;
-            pbr.roughnessFactor =
-                1.0f - clampOr(numberOf(member(sg, "glossinessFactor")).value_or(1.0), 0, 1, 1);
-            if (const tinygltf::Value* diffuseTexture = member(sg, "diffuseTexture")) {
-                static const tinygltf::ExtensionMap kNoExtensions;
-                slots[0].info = {intOf(member(diffuseTexture, "index")).value_or(-1),
-                                 intOf(member(diffuseTexture, "texCoord")).value_or(0),
-                                 &kNoExtensions};
-            }
+            SpecGlossFactors f;
+            float v[4];
+            if (numbersOf(member(sg, "diffuseFactor"), v, 4))
+                f.diffuse = {clampOr(v[0], 0, 1, 1), clampOr(v[1], 0, 1, 1),
+                             clampOr(v[2], 0, 1, 1), clampOr(v[3], 0, 1, 1)};
+            if (numbersOf(member(sg, "specularFactor"), v, 3))
+                f.specular = {clampOr(v[0], 0, 1, 1), clampOr(v[1], 0, 1, 1),
+                              clampOr(v[2], 0, 1, 1)};
+            f.glossiness = clampOr(numberOf(member(sg, "glossinessFactor")).value_or(1.0), 0, 1, 1);
+            out.specGloss = f;
+            static const tinygltf::ExtensionMap kNoExtensions;
+            auto textureOf = [&](const char* name) -> TexInfo {
+                const tinygltf::Value* t = member(sg, name);
+                if (!t) return {};
+                const tinygltf::Value* ext = member(t, "extensions");
+                return {intOf(member(t, "index")).value_or(-1),
+                        intOf(member(t, "texCoord")).value_or(0),
+                        ext && ext->IsObject() ? &ext->Get<tinygltf::Value::Object>()
+                                               : &kNoExtensions};
+            };
+            slots[0].info = textureOf("diffuseTexture");
+            slots[1].info = textureOf("specularGlossinessTexture");
         }
     }
 

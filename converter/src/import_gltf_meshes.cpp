@@ -5,9 +5,11 @@
 //
 // Index: [SECTION] draco, [SECTION] meshes
 #include <algorithm>
+#include <cmath>
 #include <limits>
 #include <memory>
 #include <optional>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -205,9 +207,46 @@ const char* modeName(int mode) {
     return mode >= 0 && mode <= 6 ? kNames[mode] : "?";
 }
 
-// One primitive as a triangle list, or nullopt when it is dropped (with a warning).
+// Morph targets at fixed weights, baked into the base attributes (glTF 2.0 §3.7.2.2:
+// attribute = base + sum of weight_i × target_i). Only POSITION, NORMAL and TANGENT (xyz) are
+// morphed, as the specification defines; a zero weight reads nothing. Normals and tangents are
+// renormalised later by mesh processing.
+Check applyMorphTargets(Ctx& ctx, const tinygltf::Primitive& src, std::span<const double> weights,
+                        IrPrimitive& p, const std::string& where) {
+    if (weights.size() != src.targets.size()) {
+        ctx.warn(strf("%s: %zu morph weights for %zu targets; the missing weights are 0",
+                      where.c_str(), weights.size(), src.targets.size()));
+    }
+    struct Morphed { const char* semantic; std::vector<float>* base; size_t stride; };
+    const Morphed morphed[] = {
+        {"POSITION", &p.positions, 3}, {"NORMAL", &p.normals, 3}, {"TANGENT", &p.tangents, 4}};
+    const size_t n = p.vertexCount();
+    for (size_t t = 0; t < src.targets.size() && t < weights.size(); ++t) {
+        const float w = float(weights[t]);
+        if (w == 0 || !std::isfinite(w)) continue;
+        for (const Morphed& m : morphed) {
+            auto it = src.targets[t].find(m.semantic);
+            if (it == src.targets[t].end() || m.base->empty()) continue;
+            const std::string who = strf("%s morph target %zu %s", where.c_str(), t, m.semantic);
+            int components = 0;
+            auto delta = readFloats(ctx, it->second, who, {3, 3, false}, components);
+            if (!delta) return delta.error();
+            if (delta->size() != n * 3) {
+                return ctx.fail(strf("%s: count %zu differs from POSITION's %zu",
+                                     accessorWho(it->second, who).c_str(), delta->size() / 3, n));
+            }
+            for (size_t v = 0; v < n; ++v)
+                for (size_t k = 0; k < 3; ++k) (*m.base)[v * m.stride + k] += w * (*delta)[v * 3 + k];
+        }
+    }
+    return std::nullopt;
+}
+
+// One primitive as a triangle list, or nullopt when it is dropped (with a warning). Morph
+// targets are applied at `weights` (the node's, else the mesh's default weights).
 Result<std::optional<IrPrimitive>, ConvertError> importPrimitive(Ctx& ctx, int meshIndex,
-                                                                 int primIndex) {
+                                                                 int primIndex,
+                                                                 std::span<const double> weights) {
     const tinygltf::Primitive& src =
         ctx.model.meshes[size_t(meshIndex)].primitives[size_t(primIndex)];
     const std::string where =
@@ -220,9 +259,6 @@ Result<std::optional<IrPrimitive>, ConvertError> importPrimitive(Ctx& ctx, int m
         ctx.warn(strf("%s: mode %s dropped (only triangles are imported)", where.c_str(),
                       modeName(mode)));
         return std::optional<IrPrimitive>();
-    }
-    if (!src.targets.empty()) {
-        ctx.warn(strf("%s: %zu morph targets ignored", where.c_str(), src.targets.size()));
     }
     auto position = src.attributes.find("POSITION");
     if (position == src.attributes.end()) {
@@ -310,6 +346,14 @@ Result<std::optional<IrPrimitive>, ConvertError> importPrimitive(Ctx& ctx, int m
         indices.resize(vertexCount);
         for (size_t i = 0; i < vertexCount; ++i) indices[i] = uint32_t(i);
     }
+    if (!src.targets.empty()) {
+        if (draco) {
+            ctx.warn(strf("%s: %zu morph targets of a Draco-compressed primitive ignored",
+                          where.c_str(), src.targets.size()));
+        } else if (auto e = applyMorphTargets(ctx, src, weights, p, where)) {
+            return *e;
+        }
+    }
     auto triangles = triangulate(ctx, std::move(indices), indexMode, where);
     if (!triangles) return triangles.error();
     p.indices = std::move(triangles).value();
@@ -332,26 +376,33 @@ Result<std::optional<IrPrimitive>, ConvertError> importPrimitive(Ctx& ctx, int m
 
 } // namespace
 
-Result<int, ConvertError> importMesh(Ctx& ctx, int index, const std::string& who) {
+Result<int, ConvertError> importMesh(Ctx& ctx, int index, const std::vector<double>& nodeWeights,
+                                     const std::string& who) {
     if (index < 0 || size_t(index) >= ctx.model.meshes.size()) {
         return ctx.fail(strf("%s: mesh %d does not exist (%zu meshes)", who.c_str(), index,
                              ctx.model.meshes.size()));
     }
-    if (ctx.meshMap[size_t(index)] != -1) return ctx.meshMap[size_t(index)];
     const tinygltf::Mesh& src = ctx.model.meshes[size_t(index)];
+    // A node's own morph weights override the mesh's; such a node gets a mesh of its own
+    // (the morph is baked), every other node shares the mesh at its default weights.
+    const bool ownWeights = !nodeWeights.empty() && nodeWeights != src.weights;
+    if (!ownWeights && ctx.meshMap[size_t(index)] != -1) return ctx.meshMap[size_t(index)];
+    const std::vector<double>& weights = ownWeights ? nodeWeights : src.weights;
     IrMesh mesh;
     mesh.name = src.name;
     if (src.primitives.empty()) {
         ctx.warn(label("mesh", index, ctx.model.meshes) + ": no primitives");
     }
     for (size_t i = 0; i < src.primitives.size(); ++i) {
-        auto p = importPrimitive(ctx, index, int(i));
+        auto p = importPrimitive(ctx, index, int(i), weights);
         if (!p) return p.error();
         if (p->has_value()) mesh.primitives.push_back(std::move(**p));
     }
     // An IR mesh is kept even when empty, so a node that names it stays valid.
     ctx.scene.meshes.push_back(std::move(mesh));
-    return ctx.meshMap[size_t(index)] = int(ctx.scene.meshes.size() - 1);
+    const int imported = int(ctx.scene.meshes.size() - 1);
+    if (!ownWeights) ctx.meshMap[size_t(index)] = imported;
+    return imported;
 }
 
 } // namespace pnb::converter::gltf_internal

@@ -224,6 +224,60 @@ void applyTrs(Ctx& ctx, const tinygltf::Node& src, IrNode& node, const std::stri
     }
 }
 
+// EXT_mesh_gpu_instancing: the node's per-copy TRANSLATION, ROTATION and SCALE accessors (any
+// may be absent: identity), all with one count.
+Check importInstances(Ctx& ctx, const tinygltf::Value& ext, IrNode& node, const std::string& who) {
+    const tinygltf::Value* attributes = member(&ext, "attributes");
+    if (!attributes || !attributes->IsObject())
+        return ctx.fail(who + ": EXT_mesh_gpu_instancing has no 'attributes' object");
+    struct Channel { const char* name; int components; std::vector<float> data; };
+    Channel channels[] = {{"TRANSLATION", 3, {}}, {"ROTATION", 4, {}}, {"SCALE", 3, {}}};
+    size_t count = 0;
+    bool any = false;
+    for (Channel& c : channels) {
+        const std::optional<int> accessor = intOf(member(attributes, c.name));
+        if (!accessor) continue;
+        const std::string where = who + " EXT_mesh_gpu_instancing " + c.name;
+        int components = 0;
+        auto data = readFloats(ctx, *accessor, where, {c.components, c.components, false}, components);
+        if (!data) return data.error();
+        const size_t n = data->size() / size_t(c.components);
+        if (any && n != count)
+            return ctx.fail(strf("%s: count %zu differs from the other attributes' %zu",
+                                 where.c_str(), n, count));
+        count = n;
+        any = true;
+        c.data = std::move(data).value();
+    }
+    if (!any || count == 0) {
+        ctx.warn(who + ": EXT_mesh_gpu_instancing has no instances; the mesh is drawn once");
+        return std::nullopt;
+    }
+    if (auto e = ctx.fits(uint64_t(count) * sizeof(InstanceTransform), who)) return e;
+    node.instances.resize(count);
+    size_t repaired = 0;
+    for (size_t i = 0; i < count; ++i) {
+        InstanceTransform& t = node.instances[i];
+        if (!channels[0].data.empty()) t.translation = {channels[0].data[i * 3], channels[0].data[i * 3 + 1], channels[0].data[i * 3 + 2]};
+        if (!channels[1].data.empty()) {
+            const float* q = &channels[1].data[i * 4];
+            const double len = std::sqrt(double(q[0]) * q[0] + double(q[1]) * q[1] + double(q[2]) * q[2] + double(q[3]) * q[3]);
+            if (len > 1e-12 && std::isfinite(len)) t.rotation = {float(q[0] / len), float(q[1] / len), float(q[2] / len), float(q[3] / len)};
+            else ++repaired;
+        }
+        if (!channels[2].data.empty()) t.scale = {channels[2].data[i * 3], channels[2].data[i * 3 + 1], channels[2].data[i * 3 + 2]};
+        const float values[] = {t.translation.x, t.translation.y, t.translation.z, t.scale.x, t.scale.y, t.scale.z};
+        if (!std::all_of(std::begin(values), std::end(values), [](float v) { return std::isfinite(v); })) {
+            t = InstanceTransform{};
+            ++repaired;
+        }
+    }
+    if (repaired)
+        ctx.warn(strf("%s: EXT_mesh_gpu_instancing: %zu instances with a non-finite or zero "
+                      "transform reset to identity", who.c_str(), repaired));
+    return std::nullopt;
+}
+
 // Fills in one IR node from glTF node `index`; imports what it references.
 Check importNodeContent(Ctx& ctx, int index, IrNode& node) {
     const tinygltf::Node& src = ctx.model.nodes[size_t(index)];
@@ -231,9 +285,11 @@ Check importNodeContent(Ctx& ctx, int index, IrNode& node) {
     node.name = src.name;
     applyTrs(ctx, src, node, who);
     if (src.mesh >= 0) {
-        auto mesh = importMesh(ctx, src.mesh, who);
+        auto mesh = importMesh(ctx, src.mesh, src.weights, who);
         if (!mesh) return mesh.error();
         node.mesh = *mesh;
+        if (const tinygltf::Value* ext = extensionObject(src.extensions, "EXT_mesh_gpu_instancing"))
+            if (auto e = importInstances(ctx, *ext, node, who)) return e;
     }
     if (src.camera >= 0) {
         auto camera = importCamera(ctx, src.camera, who);

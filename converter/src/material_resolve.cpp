@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <tuple>
 #include <sstream>
 
 #include <nlohmann/json.hpp>
@@ -122,6 +123,81 @@ Result<MaterialOverrides, ConvertError> loadSidecar(const std::string& path) {
     return o;
 }
 
+namespace {
+
+// A KHR_materials_pbrSpecularGlossiness material (IrMaterial::specGloss) in metallic-roughness:
+// without textures its factors are converted once; with a diffuse or specular-glossiness texture
+// the conversion runs per texel (TextureRequest::specGloss) into a base colour and a
+// metallic-roughness texture of this material's own, and its factors become 1.
+std::optional<ConvertError> resolveSpecGloss(const IrScene& scene, const IrMaterial& source,
+                                             const std::string& name, Material& m,
+                                             MaterialFeatures& f, ResolvedMaterials& r) {
+    const SpecGlossFactors& k = *source.specGloss;
+    const IrTextureRef& diffuse = source.textures[size_t(TextureSlotKind::BaseColor)];
+    const IrTextureRef& specular = source.textures[size_t(TextureSlotKind::MetallicRoughness)];
+    m.textures[size_t(TextureSlotKind::BaseColor)] = TextureSlot{};
+    m.textures[size_t(TextureSlotKind::MetallicRoughness)] = TextureSlot{};
+    for (const IrTextureRef* ref : {&diffuse, &specular})
+        if (ref->image >= 0 && size_t(ref->image) >= scene.images.size())
+            return inputError(scene.sourcePath + ": material '" + name + "' refers to image " +
+                              std::to_string(ref->image) + " of " +
+                              std::to_string(scene.images.size()));
+    if (diffuse.image < 0 && specular.image < 0) {
+        const MetalRough c = specGlossToMetalRough(k.diffuse, k.specular, k.glossiness);
+        m.baseColorFactor = c.baseColor;
+        m.metallicFactor = c.metallic;
+        m.roughnessFactor = c.roughness;
+        return std::nullopt;
+    }
+    // The texels are converted on the grid of one texture: both must be read alike.
+    const IrTextureRef& grid = diffuse.image >= 0 ? diffuse : specular;
+    if (diffuse.image >= 0 && specular.image >= 0 &&
+        (diffuse.texCoord != specular.texCoord || diffuse.offset.x != specular.offset.x ||
+         diffuse.offset.y != specular.offset.y || diffuse.scale.x != specular.scale.x ||
+         diffuse.scale.y != specular.scale.y || diffuse.rotationRadians != specular.rotationRadians))
+        r.warnings.push_back("material '" + name + "': KHR_materials_pbrSpecularGlossiness's "
+                             "two textures use different UV sets or transforms; converted on "
+                             "the diffuse texture's");
+    m.baseColorFactor = {1, 1, 1, 1};
+    m.metallicFactor = m.roughnessFactor = 1;
+    for (bool toMetallicRoughness : {false, true}) {
+        TextureRequest req;
+        req.image = diffuse.image >= 0 ? &scene.images[size_t(diffuse.image)] : nullptr;
+        req.specGloss = TextureRequest::SpecGlossBake{
+            specular.image >= 0 ? &scene.images[size_t(specular.image)] : nullptr, k,
+            toMetallicRoughness};
+        if (!req.image) req.image = req.specGloss->specularGlossiness;
+        req.name = name + (toMetallicRoughness ? "-metallicRoughness" : "-baseColor");
+        req.colorSpace = toMetallicRoughness ? ColorSpace::Linear : ColorSpace::Srgb;
+        for (bool& c : req.channels) c = false;
+        if (toMetallicRoughness) {
+            req.channels[1] = req.channels[2] = true;
+        } else {
+            req.channels[0] = req.channels[1] = req.channels[2] = true;
+            req.channels[3] = m.alphaMode != AlphaMode::Opaque;
+            req.alphaMask = m.alphaMode == AlphaMode::Mask;
+            req.alphaCutoff = m.alphaCutoff;
+        }
+        req.minFilter = grid.minFilter;
+        req.magFilter = grid.magFilter;
+        req.wrapU = grid.wrapU;
+        req.wrapV = grid.wrapV;
+        TextureSlot& out = m.textures[size_t(toMetallicRoughness ? TextureSlotKind::MetallicRoughness
+                                                                 : TextureSlotKind::BaseColor)];
+        out.texture = uint32_t(r.textures.size());
+        out.texCoord = grid.texCoord > 1 ? 0 : grid.texCoord;
+        out.offset = grid.offset;
+        out.scale = grid.scale;
+        out.rotationRadians = grid.rotationRadians;
+        (out.texCoord == 0 ? f.uv0 : f.uv1) = true;
+        r.textures.push_back(std::move(req));
+    }
+    f.baseColorMap = f.metallicRoughnessMap = true;
+    return std::nullopt;
+}
+
+} // namespace
+
 Result<ResolvedMaterials, ConvertError> resolveMaterials(const IrScene& scene,
                                                          const MaterialOverrides& overrides) {
     ResolvedMaterials r;
@@ -171,15 +247,25 @@ Result<ResolvedMaterials, ConvertError> resolveMaterials(const IrScene& scene,
         for (const IrPrimitive& p : mesh.primitives)
             if (!p.colors.empty()) r.features[materialForPrimitive(r, p.material)].vertexColor = true;
 
-    // Textures: one request per (image, colour space); channels are the union of the slots'.
-    std::map<std::pair<int, ColorSpace>, uint32_t> textureIndex;
+    // Textures: one request per (image, colour space, sampler); channels are the union of the
+    // slots'. The sampler is part of the key because the container keeps it on the texture
+    // (TEXR): glTF textures that share an image but not a sampler (clamp here, repeat there)
+    // must stay apart, at the price of storing that image's texels once per sampler.
+    using TextureKey = std::tuple<int, ColorSpace, MinFilter, MagFilter, Wrap, Wrap>;
+    std::map<TextureKey, uint32_t> textureIndex;
     for (size_t i = 0; i < sources.size(); ++i) {
         Material& m = r.materials[i];
         MaterialFeatures& f = r.features[i];
         f.alphaMask = m.alphaMode == AlphaMode::Mask;
+        if (sources[i]->specGloss) {
+            if (auto e = resolveSpecGloss(scene, *sources[i], r.names[i], m, f, r)) return *e;
+        }
         for (size_t slot = 0; slot < size_t(TextureSlotKind::Count); ++slot) {
             const IrTextureRef& ref = sources[i]->textures[slot];
             TextureSlot& out = m.textures[slot];
+            if (sources[i]->specGloss && (TextureSlotKind(slot) == TextureSlotKind::BaseColor ||
+                                          TextureSlotKind(slot) == TextureSlotKind::MetallicRoughness))
+                continue; // converted above
             out = TextureSlot{};
             if (ref.image < 0) continue;
             if (size_t(ref.image) >= scene.images.size())
@@ -187,14 +273,15 @@ Result<ResolvedMaterials, ConvertError> resolveMaterials(const IrScene& scene,
                                   "' refers to image " + std::to_string(ref.image) + " of " +
                                   std::to_string(scene.images.size()));
             auto kind = TextureSlotKind(slot);
-            auto key = std::make_pair(ref.image, colorSpaceOf(kind));
+            const TextureKey key{ref.image, colorSpaceOf(kind), ref.minFilter, ref.magFilter,
+                                 ref.wrapU, ref.wrapV};
             auto [it, added] = textureIndex.emplace(key, uint32_t(r.textures.size()));
             if (added) {
                 TextureRequest req;
                 req.image = &scene.images[size_t(ref.image)];
                 req.name = req.image->name.empty() ? "image" + std::to_string(ref.image)
                                                    : req.image->name;
-                req.colorSpace = key.second;
+                req.colorSpace = std::get<1>(key);
                 for (bool& c : req.channels) c = false;
                 req.minFilter = ref.minFilter;
                 req.magFilter = ref.magFilter;

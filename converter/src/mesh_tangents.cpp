@@ -4,9 +4,11 @@
 // position, "sdir" and "tdir") are solved from its two edges and their UV deltas. They are summed
 // per group of vertices with bitwise-equal (position, normal, uv0): vertices that the weld will
 // merge later must get the same tangent, or they would not merge. Each vertex's tangent is the
-// sum of sdir Gram-Schmidt orthogonalised against its normal; w is the handedness, -1 when
-// (n × t) points against the summed tdir (mirrored UVs), as glTF defines bitangent =
-// cross(normal, tangent.xyz) × w.
+// sum of sdir Gram-Schmidt orthogonalised against its normal; w is the handedness, chosen so
+// that glTF's bitangent = cross(normal, tangent.xyz) × w points *up the image*, i.e. along
+// -tdir: glTF's UVs run v down the image while its normal maps store +Y up the image (the
+// OpenGL convention, what MikkTSpace gives an exporter that flips V, and what the Khronos sample
+// viewer derives from screen-space UV derivatives). An unmirrored UV layout gets w = +1.
 //
 // Deviation from Lengyel: his sums add raw gradients, whose length is |edge| / |uv edge|, so a
 // triangle with a nearly collinear UV mapping (huge gradient) dominates its neighbours. We add
@@ -134,7 +136,7 @@ void generateTangents(VertexData& v, std::span<const uint32_t> indices,
             out[k] = float(t[k] / len) + 0.0f;
         double nxt[3] = {n[1] * t[2] - n[2] * t[1], n[2] * t[0] - n[0] * t[2],
                          n[0] * t[1] - n[1] * t[0]};
-        out[3] = nxt[0] * tb[0] + nxt[1] * tb[1] + nxt[2] * tb[2] < 0 ? -1.0f : 1.0f;
+        out[3] = nxt[0] * tb[0] + nxt[1] * tb[1] + nxt[2] * tb[2] > 0 ? -1.0f : 1.0f;
     }
 }
 

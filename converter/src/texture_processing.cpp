@@ -96,6 +96,68 @@ AdmitImage admitWithin(const MemoryShare& share, const TextureSettings& settings
     };
 }
 
+// KHR_materials_pbrSpecularGlossiness per texel (TextureRequest::specGloss): `level` holds the
+// decoded request image as the file encodes it (the diffuse texture, or the specular-glossiness
+// one when there is no diffuse); it becomes the converted base colour or metallic-roughness, in
+// linear light. The specular-glossiness texture is sampled bilinearly at each texel's centre when
+// its size differs. Both textures' RGB are sRGB-encoded (the extension says so); glossiness (A)
+// is linear.
+std::optional<ConvertError> bakeSpecGloss(const TextureRequest& request,
+                                          const TextureSettings& settings,
+                                          const AdmitImage& admit, ImageF& level) {
+    const TextureRequest::SpecGlossBake& bake = *request.specGloss;
+    const bool diffuseIsImage = request.image != bake.specularGlossiness;
+    ImageF specular;
+    if (bake.specularGlossiness) {
+        if (!diffuseIsImage) {
+            specular = level;
+        } else {
+            auto decoded = decodeImage(*bake.specularGlossiness, settings.maxSourceTexels, admit);
+            if (!decoded) return decoded.error();
+            specular = std::move(decoded->image);
+            sanitize(specular);
+        }
+    }
+    auto specularAt = [&](uint32_t x, uint32_t y) -> std::array<float, 4> {
+        if (specular.texels.empty()) return {1, 1, 1, 1};
+        // Texel centres of `level` mapped onto `specular`, bilinear, clamped at the edges.
+        const float fx = std::max((float(x) + 0.5f) * float(specular.width) / float(level.width) - 0.5f, 0.0f);
+        const float fy = std::max((float(y) + 0.5f) * float(specular.height) / float(level.height) - 0.5f, 0.0f);
+        const uint32_t x0 = std::min(uint32_t(fx), specular.width - 1), y0 = std::min(uint32_t(fy), specular.height - 1);
+        const uint32_t x1 = std::min(x0 + 1, specular.width - 1), y1 = std::min(y0 + 1, specular.height - 1);
+        const float tx = std::min(fx - float(x0), 1.0f), ty = std::min(fy - float(y0), 1.0f);
+        std::array<float, 4> out{};
+        for (int c = 0; c < 4; ++c) {
+            auto at = [&](uint32_t sx, uint32_t sy) { return specular.texels[(size_t(sy) * specular.width + sx) * 4 + c]; };
+            const float top = at(x0, y0) + (at(x1, y0) - at(x0, y0)) * tx;
+            const float bottom = at(x0, y1) + (at(x1, y1) - at(x0, y1)) * tx;
+            out[size_t(c)] = top + (bottom - top) * ty;
+        }
+        return out;
+    };
+    const SpecGlossFactors& k = bake.factors;
+    for (uint32_t y = 0; y < level.height; ++y) {
+        for (uint32_t x = 0; x < level.width; ++x) {
+            float* t = &level.texels[(size_t(y) * level.width + x) * 4];
+            const std::array<float, 4> sg = specularAt(x, y);
+            Vec4 diffuse = k.diffuse;
+            if (diffuseIsImage) {
+                diffuse = {diffuse.x * srgbToLinear(t[0]), diffuse.y * srgbToLinear(t[1]),
+                           diffuse.z * srgbToLinear(t[2]), diffuse.w * t[3]};
+            }
+            const Vec3 spec{k.specular.x * srgbToLinear(sg[0]), k.specular.y * srgbToLinear(sg[1]),
+                            k.specular.z * srgbToLinear(sg[2])};
+            const MetalRough mr = specGlossToMetalRough(diffuse, spec, k.glossiness * sg[3]);
+            if (bake.toMetallicRoughness) {
+                t[0] = 0.0f, t[1] = mr.roughness, t[2] = mr.metallic, t[3] = 1.0f;
+            } else {
+                t[0] = mr.baseColor.x, t[1] = mr.baseColor.y, t[2] = mr.baseColor.z, t[3] = mr.baseColor.w;
+            }
+        }
+    }
+    return std::nullopt;
+}
+
 Result<ProcessedTexture, ConvertError> processOne(const TextureRequest& request,
                                                   const TextureSettings& settings,
                                                   const MemoryShare& share) {
@@ -112,10 +174,16 @@ Result<ProcessedTexture, ConvertError> processOne(const TextureRequest& request,
     ImageF level = std::move(decoded->image);
     ValueRange range = sanitize(level);
     bool hdr = decoded->floatSource || range.outside01;
+    if (request.specGloss) {
+        // Linear light out: the generic sRGB step below must not run again.
+        if (auto e = bakeSpecGloss(request, settings, admitWithin(share, settings), level)) return *e;
+        range = sanitize(level);
+        hdr = false;
+    }
 
     // Float sources are linear light whatever the request says (EXR and Radiance HDR are linear
     // by definition); 8/16-bit sRGB data is linearised here, before any filter runs.
-    if (request.colorSpace == ColorSpace::Srgb && !hdr) {
+    if (request.colorSpace == ColorSpace::Srgb && !hdr && !request.specGloss) {
         for (size_t i = 0, n = level.texelCount(); i < n; ++i)
             for (int c = 0; c < 3; ++c)
                 level.texels[i * 4 + c] = srgbToLinear(level.texels[i * 4 + c]);

@@ -40,7 +40,12 @@ namespace fs = std::filesystem;
 constexpr int kExitOk = 0, kExitUsage = 1, kExitInput = 2, kExitUnsupported = 3, kExitOutput = 4;
 
 struct CliState {
-    ConvertSettings settings;
+    // The command line adds the neutral default environment unless --no-default-environment.
+    ConvertSettings settings = [] {
+        ConvertSettings s;
+        s.defaultEnvironment = true;
+        return s;
+    }();
     bool verbose = false, quiet = false;
     std::string testDir;
     std::string batchList; // --batch LIST ("-" = standard input)
@@ -145,6 +150,10 @@ const std::vector<Option>& options() {
          "image-based lighting from the analytic Preetham sky, lit by the scene's sun (its "
          "first directional light, or the default sun)",
          [](CliState& c, const char*) { c.settings.environment.sky = true; return true; }},
+        {"Environment", "--no-default-environment", nullptr,
+         "do not add the neutral default environment ('default-studio': a grey studio with soft "
+         "highlights) that a source with no lights and no --environment/--sky otherwise gets",
+         [](CliState& c, const char*) { c.settings.defaultEnvironment = false; return true; }},
         {"Environment", "--sky-turbidity", "T", "haze of the sky, 2..10 (default 3)",
          [](CliState& c, const char* a) {
              return parseFloat(a, 2.0f, 10.0f, c.settings.environment.skyTurbidity);
@@ -303,6 +312,20 @@ std::string bytesText(uint64_t n) {
     return buf;
 }
 
+// The converter's additions, one line (not warnings: nothing in the source was wrong):
+// "added: default sun, default environment, default camera, default orbit (flagged generated;
+// ...)", or "" when it added nothing.
+std::string addedLine(const ConvertSummary& r) {
+    const std::vector<std::string> added = pnb::converter::addedDefaults(r);
+    if (added.empty()) return {};
+    std::string line = "added:";
+    for (size_t i = 0; i < added.size(); ++i) line += (i ? ", " : " ") + added[i];
+    line += " (flagged generated";
+    if (r.defaultEnvironment) line += "; --no-default-environment leaves the environment out";
+    if (r.defaultPath) line += "; --path gives your own camera path";
+    return line + ")";
+}
+
 void printSummary(const ConvertSettings& s, const ConvertSummary& r) {
     std::printf("wrote %s (%s)\n", s.output.c_str(), bytesText(r.outputBytes).c_str());
     std::printf("  meshes %zu (%zu submeshes), nodes %zu, materials %zu (%zu deferred in %zu "
@@ -310,6 +333,9 @@ void printSummary(const ConvertSettings& s, const ConvertSummary& r) {
                 r.meshes, r.submeshes, r.nodes, r.materials, r.deferredMaterials,
                 r.deferredLayers.size(), r.deferredLayers.size() == 1 ? "" : "s",
                 r.forwardMaterials, r.textures, r.lights, r.cameras, r.cameraPaths);
+    if (r.instances)
+        std::printf("  instances %zu (EXT_mesh_gpu_instancing: each mesh stored once, one draw "
+                    "item per copy)\n", r.instances);
     std::printf("  triangles %llu in, %llu out (%llu degenerate, %llu non-finite removed); "
                 "vertices %llu in, %llu out\n",
                 (unsigned long long)r.inputTriangles, (unsigned long long)r.outputTriangles,
@@ -343,9 +369,7 @@ void printSummary(const ConvertSettings& s, const ConvertSummary& r) {
         std::printf("\n");
     }
     for (const std::string& o : r.omitted) std::printf("  not written: %s\n", o.c_str());
-    if (r.defaultSun) std::printf("  added: default sun (no directional light in the source)\n");
-    if (r.defaultCamera) std::printf("  added: default camera (none in the source)\n");
-    if (r.defaultPath) std::printf("  added: default camera path (orbit; use --path for yours)\n");
+    if (const std::string added = addedLine(r); !added.empty()) std::printf("  %s\n", added.c_str());
     std::printf("  time:");
     double total = 0;
     for (const auto& st : r.stages) {
@@ -545,6 +569,8 @@ int runBatch(CliState& c, std::vector<BatchItem> items) {
     using Outcome = std::optional<pnb::Result<ConvertSummary, pnb::converter::ConvertError>>;
     std::vector<Outcome> outcomes(items.size());
     std::vector<std::pair<const BatchItem*, int>> failures;
+    // How many inputs got each addition: one line at the end instead of one per file.
+    std::map<std::string, size_t> additions;
     std::mutex reportMutex;
     size_t nextToReport = 0;
     auto report = [&](size_t i) { // under reportMutex, in list order
@@ -556,6 +582,7 @@ int runBatch(CliState& c, std::vector<BatchItem> items) {
                          it.input.c_str(), r.error().message.c_str());
             failures.emplace_back(&it, code);
         } else if (!c.quiet) {
+            for (const std::string& a : pnb::converter::addedDefaults(*r)) ++additions[a];
             for (const std::string& w : r->warnings)
                 std::fprintf(stderr, "Warning: %s: %s\n", it.input.c_str(), w.c_str());
             ConvertSettings shown = c.settings;
@@ -600,9 +627,22 @@ int runBatch(CliState& c, std::vector<BatchItem> items) {
     for (unsigned w = 1; w < workers; ++w) pool.emplace_back(work);
     work();
     for (std::thread& t : pool) t.join();
-    if (!c.quiet)
+    if (!c.quiet) {
         std::printf("batch: %zu converted, %zu failed\n", items.size() - failures.size(),
                     failures.size());
+        if (!additions.empty()) {
+            std::string line = "batch: added";
+            const char* sep = " ";
+            // In addedDefaults' order, with the number of inputs that got each.
+            for (const char* name : {"default sun", "default environment", "default camera",
+                                     "default orbit"})
+                if (auto it = additions.find(name); it != additions.end()) {
+                    line += sep + std::string(name) + " to " + std::to_string(it->second);
+                    sep = ", ";
+                }
+            std::printf("%s (flagged generated; --no-default-environment, --path)\n", line.c_str());
+        }
+    }
     if (failures.empty()) return kExitOk;
     std::fprintf(stderr, "batch: %zu of %zu input(s) failed:\n", failures.size(), items.size());
     for (const auto& [it, code] : failures)

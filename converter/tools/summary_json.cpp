@@ -26,7 +26,8 @@ std::string summaryJson(const ConvertSettings& s, const ConvertSummary& r) {
         {"texture_bytes", r.textureBytes},
         {"counts", {{"meshes", r.meshes}, {"submeshes", r.submeshes}, {"nodes", r.nodes},
                     {"materials", r.materials}, {"textures", r.textures}, {"lights", r.lights},
-                    {"cameras", r.cameras}, {"camera_paths", r.cameraPaths}}},
+                    {"cameras", r.cameras}, {"camera_paths", r.cameraPaths},
+                    {"instances", r.instances}}},
         {"triangles_in", r.inputTriangles},
         {"triangles_out", r.outputTriangles},
         {"vertices_in", r.inputVertices},
@@ -41,12 +42,16 @@ std::string summaryJson(const ConvertSettings& s, const ConvertSummary& r) {
         {"programs", r.programs},
         {"omitted", r.omitted},
         {"warnings", r.warnings},
+        // What the converter added, flagged generated in the container (not warnings):
+        // "default sun", "default environment", "default camera", "default orbit".
+        {"added", addedDefaults(r)},
         {"stage_seconds", stages},
         {"seconds", total},
     };
     if (r.environment) {
         const EnvironmentSummary& e = *r.environment;
         j["environment"] = {{"name", e.name},
+                            {"generated", e.generated},
                             {"radiance", {e.radianceWidth, e.radianceHeight}},
                             {"specular_size", e.specularSize},
                             {"specular_levels", e.specularLevels},

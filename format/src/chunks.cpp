@@ -31,7 +31,9 @@ public:
     std::vector<std::byte> out;
 
     template <class T> void operator()(const T& v) {
-        if constexpr (std::is_same_v<T, bool>) {
+        if constexpr (std::is_same_v<T, SinceVersion>) {
+            // nothing stored: the marker only tells an older chunk's decoder where to stop
+        } else if constexpr (std::is_same_v<T, bool>) {
             put<uint8_t>(v ? 1 : 0);
         } else if constexpr (std::is_enum_v<T>) {
             put(static_cast<std::underlying_type_t<T>>(v));
@@ -76,15 +78,21 @@ template <class T> size_t minEncodedSize() {
 
 class Decoder {
 public:
-    Decoder(std::span<const std::byte> in, uint64_t base, const char* chunk)
-        : mIn(in), mBase(base), mChunk(chunk) {}
+    Decoder(std::span<const std::byte> in, uint64_t base, const char* chunk,
+            uint16_t version = 0xFFFF)
+        : mIn(in), mBase(base), mChunk(chunk), mVersion(version) {}
 
     bool ok() const { return isOk(mError); }
     const Error& error() const { return mError; }
     size_t pos() const { return mPos; }
 
+    // Fields appended after the chunk's version: not in the payload, left at their defaults.
+    void operator()(const SinceVersion& s) {
+        if (s.version > mVersion) mOlder = true;
+    }
+
     template <class T> void operator()(T& v) {
-        if (!ok()) return;
+        if (!ok() || mOlder) return;
         if constexpr (std::is_same_v<T, bool>) {
             uint8_t b = 0;
             if (get(b) && b > 1) fail("boolean byte %u is not 0 or 1", b);
@@ -164,6 +172,8 @@ private:
     std::span<const std::byte> mIn;
     uint64_t mBase;
     const char* mChunk;
+    uint16_t mVersion;    // the chunk's version
+    bool mOlder = false;  // past a SinceVersion newer than the chunk: decode nothing more
     size_t mPos = 0;
     Error mError;
 };
@@ -188,7 +198,7 @@ Result<T> decodeChunk(std::span<const std::byte> payload, const ChunkHeader& hea
                          header.version, newer ? " (critical)" : "", known,
                          newer ? ": update Penumbra to read it" : "");
     T value{};
-    Decoder d(payload, offset, tag.c_str());
+    Decoder d(payload, offset, tag.c_str(), header.version);
     d(value);
     // Bytes after the known fields are a newer version's appended fields; in a version this
     // reader knows they can only be damage.
@@ -198,9 +208,15 @@ Result<T> decodeChunk(std::span<const std::byte> payload, const ChunkHeader& hea
     return value;
 }
 
+// FORMAT.md 3.5 rule 6: a chunk whose appended fields change what an older reader would draw
+// is written critical, so that reader refuses it instead of drawing it wrong.
+template <class T> bool isCritical(const T&) { return false; }
+bool isCritical(const Material& m) { return m.unlit; }
+bool isCritical(const NodeGraph& g) { return !g.instances.empty(); }
+
 template <class T> Status writeChunk(Writer& writer, const T& value, Compression compression) {
     return writer.addChunk(ChunkTraits<T>::tag, ChunkTraits<T>::version, encodeChunk(value),
-                           compression);
+                           compression, isCritical(value));
 }
 
 #define PNB_INSTANTIATE(Type)                                                                      \

@@ -24,6 +24,7 @@ constexpr MaterialField kFields[] = {
     {"double_sided", FieldType::Bool, 0, 0, nullptr, "render back faces"},
     {"casts_shadows", FieldType::Bool, 0, 0, nullptr, "drawn into shadow maps"},
     {"receives_shadows", FieldType::Bool, 0, 0, nullptr, "shadowed when lit"},
+    {"unlit", FieldType::Bool, 0, 0, nullptr, "base colour as is, no lighting (KHR_materials_unlit)"},
     {"base_color_texture", FieldType::TextureRef, 0, 0, nullptr, "texture index or none"},
     {"metallic_roughness_texture", FieldType::TextureRef, 0, 0, nullptr, "texture index or none"},
     {"normal_texture", FieldType::TextureRef, 0, 0, nullptr, "texture index or none"},
@@ -57,11 +58,12 @@ Slot slotOf(Material& m, size_t index) {
     case 11: return {.flag = &m.doubleSided};
     case 12: return {.flag = &m.castsShadows};
     case 13: return {.flag = &m.receivesShadows};
-    case 14: return tex(TextureSlotKind::BaseColor);
-    case 15: return tex(TextureSlotKind::MetallicRoughness);
-    case 16: return tex(TextureSlotKind::Normal);
-    case 17: return tex(TextureSlotKind::Occlusion);
-    case 18: return tex(TextureSlotKind::Emissive);
+    case 14: return {.flag = &m.unlit};
+    case 15: return tex(TextureSlotKind::BaseColor);
+    case 16: return tex(TextureSlotKind::MetallicRoughness);
+    case 17: return tex(TextureSlotKind::Normal);
+    case 18: return tex(TextureSlotKind::Occlusion);
+    case 19: return tex(TextureSlotKind::Emissive);
     }
     return {};
 }

@@ -32,6 +32,27 @@ Matrix4d multiply(const Matrix4d& a, const Matrix4d& b) {
     return m;
 }
 
+std::vector<MeshInstance> meshInstances(const NodeGraph& graph, const std::vector<Matrix4d>& world) {
+    std::vector<MeshInstance> out;
+    size_t next = 0; // graph.instances is in node order (readScene checks it)
+    for (size_t i = 0; i < graph.nodes.size() && i < world.size(); ++i) {
+        if (graph.nodes[i].mesh == kNone) continue;
+        while (next < graph.instances.size() && graph.instances[next].node < i) ++next;
+        if (next < graph.instances.size() && graph.instances[next].node == i) {
+            for (const InstanceTransform& t : graph.instances[next].transforms) {
+                Node local;
+                local.translation = t.translation;
+                local.rotation = t.rotation;
+                local.scale = t.scale;
+                out.push_back({uint32_t(i), multiply(world[i], nodeLocalMatrix(local))});
+            }
+        } else {
+            out.push_back({uint32_t(i), world[i]});
+        }
+    }
+    return out;
+}
+
 std::vector<Matrix4d> nodeWorldMatrices(const NodeGraph& graph) {
     std::vector<Matrix4d> world(graph.nodes.size());
     for (size_t i = 0; i < graph.nodes.size(); ++i) {

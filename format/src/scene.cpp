@@ -42,6 +42,7 @@ Error refError(const char* what, size_t index, const char* field, uint64_t value
 bool refOk(uint32_t ref, size_t count) { return ref == kNone || ref < count; }
 
 bool finite(const Vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
+bool finite(const Vec4& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z) && std::isfinite(v.w); }
 
 } // namespace
 
@@ -126,7 +127,12 @@ Result<Scene> readScene(const Container& container) {
         if (streamOrderRank(info.header.tag) < 0) continue; // unknown: not even loaded
         auto payload = container.load(info);
         if (!payload) return payload.error();
-        if (Status st = assembler.decode(info, std::move(*payload)); !isOk(st)) return st;
+        // Decoding reads the mapping itself (an uncompressed payload is a view into it): a file
+        // cut short meanwhile reads as zeros there, so its truncation is the error to report.
+        if (Status st = assembler.decode(info, std::move(*payload)); !isOk(st)) {
+            if (Status cut = container.intact(); !isOk(cut)) return cut;
+            return st;
+        }
     }
     if (Status st = assembler.finish(); !isOk(st)) return st;
     if (Status st = validateScene(assembler.scene); !isOk(st)) return st;
@@ -273,6 +279,23 @@ Status validateScene(const Scene& s) {
             return refError("node", i, "camera", n.camera, s.cameras.cameras.size());
         if (!finite(n.translation) || !finite(n.scale))
             return makeError(FormatError::BadReference, 0, "node %zu: non-finite transform", i);
+    }
+    for (size_t k = 0; k < s.nodes.instances.size(); ++k) {
+        const NodeInstances& in = s.nodes.instances[k];
+        if (in.node >= s.nodes.nodes.size() || s.nodes.nodes[in.node].mesh == kNone)
+            return makeError(FormatError::BadReference, 0,
+                             "node instances %zu: node %u is not a node with a mesh", k, in.node);
+        if (k > 0 && in.node <= s.nodes.instances[k - 1].node)
+            return makeError(FormatError::BadReference, 0,
+                             "node instances %zu: node %u does not come after node %u", k, in.node,
+                             s.nodes.instances[k - 1].node);
+        if (in.transforms.empty())
+            return makeError(FormatError::BadReference, 0, "node instances %zu: no transforms", k);
+        for (size_t t = 0; t < in.transforms.size(); ++t)
+            if (!finite(in.transforms[t].translation) || !finite(in.transforms[t].scale) ||
+                !finite(in.transforms[t].rotation))
+                return makeError(FormatError::BadReference, 0,
+                                 "node instances %zu: transform %zu is not finite", k, t);
     }
     for (size_t i = 0; i < s.cameraPaths.size(); ++i) {
         const CameraPath& p = s.cameraPaths[i];

@@ -274,7 +274,7 @@ void textScene(std::string& o, const Scene& s) {
     if (const auto& e = s.environment) {
         auto texture = [&](uint32_t t) { return t == kNone ? std::string("none") : "texture " + u64(t); };
         o += "\nenvironment: " + nameText(s, e->name) + " (" + nameOf(e->source, kEnvironmentSourceNames) +
-             "), radiance " + texture(e->radiance) + ", specular " + texture(e->specular) + ", BRDF table " +
+             (e->generated ? ", generated" : "") + "), radiance " + texture(e->radiance) + ", specular " + texture(e->specular) + ", BRDF table " +
              texture(e->brdfLut) + "\n";
         o += "  irradiance SH band 0 (lux): " + vecText(e->irradianceSh[0]) + "\n";
         if (e->source == EnvironmentSource::AnalyticSky)

@@ -216,6 +216,15 @@ void EditorApp::drawProperties() {
                      ImVec2(0, 1), ImVec2(1, 0));
     }
     bool batch = mSelection.size() > 1;
+    // Every field name must show whole at the default window size (1280x800): the widgets get
+    // what the widest name leaves, not ImGui's default 65 % of the panel, which clipped
+    // "metallic_roughness_texture" and its neighbours.
+    float labelWidth = 0;
+    for (const MaterialField& f : materialFields())
+        labelWidth = std::max(labelWidth, ImGui::CalcTextSize(f.name).x);
+    ImGui::PushItemWidth(std::max(ImGui::GetContentRegionAvail().x - labelWidth -
+                                      ImGui::GetStyle().ItemInnerSpacing.x,
+                                  64.0f));
     for (const MaterialField& f : materialFields()) {
         std::string value = getMaterialField(m, f.name);
         std::string next;
@@ -289,6 +298,7 @@ void EditorApp::drawProperties() {
         else setField(first, f.name, next, dragging && mLastEditMergeable);
         mLastEditMergeable = dragging;
     }
+    ImGui::PopItemWidth();
     if (!ImGui::IsAnyItemActive()) mLastEditMergeable = false;
 
     ImGui::Separator();

@@ -22,6 +22,15 @@ double lodPixelScale(double yfovRadians, uint32_t viewportHeight) {
     return double(viewportHeight) / (2.0 * t);
 }
 
+double lodPixelScaleOrthographic(double ymag, uint32_t viewportHeight) {
+    if (!(ymag > 0) || !std::isfinite(ymag)) return kInf;
+    return double(viewportHeight) / (2.0 * ymag);
+}
+
+double lodDistance(bool orthographic, const glm::dvec3& eye, const glm::dvec3& lo, const glm::dvec3& hi) {
+    return orthographic ? 1.0 : distanceToBox(eye, lo, hi);
+}
+
 double distanceToBox(const glm::dvec3& eye, const glm::dvec3& lo, const glm::dvec3& hi) {
     glm::dvec3 d = glm::max(glm::max(lo - eye, eye - hi), glm::dvec3(0.0));
     double len = glm::length(d);

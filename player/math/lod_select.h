@@ -19,8 +19,11 @@
 // Every function is total: zero, negative, infinite or NaN inputs give a level in range (full
 // detail whenever the projected error cannot be bounded), never NaN.
 //
-// Does NOT do: orthographic projections (the player's cameras are perspective only), the
-// off-axis growth of a pixel's angle (up to 1 / cos^2 of the angle to the view axis: x1.7 at the
+// Orthographic views: a segment's size on screen does not depend on its distance, so the rule
+// holds with pixelScale = viewportHeight / (2 ymag) (lodPixelScaleOrthographic) and distance 1
+// for every item (lodDistance).
+//
+// Does NOT do: the off-axis growth of a pixel's angle (up to 1 / cos^2 of the angle to the view axis: x1.7 at the
 // corners of a 60 degree 16:9 view; the threshold absorbs it, docs/PLAYER.md).
 #pragma once
 
@@ -35,6 +38,14 @@ namespace pnb::player {
 // distance. yfov <= 0 or not finite gives +infinity (nothing can be bounded: selection keeps full
 // detail); yfov >= pi or a zero height gives 0 (everything is below a pixel).
 double lodPixelScale(double yfovRadians, uint32_t viewportHeight);
+
+// viewportHeight / (2 ymag): pixels a unit-long segment facing the view covers at any distance
+// from an orthographic camera of half height ymag. ymag <= 0 or not finite gives +infinity.
+double lodPixelScaleOrthographic(double ymag, uint32_t viewportHeight);
+
+// The `distance` the rule divides by: distanceToBox for a perspective view, 1 for an orthographic
+// one (its pixelScale is already pixels per unit at any distance).
+double lodDistance(bool orthographic, const glm::dvec3& eye, const glm::dvec3& lo, const glm::dvec3& hi);
 
 // Distance from `eye` to the nearest point of the box [lo, hi]; 0 inside. NaN inputs give 0.
 double distanceToBox(const glm::dvec3& eye, const glm::dvec3& lo, const glm::dvec3& hi);

@@ -39,7 +39,7 @@ bool insideSlice(const FitCamera& cam, double a, double b, const glm::dvec3& p) 
     double d = glm::dot(p, cam.forward);
     double eps = 1e-9 * b; // relative: the same verdict in any unit of length
     if (d < a - eps || d > b + eps) return false;
-    double h = d * cam.tanHalfFovY + eps, w = h * cam.aspect + eps;
+    double h = cam.halfHeight + d * cam.tanHalfFovY + eps, w = h * cam.aspect + eps;
     return std::abs(glm::dot(p, cam.up)) <= h && std::abs(glm::dot(p, cam.right)) <= w;
 }
 
@@ -79,15 +79,17 @@ std::vector<glm::dvec3> clipSliceToBox(const FitCamera& camera, double sliceNear
             }
         }
     }
-    // Box edges against the slice's six planes (near, far, and four through the eye).
+    // Box edges against the slice's six planes (near, far, and four sides: through the eye for
+    // perspective, parallel to the view axis for orthographic).
+    const double h0 = camera.halfHeight, w0 = camera.halfHeight * camera.aspect;
     struct Plane {
         glm::dvec3 n;
         double d;
     } planes[6] = {{camera.forward, -sliceNear}, {-camera.forward, sliceFar},
-                   {camera.forward * camera.tanHalfFovY - camera.up, 0},
-                   {camera.forward * camera.tanHalfFovY + camera.up, 0},
-                   {camera.forward * camera.tanHalfFovY * camera.aspect - camera.right, 0},
-                   {camera.forward * camera.tanHalfFovY * camera.aspect + camera.right, 0}};
+                   {camera.forward * camera.tanHalfFovY - camera.up, h0},
+                   {camera.forward * camera.tanHalfFovY + camera.up, h0},
+                   {camera.forward * camera.tanHalfFovY * camera.aspect - camera.right, w0},
+                   {camera.forward * camera.tanHalfFovY * camera.aspect + camera.right, w0}};
     for (const auto& e : kEdges) {
         glm::dvec3 p0 = corners[e[0]], p1 = corners[e[1]];
         for (const Plane& pl : planes) {
@@ -112,7 +114,7 @@ glm::dmat3 lightRotation(const glm::dvec3& lightTravel) {
 void sliceCorners(const FitCamera& camera, double sliceNear, double sliceFar, glm::dvec3 out[8]) {
     for (int c = 0; c < 8; ++c) {
         double d = (c & 4) ? sliceFar : sliceNear;
-        double h = d * camera.tanHalfFovY, w = h * camera.aspect;
+        double h = camera.halfHeight + d * camera.tanHalfFovY, w = h * camera.aspect;
         out[c] = camera.forward * d + camera.right * ((c & 1) ? w : -w) + camera.up * ((c & 2) ? h : -h);
     }
 }
@@ -180,10 +182,15 @@ ShadowFit fitCascade(const FitCamera& camera, double sliceNear, double sliceFar,
     }
     // Bounding sphere of the slice: centre on the view axis equidistant from a near and a far
     // corner (k = tangent of the half-diagonal angle), or the far cap's centre if that is nearer.
+    // Orthographic: the box's centre and half diagonal.
     double k2 = camera.tanHalfFovY * camera.tanHalfFovY * (1.0 + camera.aspect * camera.aspect);
     double a = sliceNear, b = sliceFar;
     double t = 0.5 * (a + b) * (1.0 + k2), radius;
-    if (t >= b) {
+    if (camera.halfHeight > 0) {
+        t = 0.5 * (a + b);
+        radius = std::sqrt(0.25 * (b - a) * (b - a) +
+                           camera.halfHeight * camera.halfHeight * (1.0 + camera.aspect * camera.aspect));
+    } else if (t >= b) {
         t = b;
         radius = b * std::sqrt(k2);
     } else {
@@ -209,6 +216,8 @@ ShadowFit fitScene(const glm::dmat3& light, const FitBox& scene, uint32_t resolu
 
 ShadowFit fitLispsm(const FitCamera& camera, double viewNear, double viewFar,
                     const glm::dvec3& lightTravel, const FitBox& scene, uint32_t resolution) {
+    if (camera.halfHeight > 0) // orthographic viewer: nothing to warp for
+        return fitCascade(camera, viewNear, viewFar, lightRotation(lightTravel), scene, resolution, FitMode::Tight);
     glm::dvec3 l = glm::normalize(lightTravel);
     glm::dvec3 v = camera.forward;
     double cosGamma = glm::dot(v, l);

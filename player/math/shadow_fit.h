@@ -22,10 +22,13 @@
 
 namespace pnb::player {
 
-// The camera for fitting: orientation and lens, at the origin of camera-relative space.
+// The camera for fitting: orientation and lens, at the origin of camera-relative space. The view
+// spans half heights h(d) = halfHeight + d tanHalfFovY at view depth d: a perspective camera has
+// halfHeight = 0, an orthographic one tanHalfFovY = 0 and halfHeight = ymag (a box, not a frustum).
 struct FitCamera {
     glm::dvec3 forward{0, 0, -1}, right{1, 0, 0}, up{0, 1, 0}; // orthonormal
     double tanHalfFovY = 0.4, aspect = 1.0;
+    double halfHeight = 0.0; // orthographic ymag (0: perspective)
     glm::dvec3 position{0.0}; // absolute world position (texel snapping is done in world space)
 };
 
@@ -73,7 +76,9 @@ ShadowFit fitLightRectangle(const glm::dmat3& light, glm::dvec2 lo, glm::dvec2 h
 // The baseline: one orthographic map over the whole scene, independent of the camera.
 ShadowFit fitScene(const glm::dmat3& light, const FitBox& scene, uint32_t resolution);
 
-// LiSPSM over the view slice [viewNear, viewFar] (one map). The warp's near distance is
+// LiSPSM over the view slice [viewNear, viewFar] (one map). Its warp redistributes texels for a
+// perspective viewer (nearer = larger on screen); an orthographic camera (halfHeight > 0) has no
+// such falloff, so it gets the uniform fit (fitCascade, Tight) with warped = false. The warp's near distance is
 // n_opt = (z_n + sqrt(z_n z_f)) / sin(gamma) (Wimmer et al.); as the view direction approaches
 // the light direction (sin(gamma) -> 0) n_opt grows without bound and the map degrades smoothly
 // to the uniform fit, which is used outright once the warp would be negligible.

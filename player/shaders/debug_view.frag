@@ -9,7 +9,7 @@ layout(binding = 5) uniform sampler3D uGiR;   // GI's summed volume (gi_volume)
 layout(binding = 6) uniform sampler3D uGiG;
 layout(binding = 7) uniform sampler3D uGiB;
 layout(location = 0) uniform int uMode;
-layout(location = 1) uniform vec2 uNearFar; // near, far (0 = infinite)
+layout(location = 1) uniform vec3 uNearFar; // near, far (0 = infinite), 1 if orthographic
 layout(location = 2) uniform vec2 uGiSlice; // normalised z of the slice, 1 if GI is on
 
 // The frame's light list header and light clusters (shaders/include/lights.glsl).
@@ -34,7 +34,10 @@ vec3 octDecode(vec2 e) {
 float viewDepth(float d) {
     float n = uNearFar.x, f = uNearFar.y;
     // Reversed-Z: d = n / z (infinite) or n (f - z) / (z (f - n)); invert to view distance.
-    return d <= 0.0 ? 1e30 : (f > 0.0 ? n * f / (d * (f - n) + n) : n / d);
+    // Orthographic: d = (f - z) / (f - n), linear (pnb_player/camera.h viewDepthFromBuffer).
+    if (d <= 0.0) return 1e30;
+    if (uNearFar.z > 0.5) return n + (1.0 - d) * (f - n);
+    return f > 0.0 ? n * f / (d * (f - n) + n) : n / d;
 }
 
 // How many lights the pixel's cluster holds (lights.glsl's clusterMaskStarts, from the depth).
@@ -67,7 +70,8 @@ void main() {
     else if (uMode == 7) c = texture(uGEmissive, vUv).rgb;
     else if (uMode == 8) {
         float d = texture(uDepth, vUv).r;
-        c = vec3(d <= 0.0 ? 0.0 : 1.0 - clamp(log2(viewDepth(d) / uNearFar.x) / 20.0, 0.0, 1.0));
+        // Orthographic: the stored value is already linear in depth (near 1, far 0).
+        c = vec3(d <= 0.0 ? 0.0 : uNearFar.z > 0.5 ? d : 1.0 - clamp(log2(viewDepth(d) / uNearFar.x) / 20.0, 0.0, 1.0));
     } else if (uMode == 9) c = texture(uDebug, vUv).rgb;
     else if (uMode == 10) c = heat(texture(uDebug, vUv).r);
     else if (uMode == 15) c = texture(uDebug, vUv).rgb; // RSM (black without GI)

@@ -28,7 +28,8 @@ layout(location = 0) uniform mat4 uInverseMatrix; // map clip -> camera-relative
 layout(location = 1) uniform vec4 uCascade[4];    // camera-relative origin, cell size
 layout(location = 5) uniform ivec4 uGrid;         // cells, cascades, stride, geometry slot
 layout(location = 6) uniform vec4 uSurfel;        // texel area (RSM) or 2 tan(fov/2) / height (camera),
-                                                  // 0, fixed-point units per 1.0: geometry, light
+                                                  // 0 (RSM) or 2 ymag / height (orthographic camera:
+                                                  // x is then 0), fixed-point units per 1.0: geometry, light
 layout(location = 7) uniform vec3 uToward;        // RSM: toward the light; camera: view forward
 layout(location = 8) uniform ivec2 uSize;         // map or viewport size in texels
 
@@ -64,10 +65,12 @@ void main() {
     vec3 n = octDecode(nm.xy * 2.0 - 1.0);
     if (any(isnan(p)) || any(isinf(p))) return;
 #ifdef SOURCE_CAMERA
-    // A pixel's footprint: (distance * pixel angle)^2 over its cosine to the view ray.
+    // A pixel's footprint: (distance * pixel angle)^2 over its cosine to the view ray (an
+    // orthographic camera's pixels have one size and one ray direction, uToward).
     float z = max(dot(p, uToward), 0.0);
-    float side = z * uSurfel.x * float(uGrid.z);
-    float cosine = max(abs(dot(n, normalize(p))), 0.05);
+    float side = (z * uSurfel.x + uSurfel.y) * float(uGrid.z);
+    vec3 ray = uSurfel.y > 0.0 ? uToward : normalize(p);
+    float cosine = max(abs(dot(n, ray)), 0.05);
     float area = side * side / cosine;
 #else
     float cosine = dot(n, uToward);

@@ -7,8 +7,9 @@
 //   (REDUCE and BOUNDS give each invocation a TILE x TILE block of pixels reduced in registers,
 //   then one shared atomic per invocation and one global atomic per group; on llvmpipe this
 //   halved the reduction of a per-pixel version, 138 -> 69 ms at 1280 x 720)
-//   SDSM_PARTITION  one thread: split depths — logarithmic over [zmin, zmax], or quantiles of the
-//                   histogram at the practical scheme's fractions (seed 000's variant)
+//   SDSM_PARTITION  one thread: split depths — logarithmic over [zmin, zmax] (uniform for an
+//                   orthographic view), or quantiles of the histogram at the practical scheme's
+//                   fractions (seed 000's variant)
 //   SDSM_BOUNDS     per pixel: light-space bounds of the samples of each cascade (and of the next
 //                   cascade inside the blend band)
 //   SDSM_FINALIZE   per cascade: a square orthographic map around those bounds, depth from the
@@ -35,7 +36,7 @@ layout(location = 0) uniform mat4 uInverseViewProjection; // camera-relative
 layout(location = 1) uniform vec3 uForward;
 layout(location = 2) uniform vec2 uDepthRange;             // shadowed view depths [near, far]
 layout(location = 3) uniform int uCascades;
-layout(location = 4) uniform int uPartition;               // 0 log, 1 quantile
+layout(location = 4) uniform int uPartition;               // 0 log, 1 quantile, 2 uniform (orthographic)
 layout(location = 5) uniform float uLambda;
 layout(location = 6) uniform mat3 uLightRotation;          // world -> light (rows x, y, z)
 layout(location = 7) uniform vec2 uSceneLightDepth;        // scene's light-space z interval
@@ -139,7 +140,9 @@ void main() {
     for (int i = 0; i < uCascades; ++i) {
         float s = float(i + 1) / float(uCascades);
         float end;
-        if (uPartition == 0 || sampleCount == 0u) {
+        if (uPartition == 2) {
+            end = zmin + (zmax - zmin) * s;
+        } else if (uPartition == 0 || sampleCount == 0u) {
             end = zmin * pow(zmax / zmin, s);
         } else {
             // The practical scheme's fraction of the range, as a fraction of the samples.

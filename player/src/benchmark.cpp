@@ -112,6 +112,8 @@ CameraState sceneCamera(const GpuScene& scene, size_t index) {
     cam.yfovRadians = c.desc.yfovRadians;
     cam.znear = c.desc.znear;
     cam.zfar = c.desc.zfar;
+    cam.projection = c.desc.projection;
+    cam.ymag = c.desc.ymag;
     return cam;
 }
 

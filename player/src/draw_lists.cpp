@@ -34,7 +34,7 @@ size_t pushObjectBlock(const GpuScene& scene, const DrawItem& item, const glm::d
     block.normalMatrix = glm::mat4(item.normalMatrix);
     block.dequantScale = glm::vec4(mesh.dequantScale, 0);
     block.dequantOffset = glm::vec4(mesh.dequantOffset, 0);
-    block.params = {mesh.octahedralNormals ? 1.0f : 0.0f, casterIndex, 0, 0};
+    block.params = {mesh.octahedralNormals ? 1.0f : 0.0f, casterIndex, item.mirrored ? -1.0f : 1.0f, 0};
     return ring.push(&block, sizeof block);
 }
 
@@ -89,6 +89,7 @@ void drawItems(FrameContext& ctx, std::span<const DrawRef> refs, GLuint program,
     GLuint boundProgram = ~0u, boundVao = ~0u;
     uint32_t boundMaterial = kNone;
     int cullState = -1;
+    bool clockwise = false; // glFrontFace: a mirrored item's triangles wind the other way
     for (const DrawRef& ref : refs) {
         const DrawItem& item = scene.items[ref.item];
         const GpuMesh& mesh = scene.meshes[item.mesh];
@@ -108,6 +109,7 @@ void drawItems(FrameContext& ctx, std::span<const DrawRef> refs, GLuint program,
                 (cullState = wantCull) ? glEnable(GL_CULL_FACE) : glDisable(GL_CULL_FACE);
             }
         }
+        if (item.mirrored != clockwise) glFrontFace((clockwise = item.mirrored) ? GL_CW : GL_CCW);
         glBindBufferRange(GL_UNIFORM_BUFFER, 1, ctx.ring.buffer(), GLintptr(ref.objectOffset),
                           GLsizeiptr(ctx.objectBlockBytes));
         if (mesh.vertexArray.id() != boundVao) glBindVertexArray(boundVao = mesh.vertexArray.id());
@@ -118,6 +120,7 @@ void drawItems(FrameContext& ctx, std::span<const DrawRef> refs, GLuint program,
         ++ctx.stats.drawCalls;
         ctx.stats.triangles += level.triangles;
     }
+    if (clockwise) glFrontFace(GL_CCW);
     glEnable(GL_CULL_FACE);
 }
 

@@ -52,10 +52,7 @@ PlayResult<CapturedImage> Renderer::capture(CaptureBuffer buffer) {
         img.channels = 1;
         img.f32 = readFloats(t.depth.id(), GL_DEPTH_COMPONENT, 1, t.width, t.height);
         if (buffer == CaptureBuffer::LinearDepth) {
-            double n = mView.znear, f = mView.zfar;
-            for (float& d : img.f32)
-                d = d <= 0 ? std::numeric_limits<float>::infinity()
-                           : float(f > 0 ? n * f / (d * (f - n) + n) : n / d);
+            for (float& d : img.f32) d = float(viewDepthFromBuffer(mView, d));
         }
         break;
     case CaptureBuffer::Position: {

@@ -83,7 +83,17 @@ void prepareGi(FrameContext& ctx) {
                                        : "no opaque surface reflects diffuse light (all metal or black)");
     }
     if (diffuse) {
-        glm::dvec3 forward = -glm::dvec3(ctx.view.view[0][2], ctx.view.view[1][2], ctx.view.view[2][2]);
+        glm::dvec3 forward = ctx.view.forward();
+        // The camera the following cascades centre on. An orthographic view shows everything on
+        // its axis at one size, wherever the camera stands on it (often far back): they centre on
+        // the axis point nearest the scene's centre (within the near and far planes) instead.
+        glm::dvec3 anchor = ctx.view.position;
+        if (ctx.view.orthographic) {
+            const glm::dvec3 centre = 0.5 * (ctx.shadows.sceneMin + ctx.shadows.sceneMax);
+            const double along = std::clamp(glm::dot(centre - anchor, forward), double(ctx.view.znear),
+                                            double(std::max(ctx.view.zfar, ctx.view.znear)));
+            anchor += forward * along;
+        }
         // Probes: one grid (the outer cascade's box, or following the camera with gi.cell_size).
         const bool probes = s.giTechnique == GiTechnique::Probes;
         double cellSize = s.giCellSize;
@@ -92,7 +102,7 @@ void prepareGi(FrameContext& ctx) {
         f.following = cellSize > 0;
         f.cascades = placeCascades(probes ? 1u : std::min(s.giCascades, kMaxGiCascades),
                                    probes ? s.giProbeCells : s.giCells, cellSize, ctx.shadows.sceneMin,
-                                   ctx.shadows.sceneMax, ctx.view.position, forward);
+                                   ctx.shadows.sceneMax, anchor, forward);
     }
     if (f.cascades.empty()) {
         gi.resources = GiResources{}; // GI off: nothing allocated, nothing compiled

@@ -16,7 +16,8 @@ void selectLevels(const GpuScene& scene, const ViewMatrices& view, uint32_t view
         lod.drawn.assign(scene.items.size(), 0);
     }
     const LodRule rule{settings.lodThresholdPx, settings.lodHysteresis};
-    const double pixelScale = lodPixelScale(double(view.yfov), viewportHeight);
+    const double pixelScale = view.orthographic ? lodPixelScaleOrthographic(double(view.ymag), viewportHeight)
+                                                : lodPixelScale(double(view.yfov), viewportHeight);
     const bool forced = settings.lodForce >= 0;
     std::array<float, 256> errors{};
     uint32_t switches = 0;
@@ -26,7 +27,7 @@ void selectLevels(const GpuScene& scene, const ViewMatrices& view, uint32_t view
         uint32_t selected = lod.selected[i];
         if (!forced) {
             for (uint32_t l = 0; l < count; ++l) errors[l] = scene.levels[item.firstLevel + l].error;
-            const double distance = distanceToBox(view.position, item.boundsMin, item.boundsMax);
+            const double distance = lodDistance(view.orthographic, view.position, item.boundsMin, item.boundsMax);
             selected = selectLod(std::span(errors.data(), count), item.worldScale, distance, pixelScale, rule,
                                  selected);
             lod.selected[i] = uint8_t(selected);

@@ -134,7 +134,7 @@ void runDebugView(FrameContext& ctx) {
     GLuint p = ctx.builtins.debugView.id();
     glUseProgram(p);
     glProgramUniform1i(p, 0, int(mode));
-    glProgramUniform2f(p, 1, ctx.view.znear, ctx.view.zfar);
+    glProgramUniform3f(p, 1, ctx.view.znear, ctx.view.zfar, ctx.view.orthographic ? 1.0f : 0.0f);
     for (GLuint unit = 0; unit < 3; ++unit)
         glBindTextureUnit(unit, ctx.targets.gbuffer[0] ? ctx.targets.gbuffer[unit].id() : 0);
     glBindTextureUnit(3, ctx.targets.depth.id());

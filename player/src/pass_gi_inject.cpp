@@ -67,8 +67,11 @@ void runGiCameraGeometry(FrameContext& ctx) {
     glProgramUniformMatrix4fv(p, 0, 1, GL_FALSE, glm::value_ptr(ctx.view.inverseViewProjection));
     setCascades(p, f, ctx.view.position);
     glProgramUniform4i(p, 5, GLint(r.cells), GLint(f.cascades.size()), kCameraStride, 1);
-    float pixelAngle = 2.0f * std::tan(0.5f * ctx.view.yfov) / float(t.height);
-    glProgramUniform4f(p, 6, pixelAngle, 0, f.geometryScale, f.lightScale);
+    // A pixel's side at view depth z: z * x + y (perspective: x = 2 tan(fov/2) / height, y = 0;
+    // orthographic: x = 0, y = 2 ymag / height, parallel rays).
+    const float pixel = float(2.0 * ctx.view.halfHeightAt(1.0) / double(t.height));
+    const bool ortho = ctx.view.orthographic;
+    glProgramUniform4f(p, 6, ortho ? 0.0f : pixel, ortho ? pixel : 0.0f, f.geometryScale, f.lightScale);
     glm::vec3 forward = -glm::vec3(ctx.view.view[0][2], ctx.view.view[1][2], ctx.view.view[2][2]);
     glProgramUniform3f(p, 7, forward.x, forward.y, forward.z);
     glProgramUniform2i(p, 8, GLint(t.width), GLint(t.height));

@@ -83,9 +83,11 @@ void prepareLights(FrameContext& ctx, uint32_t width, uint32_t height) {
     // Slices span the view depths lights reach, from the near plane at the nearest: none is
     // spent before the nearest light or beyond the farthest (the first and last slices stay
     // open-ended in light_clusters.comp, so nothing is lost at either end).
-    const float zNear = std::max(nearest, ctx.view.znear);
+    float zNear = std::max(nearest, ctx.view.znear);
     float zFar = farthest;
     if (ctx.view.zfar > 0.0f) zFar = std::min(zFar, ctx.view.zfar);
+    // An orthographic near plane may be 0 (glTF allows it): the log slicing needs a start > 0.
+    if (!(zNear > 0.0f)) zNear = zFar > 0.0f ? 1e-6f * zFar : 1e-6f;
     lc.grid = lightClusterGrid(width, height, ctx.settings.lightTilePx, ctx.settings.lightSlices, count,
                                zNear, zFar);
     ctx.stats.lightClusters = lc.grid.tilesX * lc.grid.tilesY * lc.grid.slices;

@@ -123,7 +123,6 @@ void runLocalShadows(FrameContext& ctx) {
 
     std::vector<LocalShadowRequest> requests;
     if (s.shadowLocal && ctx.shadows.frame.sceneHasShadows && !ctx.shadows.casters.empty()) {
-        const float tanHalfFov = std::tan(0.5f * ctx.view.yfov);
         for (uint32_t i = 0; i < scene.lights.size(); ++i) {
             const SceneLight& l = scene.lights[i];
             const float range = effectiveLightRange(l.desc);
@@ -134,8 +133,12 @@ void runLocalShadows(FrameContext& ctx) {
             r.light = i;
             r.cube = l.desc.type == LightType::Point || l.desc.outerConeRadians > kMaxSpotTileRadians;
             const float d = glm::length(centre);
-            r.screenFraction = d <= range ? 1.0f
-                                          : std::min(1.0f, range / (std::sqrt(d * d - range * range) * tanHalfFov));
+            // The sphere's radius over the view's half height where it stands (orthographic:
+            // the same at any distance).
+            r.screenFraction =
+                d <= range && !ctx.view.orthographic
+                    ? 1.0f
+                    : std::min(1.0f, range / float(ctx.view.halfHeightAt(std::sqrt(std::max(d * d - range * range, 0.0f)))));
             requests.push_back(r);
         }
     }

@@ -145,6 +145,7 @@ PlayResult<Done> Renderer::render(const CameraState& camera, uint32_t width, uin
     CameraState cam = camera;
     if (mSettings.nearPlane > 0) cam.znear = mSettings.nearPlane;
     if (mSettings.farPlane >= 0) cam.zfar = mSettings.farPlane;
+    cam = validOrthographic(cam, scene.bounds); // a far plane where it has none
     if (cam.zfar > 0 && cam.zfar <= cam.znear)
         return PlayError{PlayErrorKind::Usage, "camera.far must exceed camera.near"};
     mView = makeViewMatrices(cam, float(width) / float(height));

@@ -44,7 +44,7 @@ MaterialBlock materialBlock(const Material& m) {
                  m.emissiveStrength;
     b.params = {m.metallicFactor, m.roughnessFactor, m.normalScale, m.occlusionStrength};
     b.alphaParams = {m.alphaCutoff, m.alphaMode == AlphaMode::Blend ? 1.0f : 0.0f,
-                     m.receivesShadows ? 1.0f : 0.0f, 0};
+                     m.receivesShadows ? 1.0f : 0.0f, m.unlit ? 1.0f : 0.0f};
     for (size_t i = 0; i < m.textures.size(); ++i) {
         const TextureSlot& s = m.textures[i];
         b.texTransform[i * 2] = {s.offset.x, s.offset.y, s.scale.x, s.scale.y};
@@ -195,33 +195,38 @@ void buildSceneGraph(const Scene& scene, GpuScene& gpu) {
     std::vector<std::vector<MeshChain>> meshLevels;
     for (size_t m = 0; m < gpu.meshes.size(); ++m) meshLevels.push_back(appendMeshLevels(gpu, m));
     const std::vector<Matrix4d> worldMatrices = nodeWorldMatrices(scene.nodes);
+    // Draw items: one per drawn copy of a mesh (pnb/node_transform.h meshInstances: a node, or
+    // each of its EXT_mesh_gpu_instancing copies), so culling, LOD, shadows and GI see every copy.
+    for (const MeshInstance& copy : meshInstances(scene.nodes, worldMatrices)) {
+        const Node& n = scene.nodes.nodes[copy.node];
+        const glm::dmat4 placed = glm::make_mat4(copy.world.data());
+        const GpuMesh& mesh = gpu.meshes[n.mesh];
+        glm::mat3 normal = glm::mat3(glm::inverseTranspose(glm::dmat3(placed)));
+        const double worldScale = maxStretch(glm::dmat3(placed));
+        for (const MeshChain& chain : meshLevels[n.mesh]) {
+            const DrawLevel& level0 = gpu.levels[chain.firstLevel];
+            DrawItem item;
+            item.node = copy.node;
+            item.mesh = n.mesh;
+            item.material = chain.material;
+            item.firstLevel = chain.firstLevel;
+            item.levelCount = chain.levelCount;
+            item.world = placed;
+            item.normalMatrix = normal;
+            item.worldScale = worldScale;
+            item.mirrored = glm::determinant(glm::dmat3(placed)) < 0.0;
+            // The coarser levels reuse level 0's vertices, so its bounds hold them all.
+            transformBounds(placed, mesh.submeshes[level0.submesh].bounds, item.boundsMin, item.boundsMax);
+            item.triangles = level0.triangles;
+            gpu.triangles += item.triangles;
+            if (item.levelCount > 1) gpu.lodItems.push_back(uint32_t(gpu.items.size()));
+            gpu.items.push_back(item);
+        }
+    }
     std::vector<glm::dmat4> world(worldMatrices.size());
     for (size_t i = 0; i < scene.nodes.nodes.size(); ++i) {
         const Node& n = scene.nodes.nodes[i];
         world[i] = glm::make_mat4(worldMatrices[i].data());
-        if (n.mesh != kNone) {
-            const GpuMesh& mesh = gpu.meshes[n.mesh];
-            glm::mat3 normal = glm::mat3(glm::inverseTranspose(glm::dmat3(world[i])));
-            const double worldScale = maxStretch(glm::dmat3(world[i]));
-            for (const MeshChain& chain : meshLevels[n.mesh]) {
-                const DrawLevel& level0 = gpu.levels[chain.firstLevel];
-                DrawItem item;
-                item.node = uint32_t(i);
-                item.mesh = n.mesh;
-                item.material = chain.material;
-                item.firstLevel = chain.firstLevel;
-                item.levelCount = chain.levelCount;
-                item.world = world[i];
-                item.normalMatrix = normal;
-                item.worldScale = worldScale;
-                // The coarser levels reuse level 0's vertices, so its bounds hold them all.
-                transformBounds(world[i], mesh.submeshes[level0.submesh].bounds, item.boundsMin, item.boundsMax);
-                item.triangles = level0.triangles;
-                gpu.triangles += item.triangles;
-                if (item.levelCount > 1) gpu.lodItems.push_back(uint32_t(gpu.items.size()));
-                gpu.items.push_back(item);
-            }
-        }
         if (n.light != kNone) {
             SceneLight l;
             l.desc = scene.lights.lights[n.light];

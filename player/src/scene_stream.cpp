@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstring>
 #include <deque>
 #include <optional>
@@ -464,7 +465,10 @@ PlayResult<Done> SceneStream::update(const CameraState& camera, uint32_t width, 
 
     // The levels this view needs; without a budget, storage for the levels that have arrived.
     im.budgeted = mOptions.budgetBytes > 0;
-    const double pixelScale = lodPixelScale(camera.yfovRadians, height);
+    // Pixels per unit at distance 1 (perspective) or at any distance (orthographic: d = 1 below).
+    const bool ortho = camera.projection == Projection::Orthographic;
+    const double pixelScale = ortho ? lodPixelScaleOrthographic(std::abs(double(camera.ymag)), height)
+                                    : lodPixelScale(camera.yfovRadians, height);
     for (uint32_t t = 0; t < im.textureCount; ++t) {
         TextureResidency& r = im.residency[t];
         if (!im.budgeted) {
@@ -474,7 +478,7 @@ PlayResult<Done> SceneStream::update(const CameraState& camera, uint32_t width, 
         uint32_t want = im.everyLevel[t] ? 0 : r.mipCount() - 1;
         for (const TextureUse& u : im.uses[t]) {
             const DrawItem& item = im.gpu->items[u.item];
-            const double d = distanceToBox(camera.position, item.boundsMin, item.boundsMax);
+            const double d = lodDistance(ortho, camera.position, item.boundsMin, item.boundsMax);
             want = std::min(want, neededMipLevel(u.texelsPerUnit, d, pixelScale, r.mipCount()));
         }
         r.wanted = want;
@@ -491,7 +495,7 @@ PlayResult<Done> SceneStream::update(const CameraState& camera, uint32_t width, 
             need = allDetail;
             for (uint32_t i = 0; i < mc.items.size() && !need; ++i) {
                 const DrawItem& item = im.gpu->items[mc.items[i]];
-                const double d = distanceToBox(camera.position, item.boundsMin, item.boundsMax);
+                const double d = lodDistance(ortho, camera.position, item.boundsMin, item.boundsMax);
                 const double px = double(mc.coarsestError) * item.worldScale * pixelScale / d;
                 need = !(px <= double(mOptions.lodThresholdPx)); // NaN (d = 0): needed
             }

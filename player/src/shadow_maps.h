@@ -39,7 +39,7 @@ struct ShadowBlock {
     glm::vec4 params;   // cascade count, filter, taps, radius
     glm::vec4 bias;     // normal offset, slope bias, blend band, selection
     glm::vec4 mapInfo;  // resolution, 1/resolution, PCSS tan(angular radius), output mode
-    glm::vec4 view;     // tan(fov/2), viewport height
+    glm::vec4 view;     // tan(fov/2) (0 if orthographic), viewport height, judged light, ymag (orthographic)
 };
 static_assert(sizeof(ShadowBlock) == 8 * 64 + 8 * 16 + 5 * 16);
 

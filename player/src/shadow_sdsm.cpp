@@ -21,7 +21,10 @@ void runSdsmFit(FrameContext& ctx) {
     glClearNamedBufferSubData(r.sdsmState.id(), GL_R32UI, 4, 12 + 256 * 4, GL_RED_INTEGER,
                               GL_UNSIGNED_INT, &zero);
 
-    glm::dvec3 forward = -glm::dvec3(ctx.view.view[0][2], ctx.view.view[1][2], ctx.view.view[2][2]);
+    // The depth buffer -> camera-relative position through the inverse view-projection holds for
+    // both projections (orthographic: w = 1, depth linear); view depth is along `forward`.
+    glm::dvec3 forward = ctx.view.forward();
+    const bool ortho = ctx.view.orthographic;
     glm::mat3 rotation(f.lightRotation);
     // Only the quantile partition and the histogram view read the histogram, which costs one
     // shared atomic per sample; the log partition skips it.
@@ -32,8 +35,10 @@ void runSdsmFit(FrameContext& ctx) {
         glProgramUniform3f(p, 1, float(forward.x), float(forward.y), float(forward.z));
         glProgramUniform2f(p, 2, f.splits[0], f.splits[1]);
         glProgramUniform1i(p, 3, int(f.cascades));
-        glProgramUniform1i(p, 4, s.sdsmPartition == SdsmPartition::Quantile ? 1 : 0);
-        glProgramUniform1f(p, 5, s.shadowLambda);
+        // An orthographic view has no perspective aliasing: uniform splits instead of logarithmic
+        // ones, and the quantile partition's practical fractions uniform too (lambda 0).
+        glProgramUniform1i(p, 4, s.sdsmPartition == SdsmPartition::Quantile ? 1 : ortho ? 2 : 0);
+        glProgramUniform1f(p, 5, ortho ? 0.0f : s.shadowLambda);
         glProgramUniformMatrix3fv(p, 6, 1, GL_FALSE, glm::value_ptr(rotation));
         glProgramUniform2f(p, 7, float(f.sceneLightDepth.x), float(f.sceneLightDepth.y));
         glProgramUniform1f(p, 8, s.shadowBlend);

@@ -36,7 +36,8 @@ FitCamera fitCamera(const ViewMatrices& view) {
     c.right = glm::dvec3(v[0][0], v[1][0], v[2][0]);
     c.up = glm::dvec3(v[0][1], v[1][1], v[2][1]);
     c.forward = -glm::dvec3(v[0][2], v[1][2], v[2][2]);
-    c.tanHalfFovY = std::tan(0.5 * double(view.yfov));
+    c.tanHalfFovY = view.orthographic ? 0.0 : std::tan(0.5 * double(view.yfov));
+    c.halfHeight = view.orthographic ? double(view.ymag) : 0.0;
     c.aspect = double(view.aspect);
     c.position = view.position;
     return c;
@@ -95,7 +96,10 @@ void prepareShadows(FrameContext& ctx) {
     float tanLight = std::tan(0.5f * glm::radians(s.shadowLightSize));
     int output = sc.capture ? 2 : (s.debugView == DebugView::Cascades ? 1 : 0);
     b.mapInfo = {float(resolution), 1.0f / float(resolution), tanLight, float(output)};
-    b.view = {std::tan(0.5f * ctx.view.yfov), float(ctx.targets.height), float(s.shadowJudgedLight), 0};
+    // A pixel's world size at view depth d is 2 (d x + w) / y (shadow_sampling.glsl).
+    const bool ortho = ctx.view.orthographic;
+    b.view = {ortho ? 0.0f : std::tan(0.5f * ctx.view.yfov), float(ctx.targets.height), float(s.shadowJudgedLight),
+              ortho ? ctx.view.ymag : 0.0f};
 
     uint32_t cascades = 0;
     if (wanted) {
@@ -119,6 +123,18 @@ void prepareShadows(FrameContext& ctx) {
         // floor in scene units would move every split.
         double nearDepth = ctx.view.znear > 0 ? double(ctx.view.znear)
                                               : 1e-6 * glm::length(sc.sceneMax - sc.sceneMin);
+        if (ctx.view.orthographic) {
+            // An orthographic camera often stands far back from what it shows (its rays are
+            // parallel: where it stands changes nothing on screen). The cascades start where the
+            // scene does, not at its near plane, so none is spent on the empty stretch before it.
+            double sceneNear = std::numeric_limits<double>::infinity();
+            for (int c = 0; c < 8; ++c) {
+                glm::dvec3 p{(c & 1) ? scene_.max.x : scene_.min.x, (c & 2) ? scene_.max.y : scene_.min.y,
+                             (c & 4) ? scene_.max.z : scene_.min.z};
+                sceneNear = std::min(sceneNear, glm::dot(p, cam.forward));
+            }
+            nearDepth = std::max(nearDepth, sceneNear);
+        }
         double farDepth = s.shadowDistance;
         if (farDepth <= 0) {
             farDepth = 0;
@@ -150,8 +166,10 @@ void prepareShadows(FrameContext& ctx) {
             f.splits[1] = float(farDepth);
             break;
         case ShadowTechnique::Pssm: {
+            // An orthographic view's pixels have one size at every depth: no perspective aliasing
+            // for logarithmic splits to even out, so the splits are uniform (lambda 0).
             std::vector<float> ends = practicalSplitDistances(float(nearDepth), float(farDepth), cascades,
-                                                              s.shadowLambda);
+                                                              ctx.view.orthographic ? 0.0f : s.shadowLambda);
             FitMode mode = s.shadowFit == CascadeFit::Sphere ? FitMode::Sphere : FitMode::Tight;
             for (uint32_t i = 0; i < cascades; ++i) {
                 f.splits[i + 1] = ends[i];

@@ -21,6 +21,7 @@
 #include "mesh_decode.h"
 #include "pnb/light_range.h"
 #include "pnb/node_transform.h"
+#include "pnb/texture_transform.h"
 #include "pnb_lighting/scene_lights.h"
 #include "pnb_reference/local_light.h"
 #include "self_intersection.h"
@@ -43,7 +44,7 @@ struct Instance {
 struct MaterialInfo {
     glm::vec3 albedo{1.0f}; // base-colour factor x (1 - metallic)
     int texture = -1;       // index into Impl::textures
-    float offset[2] = {0, 0}, scale[2] = {1, 1}, rotation = 0;
+    TextureSlot transform;  // its KHR_texture_transform (pnb/texture_transform.h)
 };
 
 struct LightInfo {
@@ -99,9 +100,7 @@ TracerResult<std::unique_ptr<IndirectTracer>> IndirectTracer::build(const Scene&
                 }
             }
             info.texture = t;
-            info.offset[0] = slot.offset.x, info.offset[1] = slot.offset.y;
-            info.scale[0] = slot.scale.x, info.scale[1] = slot.scale.y;
-            info.rotation = slot.rotationRadians;
+            info.transform = slot;
             stats.texturedMaterials += t >= 0;
         }
         impl.materials.push_back(info);
@@ -246,10 +245,8 @@ void IndirectTracer::irradiance(std::span<const glm::vec3> positions, std::span<
                         albedo *= inst.color[tri[0]] * w + inst.color[tri[1]] * rh.hit.u + inst.color[tri[2]] * rh.hit.v;
                     if (m.texture >= 0 && !inst.uv.empty()) {
                         glm::vec2 uv = inst.uv[tri[0]] * w + inst.uv[tri[1]] * rh.hit.u + inst.uv[tri[2]] * rh.hit.v;
-                        // KHR_texture_transform as material.glsl's slotUv: rotate(scale * uv) + offset.
-                        float c = std::cos(m.rotation), sn = std::sin(m.rotation);
-                        glm::vec2 su(uv.x * m.scale[0], uv.y * m.scale[1]);
-                        uv = glm::vec2(c * su.x - sn * su.y, sn * su.x + c * su.y) + glm::vec2(m.offset[0], m.offset[1]);
+                        const Vec2 t = textureTransformUv(m.transform, Vec2{uv.x, uv.y});
+                        uv = glm::vec2(t.x, t.y);
                         albedo *= glm::vec3(impl.textures[size_t(m.texture)].sample(uv));
                     }
                     hitAlbedo[k] = albedo;

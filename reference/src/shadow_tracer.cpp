@@ -127,19 +127,18 @@ TracerResult<std::unique_ptr<ShadowTracer>> ShadowTracer::build(const Scene& sce
 
     TracerStats& stats = tracer->mStats;
     const std::vector<Node>& nodes = scene.nodes.nodes;
-    std::vector<glm::dmat4> world(nodes.size());
     std::vector<std::vector<glm::dvec3>> decoded(scene.meshes.size()); // decoded on first use
     std::vector<bool> isDecoded(scene.meshes.size(), false);
     std::vector<uint32_t> triangleIndices;
 
-    for (size_t i = 0; i < nodes.size(); ++i) {
-        const Node& n = nodes[i];
-        if (n.parent != kNone && n.parent >= i)
-            return inputError(nodeName(scene, uint32_t(i)) + ": parent " + std::to_string(n.parent) +
+    for (size_t i = 0; i < nodes.size(); ++i)
+        if (nodes[i].parent != kNone && nodes[i].parent >= i)
+            return inputError(nodeName(scene, uint32_t(i)) + ": parent " + std::to_string(nodes[i].parent) +
                               " does not precede it");
-        const glm::dmat4 nodeMatrix = glm::make_mat4(nodeLocalMatrix(n).data());
-        world[i] = n.parent == kNone ? nodeMatrix : world[n.parent] * nodeMatrix;
-        if (n.mesh == kNone) continue;
+    // Every drawn copy of a mesh, as the player places them (EXT_mesh_gpu_instancing included).
+    for (const MeshInstance& copy : meshInstances(scene.nodes, nodeWorldMatrices(scene.nodes))) {
+        const size_t i = copy.node;
+        const Node& n = nodes[i];
         if (n.mesh >= scene.meshes.size())
             return inputError(nodeName(scene, uint32_t(i)) + " refers to mesh " +
                               std::to_string(n.mesh) + " of " + std::to_string(scene.meshes.size()));
@@ -209,7 +208,7 @@ TracerResult<std::unique_ptr<ShadowTracer>> ShadowTracer::build(const Scene& sce
         }
         // World space in double, then relative to the origin, then float: the subtraction is
         // exact enough that far-away scenes keep sub-millimetre precision near the camera.
-        const glm::dmat4& m = world[i];
+        const glm::dmat4 m = glm::make_mat4(copy.world.data());
         std::vector<double> magnitude(local.size());
         for (size_t v = 0; v < local.size(); ++v) {
             glm::dvec3 ws = glm::dvec3(m * glm::dvec4(local[v], 1.0));

@@ -35,13 +35,14 @@ TracerResult<std::unique_ptr<TriangleScene>> buildTriangleScene(const Scene& sce
     const std::vector<Matrix4d> worldMatrices = nodeWorldMatrices(scene.nodes);
     std::vector<std::vector<glm::dvec4>> positions(scene.meshes.size()); // decoded on first use
     std::vector<bool> decoded(scene.meshes.size(), false);
-    for (size_t i = 0; i < scene.nodes.nodes.size(); ++i) {
+    // Every drawn copy of a mesh, as the player places them (EXT_mesh_gpu_instancing included).
+    for (const MeshInstance& copy : meshInstances(scene.nodes, worldMatrices)) {
+        const size_t i = copy.node;
         const Node& n = scene.nodes.nodes[i];
-        if (n.mesh == kNone) continue;
         if (n.mesh >= scene.meshes.size())
             return inputError(nodeName(scene, uint32_t(i)) + " refers to mesh " + std::to_string(n.mesh) + " of " +
                               std::to_string(scene.meshes.size()));
-        const glm::dmat4 world = glm::make_mat4(worldMatrices[i].data());
+        const glm::dmat4 world = glm::make_mat4(copy.world.data());
         const Mesh& mesh = fullDetailMesh(scene, n.mesh); // the MDET detail, not a proxy
         if (mesh.primitive != Primitive::Triangles) continue;
         const uint64_t indexCount = mesh.indices.size() / (mesh.indexType == IndexType::U16 ? 2 : 4);

@@ -40,13 +40,16 @@ struct Surface {
     vec3 emissive;
 };
 
-// KHR_texture_transform: offset, rotation, scale applied to the chosen UV set.
+// KHR_texture_transform: uv' = T * R * S * uv with the extension's rotation matrix
+// R = (cos r, sin r; -sin r, cos r) written row by row, i.e. u' = c u + s v, v' = -s u + c v: a
+// positive rotation turns the image counter-clockwise in UV space (v runs down the image).
+// GLSL's mat2 takes columns, hence (c, -s), (s, c). The CPU copy is pnb::textureTransformUv.
 vec2 slotUv(int slot, SurfaceInput s) {
     vec4 a = uTexTransform[slot * 2];
     vec4 b = uTexTransform[slot * 2 + 1];
     vec2 uv = b.y > 0.5 ? s.uv1 : s.uv0;
     float c = cos(b.x), sn = sin(b.x);
-    uv = mat2(c, sn, -sn, c) * (uv * a.zw);
+    uv = mat2(c, -sn, sn, c) * (uv * a.zw);
     return uv + a.xy;
 }
 

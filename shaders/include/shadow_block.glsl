@@ -13,7 +13,8 @@ layout(std140, binding = 4) uniform ShadowBlock {
     vec4 uShadowParams;  // cascade count (0 = off), filter (0 hardware, 1 Poisson, 2 PCSS), taps, radius (texels)
     vec4 uShadowBias;    // normal offset (texels), slope bias (texels), blend band, selection (0 depth, 1 bounds)
     vec4 uShadowMapInfo; // resolution, 1 / resolution, PCSS tan(light angular radius), output (0 lit, 1 cascade tint, 2 capture)
-    vec4 uShadowView;    // tan(vertical fov / 2), viewport height, judged light (-1: the sun), 0
+    vec4 uShadowView;    // tan(vertical fov / 2), viewport height, judged light (-1: the sun),
+                         // orthographic half height (then x = 0): a pixel is 2 (depth x + w) / y wide
 };
 
 #endif

@@ -147,7 +147,7 @@ float sunShadowVisibility(vec3 p, vec3 n) {
     if (blend > 0.0) v = mix(v, cascadeVisibility(c + 1, p, n, ndotl), blend);
     gShadowVisibility = v;
     gShadowCascade = c;
-    float pixelWorld = 2.0 * depth * uShadowView.x / uShadowView.y;
+    float pixelWorld = 2.0 * (depth * uShadowView.x + uShadowView.w) / uShadowView.y;
     gShadowTexelRatio = shadowTexelWorld(c, p) / max(pixelWorld, 1e-30);
     return v;
 }

@@ -50,7 +50,8 @@ bool behindDepthBuffer(vec3 q, float radius, out bool gone) {
     float stored = textureLod(uGDepth, uv, 0.0).r;
     if (stored <= 0.0) return false; // sky there
     vec4 h = uInverseViewProjection * vec4(uv * 2.0 - 1.0, stored, 1.0);
-    float behind = length(q) - length(h.xyz / h.w);
+    vec3 surface = h.xyz / h.w; // on q's view ray: how far q lies past it along the ray
+    float behind = dot(q - surface, -viewVector(surface));
     return behind > 0.0 && behind < radius;
 }
 

@@ -441,14 +441,17 @@ def _instancing(ctx):
 
 @model("UnlitTest",
        "KHR_materials_unlit (required): converts, and each object is one flat colour: its pixels "
-       "within 10/255 of their median, and that colour the base colour (#FF7F00, #007FFF, as the "
-       "sample viewer shows them) within 12/255: no shading, no tone curve")
+       "within 10/255 of their median, and that colour the base colour (#FF7F00, #007FFF) after "
+       "the player's display transform (exposure 1, ACES fit, sRGB) within 12/255: no light, "
+       "shadow or environment term. The display transform applies to every pixel, unlit ones too "
+       "(the sample viewer's screenshot, tone mapping off, shows the raw colours)")
 def _unlit(ctx):
     view = dict(size=(384, 288), direction=(0.6, 0.5, 1))  # several faces of each object
     img = ctx.render("front", **view)
     m = ctx.mask("front", **view)
-    for name, hue, expect in (("orange", ("orange", "red"), (255, 127, 0)),
-                              ("blue", ("blue",), (0, 127, 255))):
+    for name, hue, base in (("orange", ("orange", "red"), (255, 127, 0)),
+                            ("blue", ("blue",), (0, 127, 255))):
+        expect = tuple(_display(c) for c in base)
         pix = [i for i in range(img.w * img.h) if m.bits[i]
                and ic.hue_class(img.px[3 * i], img.px[3 * i + 1], img.px[3 * i + 2], min_sat=0.3, min_val=0.05) in hue]
         if not ctx.check(len(pix) > 200, f"{name} object found ({len(pix)} px)"):
@@ -459,6 +462,16 @@ def _unlit(ctx):
                   f"colour ({med[0]}, {med[1]}, {med[2]}) by > 10/255 (<= 3 %: flat)")
         ctx.check(max(abs(med[c] - expect[c]) for c in range(3)) <= 12,
                   f"{name}: colour ({med[0]}, {med[1]}, {med[2]}) vs base colour {expect} (within 12/255)")
+
+
+def _display(srgb8):
+    """An sRGB 8-bit base colour channel through the player's display transform
+    (shaders/tonemap.frag: exposure 1, Narkowicz's ACES fit, then the sRGB encoding)."""
+    c = srgb8 / 255.0
+    x = c / 12.92 if c <= 0.04045 else ((c + 0.055) / 1.055) ** 2.4
+    y = min(max((x * (2.51 * x + 0.03)) / (x * (2.43 * x + 0.59) + 0.14), 0.0), 1.0)
+    e = 12.92 * y if y <= 0.0031308 else 1.055 * y ** (1 / 2.4) - 0.055
+    return round(e * 255)
 
 
 def _not_black(ctx, img, m, what, min_luma, max_dark):

@@ -409,7 +409,7 @@ TEST(GltfImport, SpecularGlossinessUsesTheFallback) {
     EXPECT_FLOAT_EQ(r->materials[0].pbr.metallicFactor, 0.0f);
 }
 
-TEST(GltfImport, SkinsAndMorphTargetsAreIgnoredWithWarnings) {
+TEST(GltfImport, SkinsAndAnimationsAreIgnoredWithWarnings) {
     PNB_REQUIRE_MODELS();
     auto skin = load("simple_skin/simple_skin.gltf");
     ASSERT_TRUE(skin.ok()) << skin.error().message;
@@ -417,7 +417,6 @@ TEST(GltfImport, SkinsAndMorphTargetsAreIgnoredWithWarnings) {
     EXPECT_GT(triangleCount(*skin), 0u);
     auto morph = load("glTF-Sample-Models/AnimatedMorphCube-glTF/AnimatedMorphCube.gltf");
     ASSERT_TRUE(morph.ok()) << morph.error().message;
-    EXPECT_TRUE(hasWarning(*morph, "morph targets ignored")) << allWarnings(*morph);
     EXPECT_TRUE(hasWarning(*morph, "animations ignored")) << allWarnings(*morph);
 }
 
@@ -774,6 +773,33 @@ TEST_F(GltfCrafted, MatricesDecomposeWithMirrorAndShearWarnings) {
     EXPECT_FALSE(hasWarning(*r, "node 'S'")) << allWarnings(*r);
 }
 
+// Morph targets at the mesh's default weights are baked into the rest shape (glTF §3.7.2.2);
+// a node's own weights override the mesh's and give that node a mesh of its own.
+TEST_F(GltfCrafted, MorphTargetsAreBakedAtTheDefaultWeights) {
+    Bin bin;
+    bin.add<float>({0, 0, 0, 1, 0, 0, 0, 1, 0});    // base triangle
+    bin.add<float>({0, 0, 2, 0, 0, 2, 0, 0, 2});    // target 0: +2 z everywhere
+    bin.add<float>({1, 0, 0, 0, 0, 0, 0, 0, 0});    // target 1: vertex 0 +1 x
+    const std::string members =
+        R"("bufferViews":[{"buffer":0,"byteOffset":0,"byteLength":36},)"
+        R"({"buffer":0,"byteOffset":36,"byteLength":36},{"buffer":0,"byteOffset":72,"byteLength":36}],)"
+        R"("accessors":[{"bufferView":0,"componentType":5126,"count":3,"type":"VEC3"},)"
+        R"({"bufferView":1,"componentType":5126,"count":3,"type":"VEC3"},)"
+        R"({"bufferView":2,"componentType":5126,"count":3,"type":"VEC3"}],)"
+        R"("meshes":[{"name":"M","weights":[0.5,0.25],"primitives":[{"attributes":{"POSITION":0},)"
+        R"("targets":[{"POSITION":1},{"POSITION":2}]}]}],)"
+        R"("nodes":[{"mesh":0},{"mesh":0},{"mesh":0,"weights":[1,0]}],"scenes":[{"nodes":[0,1,2]}],"scene":0)";
+    auto r = import(bin, members);
+    ASSERT_TRUE(r.ok()) << r.error().message;
+    ASSERT_EQ(r->nodes.size(), 3u);
+    EXPECT_EQ(r->nodes[0].mesh, r->nodes[1].mesh) << "nodes at the default weights share the mesh";
+    ASSERT_NE(r->nodes[2].mesh, r->nodes[0].mesh) << "a node with its own weights gets its own";
+    const std::vector<float>& rest = r->meshes[size_t(r->nodes[0].mesh)].primitives[0].positions;
+    EXPECT_EQ(rest, (std::vector<float>{0.25f, 0, 1, 1, 0, 1, 0, 1, 1}));
+    const std::vector<float>& own = r->meshes[size_t(r->nodes[2].mesh)].primitives[0].positions;
+    EXPECT_EQ(own, (std::vector<float>{0, 0, 2, 1, 0, 2, 0, 1, 2}));
+}
+
 TEST_F(GltfCrafted, LightsEmissiveStrengthAndCameraDefaults) {
     auto r = import(trianglePositions(),
                     R"("extensionsUsed":["KHR_lights_punctual","KHR_materials_emissive_strength"],)"
@@ -859,11 +885,11 @@ TEST_F(GltfCrafted, UnsupportedExtensionsWarnOrFail) {
     ASSERT_TRUE(used.ok()) << used.error().message;
     EXPECT_TRUE(hasWarning(*used, "t.gltf: ignored extension KHR_materials_sheen"));
     auto required = import(trianglePositions(),
-                           R"("extensionsUsed":["KHR_materials_sheen","EXT_mesh_gpu_instancing"],)"
-                           R"("extensionsRequired":["EXT_mesh_gpu_instancing"])");
+                           R"("extensionsUsed":["KHR_materials_sheen","KHR_materials_volume"],)"
+                           R"("extensionsRequired":["KHR_materials_volume"])");
     ASSERT_FALSE(required.ok());
     EXPECT_EQ(required.error().kind, ConvertErrorKind::Unsupported);
-    EXPECT_TRUE(contains(required.error().message, "EXT_mesh_gpu_instancing"));
+    EXPECT_TRUE(contains(required.error().message, "KHR_materials_volume"));
 }
 
 TEST_F(GltfCrafted, MissingImageFileDropsTheTextureWithAWarning) {

@@ -7,6 +7,7 @@
 #include <fstream>
 
 #include "pnb_converter/material_resolve.h"
+#include "pnb_converter/spec_gloss.h"
 
 namespace {
 
@@ -124,6 +125,69 @@ TEST(MaterialResolve, ImageIndexOutOfRangeIsAnError) {
     auto r = resolveMaterials(scene, {});
     ASSERT_FALSE(r.ok());
     EXPECT_NE(r.error().message.find("brick-wall"), std::string::npos);
+}
+
+} // namespace
+
+namespace {
+
+// The container keeps the sampler on the texture (TEXR), so glTF textures that share an image but
+// not a sampler stay two textures (TextureSettingsTest: 9 textures over 3 images); equal ones
+// share one.
+TEST(MaterialResolve, OneImageThroughTwoSamplersIsTwoTextures) {
+    IrScene s;
+    s.sourcePath = "samplers.gltf";
+    s.images.push_back({"checker", "checker.png", {}, "image/png"});
+    IrMaterial clamp, repeat, repeatToo;
+    clamp.name = "clamp";
+    clamp.textures[size_t(TextureSlotKind::BaseColor)].image = 0;
+    clamp.textures[size_t(TextureSlotKind::BaseColor)].wrapU = Wrap::ClampToEdge;
+    repeat.name = "repeat";
+    repeat.textures[size_t(TextureSlotKind::BaseColor)].image = 0;
+    repeatToo = repeat;
+    repeatToo.name = "repeat-too";
+    s.materials = {clamp, repeat, repeatToo};
+    IrMesh mesh;
+    for (int m = 0; m < 3; ++m) mesh.primitives.push_back(IrPrimitive{.positions = {0, 0, 0}, .material = m});
+    s.meshes = {mesh};
+    auto r = resolveMaterials(s, {});
+    ASSERT_TRUE(r.ok()) << r.error().message;
+    ASSERT_EQ(r->textures.size(), 2u);
+    const uint32_t a = r->materials[0].textures[size_t(TextureSlotKind::BaseColor)].texture;
+    const uint32_t b = r->materials[1].textures[size_t(TextureSlotKind::BaseColor)].texture;
+    const uint32_t c = r->materials[2].textures[size_t(TextureSlotKind::BaseColor)].texture;
+    EXPECT_NE(a, b);
+    EXPECT_EQ(b, c);
+    EXPECT_EQ(r->textures[a].wrapU, Wrap::ClampToEdge);
+    EXPECT_EQ(r->textures[b].wrapU, Wrap::Repeat);
+}
+
+// KHR_materials_pbrSpecularGlossiness with Khronos's published conversion: a metal (black
+// diffuse, coloured specular) keeps its colour as base colour with metallic ~1, not black; a
+// dielectric (4 % specular) keeps its diffuse with metallic 0.
+TEST(SpecGloss, MetalsKeepTheirColourAndDielectricsTheirDiffuse) {
+    const Vec3 gold{1.0f, 0.766f, 0.336f};
+    MetalRough metal = specGlossToMetalRough({0, 0, 0, 1}, gold, 0.8f);
+    EXPECT_GT(metal.metallic, 0.95f);
+    EXPECT_NEAR(metal.baseColor.x, gold.x, 0.05f);
+    EXPECT_NEAR(metal.baseColor.y, gold.y, 0.05f);
+    EXPECT_NEAR(metal.baseColor.z, gold.z, 0.05f);
+    EXPECT_NEAR(metal.roughness, 0.2f, 1e-6f);
+    MetalRough plastic = specGlossToMetalRough({0.5f, 0.25f, 0.1f, 0.5f}, {0.04f, 0.04f, 0.04f}, 0.3f);
+    EXPECT_EQ(plastic.metallic, 0.0f);
+    EXPECT_NEAR(plastic.baseColor.x, 0.5f, 1e-3f);
+    EXPECT_NEAR(plastic.baseColor.y, 0.25f, 1e-3f);
+    EXPECT_NEAR(plastic.baseColor.z, 0.1f, 1e-3f);
+    EXPECT_FLOAT_EQ(plastic.baseColor.w, 0.5f);
+    EXPECT_NEAR(plastic.roughness, 0.7f, 1e-6f);
+    // Extremes stay finite and inside [0, 1].
+    for (const MetalRough& e : {specGlossToMetalRough({1, 1, 1, 1}, {1, 1, 1}, 1),
+                                specGlossToMetalRough({0, 0, 0, 0}, {0, 0, 0}, 0),
+                                specGlossToMetalRough({1e30f, -1, 0, 1}, {2, -3, 1e30f}, -4)}) {
+        for (float v : {e.baseColor.x, e.baseColor.y, e.baseColor.z, e.baseColor.w, e.metallic, e.roughness}) {
+            EXPECT_TRUE(v >= 0.0f && v <= 1.0f) << v;
+        }
+    }
 }
 
 } // namespace

@@ -424,8 +424,10 @@ TEST(MeshProcessing, TangentFollowsUAndMirroringFlipsHandedness) {
         for (uint32_t v = 0; v < m.vertexCount; ++v) {
             EXPECT_NEAR(n[v * 3 + 2], 1.0f, 1e-6); // grid winding faces +Z
             EXPECT_NEAR(t[v * 4], uSign, 1e-6) << "tangent points along +u";
-            // Bitangent cross(n, t) * w must point along +v = +y.
-            EXPECT_EQ(t[v * 4 + 3], uSign);
+            // The grid's +v is +y; glTF's v runs down the image and its normal maps store +Y
+            // up the image, so the bitangent cross(n, t) * w must point along -v = -y: with
+            // n = +z and t = uSign x, cross(n, t) = uSign y, hence w = -uSign.
+            EXPECT_EQ(t[v * 4 + 3], -uSign);
         }
     }
 }

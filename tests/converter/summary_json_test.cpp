@@ -50,8 +50,10 @@ protected:
 
 TEST_F(SummaryJson, CarriesThePrintedErrorsAndSizes) {
     const fs::path out = dir / "spider.pnb", summary = dir / "spider.json";
+    // --no-default-environment: the spider has no lights, and the default environment's three
+    // textures would count beside its four (DefaultLook tests count those).
     auto r = convert({kSpider, "-o", out.string(), "--quantize", "--compress-textures",
-                      "--summary-json", summary.string()});
+                      "--no-default-environment", "--summary-json", summary.string()});
     ASSERT_EQ(r.exitCode, 0) << r.output;
     const json j = read(summary);
     EXPECT_EQ(j["output_bytes"].get<uint64_t>(), fs::file_size(out));
@@ -88,6 +90,48 @@ TEST_F(SummaryJson, OptionsOffAreNullNotZero) {
     EXPECT_TRUE(j["max_position_error"].is_null());
     EXPECT_TRUE(j["min_texture_psnr_db"].is_null());
     EXPECT_TRUE(j["lod_errors"].empty());
+}
+
+// What the converter adds to a source that lacks it is one summary line (and the JSON's
+// "added"), not a warning per file; --no-default-environment leaves the environment out.
+TEST_F(SummaryJson, AdditionsAreOneSummaryLineNotWarnings) {
+    const fs::path summary = dir / "box.json";
+    auto r = convert({kBox, "-o", (dir / "box.pnb").string(), "--summary-json", summary.string()});
+    ASSERT_EQ(r.exitCode, 0) << r.output;
+    EXPECT_NE(r.output.find("  added: default sun, default environment, default camera, default "
+                            "orbit (flagged generated; --no-default-environment leaves the "
+                            "environment out; --path gives your own camera path)\n"),
+              std::string::npos)
+        << r.output;
+    EXPECT_EQ(r.output.find("Warning: "), std::string::npos) << r.output;
+    EXPECT_EQ(r.output.find("default-sun"), std::string::npos) << "the old warning" << r.output;
+    const json j = read(summary);
+    EXPECT_EQ(j["added"], json({"default sun", "default environment", "default camera", "default orbit"}));
+    EXPECT_TRUE(j["warnings"].empty()) << j["warnings"];
+    ASSERT_TRUE(j.contains("environment"));
+    EXPECT_EQ(j["environment"]["name"], "default-studio");
+    EXPECT_TRUE(j["environment"]["generated"].get<bool>());
+
+    const fs::path without = dir / "none.json";
+    auto n = convert({kBox, "-o", (dir / "none.pnb").string(), "--no-default-environment",
+                      "--summary-json", without.string()});
+    ASSERT_EQ(n.exitCode, 0) << n.output;
+    EXPECT_NE(n.output.find("  added: default sun, default camera, default orbit (flagged "
+                            "generated; --path gives your own camera path)\n"),
+              std::string::npos)
+        << n.output;
+    const json k = read(without);
+    EXPECT_EQ(k["added"], json({"default sun", "default camera", "default orbit"}));
+    EXPECT_FALSE(k.contains("environment"));
+
+    // A batch: one line for all its inputs at the end, none per file.
+    auto b = convert({kBox, kSpider, "-o", (dir / "many").string()});
+    ASSERT_EQ(b.exitCode, 0) << b.output;
+    EXPECT_EQ(b.output.find("Warning: "), std::string::npos) << b.output;
+    EXPECT_NE(b.output.find("batch: added default sun to 2, default environment to 2, default "
+                            "camera to 2, default orbit to 2 (flagged generated"),
+              std::string::npos)
+        << b.output;
 }
 
 TEST_F(SummaryJson, RefusedForSeveralInputsAndNamedWhenUnwritable) {

@@ -340,7 +340,7 @@ TEST_F(Corruption, EverySeventhByteChangeIsDetectedWhenStreaming) {
         }
         file.writeAll(off, {&bytes[off], 1});
     }
-    EXPECT_GT(tried, 2 * bytes.size() / 7);
+    EXPECT_GE(tried, 2 * bytes.size() / 7); // every 7th offset, each mutation
     fail.report("single-byte changes, streaming");
 }
 
@@ -639,7 +639,7 @@ TEST_F(Corruption, UnknownChunkTagIsSkipped) {
 TEST_F(Corruption, NewerChunkVersionIsReadByItsKnownFields) {
     SceneBuilder b;
     assets::buildBoxRoom(b);
-    auto bytes = writeBoxRoomWith(b.scene, [](Writer&) {}, /*materialVersion=*/2);
+    auto bytes = writeBoxRoomWith(b.scene, [](Writer&) {}, /*materialVersion=*/ChunkTraits<Material>::version + 1);
     auto c = Container::fromMemory(bytes);
     ASSERT_TRUE(c.ok()) << c.error().describe();
     EXPECT_TRUE(isOk(c->verifyAll()));

@@ -96,3 +96,33 @@ TEST(EnvironmentChunk, ValidationRefusesWhatWouldDrawWrong) {
 }
 
 } // namespace
+
+namespace {
+
+// ENVM version 2 appends `generated` (FORMAT.md "ENVM", §3.5 rules 1 and 3): a version-1 payload
+// (the same bytes without it) reads as the source's environment; version 2 keeps the flag; a
+// version-1 payload with a byte too many is damage.
+TEST(EnvironmentChunk, GeneratedIsVersionTwoAndAVersionOneChunkReadsAsTheSources) {
+    pnb::Environment e;
+    e.radiance = 1;
+    e.irradianceSh[0] = {1, 2, 3};
+    e.generated = true;
+    const std::vector<std::byte> v2 = encodeChunk(e);
+    EXPECT_EQ(ChunkTraits<pnb::Environment>::version, 2);
+    ChunkHeader h{};
+    h.version = 2;
+    auto read2 = decodeChunk<pnb::Environment>(v2, h);
+    ASSERT_TRUE(read2.ok()) << read2.error().describe();
+    EXPECT_TRUE(read2->generated);
+
+    const std::vector<std::byte> v1(v2.begin(), v2.end() - 1); // version 1: no trailing bool
+    h.version = 1;
+    auto read1 = decodeChunk<pnb::Environment>(v1, h);
+    ASSERT_TRUE(read1.ok()) << read1.error().describe();
+    EXPECT_FALSE(read1->generated);
+    EXPECT_EQ(read1->radiance, 1u);
+    EXPECT_FLOAT_EQ(read1->irradianceSh[0].z, 3.0f);
+    EXPECT_FALSE(decodeChunk<pnb::Environment>(v2, h).ok()) << "version 1 with a byte left over";
+}
+
+} // namespace

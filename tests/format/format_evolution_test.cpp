@@ -20,11 +20,13 @@ namespace {
 using namespace pnb;
 
 constexpr Tag kFutureTag{{'X', 'F', 'U', 'T'}};
+// The MATL version after this reader's (this reader knows ChunkTraits<Material>::version).
+constexpr uint16_t kNext = ChunkTraits<Material>::version + 1;
 
-// Version 2 of MATL as a future writer would define it: version 1's fields, then an appended
+// The next version of MATL as a future writer would define it: today's fields, then an appended
 // `float sheen` (default 0) and a parallel array with one u8 per texture slot (say, a UV-set
 // override; default 0).
-std::vector<std::byte> materialVersion2(const Material& m, float sheen) {
+std::vector<std::byte> materialNextVersion(const Material& m, float sheen) {
     std::vector<std::byte> bytes = encodeChunk(m);
     auto append = [&](const void* p, size_t n) {
         auto* b = static_cast<const std::byte*>(p);
@@ -46,7 +48,7 @@ struct FutureOptions {
 };
 
 // Today's sample rewritten by a "next version" writer: every chunk copied as stored, MATL
-// re-encoded as version 2, an unknown chunk kind after the materials.
+// re-encoded at the next version, an unknown chunk kind after the materials.
 std::vector<std::byte> futureFile(const std::vector<std::byte>& today, const FutureOptions& o) {
     auto source = Container::fromMemory(today);
     EXPECT_TRUE(source.ok());
@@ -59,7 +61,7 @@ std::vector<std::byte> futureFile(const std::vector<std::byte>& today, const Fut
             EXPECT_TRUE(payload.ok());
             auto m = decodeChunk<Material>(payload->bytes(), info.header);
             EXPECT_TRUE(m.ok());
-            EXPECT_TRUE(isOk(w.addChunk(tags::kMaterial, 2, materialVersion2(*m, 0.25f),
+            EXPECT_TRUE(isOk(w.addChunk(tags::kMaterial, kNext, materialNextVersion(*m, 0.25f),
                                         Compression::None, o.criticalMaterials)));
             continue;
         }
@@ -108,7 +110,8 @@ TEST(FormatEvolution, CriticalNewerVersionIsRefusedByName) {
     auto scene = readScene(*container);
     ASSERT_FALSE(scene.ok());
     EXPECT_EQ(scene.error().code, FormatError::UnsupportedChunkVersion);
-    EXPECT_NE(scene.error().message.find("'MATL' chunk version 2 (critical)"), std::string::npos)
+    EXPECT_NE(scene.error().message.find("'MATL' chunk version " + std::to_string(kNext) + " (critical)"),
+              std::string::npos)
         << scene.error().message;
     EXPECT_NE(scene.error().message.find("update Penumbra"), std::string::npos);
 }
@@ -129,7 +132,7 @@ TEST(FormatEvolution, CriticalUnknownChunkKindIsRefusedByName) {
 // are still damage, and version 0 does not exist.
 TEST(FormatEvolution, TrailingBytesInAKnownVersionAreStillAnError) {
     Material m;
-    std::vector<std::byte> bytes = materialVersion2(m, 1.0f);
+    std::vector<std::byte> bytes = materialNextVersion(m, 1.0f);
     ChunkHeader v1{.tag = tags::kMaterial, .version = 1};
     auto r1 = decodeChunk<Material>(bytes, v1);
     ASSERT_FALSE(r1.ok());
@@ -144,8 +147,8 @@ TEST(FormatEvolution, TrailingBytesInAKnownVersionAreStillAnError) {
     // A newer version must still carry every field this reader knows.
     std::vector<std::byte> shortened = encodeChunk(m);
     shortened.pop_back();
-    ChunkHeader v2{.tag = tags::kMaterial, .version = 2};
-    auto r2 = decodeChunk<Material>(shortened, v2);
+    ChunkHeader next{.tag = tags::kMaterial, .version = kNext};
+    auto r2 = decodeChunk<Material>(shortened, next);
     ASSERT_FALSE(r2.ok());
     EXPECT_EQ(r2.error().code, FormatError::BadPayload);
 }

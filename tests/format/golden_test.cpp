@@ -194,7 +194,8 @@ TEST(GoldenV1_0, CommittedFileDecodesToKnownValues) {
     for (size_t i = 0; i < std::size(order); ++i) {
         const ChunkHeader& h = c->chunks()[i].header;
         EXPECT_TRUE(h.tag == order[i]) << "chunk " << i << " is '" << h.tag.str() << "'";
-        EXPECT_EQ(h.version, 1);
+        // Format 1.0's later chunk versions (docs/FORMAT.md §3.5): MATL 2 (`unlit`).
+        EXPECT_EQ(h.version, h.tag == tags::kMaterial ? 2 : 1);
         EXPECT_TRUE(h.hasChecksum());
         EXPECT_EQ(c->chunks()[i].headerOffset % kAlignment, 0u);
     }

@@ -59,6 +59,115 @@ TEST(Camera, FrustumKeepsVisibleBoxesAndDropsOthers) {
     EXPECT_TRUE(intersectsFrustum(v, p + glm::dvec3(-100, -100, -100), p + glm::dvec3(100, 100, 100))); // contains camera
 }
 
+// Orthographic: x = xmag maps to NDC 1 at any depth (the viewport's aspect being xmag / ymag),
+// depth is linear, reversed (near 1, far 0) and stays in [0, 1] between the planes.
+TEST(Camera, OrthographicMapsMagnitudesToTheEdgesAtEveryDepth) {
+    CameraState c;
+    c.projection = Projection::Orthographic;
+    c.ymag = 2.0f;
+    c.znear = 0.5f;
+    c.zfar = 40.0f;
+    const float xmag = 3.0f, aspect = xmag / c.ymag;
+    ViewMatrices v = makeViewMatrices(c, aspect);
+    EXPECT_TRUE(v.orthographic);
+    auto ndc = [&](glm::vec3 p) {
+        glm::vec4 clip = v.viewProjection * glm::vec4(p, 1);
+        return glm::vec3(clip) / clip.w;
+    };
+    float previous = 2.0f;
+    for (float z : {0.5f, 1.0f, 3.0f, 10.0f, 39.0f, 40.0f}) {
+        EXPECT_NEAR(ndc({xmag, 0, -z}).x, 1.0f, 1e-6) << z;
+        EXPECT_NEAR(ndc({-xmag, c.ymag, -z}).x, -1.0f, 1e-6) << z;
+        EXPECT_NEAR(ndc({-xmag, c.ymag, -z}).y, 1.0f, 1e-6) << z;
+        EXPECT_NEAR(ndc({0.5f * xmag, 0, -z}).x, 0.5f, 1e-6) << z; // no perspective divide
+        float d = ndc({0, 0, -z}).z;
+        EXPECT_GE(d, 0.0f);
+        EXPECT_LE(d, 1.0f);
+        EXPECT_LT(d, previous) << z; // farther = smaller, strictly
+        EXPECT_NEAR(d, (40.0f - z) / 39.5f, 1e-6) << z; // linear
+        if (d > 0) { // 0 reads as nothing drawn
+            EXPECT_NEAR(viewDepthFromBuffer(v, d), z, 1e-5 * z) << z;
+        }
+        previous = d;
+    }
+    EXPECT_NEAR(ndc({0, 0, -0.5f}).z, 1.0f, 1e-6);
+    EXPECT_NEAR(ndc({0, 0, -40.0f}).z, 0.0f, 1e-6);
+    // Another viewport keeps ymag and widens x (no stretching): x = ymag * aspect maps to 1.
+    ViewMatrices wide = makeViewMatrices(c, 2.0f);
+    glm::vec4 clip = wide.viewProjection * glm::vec4(4.0f, 2.0f, -7.0f, 1);
+    EXPECT_NEAR(clip.x / clip.w, 1.0f, 1e-6);
+    EXPECT_NEAR(clip.y / clip.w, 1.0f, 1e-6);
+    // The pixel footprint is depth independent; the forward axis is the camera's -Z.
+    EXPECT_DOUBLE_EQ(v.halfHeightAt(1.0), 2.0);
+    EXPECT_DOUBLE_EQ(v.halfHeightAt(100.0), 2.0);
+    EXPECT_NEAR(glm::length(v.forward() - glm::dvec3(0, 0, -1)), 0.0, 1e-12);
+    // The inverse is exact enough to reconstruct positions from depth (the lighting passes do).
+    glm::vec4 back = v.inverseViewProjection * glm::vec4(ndc({1.0f, -0.5f, -12.0f}), 1.0f);
+    EXPECT_NEAR(glm::length(glm::vec3(back) / back.w - glm::vec3(1.0f, -0.5f, -12.0f)), 0.0f, 1e-4f);
+}
+
+TEST(Camera, PerspectiveDepthRoundTripsThroughViewDepthFromBuffer) {
+    CameraState c;
+    c.znear = 0.25f;
+    for (float far : {0.0f, 80.0f}) {
+        c.zfar = far;
+        ViewMatrices v = makeViewMatrices(c, 1.0f);
+        EXPECT_FALSE(v.orthographic);
+        for (float z : {0.25f, 2.0f, 50.0f})
+            EXPECT_NEAR(viewDepthFromBuffer(v, depthOf(v, {0, 0, -z})), z, 1e-4 * z) << far << " " << z;
+        EXPECT_NEAR(v.halfHeightAt(2.0), 2.0 * std::tan(0.4), 1e-6);
+    }
+    EXPECT_TRUE(std::isinf(viewDepthFromBuffer(makeViewMatrices(c, 1.0f), 0.0)));
+}
+
+// Culling through the orthographic box: a box beside the view is culled at every depth (a
+// perspective frustum would take it in far enough away), one inside is kept at every depth,
+// and nothing behind the near plane or past the far plane is kept.
+TEST(Camera, OrthographicFrustumIsABox) {
+    CameraState c;
+    c.position = {-2.0e6, 5, 3}; // camera-relative
+    c.projection = Projection::Orthographic;
+    c.ymag = 1.0f;
+    c.znear = 0.1f;
+    c.zfar = 500.0f;
+    ViewMatrices v = makeViewMatrices(c, 1.0f);
+    CameraState persp = c;
+    persp.projection = Projection::Perspective;
+    ViewMatrices pv = makeViewMatrices(persp, 1.0f);
+    const glm::dvec3 p = c.position;
+    for (double z : {1.0, 10.0, 100.0, 450.0}) {
+        EXPECT_TRUE(intersectsFrustum(v, p + glm::dvec3(0.5, 0.5, -z - 0.1), p + glm::dvec3(0.9, 0.9, -z))) << z;
+        EXPECT_FALSE(intersectsFrustum(v, p + glm::dvec3(1.2, -0.1, -z - 0.1), p + glm::dvec3(1.5, 0.1, -z))) << z;
+        EXPECT_FALSE(intersectsFrustum(v, p + glm::dvec3(-0.1, -1.5, -z - 0.1), p + glm::dvec3(0.1, -1.2, -z))) << z;
+    }
+    // The same box beside the view is inside the perspective frustum far enough away: the test
+    // above would pass with the wrong projection only if culling ignored it.
+    EXPECT_TRUE(intersectsFrustum(pv, p + glm::dvec3(1.2, -0.1, -100.1), p + glm::dvec3(1.5, 0.1, -100)));
+    EXPECT_FALSE(intersectsFrustum(v, p + glm::dvec3(-0.5, -0.5, 0.5), p + glm::dvec3(0.5, 0.5, 2)));   // behind
+    EXPECT_FALSE(intersectsFrustum(v, p + glm::dvec3(-0.5, -0.5, -600), p + glm::dvec3(0.5, 0.5, -501))); // past far
+    EXPECT_TRUE(intersectsFrustum(v, p + glm::dvec3(-9, -9, -600), p + glm::dvec3(9, 9, 9)));            // around it
+}
+
+TEST(Camera, ValidOrthographicSuppliesAFarPlaneAndAMagnitude) {
+    Aabb bounds;
+    bounds.min = {-1, -1, -20};
+    bounds.max = {1, 1, -10};
+    CameraState c;
+    c.projection = Projection::Orthographic;
+    c.ymag = -2.0f;
+    c.zfar = 0.0f;
+    CameraState v = validOrthographic(c, bounds);
+    EXPECT_FLOAT_EQ(v.ymag, 2.0f);
+    EXPECT_GE(v.zfar, 20.0f); // past the scene's far side
+    c.ymag = 0.0f;
+    c.zfar = 30.0f;
+    v = validOrthographic(c, bounds);
+    EXPECT_FLOAT_EQ(v.ymag, 1.0f);
+    EXPECT_FLOAT_EQ(v.zfar, 30.0f); // its own far plane is kept
+    CameraState persp;
+    EXPECT_FLOAT_EQ(validOrthographic(persp, bounds).zfar, 0.0f); // perspective: untouched
+}
+
 TEST(CameraPath, PassesThroughKeysAndIsContinuous) {
     for (Interpolation interp : {Interpolation::Linear, Interpolation::CatmullRom}) {
         CameraPath path = straightPath(false, interp);

@@ -11,6 +11,7 @@
 
 #include <glm/glm.hpp>
 
+#include "pnb/atomic_file.h"
 #include "pnb/reader.h"
 #include "pnb/scene.h"
 #include "pnb_converter/convert.h"
@@ -568,6 +569,70 @@ TEST(Ibl, TheHeightMapIsDrawnOnlyForHeightVisibility) {
     (*renderer)->setSettings(s);
     ASSERT_TRUE((*renderer)->render(kView, kW, kH).ok());
     EXPECT_EQ((*renderer)->targetMemory().iblBytes, 0u);
+}
+
+// The converter's default environment (pnb-convert without --environment or --sky, for a source
+// with no lights): a smooth metal sphere reads, and the background is the studio, not a black
+// void. Without it (--no-default-environment) the same sphere is near-black on black: the
+// control that shows the test can fail.
+TEST(Ibl, TheDefaultEnvironmentLightsMetalAndFillsTheBackground) {
+    gltf::Document doc;
+    doc.materials.push_back(white(0.15f, 1.0f));
+    addObject(doc, "sphere", uvSphere(1.0f, 32, 64, 0), {0, 0, 0}); // no light at all
+    const std::string glb = (iblDir() / "default-look.glb").string();
+    ASSERT_TRUE(isOk(pnb::writeFileAtomic(glb, gltf::encodeGlb(doc))));
+    struct Look {
+        double sphereMean = 0, nearBlack = 0; // display values 0..255, fraction under 16
+        int background[2][3] = {};             // two corners, RGB
+    };
+    auto look = [&](bool defaultEnvironment) {
+        converter::ConvertSettings s;
+        s.input = glb;
+        s.output = (iblDir() / (defaultEnvironment ? "default-look.pnb" : "no-look.pnb")).string();
+        s.jobs = 1;
+        s.validateShaders = false;
+        s.noSidecar = true;
+        s.defaultEnvironment = defaultEnvironment;
+        auto r = converter::convertScene(s);
+        EXPECT_TRUE(r.ok()) << (r.ok() ? "" : r.error().message);
+        EXPECT_EQ(r.ok() && r->defaultEnvironment, defaultEnvironment);
+        const uint32_t w = 64, h = 48;
+        Rendered f = render(s.output, kView, w, h);
+        Look out;
+        size_t n = 0, dark = 0;
+        for (uint32_t i = 0; i < w * h; ++i) {
+            if (std::isnan(f.position.f32[size_t(i) * f.position.channels])) continue; // no surface
+            const uint8_t* p = &f.color.u8[size_t(i) * 4];
+            const double v = 0.2126 * p[0] + 0.7152 * p[1] + 0.0722 * p[2];
+            out.sphereMean += v;
+            dark += v < 16;
+            ++n;
+        }
+        EXPECT_GT(n, size_t(w * h / 10)) << "the sphere is in view";
+        out.sphereMean /= double(std::max<size_t>(n, 1));
+        out.nearBlack = double(dark) / double(std::max<size_t>(n, 1));
+        const uint32_t corners[2] = {2 * w + 2, (h - 3) * w + (w - 3)};
+        for (int c = 0; c < 2; ++c)
+            for (int k = 0; k < 3; ++k) out.background[c][k] = f.color.u8[size_t(corners[c]) * 4 + size_t(k)];
+        return out;
+    };
+    const Look studio = look(true), none = look(false);
+    std::printf("[ figure ] smooth metal sphere mean display value %.1f (%.0f %% near-black) with the "
+                "default environment, %.1f (%.0f %%) without; background %d / %d\n",
+                studio.sphereMean, 100 * studio.nearBlack, none.sphereMean, 100 * none.nearBlack,
+                studio.background[0][1], studio.background[1][1]);
+    EXPECT_GT(studio.sphereMean, 60.0) << "the metal reflects the studio";
+    EXPECT_LT(studio.sphereMean, 230.0) << "not blown out";
+    EXPECT_LT(studio.nearBlack, 0.05);
+    EXPECT_LT(none.sphereMean, 0.6 * studio.sphereMean) << "control: without it the metal is dark";
+    for (int c = 0; c < 2; ++c) {
+        for (int k = 0; k < 3; ++k) {
+            EXPECT_GT(studio.background[c][k], 40) << "corner " << c << ": not a black void";
+            EXPECT_LT(studio.background[c][k], 230) << "corner " << c;
+            EXPECT_EQ(none.background[c][k], 0) << "control: the void without an environment";
+        }
+        EXPECT_EQ(studio.background[c][0], studio.background[c][2]) << "neutral grey";
+    }
 }
 
 } // namespace

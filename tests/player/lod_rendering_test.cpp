@@ -156,6 +156,33 @@ TEST(Lod, FarDrawsTheCoarsestLevelNearDrawsLevel0) {
     EXPECT_EQ(drawnLevel(l, -0.5), 0);
 }
 
+// Through an orthographic camera the sphere is the same size on screen from any distance, so it
+// draws the same level from any distance: the level of a view ymag high, wherever it stands.
+TEST(Lod, AnOrthographicViewDrawsTheSameLevelFromAnyDistance) {
+    Loaded l = load(sphereScene(3, false, "ortho"), noShadows());
+    ASSERT_TRUE(l.renderer);
+    const uint32_t coarsest = l.levels() - 1;
+    // The far distance draws the coarsest level in perspective (FarDrawsTheCoarsestLevel...).
+    const double far = 2.0 * switchDistance(l, coarsest) / 0.8;
+    auto orthoLevel = [&](double distance, float ymag) {
+        CameraState c = lookAt({0, 0, 1.0 + distance}, {0, 0, 0}, 0.001f, float(distance + 10.0));
+        c.projection = Projection::Orthographic;
+        c.ymag = ymag;
+        auto r = l.renderer->render(c, kWidth, kHeight);
+        EXPECT_TRUE(r.ok()) << (r.ok() ? "" : r.error().message);
+        return l.levelOf(l.renderer->lastFrame().triangles);
+    };
+    // A view so narrow that level 1's error is 2 px: full detail, near or far.
+    const float narrow = float(double(l.error(1)) * kHeight / (2.0 * 2.0));
+    for (double d : {0.2, 5.0, far, 10.0 * far}) EXPECT_EQ(orthoLevel(d, narrow), 0) << d;
+    // A view so wide that the coarsest level is within the threshold: coarsest, near or far.
+    const float wide = float(double(l.error(coarsest)) * kHeight / (2.0 * 0.5));
+    for (double d : {0.2, 5.0, far}) EXPECT_EQ(orthoLevel(d, wide), int(coarsest)) << d;
+    // The perspective view differs near and far (what the orthographic one must not do).
+    EXPECT_EQ(drawnLevel(l, 0.2), 0);
+    EXPECT_EQ(drawnLevel(l, far), int(coarsest));
+}
+
 TEST(Lod, HysteresisKeepsTheLevelAcrossTheThresholdWhileALargeMoveSwitches) {
     Loaded l = load(sphereScene(3, false, "hysteresis"), noShadows());
     ASSERT_TRUE(l.renderer);

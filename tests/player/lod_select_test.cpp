@@ -30,6 +30,35 @@ TEST(LodSelect, PixelScaleIsHeightOverTwiceTanHalfFov) {
     EXPECT_EQ(lodPixelScale(1.0, 0), 0.0);
 }
 
+// Orthographic: pixels per unit are the viewport height over the view's height, and the rule's
+// distance is 1 wherever the item is: the level chosen does not change with distance.
+TEST(LodSelect, OrthographicSizeOnScreenDoesNotDependOnDistance) {
+    EXPECT_DOUBLE_EQ(lodPixelScaleOrthographic(2.0, 1000), 250.0);
+    EXPECT_EQ(lodPixelScaleOrthographic(0.0, 100), kInf);
+    EXPECT_EQ(lodPixelScaleOrthographic(kNaN, 100), kInf);
+    const glm::dvec3 lo(-1, -1, -1), hi(1, 1, 1);
+    const LodRule rule{1.0f, 0.2f};
+    const double ortho = lodPixelScaleOrthographic(2.0, 1000); // 250 px per unit
+    std::vector<uint32_t> levels;
+    for (double z : {3.0, 30.0, 300.0, 3000.0}) {
+        const double d = lodDistance(true, {0, 0, z}, lo, hi);
+        EXPECT_EQ(d, 1.0);
+        levels.push_back(selectLod(kErrors, 1.0, d, ortho, rule, 0));
+    }
+    // 0.01 * 250 = 2.5 px > 1: full detail at every distance.
+    EXPECT_EQ(levels, std::vector<uint32_t>(4, 0u));
+    // The same distances through a perspective view of the same height at z = 3 walk the chain.
+    const double persp = lodPixelScale(2.0 * std::atan(2.0 / 3.0), 1000);
+    EXPECT_EQ(selectLod(kErrors, 1.0, lodDistance(false, {0, 0, 3.0}, lo, hi), persp, rule, 0), 0u);
+    EXPECT_EQ(selectLod(kErrors, 1.0, lodDistance(false, {0, 0, 3000.0}, lo, hi), persp, rule, 0), 3u);
+    // A larger orthographic view (ymag 40: 12.5 px per unit) is coarser, again at every distance.
+    for (double z : {3.0, 3000.0})
+        EXPECT_EQ(selectLod(kErrors, 1.0, lodDistance(true, {0, 0, z}, lo, hi), lodPixelScaleOrthographic(40.0, 1000),
+                            rule, 0),
+                  2u)
+            << z;
+}
+
 TEST(LodSelect, DistanceIsToTheNearestPointOfTheBox) {
     glm::dvec3 lo(-1, -1, -1), hi(1, 1, 1);
     EXPECT_EQ(distanceToBox({0, 0, 0}, lo, hi), 0.0);    // inside

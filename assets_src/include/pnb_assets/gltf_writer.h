@@ -100,13 +100,16 @@ struct Node {
     std::vector<uint32_t> children; // each node has at most one parent; no cycles
 };
 
-// A perspective camera.
+// A perspective camera, or with `orthographic` an orthographic one (xmag, ymag, znear >= 0 and
+// zfar > znear, which glTF requires there; yfov and aspectRatio are then not written).
 struct Camera {
     std::string name;
     float yfovRadians = 0.9f; // vertical field of view, (0, pi). Default 0.9 (~52 degrees).
     float aspectRatio = 0.0f; // width / height; 0 = not written (the viewport decides)
     float znear = 0.1f;       // metres, > 0. Default 0.1.
     float zfar = 0.0f;        // metres, > znear; 0 = not written (infinite projection)
+    bool orthographic = false;
+    float xmag = 1.0f, ymag = 1.0f; // orthographic half width and height, metres, > 0
 };
 
 enum class LightType : uint8_t { Directional, Point, Spot };

@@ -37,6 +37,11 @@ struct ConvertSettings {
     // ENVM and its textures; the lighting programs then get the define IBL. Default: none.
     // Both an image and the sky: an Input error.
     EnvironmentSettings environment;
+    // With no environment asked for (above or in the sidecar) and no light in the source, add
+    // the neutral default studio (environment.h "default-studio", flagged generated in ENVM).
+    // Default: false here, so that a program (the tests) gets exactly the light its source
+    // says; pnb-convert turns it on unless --no-default-environment.
+    bool defaultEnvironment = false;
     LightSettings lights;       // see light_processing.h (the --light-cutoff) for defaults
     uint32_t jobs = 0;          // worker threads for meshes and textures; 0 = all cores
     bool validateShaders = true; // glslang-check every packed program. Default: true.
@@ -59,6 +64,7 @@ struct StageTiming {
 struct ConvertSummary {
     size_t meshes = 0, submeshes = 0, nodes = 0, materials = 0, textures = 0, lights = 0,
            cameras = 0, cameraPaths = 0;
+    size_t instances = 0; // EXT_mesh_gpu_instancing copies (NODE version 2), all nodes together
     uint64_t inputTriangles = 0, outputTriangles = 0, degenerateTriangles = 0,
              nonFiniteTriangles = 0, inputVertices = 0, outputVertices = 0;
     float maxPositionError = 0, maxNormalErrorRadians = 0; // quantisation, worst mesh
@@ -70,7 +76,10 @@ struct ConvertSummary {
     std::vector<std::string> omitted;  // what the scene does not need and so was not written
     std::vector<std::string> warnings; // dropped or repaired input, each naming the item
     std::vector<std::string> notes;    // harmless trouble worth a verbose line (cache not saved)
-    bool defaultSun = false, defaultCamera = false, defaultPath = false;
+    // What the converter added because the source lacked it, each flagged generated in the
+    // container; reported once (added()), not as warnings.
+    bool defaultSun = false, defaultCamera = false, defaultPath = false,
+         defaultEnvironment = false;
     double minTexturePsnrDb = 0;       // worst PSNR of compressed textures (0 = none compressed)
     uint64_t outputBytes = 0, meshBytes = 0, textureBytes = 0;
     std::optional<EnvironmentSummary> environment; // when one was written
@@ -78,6 +87,10 @@ struct ConvertSummary {
     std::vector<std::string> dependencies; // files read (source, buffers, images, sidecar, path,
                                            // environment image)
 };
+
+// The additions of a summary in a fixed order, for the one summary line: "default sun",
+// "default environment", "default camera", "default orbit" (those that apply).
+std::vector<std::string> addedDefaults(const ConvertSummary& summary);
 
 // Called as work progresses: stage name, items done, items in the stage.
 using ProgressFn = std::function<void(const std::string& stage, size_t done, size_t total)>;

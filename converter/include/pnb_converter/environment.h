@@ -73,6 +73,7 @@ struct EnvironmentSummary {
     uint64_t bytes = 0;          // texel bytes of the three textures, all levels
     uint64_t cleanedTexels = 0;  // non-finite or negative texels set to 0 (load and bake)
     uint32_t downsampled = 0;    // times the image was halved to fit maxRadianceHeight
+    bool generated = false;      // the converter's default (kDefaultEnvironmentName)
     double seconds = 0;          // bakeEnvironment's time (mips, SH, cube, LUT); convertScene
                                  // reports its whole stage (with the load or the sky)
 };
@@ -137,6 +138,55 @@ Result<EnvironmentSummary, ConvertError> addEnvironment(SceneBuilder& b,
 
 // "RGBA16F", for summaries.
 const char* textureFormatName(TextureFormat f);
+
+// [SECTION] the neutral default environment ("default-studio", docs/CONVERTER.md "Defaults")
+//
+// What convertScene adds when the source has no lights and no environment was asked for
+// (ConvertSettings::defaultEnvironment; pnb-convert --no-default-environment leaves it out), as
+// glTF viewers light such a model with a neutral studio IBL. Grey (R = G = B), in nits beside the
+// default sun's 3 lux, for the player's default exposure 1 and ACES tone mapping:
+//   - a gradient: kStudioZenith straight up, kStudioHorizon at the horizon (linear in the
+//     direction's height y), kStudioGround below, blended over the soft band y in [-0.15, 0];
+//   - kStudioLights soft discs ("softboxes": full radiance inside 0.75 x radius, none outside
+//     1.25 x radius, smoothstep between) that polished metals reflect as highlights.
+// Mean radiance 0.41 nits. A white diffuse surface facing up receives 2.7 lux from it (it shows
+// 0.87 nits: ACES 0.77, sRGB 0.89), one facing the default camera 1.6 lux (0.51 nits: sRGB 0.81),
+// one facing down 0.25 lux (0.08 nits: sRGB 0.34); the default sun adds up to 3 lux (0.95 nits)
+// on its side and keeps its shadows, so a lit white face stays below ACES's shoulder (about
+// 1.5-1.8 nits, sRGB 0.93-0.95) and a shadowed one is grey, not black. The background seen by the
+// default camera (30 degrees down) is the floor and the band above it: 0.08-0.2 nits, sRGB
+// 0.33-0.58. Directions: elevation above the horizon, azimuth from
+// +Z (where the default camera looks from) towards +X, as the default sun's.
+inline constexpr const char* kDefaultEnvironmentName = "default-studio";
+inline constexpr float kStudioZenith = 0.35f;
+inline constexpr float kStudioHorizon = 0.20f;
+inline constexpr float kStudioGround = 0.08f;
+struct StudioLight {
+    float azimuthDegrees, elevationDegrees, radiusDegrees, radiance;
+};
+inline constexpr StudioLight kStudioLights[] = {
+    {45.0f, 30.0f, 18.0f, 3.0f},    // key: front right, the side the default sun lights
+    {-60.0f, 20.0f, 20.0f, 1.2f},   // fill: front left, larger and dimmer
+    {0.0f, 75.0f, 25.0f, 1.5f},     // overhead
+    {180.0f, 40.0f, 15.0f, 2.0f},   // rim: behind the model, above the default frame
+};
+inline constexpr uint32_t kStudioWidth = 128; // equirect 128 x 64 (2.8 degrees a texel)
+
+// The studio's radiance in unit direction d (world, +Y up), nits.
+float studioRadiance(const double d[3]);
+
+// The studio sampled at the texel centres of a width x max(1, width/2) equirect image.
+RadianceImage bakeDefaultStudio(uint32_t width = kStudioWidth);
+
+// The bake settings of the default environment: a 32^2 specular cube of 6 levels at 128 samples
+// and the default 64^2 LUT. The studio is smooth (its softboxes' edges span 9 degrees or more),
+// so this is enough for a mirror, and it keeps what every lightless file carries small: about
+// 160 KiB of texels (the defaults, 256-texel image and 128^2 cube, would be 1 MiB).
+EnvironmentSettings defaultStudioSettings();
+
+// The default environment, baked once per process (every conversion that adds it writes the same
+// bytes; a batch bakes it once), `generated` set. Thread-safe.
+const BakedEnvironment& defaultStudioEnvironment(uint32_t jobs);
 
 // [SECTION] internals, exposed for the tests
 

@@ -12,10 +12,12 @@
 
 #include <array>
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "pnb/chunks.h"
+#include "pnb_converter/spec_gloss.h"
 
 namespace pnb::converter {
 
@@ -61,6 +63,11 @@ struct IrMaterial {
     // resolve), so importers leave them at their defaults.
     Material pbr;
     std::array<IrTextureRef, size_t(TextureSlotKind::Count)> textures{};
+    // KHR_materials_pbrSpecularGlossiness without a metallic-roughness fallback: its factors, to
+    // be converted by material resolve (pnb_converter/spec_gloss.h). The BaseColor and
+    // MetallicRoughness texture slots then hold the diffuse and specular-glossiness textures,
+    // and pbr's colour, metallic and roughness factors are ignored.
+    std::optional<SpecGlossFactors> specGloss;
 };
 
 // One draw's worth of geometry: separate float streams, empty when the source has none.
@@ -88,6 +95,9 @@ struct IrNode {
     Vec4 rotation{0, 0, 0, 1}; // unit quaternion xyzw
     Vec3 scale{1, 1, 1};
     int mesh = -1, light = -1, camera = -1;
+    // EXT_mesh_gpu_instancing: the mesh's copies, each at the node's transform times its own;
+    // empty = the node draws its mesh once (docs/FORMAT.md NODE version 2).
+    std::vector<InstanceTransform> instances;
 };
 
 struct IrLight {

@@ -15,6 +15,7 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -35,6 +36,17 @@ struct TextureRequest {
     MinFilter minFilter = MinFilter::LinearMipLinear;
     MagFilter magFilter = MagFilter::Linear;
     Wrap wrapU = Wrap::Repeat, wrapV = Wrap::Repeat;
+    // Set for a KHR_materials_pbrSpecularGlossiness material's converted texture: `image` is its
+    // diffuse texture (nullptr: white), `specularGlossiness` its specular-glossiness texture
+    // (nullptr: white), sampled at the diffuse texture's texels; the texels are converted with
+    // `factors` (pnb_converter/spec_gloss.h) into base colour (linear RGBA) or, with
+    // `toMetallicRoughness`, glTF's metallic-roughness layout (G roughness, B metallic).
+    struct SpecGlossBake {
+        const IrImage* specularGlossiness = nullptr;
+        SpecGlossFactors factors;
+        bool toMetallicRoughness = false;
+    };
+    std::optional<SpecGlossBake> specGloss;
 };
 
 struct TextureSettings {

@@ -33,6 +33,13 @@ inline constexpr uint32_t kNone = 0xFFFFFFFFu; // "no reference" for every index
 using StringRef = uint32_t;                     // index into the string table, or kNone
 using Blob = std::span<const std::byte>;
 
+// A marker in a fields() list (FORMAT.md 3.5 rule 3): the fields after it were appended in
+// chunk version `version`. The encoder writes nothing for it; the decoder of an older chunk
+// stops there and leaves the later fields at their defaults.
+struct SinceVersion {
+    uint16_t version;
+};
+
 struct Vec2 { float x = 0, y = 0; template <class V> void fields(V& v) { v(x); v(y); } };
 struct Vec3 { float x = 0, y = 0, z = 0; template <class V> void fields(V& v) { v(x); v(y); v(z); } };
 struct Vec4 {
@@ -171,11 +178,16 @@ struct Material {
     uint16_t layerPriority = 0; // deferred layers draw in ascending priority
     bool doubleSided = false, castsShadows = true, receivesShadows = true;
     std::array<TextureSlot, size_t(TextureSlotKind::Count)> textures{};
+    // Version 2. KHR_materials_unlit: the surface shows its base colour (plus emissive) as it
+    // is, with no light, shadow or environment. Writers set the chunk's critical bit when true:
+    // a version-1 reader would shade it lit.
+    bool unlit = false;
     template <class V> void fields(V& v) {
         v(name); v(program); v(baseColorFactor); v(emissiveFactor); v(emissiveStrength);
         v(metallicFactor); v(roughnessFactor); v(normalScale); v(occlusionStrength);
         v(alphaMode); v(alphaCutoff); v(shadingPath); v(layerPriority); v(doubleSided);
         v(castsShadows); v(receivesShadows); v(textures);
+        v(SinceVersion{2}); v(unlit);
     }
 };
 
@@ -303,9 +315,26 @@ struct Node {
         v(worldBounds); v(worldSphere);
     }
 };
+// NODE version 2: the copies of one node's mesh (EXT_mesh_gpu_instancing). Copy k is placed at
+// world(node) * T_k * R_k * S_k; the node itself then draws no copy of its own. The node's
+// worldBounds and worldSphere cover every copy.
+struct InstanceTransform {
+    Vec3 translation{0, 0, 0};
+    Vec4 rotation{0, 0, 0, 1}; // unit quaternion xyzw
+    Vec3 scale{1, 1, 1};
+    template <class V> void fields(V& v) { v(translation); v(rotation); v(scale); }
+};
+struct NodeInstances {
+    uint32_t node = 0; // a node with a mesh; each node at most once, in increasing node order
+    std::vector<InstanceTransform> transforms; // at least one
+    template <class V> void fields(V& v) { v(node); v(transforms); }
+};
 struct NodeGraph {
     std::vector<Node> nodes;
-    template <class V> void fields(V& v) { v(nodes); }
+    // Version 2 (default: none). Writers set the critical bit when it is not empty: a version-1
+    // reader would draw one copy where the file has many.
+    std::vector<NodeInstances> instances;
+    template <class V> void fields(V& v) { v(nodes); v(SinceVersion{2}); v(instances); }
 };
 
 // [SECTION] PATH — one camera path (fly-through)
@@ -343,9 +372,14 @@ struct Environment {
     float turbidity = 0;
     Vec3 groundAlbedo{0, 0, 0};
     float sunIlluminance = 0;   // lux, the scene's sun light
+    // Version 2 (appended; a version-1 chunk reads as false): the converter made this
+    // environment up (its neutral default, for a source with no lights and no environment),
+    // it is not the source's. Like Light::generated.
+    bool generated = false;
     template <class V> void fields(V& v) {
         v(name); v(source); v(radiance); v(specular); v(brdfLut); v(irradianceSh);
         v(sunDirection); v(turbidity); v(groundAlbedo); v(sunIlluminance);
+        v(SinceVersion{2}); v(generated);
     }
 };
 
@@ -353,12 +387,13 @@ struct Environment {
 
 // Tag, current payload version and default compression of each chunk struct.
 template <class T> struct ChunkTraits;
-#define PNB_CHUNK_TRAITS(Type, TagValue, Compress)                                                 \
+#define PNB_CHUNK_TRAITS_V(Type, TagValue, Compress, Version)                                      \
     template <> struct ChunkTraits<Type> {                                                         \
         static constexpr Tag tag = TagValue;                                                       \
-        static constexpr uint16_t version = 1;                                                     \
+        static constexpr uint16_t version = Version;                                               \
         static constexpr Compression compression = Compress;                                       \
     }
+#define PNB_CHUNK_TRAITS(Type, TagValue, Compress) PNB_CHUNK_TRAITS_V(Type, TagValue, Compress, 1)
 // Bulk data (mesh streams, texels) defaults to uncompressed so it can be used in place from the
 // mapping; small structured chunks compress well and are read once.
 PNB_CHUNK_TRAITS(StringTable, tags::kStrings, Compression::Zstd);
@@ -367,16 +402,17 @@ PNB_CHUNK_TRAITS(RenderSettings, tags::kRenderSettings, Compression::None);
 PNB_CHUNK_TRAITS(ShaderSource, tags::kShader, Compression::Zstd);
 PNB_CHUNK_TRAITS(Program, tags::kProgram, Compression::None);
 PNB_CHUNK_TRAITS(TextureDesc, tags::kTexture, Compression::None);
-PNB_CHUNK_TRAITS(Material, tags::kMaterial, Compression::None);
+PNB_CHUNK_TRAITS_V(Material, tags::kMaterial, Compression::None, 2); // 2: `unlit`
 PNB_CHUNK_TRAITS(Mesh, tags::kMesh, Compression::None);
 PNB_CHUNK_TRAITS(LightList, tags::kLights, Compression::None);
 PNB_CHUNK_TRAITS(CameraList, tags::kCameras, Compression::None);
-PNB_CHUNK_TRAITS(NodeGraph, tags::kNodes, Compression::Zstd);
+PNB_CHUNK_TRAITS_V(NodeGraph, tags::kNodes, Compression::Zstd, 2); // 2: `instances`
 PNB_CHUNK_TRAITS(CameraPath, tags::kCameraPath, Compression::None);
 PNB_CHUNK_TRAITS(TextureMip, tags::kTextureMip, Compression::None);
 PNB_CHUNK_TRAITS(MeshDetail, tags::kMeshDetail, Compression::None);
-PNB_CHUNK_TRAITS(Environment, tags::kEnvironment, Compression::None);
+PNB_CHUNK_TRAITS_V(Environment, tags::kEnvironment, Compression::None, 2); // 2: `generated`
 #undef PNB_CHUNK_TRAITS
+#undef PNB_CHUNK_TRAITS_V
 
 // Encodes a chunk payload (deterministic: equal structs give equal bytes; blob padding is zero).
 template <class T> std::vector<std::byte> encodeChunk(const T& value);

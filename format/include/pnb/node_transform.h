@@ -31,4 +31,16 @@ Matrix4d multiply(const Matrix4d& a, const Matrix4d& b);
 // treated as a root.
 std::vector<Matrix4d> nodeWorldMatrices(const NodeGraph& graph);
 
+// One drawn copy of a node's mesh and where it is.
+struct MeshInstance {
+    uint32_t node = 0;
+    Matrix4d world{};
+};
+
+// Every drawn copy of every mesh, in node order: one per node with a mesh, or, for a node with
+// NODE version 2 instances (EXT_mesh_gpu_instancing), one per instance at world(node) * TRS_k.
+// `world` is nodeWorldMatrices(graph). The player, the reference and the converter's bounds
+// all place copies with this, so they agree on what exists.
+std::vector<MeshInstance> meshInstances(const NodeGraph& graph, const std::vector<Matrix4d>& world);
+
 } // namespace pnb

@@ -85,6 +85,8 @@ struct DrawItem {
     glm::mat3 normalMatrix{1.0f}; // inverse-transpose of world's 3x3 (no translation: float is fine)
     glm::dvec3 boundsMin{0.0}, boundsMax{0.0}; // world-space AABB of the level-0 submesh
     double worldScale = 1.0;      // largest stretch of world's 3x3: mesh units -> world units
+    bool mirrored = false;        // world's 3x3 has a negative determinant (an odd number of
+                                  // negative scales): the winding flips, so front faces are CW
     uint32_t triangles = 0;       // at level 0
 };
 
