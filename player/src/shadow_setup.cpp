@@ -123,18 +123,6 @@ void prepareShadows(FrameContext& ctx) {
         // floor in scene units would move every split.
         double nearDepth = ctx.view.znear > 0 ? double(ctx.view.znear)
                                               : 1e-6 * glm::length(sc.sceneMax - sc.sceneMin);
-        if (ctx.view.orthographic) {
-            // An orthographic camera often stands far back from what it shows (its rays are
-            // parallel: where it stands changes nothing on screen). The cascades start where the
-            // scene does, not at its near plane, so none is spent on the empty stretch before it.
-            double sceneNear = std::numeric_limits<double>::infinity();
-            for (int c = 0; c < 8; ++c) {
-                glm::dvec3 p{(c & 1) ? scene_.max.x : scene_.min.x, (c & 2) ? scene_.max.y : scene_.min.y,
-                             (c & 4) ? scene_.max.z : scene_.min.z};
-                sceneNear = std::min(sceneNear, glm::dot(p, cam.forward));
-            }
-            nearDepth = std::max(nearDepth, sceneNear);
-        }
         double farDepth = s.shadowDistance;
         if (farDepth <= 0) {
             farDepth = 0;
@@ -145,6 +133,20 @@ void prepareShadows(FrameContext& ctx) {
             }
         }
         if (ctx.view.zfar > 0) farDepth = std::min(farDepth, double(ctx.view.zfar));
+        if (ctx.view.orthographic) {
+            // An orthographic camera often stands far back from what it shows (its rays are
+            // parallel: where it stands changes nothing on screen). The cascades span the depths
+            // where its view box meets the scene, so none is spent on the empty stretch before it.
+            double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+            for (const glm::dvec3& v : clipSliceToBox(cam, nearDepth, farDepth, scene_)) {
+                lo = std::min(lo, glm::dot(v, cam.forward));
+                hi = std::max(hi, glm::dot(v, cam.forward));
+            }
+            if (lo <= hi) {
+                nearDepth = std::max(nearDepth, lo);
+                farDepth = std::min(farDepth, hi);
+            }
+        }
         farDepth = std::max(farDepth, nearDepth * 1.001);
         glm::dvec2 z{std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity()};
         for (int c = 0; c < 8; ++c) {
