@@ -81,6 +81,16 @@ Surface evaluateSurface(SurfaceInput s) {
 #ifdef HAS_NORMAL_MAP
     vec3 t = normalize(s.tangent.xyz - n * dot(n, s.tangent.xyz));
     vec3 b = cross(n, t) * (s.tangent.w < 0.0 ? -1.0 : 1.0);
+    // A rotated normal texture (KHR_texture_transform) stores its normals along the rotated UV
+    // axes: u' = c u + s v means dP/du' = c t - s b and "up the image" b' = s t + c b (b is up
+    // the image, -dP/dv), so the frame turns with the texture (TextureTransformMultiTest).
+    float rn = uTexTransform[PNB_TEX_NORMAL * 2 + 1].x;
+    if (rn != 0.0) {
+        float cr = cos(rn), sr = sin(rn);
+        vec3 tr = cr * t - sr * b;
+        b = sr * t + cr * b;
+        t = tr;
+    }
     vec3 tn = texture(uNormalMap, slotUv(PNB_TEX_NORMAL, s)).xyz * 2.0 - 1.0;
     tn.xy *= uMaterialParams.z;
     n = normalize(mat3(t, b, n) * tn);
