@@ -287,6 +287,10 @@ Result<ConvertSummary, ConvertError> convertScene(const ConvertSettings& s,
     if (!imported) return imported.error();
     IrScene& scene = *imported;
     sum.warnings = scene.warnings;
+    for (const IrNotRendered& n : scene.notRendered)
+        sum.notRendered.push_back(n.feature + " (" +
+                                  (n.count ? std::to_string(n.count) + " " : std::string()) +
+                                  n.unit + "): " + n.fallback);
     sum.dependencies.push_back(s.input);
     for (const std::string& d : scene.dependencies) sum.dependencies.push_back(d);
     clock.stop();

@@ -252,9 +252,8 @@ Result<IrScene, ConvertError> translate(Context& ctx) {
 
     convertLights(ctx, nodeByName);
     convertCameras(ctx, nodeByName);
-    if (scene->mNumAnimations > 0) {
-        ctx.warn(format("%u animation(s) ignored", scene->mNumAnimations));
-    }
+    if (scene->mNumAnimations > 0)
+        ctx.out->noteNotRendered("animations", scene->mNumAnimations, "clips", "the rest pose");
     return std::move(out);
 }
 

@@ -150,11 +150,10 @@ Result<std::optional<IrPrimitive>, ConvertError> convertMesh(Context& ctx, unsig
             ctx.warn(format("%s: vertex colour set %u ignored", label.c_str(), set));
         }
     }
-    if (mesh->mNumBones > 0) {
-        ctx.warn(format("%s: %u bone(s) ignored (no skinning)", label.c_str(), mesh->mNumBones));
-    }
+    if (mesh->mNumBones > 0)
+        ctx.out->noteNotRendered("skins", 1, "meshes", "the meshes in their bind pose, as stored");
     if (mesh->mNumAnimMeshes > 0) {
-        ctx.warn(format("%s: %u morph target(s) ignored", label.c_str(), mesh->mNumAnimMeshes));
+        ctx.out->noteNotRendered("morph targets", 1, "meshes", "the base shape");
     }
     prim.material = materialFor(ctx, mesh->mMaterialIndex);
     return std::optional<IrPrimitive>(std::move(prim));

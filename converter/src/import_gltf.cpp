@@ -318,6 +318,45 @@ bool isImageFormatExtension(const std::string& extension) {
                      extension) != std::end(kImageFormatExtensions);
 }
 
+// What the player draws instead of each glTF extension it does not implement (the summary's
+// "not rendered" lines). An extension not listed is named with a generic fallback.
+struct ExtensionFallback { std::string_view name, fallback; };
+constexpr ExtensionFallback kExtensionFallbacks[] = {
+    {"KHR_materials_transmission", "opaque: no light through the surface, no refraction"},
+    {"KHR_materials_volume", "no absorption inside the volume"},
+    {"KHR_materials_clearcoat", "the base layer without its clear coat"},
+    {"KHR_materials_sheen", "the base layer without sheen"},
+    {"KHR_materials_iridescence", "no thin-film colours"},
+    {"KHR_materials_specular", "the default dielectric specular (F0 0.04, white)"},
+    {"KHR_materials_ior", "index of refraction 1.5 (F0 0.04)"},
+    {"KHR_materials_anisotropy", "isotropic GGX"},
+    {"KHR_materials_dispersion", "no dispersion"},
+    {"KHR_materials_diffuse_transmission", "opaque diffuse"},
+    {"KHR_materials_variants", "the default material of each primitive"},
+    {"KHR_animation_pointer", "the rest pose"},
+    {"KHR_xmp_json_ld", "metadata, not carried"},
+    {"EXT_lights_image_based", "the default environment or none"},
+};
+
+// How many materials, textures, meshes' primitives and nodes name extension `ext`.
+std::string extensionUse(const tinygltf::Model& m, const std::string& ext) {
+    size_t materials = 0, textures = 0, primitives = 0, nodes = 0;
+    for (const tinygltf::Material& x : m.materials) materials += x.extensions.count(ext);
+    for (const tinygltf::Texture& x : m.textures) textures += x.extensions.count(ext);
+    for (const tinygltf::Mesh& x : m.meshes)
+        for (const tinygltf::Primitive& p : x.primitives) primitives += p.extensions.count(ext);
+    for (const tinygltf::Node& x : m.nodes) nodes += x.extensions.count(ext);
+    std::string use;
+    auto add = [&](size_t n, const char* what) {
+        if (n) use += (use.empty() ? "" : ", ") + std::to_string(n) + " " + what;
+    };
+    add(materials, materials == 1 ? "material" : "materials");
+    add(textures, textures == 1 ? "texture" : "textures");
+    add(primitives, primitives == 1 ? "primitive" : "primitives");
+    add(nodes, nodes == 1 ? "node" : "nodes");
+    return use.empty() ? "declared" : use;
+}
+
 Check checkExtensions(Ctx& ctx) {
     std::string missing;
     for (const std::string& ext : ctx.model.extensionsRequired) {
@@ -330,7 +369,11 @@ Check checkExtensions(Ctx& ctx) {
                         ConvertErrorKind::Unsupported);
     }
     for (const std::string& ext : ctx.model.extensionsUsed) {
-        if (!isSupported(ext)) ctx.warn("ignored extension " + ext);
+        if (isSupported(ext) || isImageFormatExtension(ext)) continue; // images: per texture
+        std::string_view fallback = "ignored (not known to pnb-convert)";
+        for (const ExtensionFallback& f : kExtensionFallbacks)
+            if (f.name == ext) fallback = f.fallback;
+        ctx.scene.noteNotRendered(ext, 0, extensionUse(ctx.model, ext), std::string(fallback));
     }
     return std::nullopt;
 }
@@ -433,10 +476,12 @@ Result<IrScene, ConvertError> importGltfUnguarded(const std::string& path,
     ctx.lightMap.assign(model.lights.size(), -1);
     ctx.cameraMap.assign(model.cameras.size(), -1);
 
-    if (!model.skins.empty()) ctx.warn(strf("%zu skins ignored", model.skins.size()));
-    if (!model.animations.empty()) {
-        ctx.warn(strf("%zu animations ignored", model.animations.size()));
-    }
+    if (!model.skins.empty())
+        scene.noteNotRendered("skins", model.skins.size(), "skins",
+                              "the meshes in their bind pose, as stored");
+    if (!model.animations.empty())
+        scene.noteNotRendered("animations", model.animations.size(), "clips",
+                              "the rest pose (morph targets at their default weights)");
     std::string rootsWho;
     auto roots = chooseRoots(ctx, rootsWho);
     if (!roots) return roots.error();

@@ -201,11 +201,6 @@ uint64_t sizeBytes(const IrPrimitive& p) {
     return uint64_t(floats) * sizeof(float) + uint64_t(p.indices.size()) * sizeof(uint32_t);
 }
 
-const char* modeName(int mode) {
-    static const char* const kNames[] = {"POINTS", "LINES", "LINE_LOOP", "LINE_STRIP",
-                                         "TRIANGLES", "TRIANGLE_STRIP", "TRIANGLE_FAN"};
-    return mode >= 0 && mode <= 6 ? kNames[mode] : "?";
-}
 
 // Morph targets at fixed weights, baked into the base attributes (glTF 2.0 §3.7.2.2:
 // attribute = base + sum of weight_i × target_i). Only POSITION, NORMAL and TANGENT (xyz) are
@@ -256,8 +251,8 @@ Result<std::optional<IrPrimitive>, ConvertError> importPrimitive(Ctx& ctx, int m
         return ctx.fail(strf("%s: mode %d is not a glTF primitive mode", where.c_str(), mode));
     }
     if (mode < TINYGLTF_MODE_TRIANGLES) {
-        ctx.warn(strf("%s: mode %s dropped (only triangles are imported)", where.c_str(),
-                      modeName(mode)));
+        ctx.scene.noteNotRendered(mode == TINYGLTF_MODE_POINTS ? "points" : "lines", 1,
+                                  "primitives", "dropped: only triangles are drawn");
         return std::optional<IrPrimitive>();
     }
     auto position = src.attributes.find("POSITION");

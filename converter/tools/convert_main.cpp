@@ -369,6 +369,7 @@ void printSummary(const ConvertSettings& s, const ConvertSummary& r) {
         std::printf("\n");
     }
     for (const std::string& o : r.omitted) std::printf("  not written: %s\n", o.c_str());
+    for (const std::string& n : r.notRendered) std::printf("  not rendered: %s\n", n.c_str());
     if (const std::string added = addedLine(r); !added.empty()) std::printf("  %s\n", added.c_str());
     std::printf("  time:");
     double total = 0;
@@ -598,6 +599,8 @@ int runBatch(CliState& c, std::vector<BatchItem> items) {
                             items.size(), it.input.c_str(), it.output.c_str(),
                             bytesText(r->outputBytes).c_str(),
                             (unsigned long long)r->outputTriangles, seconds);
+                for (const std::string& n : r->notRendered)
+                    std::printf("    not rendered: %s\n", n.c_str());
             }
         }
         std::fflush(stdout);

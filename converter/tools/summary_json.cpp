@@ -42,6 +42,7 @@ std::string summaryJson(const ConvertSettings& s, const ConvertSummary& r) {
         {"programs", r.programs},
         {"omitted", r.omitted},
         {"warnings", r.warnings},
+        {"not_rendered", r.notRendered},
         // What the converter added, flagged generated in the container (not warnings):
         // "default sun", "default environment", "default camera", "default orbit".
         {"added", addedDefaults(r)},

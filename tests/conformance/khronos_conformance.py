@@ -182,10 +182,13 @@ def converts_and_plays(ctx, min_coverage=0.01, **view):
 
 
 def summary_names(ctx, feature, patterns):
-    text = ctx.convert_text
-    hit = [p for p in patterns if re.search(p, text, re.I)]
-    ctx.check(hit, f"the summary names {feature} (what the player does not draw)"
-              + ("" if hit else f": none of {patterns} in pnb-convert's output"))
+    """The summary's "not rendered" list (--summary-json not_rendered) names the feature exactly
+    once, with what the player draws instead; and pnb-convert prints it."""
+    lines = ctx.summary.get("not_rendered", [])
+    hit = [l for l in lines if any(re.match(p, l, re.I) for p in patterns)]
+    ctx.check(len(hit) == 1 and ": " in hit[0] and hit[0] in ctx.convert_text,
+              f"the summary names {feature} once with its fallback (what the player does not "
+              f"draw): {hit if hit else lines}")
 
 
 def no_red_marks(ctx, img, mask, what, limit=0.002):
@@ -636,20 +639,20 @@ def _skinned(ctx, features):
 @model("CesiumMan", "skin and animation not drawn yet: converts, plays in its bind pose "
        "(covers >= 2 % of the frame), and the summary names the skin and the animation")
 def _cesium_man(ctx):
-    _skinned(ctx, (("the skin", [r"skin"]), ("the animation", [r"animation"])))
+    _skinned(ctx, (("the skin", [r"skins "]), ("the animation", [r"animations "])))
 
 
 @model("Fox", "skin and 3 animations not drawn yet: converts, plays in its bind pose "
        "(covers >= 2 % of the frame), and the summary names the skin and the animations")
 def _fox(ctx):
-    _skinned(ctx, (("the skin", [r"skin"]), ("the animations", [r"animation"])))
+    _skinned(ctx, (("the skin", [r"skins "]), ("the animations", [r"animations \(3 "])))
 
 
 @model("AnimatedMorphCube", "morph animation not played: converts, plays in its rest shape "
        "(default weights 0: a cube filling its projected box), and the summary names the animation")
 def _animated_morph_cube(ctx):
     ctx.require_converted()
-    summary_names(ctx, "the animation", [r"animation"])
+    summary_names(ctx, "the animation", [r"animations "])
     m = converts_and_plays(ctx, min_coverage=0.05, size=(288, 288), direction=(1, 0.8, 1.2))
     bb = m.bbox()
     if bb:

@@ -75,6 +75,10 @@ struct ConvertSummary {
     size_t programsValidated = 0, programsFromCache = 0;   // glslang runs vs cache hits
     std::vector<std::string> omitted;  // what the scene does not need and so was not written
     std::vector<std::string> warnings; // dropped or repaired input, each naming the item
+    // Source features the player does not draw, one line each with what it draws instead
+    // ("KHR_materials_sheen (3 materials): the base layer without sheen"), from
+    // IrScene::notRendered.
+    std::vector<std::string> notRendered;
     std::vector<std::string> notes;    // harmless trouble worth a verbose line (cache not saved)
     // What the converter added because the source lacked it, each flagged generated in the
     // container; reported once (added()), not as warnings.

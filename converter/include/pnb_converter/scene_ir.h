@@ -118,6 +118,16 @@ struct IrCamera {
     float yfovRadians = 0.8f, aspectRatio = 0, znear = 0.1f, zfar = 0, xmag = 1, ymag = 1;
 };
 
+// A feature of the source the player does not draw, once per feature: how much of the scene
+// uses it and what is drawn instead ({"KHR_materials_sheen", 3, "materials", "the base layer,
+// without sheen"}). The summary lists them once, not as a warning per item.
+struct IrNotRendered {
+    std::string feature;
+    size_t count = 0;     // 0: `unit` says it all ("2 materials, 1 texture")
+    std::string unit;     // what `count` counts: "materials", "primitives", "clips", ...
+    std::string fallback; // what the player draws instead
+};
+
 // A whole imported scene. Nodes are ordered parents first (importers reorder if needed).
 struct IrScene {
     std::string sourcePath;
@@ -127,8 +137,20 @@ struct IrScene {
     std::vector<IrNode> nodes;
     std::vector<IrLight> lights;
     std::vector<IrCamera> cameras;
-    // Non-fatal findings, each naming the item ("ignored extension KHR_materials_sheen").
+    // Non-fatal findings, each naming the item ("material 'Wood': alphaMode 'X' is invalid").
     std::vector<std::string> warnings;
+    std::vector<IrNotRendered> notRendered; // noteNotRendered adds to it
+
+    // Adds `count` uses of `feature` (merged with earlier uses of the same feature).
+    void noteNotRendered(const std::string& feature, size_t count, const std::string& unit,
+                         const std::string& fallback) {
+        for (IrNotRendered& n : notRendered)
+            if (n.feature == feature) {
+                n.count += count;
+                return;
+            }
+        notRendered.push_back({feature, count, unit, fallback});
+    }
     // Files read besides the source itself (buffers, MTL libraries), for build-system
     // dependency files. External images are listed in `images`.
     std::vector<std::string> dependencies;
