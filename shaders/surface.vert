@@ -19,6 +19,17 @@ layout(location = PNB_ATTR_UV1) in vec2 inUv1;
 layout(location = PNB_ATTR_COLOR) in vec4 inColor;
 #endif
 
+// The copies of an instanced batch (EXT_mesh_gpu_instancing; the player's draw_lists.cpp packs
+// them), read when uObjectParams.w is 1: each copy's own model and normal matrices and params.
+struct InstanceData {
+    mat4 model;
+    mat4 normalMatrix;
+    vec4 params;
+};
+layout(std430, binding = 10) readonly buffer InstanceBlock {
+    InstanceData uInstances[];
+};
+
 layout(location = 0) out vec3 vPosition; // camera-relative world
 layout(location = 1) out vec3 vNormal;
 layout(location = 2) out vec4 vTangent;
@@ -27,17 +38,25 @@ layout(location = 4) out vec2 vUv1;
 layout(location = 5) out vec4 vColor;
 
 void main() {
+    mat4 model = uModel;
+    mat3 normalMatrix = mat3(uNormalMatrix);
+    float mirror = uObjectParams.z;
+    if (uObjectParams.w > 0.5) {
+        model = uInstances[gl_InstanceID].model;
+        normalMatrix = mat3(uInstances[gl_InstanceID].normalMatrix);
+        mirror = uInstances[gl_InstanceID].params.z;
+    }
     vec3 objectPosition = inPosition * uDequantScale.xyz + uDequantOffset.xyz;
-    vec4 world = uModel * vec4(objectPosition, 1.0);
+    vec4 world = model * vec4(objectPosition, 1.0);
     vPosition = world.xyz;
     // Quantised meshes store normals as two octahedral components (the third reads as 0).
     vec3 normal = uObjectParams.x > 0.5 ? octDecode(inNormal.xy) : inNormal;
-    vNormal = mat3(uNormalMatrix) * normal;
+    vNormal = normalMatrix * normal;
 #ifdef HAS_TANGENT
     // The bitangent is cross(N, T) * w in object space; a mirroring model matrix flips the
     // handedness of the transformed frame, so w carries the mirror's sign too (glTF's
     // NormalTangentMirrorTest and NegativeScaleTest).
-    vTangent = vec4(mat3(uModel) * inTangent.xyz, inTangent.w * uObjectParams.z);
+    vTangent = vec4(mat3(model) * inTangent.xyz, inTangent.w * mirror);
 #else
     vTangent = vec4(1.0, 0.0, 0.0, 1.0);
 #endif

@@ -366,6 +366,13 @@ std::vector<uint8_t> encodeGlb(const Document& doc, GlbStats* stats) {
     };
     putArray("materials", doc.materials, materialJson);
     putArray("nodes", doc.nodes, nodeJson);
+    bool instancing = false;
+    for (size_t i = 0; i < doc.nodes.size(); ++i)
+        if (!doc.nodes[i].instanceTranslations.empty()) {
+            root["nodes"][i]["extensions"]["EXT_mesh_gpu_instancing"]["attributes"]["TRANSLATION"] =
+                b.addFloatAttribute(doc.nodes[i].instanceTranslations, "VEC3");
+            instancing = true;
+        }
     putArray("cameras", doc.cameras, cameraJson);
     if (!doc.lights.empty()) {
         json lights = json::array();
@@ -374,6 +381,7 @@ std::vector<uint8_t> encodeGlb(const Document& doc, GlbStats* stats) {
         root["extensions"]["KHR_lights_punctual"]["lights"] = std::move(lights);
         root["extensionsUsed"] = json::array({"KHR_lights_punctual"});
     }
+    if (instancing) root["extensionsUsed"].push_back("EXT_mesh_gpu_instancing");
     json scene = json::object();
     if (!doc.nodes.empty()) scene["nodes"] = rootNodes(doc);
     if (!doc.sceneName.empty()) scene["name"] = doc.sceneName;

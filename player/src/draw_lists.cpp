@@ -1,6 +1,8 @@
 // Culling, per-draw uniform data and the sort orders of seed 003 (opaque front-to-back for early
 // depth rejection; translucent back-to-front so blending composes in order).
 #include <algorithm>
+#include <cstring>
+#include <unordered_map>
 
 #include <glm/gtc/matrix_transform.hpp>
 
@@ -17,6 +19,16 @@ struct ObjectBlock {
     glm::vec4 dequantScale, dequantOffset, params;
 };
 static_assert(sizeof(ObjectBlock) == 176);
+
+// std430 element of surface.vert's InstanceBlock: one copy of an instanced batch.
+struct InstanceData {
+    glm::mat4 model;
+    glm::mat4 normalMatrix;
+    glm::vec4 params;
+};
+static_assert(sizeof(InstanceData) == 144);
+constexpr GLuint kInstanceBinding = 10; // SSBO binding of InstanceBlock (surface.vert)
+constexpr uint32_t kNoGroup = 0xFFFFFFFFu;
 
 bool layerHasTranslucency(const GpuScene& scene, std::span<const DrawRef> refs) {
     return std::any_of(refs.begin(), refs.end(), [&](const DrawRef& r) {
@@ -70,15 +82,37 @@ void buildDrawLists(const GpuScene& scene, const ViewMatrices& view, const LodSt
             lists.forwardOpaque.push_back(ref);
         }
     }
-    auto frontToBack = [](const DrawRef& a, const DrawRef& b) {
+    // Opaque lists go front to back by instance group: the visible copies of one instanced
+    // submesh sit together at their nearest copy's depth, so the main view draws them as one
+    // instanced draw (drawItems); any other item is a group of its own.
+    std::unordered_map<uint32_t, float> groupDepth;
+    auto frontToBack = [&](const DrawRef& a, const DrawRef& b) {
+        const uint32_t ga = scene.items[a.item].instanceGroup, gb = scene.items[b.item].instanceGroup;
+        const float da = ga == kNoGroup ? a.viewDepth : groupDepth[ga];
+        const float db = gb == kNoGroup ? b.viewDepth : groupDepth[gb];
+        if (da != db) return da < db;
+        if (ga != gb) return ga < gb;
         return a.viewDepth != b.viewDepth ? a.viewDepth < b.viewDepth : a.item < b.item;
+    };
+    auto nearestOfGroups = [&](const std::vector<DrawRef>& list) {
+        for (const DrawRef& r : list)
+            if (const uint32_t g = scene.items[r.item].instanceGroup; g != kNoGroup) {
+                auto [it, added] = groupDepth.emplace(g, r.viewDepth);
+                if (!added) it->second = std::min(it->second, r.viewDepth);
+            }
     };
     auto backToFront = [](const DrawRef& a, const DrawRef& b) {
         return a.viewDepth != b.viewDepth ? a.viewDepth > b.viewDepth : a.item < b.item;
     };
-    for (auto& layer : lists.layers)
-        std::sort(layer.begin(), layer.end(),
-                  layerHasTranslucency(scene, layer) ? +backToFront : +frontToBack);
+    for (auto& layer : lists.layers) {
+        if (layerHasTranslucency(scene, layer)) {
+            std::sort(layer.begin(), layer.end(), backToFront);
+        } else {
+            nearestOfGroups(layer);
+            std::sort(layer.begin(), layer.end(), frontToBack);
+        }
+    }
+    nearestOfGroups(lists.forwardOpaque);
     std::sort(lists.forwardOpaque.begin(), lists.forwardOpaque.end(), frontToBack);
     std::sort(lists.forwardBlended.begin(), lists.forwardBlended.end(), backToFront);
 }
@@ -90,8 +124,22 @@ void drawItems(FrameContext& ctx, std::span<const DrawRef> refs, GLuint program,
     uint32_t boundMaterial = kNone;
     int cullState = -1;
     bool clockwise = false; // glFrontFace: a mirrored item's triangles wind the other way
-    for (const DrawRef& ref : refs) {
+    // Consecutive copies of one instanced submesh at one level draw as one instanced draw, in
+    // the passes whose programs are the materials' own (surface.vert reads the copies).
+    const bool batching = program == 0 && materialProgram == &GpuMaterial::program;
+    for (size_t r = 0; r < refs.size();) {
+        const DrawRef& ref = refs[r];
         const DrawItem& item = scene.items[ref.item];
+        size_t copies = 1;
+        if (batching && item.instanceGroup != kNoGroup)
+            while (r + copies < refs.size()) {
+                const DrawRef& next = refs[r + copies];
+                const DrawItem& other = scene.items[next.item];
+                if (other.instanceGroup != item.instanceGroup || next.level != ref.level ||
+                    other.mirrored != item.mirrored)
+                    break;
+                ++copies;
+            }
         const GpuMesh& mesh = scene.meshes[item.mesh];
         const GpuMaterial& material = scene.materials[item.material];
         GLuint p = program ? program : scene.programs[material.*materialProgram].id();
@@ -110,15 +158,36 @@ void drawItems(FrameContext& ctx, std::span<const DrawRef> refs, GLuint program,
             }
         }
         if (item.mirrored != clockwise) glFrontFace((clockwise = item.mirrored) ? GL_CW : GL_CCW);
-        glBindBufferRange(GL_UNIFORM_BUFFER, 1, ctx.ring.buffer(), GLintptr(ref.objectOffset),
+        size_t objectOffset = ref.objectOffset;
+        if (copies > 1) {
+            // The copies' object blocks, as buildDrawLists pushed them, packed into the array
+            // surface.vert indexes with gl_InstanceID; the first block, flagged (params.w), says so.
+            std::byte* array = nullptr;
+            const size_t arrayOffset = ctx.ring.allocate(copies * sizeof(InstanceData), array);
+            for (size_t k = 0; k < copies; ++k) {
+                ObjectBlock b;
+                std::memcpy(&b, ctx.ring.at(refs[r + k].objectOffset), sizeof b);
+                const InstanceData d{b.model, b.normalMatrix, b.params};
+                std::memcpy(array + k * sizeof d, &d, sizeof d);
+            }
+            ObjectBlock head;
+            std::memcpy(&head, ctx.ring.at(ref.objectOffset), sizeof head);
+            head.params.w = 1.0f;
+            objectOffset = ctx.ring.push(&head, sizeof head);
+            glBindBufferRange(GL_SHADER_STORAGE_BUFFER, kInstanceBinding, ctx.ring.buffer(),
+                              GLintptr(arrayOffset), GLsizeiptr(copies * sizeof(InstanceData)));
+        }
+        glBindBufferRange(GL_UNIFORM_BUFFER, 1, ctx.ring.buffer(), GLintptr(objectOffset),
                           GLsizeiptr(ctx.objectBlockBytes));
         if (mesh.vertexArray.id() != boundVao) glBindVertexArray(boundVao = mesh.vertexArray.id());
         const DrawLevel& level = scene.levels[ref.level];
-        glDrawElements(mesh.primitive, GLsizei(warmUpCount(ctx, level.indexCount)), mesh.indexType,
-                       reinterpret_cast<const void*>(mesh.indexOffset +
-                                                     uint64_t(level.firstIndex) * mesh.indexSize));
+        glDrawElementsInstanced(mesh.primitive, GLsizei(warmUpCount(ctx, level.indexCount)), mesh.indexType,
+                                reinterpret_cast<const void*>(mesh.indexOffset +
+                                                              uint64_t(level.firstIndex) * mesh.indexSize),
+                                GLsizei(copies));
         ++ctx.stats.drawCalls;
-        ctx.stats.triangles += level.triangles;
+        ctx.stats.triangles += level.triangles * copies;
+        r += copies;
     }
     if (clockwise) glFrontFace(GL_CCW);
     glEnable(GL_CULL_FACE);

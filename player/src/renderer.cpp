@@ -60,7 +60,10 @@ PlayResult<std::unique_ptr<Renderer>> Renderer::create(const GpuScene& scene,
     impl.ring.reserve(kFrameBlocks * (sizeof(FrameBlock) + impl.alignment) + lightBytes + impl.alignment + sizeof(ShadowBlock) +
                           sizeof(GiBlock) + sizeof(IblBlock) + impl.alignment * 8 +
                           kLocalShadowBytes + 64 * impl.alignment +
-                          scene.items.size() * (kObjectBlocksPerItem * objectStride + 4 + 32),
+                          scene.items.size() * (kObjectBlocksPerItem * objectStride + 4 + 32) +
+                          // instanced batches (draw_lists.cpp): per copy its packed InstanceData,
+                          // per batch a flagged object block; both passes that batch
+                          2 * scene.items.size() * (144 + objectStride + impl.alignment),
                       impl.alignment);
     impl.targets.memory.streamingBytes = impl.ring.totalBytes();
     return r;

@@ -197,8 +197,16 @@ void buildSceneGraph(const Scene& scene, GpuScene& gpu) {
     const std::vector<Matrix4d> worldMatrices = nodeWorldMatrices(scene.nodes);
     // Draw items: one per drawn copy of a mesh (pnb/node_transform.h meshInstances: a node, or
     // each of its EXT_mesh_gpu_instancing copies), so culling, LOD, shadows and GI see every copy.
+    std::vector<bool> instanced(scene.nodes.nodes.size(), false);
+    for (const NodeInstances& in : scene.nodes.instances) instanced[in.node] = true;
+    uint32_t groups = 0, groupNode = kNone;
     for (const MeshInstance& copy : meshInstances(scene.nodes, worldMatrices)) {
         const Node& n = scene.nodes.nodes[copy.node];
+        if (instanced[copy.node] && copy.node != groupNode) { // a new instanced node: its chains
+            groupNode = copy.node;                             // get groups [groups, groups + n)
+            groups += uint32_t(meshLevels[n.mesh].size());
+        }
+        uint32_t chainIndex = 0;
         const glm::dmat4 placed = glm::make_mat4(copy.world.data());
         const GpuMesh& mesh = gpu.meshes[n.mesh];
         glm::mat3 normal = glm::mat3(glm::inverseTranspose(glm::dmat3(placed)));
@@ -215,6 +223,9 @@ void buildSceneGraph(const Scene& scene, GpuScene& gpu) {
             item.normalMatrix = normal;
             item.worldScale = worldScale;
             item.mirrored = glm::determinant(glm::dmat3(placed)) < 0.0;
+            if (instanced[copy.node])
+                item.instanceGroup = groups - uint32_t(meshLevels[n.mesh].size()) + chainIndex;
+            ++chainIndex;
             // The coarser levels reuse level 0's vertices, so its bounds hold them all.
             transformBounds(placed, mesh.submeshes[level0.submesh].bounds, item.boundsMin, item.boundsMax);
             item.triangles = level0.triangles;

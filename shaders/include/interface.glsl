@@ -45,7 +45,8 @@ layout(std140, binding = 1) uniform ObjectBlock {
     vec4 uDequantScale;     // position = stored * scale + offset (identity for float streams)
     vec4 uDequantOffset;
     vec4 uObjectParams;     // x: 1 if normals are octahedral-encoded (2 components), y: caster
-                            // index (shadow passes), z: -1 if the model matrix mirrors, else 1
+                            // index (shadow passes), z: -1 if the model matrix mirrors, else 1,
+                            // w: 1 for an instanced batch (surface.vert reads InstanceBlock)
 };
 
 // Per material: the MATL chunk's factors.

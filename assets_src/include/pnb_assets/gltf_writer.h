@@ -98,6 +98,8 @@ struct Node {
     int32_t camera = kNone;         // index into Document::cameras
     int32_t light = kNone;          // index into Document::lights (KHR_lights_punctual)
     std::vector<uint32_t> children; // each node has at most one parent; no cycles
+    // EXT_mesh_gpu_instancing: the mesh is drawn once per translation (empty: once, plainly).
+    std::vector<Float3> instanceTranslations;
 };
 
 // A perspective camera, or with `orthographic` an orthographic one (xmag, ymag, znear >= 0 and

@@ -87,6 +87,10 @@ struct DrawItem {
     double worldScale = 1.0;      // largest stretch of world's 3x3: mesh units -> world units
     bool mirrored = false;        // world's 3x3 has a negative determinant (an odd number of
                                   // negative scales): the winding flips, so front faces are CW
+    // The copies of one EXT_mesh_gpu_instancing node's submesh share a group (kNone: none):
+    // the main view draws the visible copies of a group that meet in its lists as one instanced
+    // draw (draw_lists.cpp); culling, LOD, shadows and GI still see each copy as an item.
+    uint32_t instanceGroup = 0xFFFFFFFFu;
     uint32_t triangles = 0;       // at level 0
 };
 
