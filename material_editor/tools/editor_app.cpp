@@ -225,6 +225,9 @@ void EditorApp::drawProperties() {
     ImGui::PushItemWidth(std::max(ImGui::GetContentRegionAvail().x - labelWidth -
                                       ImGui::GetStyle().ItemInnerSpacing.x,
                                   64.0f));
+    // Where the panel clips: a widget whose label ends past it shows the label cut off.
+    const float clipRight = ImGui::GetWindowPos().x + ImGui::GetWindowContentRegionMax().x;
+    mClippedLabels.clear();
     for (const MaterialField& f : materialFields()) {
         std::string value = getMaterialField(m, f.name);
         std::string next;
@@ -291,6 +294,7 @@ void EditorApp::drawProperties() {
             break;
         }
         }
+        if (ImGui::GetItemRectMax().x > clipRight + 0.5f) mClippedLabels.push_back(f.name);
         if (ImGui::IsItemHovered()) ImGui::SetTooltip("%s", f.help);
         ImGui::PopID();
         if (!changed || next == value) continue;

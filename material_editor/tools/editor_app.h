@@ -43,6 +43,8 @@ public:
 
     const Document& document() const { return *mDocument; }
     std::string windowTitle() const;
+    // The property labels the last frame could not show whole (the panel cut them off).
+    const std::vector<std::string>& clippedLabels() const { return mClippedLabels; }
 
 private:
     void syncGpu();          // after any material change
@@ -71,6 +73,7 @@ private:
     player::CameraState mCamera;
     int mViewportWidth = 640, mViewportHeight = 400;
     std::string mTitle; // last title given to the window
+    std::vector<std::string> mClippedLabels;
 };
 
 } // namespace pnb::editor

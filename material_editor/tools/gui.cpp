@@ -28,6 +28,8 @@ struct GuiArgs {
     std::vector<std::string> sets; // --ui-set PATTERN.FIELD=VALUE, applied at frame 2
     std::string saveAs, screenshot;
     int frames = 0;                // 0 = until the window closes
+    int width = 1400, height = 800; // --ui-size WxH: the window (the default is the first)
+    bool checkLabels = false;      // --ui-check-labels: exit 4 if a property label is cut off
 };
 
 // The window's default framebuffer, bottom-up RGBA8.
@@ -61,6 +63,16 @@ int runGui(int argc, char** argv) {
         else if (s == "--ui-save-as") a.saveAs = value();
         else if (s == "--ui-screenshot") a.screenshot = value();
         else if (s == "--ui-frames") a.frames = std::atoi(value().c_str());
+        else if (s == "--ui-check-labels") a.checkLabels = true;
+        else if (s == "--ui-size") {
+            const std::string v = value();
+            if (std::sscanf(v.c_str(), "%dx%d", &a.width, &a.height) != 2 || a.width < 64 ||
+                a.height < 64) {
+                std::fprintf(stderr, "pnb-edit: --ui-size %s: expected WxH, each at least 64\n",
+                             v.c_str());
+                return 1;
+            }
+        }
         else if (!s.empty() && s[0] == '-') {
             std::fprintf(stderr, "pnb-edit: unknown option %s\n", s.c_str());
             return 1;
@@ -76,8 +88,8 @@ int runGui(int argc, char** argv) {
         return 2;
     }
     player::WindowOptions wo;
-    wo.width = 1400;
-    wo.height = 800;
+    wo.width = a.width;
+    wo.height = a.height;
     wo.title = "pnb-edit";
     auto context = player::createWindowContext(wo);
     if (!context) {
@@ -144,6 +156,13 @@ int runGui(int argc, char** argv) {
         glClear(GL_COLOR_BUFFER_BIT);
         ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
         bool last = a.frames != 0 && frame + 1 == a.frames;
+        if (last && a.checkLabels) {
+            for (const std::string& l : app.clippedLabels())
+                std::fprintf(stderr, "pnb-edit: property label '%s' is cut off at %dx%d\n",
+                             l.c_str(), w, h);
+            if (!app.clippedLabels().empty()) exitCode = 4;
+            else std::printf("property labels: all %s shown whole at %dx%d\n", "fields", w, h);
+        }
         if (last && !a.screenshot.empty()) {
             if (auto s = player::saveCapture(a.screenshot, readWindow(w, h)); !s) {
                 std::fprintf(stderr, "pnb-edit: %s\n", s.error().message.c_str());

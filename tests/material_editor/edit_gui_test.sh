@@ -31,4 +31,12 @@ img = mi.imread(sys.argv[1])
 assert img.shape[0] >= 400 and img.shape[1] >= 800, img.shape
 assert img[..., :3].std() > 0.05, img[..., :3].std()
 PY
+# Every property label shows whole at the size the issue names (1280x800) and at the default:
+# pnb-edit measures each widget's label against the panel's edge (--ui-check-labels, exit 4).
+for size in 1280x800 1400x800; do
+    xvfb-run -a -s "-screen 0 1400x800x24" "$edit" "$tmp/in.pnb" --ui-set 'tinted-glass.layer_priority=0' \
+        --ui-size "$size" --ui-frames 4 --ui-check-labels >"$tmp/labels.txt" 2>&1 \
+        || { cat "$tmp/labels.txt" >&2; fail "property labels cut off at $size"; }
+    grep -q "shown whole at" "$tmp/labels.txt" || fail "no label check ran at $size"
+done
 echo "pnb-edit GUI: ok"
