@@ -165,7 +165,8 @@ usage)
     grep -q -- "--error-maps" "$tmp/help" || fail "--help does not list --error-maps"
     ;;
 irradiance)
-    "$convert" "$scenes/street-canyon.glb" -o "$tmp/s.pnb" --sky --gi --environment-size 64 --specular-size 16 -q
+    "$convert" "$scenes/street-canyon.glb" -o "$tmp/s.pnb" --sky --gi --environment-size 64 --specular-size 16 -q \
+        --path "$(dirname "$0")/../../assets_src/paths/street-canyon.json"
     "$play" "$tmp/s.pnb" "${bench[@]}" --frames 6 --size 128x72 --gi-metrics 5 --sky-metrics 5 \
         --gi-samples 8 --sky-samples 8 --error-maps --out "$tmp/irr"
     $py - "$tmp/irr" <<'PY' || fail "error_gi/sky.png do not match the metrics"
