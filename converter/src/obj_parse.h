@@ -10,19 +10,22 @@
 // What it accepts is a strict subset of what tinyobjloader reads, on which it gives
 // tinyobjloader's result (import_obj.cpp's header block is the contract; the ObjParseEquivalence
 // tests compare the two): lines "v x y z" and "v x y z r g b", "vn x y z", "vt u v [w]",
-// "f" with 3 or 4 corners in the forms v, v/vt, v//vn, v/vt/vn (negative = relative; at most 9
-// digits), "usemtl name", "mtllib ...", "o ...", "g names...", comments, blank lines, "s" and
-// other lines tinyobjloader ignores; "\n" or "\r\n" line ends. Numbers follow tinyobjloader's
+// "f" with 3 or more corners in the forms v, v/vt, v//vn, v/vt/vn (negative = relative; at most
+// 9 digits), "usemtl name", "mtllib ...", "o ...", "g names...", comments, blank lines, "s",
+// "vp" and other lines tinyobjloader ignores; "\n" or "\r\n" line ends. Polygons are
+// triangulated as tinyobjloader does: a quad along its shorter diagonal, a larger polygon (an
+// n-gon, as Blender's exporter writes by default) by tinyobjloader's own ear clipping, step for
+// step in its float arithmetic (obj_parse.cpp, earClip). Numbers follow tinyobjloader's
 // grammar ([+-] digits [. digits] [e [+-] digits]); they are rounded correctly, where
 // tinyobjloader's own conversion is approximate (a value may differ from it in the last bit).
 // A number too large for a float is ±Inf, one too small is ±0, as with tinyobjloader.
 //
 // Everything else returns nullopt, and the importer reads the file with tinyobjloader instead:
 // errors (a zero or unparsable index, a position index out of range: tinyobjloader's messages
-// and line numbers stay the contract), polygons of other sizes, points, lines, "vw"/"t"
+// and line numbers stay the contract), faces of fewer than 3 corners, points, lines, "vw"/"t"
 // extensions, text tinyobjloader reads leniently ("v 1 2" with a default z, "1x" as 1, words
-// as 0), a lone "\r" or a NUL byte (tinyobjloader's line splitting differs), a quad naming a
-// position defined after it.
+// as 0), a lone "\r" or a NUL byte (tinyobjloader's line splitting differs), a quad or n-gon
+// naming a position defined after it, an n-gon its ear clipping gives no triangle.
 //
 // The output is the same for every job count and chunk size (each chunk writes its own slots;
 // the chunk size depends on the text's size only).
@@ -49,9 +52,10 @@ struct ObjCorner {
 using ObjFloats = std::vector<float, LargeAllocator<float>>;
 using ObjCorners = std::vector<ObjCorner, LargeAllocator<ObjCorner>>;
 
-// The triangles of the file in order, three corners each, in blocks (one per parsed chunk,
-// each written where the chunk's faces could have needed room: a quad takes 6). Triangle t is
-// block b's triangle t - start[b], at corners[offset[b] + 3 * (t - start[b])].
+// The triangles of the file in order, three corners each, in blocks (one per parsed chunk, and
+// one more after each n-gon whose ear clipping gave fewer than n - 2 triangles, whose unused
+// slots lie between two blocks). Triangle t is block b's triangle t - start[b], at
+// corners[offset[b] + 3 * (t - start[b])].
 struct ObjTriangles {
     ObjCorners corners;
     std::vector<uint64_t> offset; // first corner of each block

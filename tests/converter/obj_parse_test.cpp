@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <cstdlib>
@@ -406,8 +407,8 @@ TEST(ObjParse, UnusualTextIsLeftToTinyobjloader) {
         "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 4\n",   // out of range: an error
         "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 -4\n",  // relative out of range
         "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2\n",     // degenerate
-        "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nv 2 2 0\nf 1 2 3 4 5\n", // pentagon
         "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3 4\nv 1 1 0\n",   // quad naming a later vertex
+        "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nf 1 2 3 4 5\nv 2 2 0\n", // and a pentagon
         "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1/ 2 3\n",  // lenient corner
         "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3/\n",  // the same at the line's end (fuzzer)
         "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3/",    // and at the file's end
@@ -496,6 +497,208 @@ TEST(ObjParseEquivalence, HugeNumbersAndNonFiniteValues) {
     EXPECT_TRUE(hasWarning(*colors, {"non-finite vertex colours"})) << allWarnings(*colors);
     ASSERT_EQ(colors->meshes.size(), 1u);
     EXPECT_TRUE(std::isinf(colors->meshes[0].primitives[0].positions[7]));
+}
+
+// [SECTION] n-gons
+
+// Hand-made polygons of more than 4 corners for tinyobjloader's ear clipping (import_obj.cpp's
+// header block): convex and concave, both windings, in each axis plane and tilted, near and far
+// from the origin (its convexity test depends on it), with repeated and collinear corners, and
+// polygons it leaves with fewer than n - 2 triangles (found by trying random ones).
+const std::vector<std::vector<std::array<float, 3>>>& handMadeNgons() {
+    static const std::vector<std::vector<std::array<float, 3>>> polygons = {
+        {{0, 0, 0}, {2, 0, 0}, {3, 1.5f, 0}, {1, 3, 0}, {-1, 1.5f, 0}},        // convex pentagon
+        {{-1, 1.5f, 0}, {1, 3, 0}, {3, 1.5f, 0}, {2, 0, 0}, {0, 0, 0}},        // clockwise
+        {{0, 0, 0}, {2, 0, 0}, {3, 0, 1.5f}, {1, 0, 3}, {-1, 0, 1.5f}},        // xz plane
+        {{0, 0, 0}, {0, 2, 0}, {0, 3, 1.5f}, {0, 1, 3}, {0, -1, 1.5f}},        // yz plane
+        {{0, 0, 0}, {2, 0.5f, 1}, {3, 2, 2.5f}, {1, 3, 2}, {-1, 1.5f, 0.2f}},  // tilted
+        {{100, 100, 5}, {102, 100, 5}, {103, 101.5f, 5}, {101, 103, 5}, {99, 101.5f, 5}}, // far
+        {{-100, 50, 0}, {-98, 50, 0}, {-97, 51.5f, 0}, {-99, 53, 0}, {-101, 51.5f, 0}},
+        {{0, 0, 0}, {4, 0, 0}, {4, 4, 0}, {2, 1, 0}, {0, 4, 0}},               // concave pentagon
+        {{0, 0, 0}, {4, 0, 0}, {4, 1, 0}, {1, 1, 0}, {1, 4, 0}, {0, 4, 0}},     // L hexagon
+        {{10, 10, 0}, {14, 10, 0}, {14, 11, 0}, {11, 11, 0}, {11, 14, 0}, {10, 14, 0}},
+        {{0, 0, 0}, {1, 0, 0}, {2, 0, 0}, {3, 0, 0}, {3, 2, 0}, {0, 2, 0}},     // collinear run
+        {{0, 0, 0}, {1, 1, 0}, {2, 2, 0}, {3, 3, 0}, {4, 4, 0}},               // all on a line
+        {{0, 0, 0}, {1, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}},               // repeated corner
+        {{1, 1, 1}, {1, 1, 1}, {1, 1, 1}, {1, 1, 1}, {1, 1, 1}},               // one point
+        {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0.5f, 1.5f, 0}, {0, 1, 0}, {0, 0.5f, 0}},
+        {{0, 3, 0}, {1, 1, 0}, {3, 1, 0}, {1.5f, -0.5f, 0}, {2, -3, 0}, {0, -1.5f, 0},
+         {-2, -3, 0}, {-1.5f, -0.5f, 0}, {-3, 1, 0}, {-1, 1, 0}},               // star
+        {{0, 0, 0}, {3, 0, 0}, {3, 3, 0}, {2, 3, 0}, {2, 1, 0}, {1, 1, 0}, {1, 3, 0}, {0, 3, 0}},
+        {{0, 0, 0}, {1, 0, 0.3f}, {2, 1, -0.2f}, {1, 2, 0.4f}, {0, 1, -0.5f}, {-1, 0.5f, 0}},
+        {{1, -1, 0}, {4, -1, 0}, {2, -3, 0}, {-1, -4, 0}, {-3, 3, 0}, {3, 4, 0}}, // 2 of 4
+        {{-1, 1, 0}, {3, 3, 0}, {0, 0, 0}, {3, 4, 0}, {4, -2, 0}, {-2, 3, 0}, {-1, 1, -4},
+         {-1, -1, 0}},                                                         // 4 of 6
+        {{0, 4, 0}, {-1, 0, 0}, {-3, 1, 0}, {3, -2, 3}, {0, 3, 0}, {-1, 0, -4}, {-3, 2, 0},
+         {0, -2, 3}},                                                          // 1 of 6
+    };
+    return polygons;
+}
+
+// An OBJ of `polygons` with uvs and normals, in 3 objects that switch materials, corners in
+// the forms v/vt/vn, v//vn and v (some relative), triangles and quads between them.
+std::string ngonObj(const std::vector<std::vector<std::array<float, 3>>>& polygons) {
+    std::ostringstream s;
+    s << "# n-gons\r\nmtllib two.mtl\n";
+    int vertices = 0;
+    for (size_t i = 0; i < polygons.size(); ++i) {
+        const auto& poly = polygons[i];
+        if (i % 7 == 0) s << (i % 14 ? "o obj " : "g grp ") << i << "\n";
+        if (i % 3 == 0) s << (i % 2 ? "usemtl red\n" : "usemtl green tree\n");
+        if (i % 5 == 2) s << "s off\n";
+        for (const auto& p : poly) {
+            s << "v " << p[0] << " " << p[1] << " " << p[2] << "\n";
+            s << "vt " << p[0] * 0.1f << " " << p[1] * 0.1f << "\n";
+            s << "vn 0 0 1\n";
+        }
+        const int base = vertices + 1, n = int(poly.size());
+        vertices += n;
+        s << (i % 4 == 3 ? "f\t" : "f ");
+        for (int k = 0; k < n; ++k) {
+            const int v = base + k;
+            if (i % 4 == 0) s << v << "/" << v << "/" << v << " ";
+            else if (i % 4 == 1) s << v << "//" << v << "  ";
+            else if (i % 4 == 2) s << v - vertices - 1 << "/" << v - vertices - 1 << "/" << v << " ";
+            else s << v << "\t";
+        }
+        s << (i % 2 ? "\r\n" : "\n");
+        if (i % 3 == 1) s << "f " << base << " " << base + 1 << " " << base + 2 << "\n";
+        if (i % 3 == 2) s << "f " << base << " " << base + 1 << " " << base + 2 << " " << base + 3 << "\n";
+    }
+    return s.str();
+}
+
+TEST(ObjParseEquivalence, NgonsAreTriangulatedAsTinyobjloaderDoes) {
+    TempDir dir("obj_parse_ngons");
+    FloatCompare floats;
+    const std::string file = writeObj(dir, "ngons.obj", ngonObj(handMadeNgons()));
+    const Comparison c = compareReaders(file, floats);
+    if (HasFatalFailure()) return;
+    EXPECT_TRUE(c.ok);
+    EXPECT_EQ(c.reader, ObjReader::Fast);
+    // Each polygon on its own, too (a failure names it).
+    for (size_t i = 0; i < handMadeNgons().size(); ++i) {
+        const std::string one = writeObj(dir, "ngon" + std::to_string(i) + ".obj",
+                                         ngonObj({handMadeNgons()[i]}));
+        const Comparison d = compareReaders(one, floats);
+        if (HasFatalFailure()) return;
+        EXPECT_EQ(d.reader, ObjReader::Fast) << "polygon " << i;
+    }
+}
+
+// The ear clipping leaves some polygons with fewer than n - 2 triangles: the parse continues
+// after their unused slots, at every chunk size, and its events move back.
+TEST(ObjParse, NgonsWithFewerTrianglesKeepTheParseConsistent) {
+    const std::string text = ngonObj(handMadeNgons());
+    auto whole = parseObjText(text, ObjParseOptions{1, text.size() + 1});
+    ASSERT_TRUE(whole.has_value());
+    const ObjTriangles& w = whole->geometry.triangles;
+    uint64_t full = 0; // n - 2 per polygon, and the triangles and quads between
+    for (size_t i = 0; i < handMadeNgons().size(); ++i)
+        full += handMadeNgons()[i].size() - 2 + (i % 3 == 1 ? 1 : i % 3 == 2 ? 2 : 0);
+    EXPECT_EQ(full - w.count(), 2u + 2 + 5) << "three polygons are left short";
+    EXPECT_GT(w.offset.size(), 1u);
+    std::vector<ObjCorner> expected;
+    w.forEachCorner(0, w.count(), [&](const ObjCorner& c) { expected.push_back(c); });
+    for (size_t chunk = 1; chunk < text.size() + 2; chunk += chunk < 64 ? 1 : 53) {
+        auto p = parseObjText(text, ObjParseOptions{2, chunk});
+        ASSERT_TRUE(p.has_value()) << chunk;
+        std::vector<ObjCorner> got;
+        p->geometry.triangles.forEachCorner(0, p->geometry.triangles.count(),
+                                            [&](const ObjCorner& c) { got.push_back(c); });
+        ASSERT_EQ(got.size(), expected.size()) << chunk;
+        for (size_t i = 0; i < got.size(); ++i) {
+            ASSERT_EQ(got[i].v, expected[i].v) << chunk << " corner " << i;
+            ASSERT_EQ(got[i].vt, expected[i].vt) << chunk << " corner " << i;
+            ASSERT_EQ(got[i].vn, expected[i].vn) << chunk << " corner " << i;
+        }
+        ASSERT_EQ(p->events.size(), whole->events.size()) << chunk;
+        for (size_t i = 0; i < p->events.size(); ++i)
+            EXPECT_EQ(p->events[i].triangle, whole->events[i].triangle) << chunk << " event " << i;
+    }
+}
+
+// Random polygons of 5 to 9 corners on a small integer lattice (so many are concave, repeat
+// positions or have collinear corners), with the same file at every chunk size.
+TEST(ObjParseEquivalence, RandomNgonsGiveTheReferenceIr) {
+    TempDir dir("obj_parse_random_ngons");
+    FloatCompare floats;
+    uint32_t state = 38;
+    auto next = [&](int range) {
+        state = state * 1664525u + 1013904223u;
+        return int((state >> 8) % uint32_t(range));
+    };
+    std::vector<std::vector<std::array<float, 3>>> polygons;
+    size_t empty = 0;
+    while (polygons.size() < 300) {
+        std::vector<std::array<float, 3>> poly(size_t(5 + next(5)));
+        const bool planar = next(3) != 0;
+        for (auto& p : poly)
+            p = {float(next(9) - 4), float(next(9) - 4), planar ? 0.0f : float(next(9) - 4)};
+        // Polygons left without any triangle go to tinyobjloader (obj_parse.h): kept apart.
+        if (!parseObjText(ngonObj({poly}), ObjParseOptions{1, 0}).has_value()) {
+            ++empty;
+            continue;
+        }
+        polygons.push_back(std::move(poly));
+    }
+    std::cout << empty << " random polygons left without a triangle\n";
+    const Comparison c = compareReaders(writeObj(dir, "random.obj", ngonObj(polygons)), floats);
+    if (HasFatalFailure()) return;
+    EXPECT_TRUE(c.ok);
+    EXPECT_EQ(c.reader, ObjReader::Fast);
+}
+
+// What still goes to tinyobjloader beside n-gons gives its result: points and lines, a polygon
+// naming a later position, one its ear clipping leaves empty.
+TEST(ObjParseEquivalence, NgonsBesideTheConstructsLeftToTinyobjloader) {
+    TempDir dir("obj_parse_ngon_fallback");
+    FloatCompare floats;
+    const std::string ngons = ngonObj(handMadeNgons());
+    size_t vertices = 0;
+    for (const auto& poly : handMadeNgons()) vertices += poly.size();
+    const std::string cases[] = {
+        ngons + "l 1 2 3\n",
+        ngons + "p 4\n",
+        ngons + "f 1 2 3 4 " + std::to_string(vertices + 1) + "\nv 0 0 0\n",
+        ngons + "v -1 -4 0\nv 2 4 0\nv -1 2 0\nv 4 0 0\nv 0 2 0\nv -4 3 -1\n"
+                "f -6 -5 -4 -3 -2 -1\n", // ear clipping gives nothing
+    };
+    for (size_t i = 0; i < std::size(cases); ++i) {
+        const Comparison c =
+            compareReaders(writeObj(dir, "mixed" + std::to_string(i) + ".obj", cases[i]), floats);
+        if (HasFatalFailure()) return;
+        EXPECT_TRUE(c.ok) << i;
+        EXPECT_EQ(c.reader, ObjReader::Tinyobj) << i;
+    }
+}
+
+// The held-out case of issue 38: a few pentagons in a large file no longer send it to
+// tinyobjloader (which read all of it on one thread).
+TEST(ObjParseEquivalence, AFewNgonsInALargeFileStayOnTheFastPath) {
+    TempDir dir("obj_parse_few_ngons");
+    std::string text = "mtllib two.mtl\n";
+    int vertices = 0;
+    for (int i = 0; i < 80; ++i) {
+        text += gridObj(i % 2, i % 3 == 0).substr(std::strlen("# generated\nmtllib two.mtl\n"));
+        vertices += 64;
+        // A pentagon over five of this grid's positions (absolute indices).
+        const int b = vertices - 63;
+        text += "f " + std::to_string(b) + " " + std::to_string(b + 1) + " " +
+                std::to_string(b + 5) + " " + std::to_string(b + 8) + " " +
+                std::to_string(b + 4) + "\n";
+    }
+    ASSERT_GT(text.size(), size_t(300) << 10) << "more than one default chunk";
+    const std::string file = writeObj(dir, "scene.obj", text);
+    ObjReader used = ObjReader::Tinyobj;
+    auto got = importObjWith(file, ObjImportOptions{2}, &used);
+    EXPECT_EQ(used, ObjReader::Fast);
+    ObjImportOptions reference;
+    reference.tinyobjOnly = true;
+    auto want = importObjWith(file, reference);
+    ASSERT_TRUE(got.ok() && want.ok());
+    FloatCompare floats;
+    expectSameScene(*got, *want, floats, file);
 }
 
 // [SECTION] whole conversions
