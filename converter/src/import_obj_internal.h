@@ -43,7 +43,7 @@ struct ObjRun {
 struct ObjShape {
     std::string name; // "" before any "o"/"g" line
     std::vector<ObjRun> runs;
-    size_t points = 0, lines = 0; // dropped with a warning (tinyobjloader reader only)
+    size_t points = 0, lines = 0; // dropped with a warning
 };
 
 struct ObjRead {

@@ -178,7 +178,7 @@ private:
         const char c = *p;
         // The rest of tinyobjloader's checks, in its order.
         if (c == 'v' && at(1) == 'w' && isBlank(at(2))) return fail("a 'vw' line");
-        if ((c == 'l' || c == 'p') && isBlank(at(1))) return fail("points or lines");
+        if ((c == 'l' || c == 'p') && isBlank(at(1))) return elements(p, e);
         if (startsWith("usemtl")) {
             const char* n = p + 6;
             if (n == e || !isBlank(*n) || !clean(n, e)) return fail("an unusual 'usemtl' line");
@@ -219,6 +219,48 @@ private:
 
     bool event(ObjEvent::Kind kind, std::string text) {
         mC.events.push_back(ObjEvent{kind, mC.triangles, std::move(text)});
+        return true;
+    }
+
+    // An "l" or "p" line: its corners parsed as a face's (tinyobjloader's parse errors are
+    // the importer's), their positions not checked (tinyobjloader does not: the importer drops
+    // these elements, saying how many). Consecutive ones with no face between are one event.
+    bool elements(const char* p, const char* e) {
+        const bool points = *p == 'p';
+        p += 2;
+        // tinyobjloader reads the first corner from just after "p ": after two blanks, its
+        // atoi skips the second but its scan does not, and the corner counts twice.
+        if (points && p < e && isBlank(*p)) return fail("a 'p' line with two blanks");
+        const uint64_t v = mC.base.v + mV, vt = mC.base.vt + mVt, vn = mC.base.vn + mVn;
+        uint64_t corners = 0;
+        bool unused = true;
+        int32_t k = 0;
+        for (;;) {
+            while (p < e && isBlank(*p)) ++p;
+            if (p == e) break;
+            if (!index(p, e, v, k, unused, mTotal.v)) return fail("an unusual 'l' or 'p' corner");
+            if (p < e && *p == '/') {
+                ++p;
+                if ((p == e || *p != '/') && !index(p, e, vt, k, unused, mTotal.vt))
+                    return fail("an unusual 'l' or 'p' corner");
+                if (p < e && *p == '/') {
+                    ++p;
+                    if (!index(p, e, vn, k, unused, mTotal.vn))
+                        return fail("an unusual 'l' or 'p' corner");
+                }
+            }
+            if (p < e && !isBlank(*p)) return fail("an unusual 'l' or 'p' corner");
+            ++corners;
+        }
+        if (corners == 0) return fail("an 'l' or 'p' line without a corner");
+        const ObjEvent::Kind kind = points ? ObjEvent::Kind::Points : ObjEvent::Kind::Lines;
+        const uint64_t count = points ? corners : 1;
+        if (!mC.events.empty() && mC.events.back().kind == kind &&
+            mC.events.back().triangle == mC.triangles) {
+            mC.events.back().count += count;
+            return true;
+        }
+        mC.events.push_back(ObjEvent{kind, mC.triangles, {}, count});
         return true;
     }
 

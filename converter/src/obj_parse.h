@@ -11,7 +11,8 @@
 // tinyobjloader's result (import_obj.cpp's header block is the contract; the ObjParseEquivalence
 // tests compare the two): lines "v x y z" and "v x y z r g b", "vn x y z", "vt u v [w]",
 // "f" with 3 or more corners in the forms v, v/vt, v//vn, v/vt/vn (negative = relative; at most
-// 9 digits), "usemtl name", "mtllib ...", "o ...", "g names...", comments, blank lines, "s",
+// 9 digits), "l" and "p" with corners in those forms (the importer only counts them),
+// "usemtl name", "mtllib ...", "o ...", "g names...", comments, blank lines, "s",
 // "vp" and other lines tinyobjloader ignores; "\n" or "\r\n" line ends. Polygons are
 // triangulated as tinyobjloader does: a quad along its shorter diagonal, a larger polygon (an
 // n-gon, as Blender's exporter writes by default) by tinyobjloader's own ear clipping, step for
@@ -22,7 +23,8 @@
 //
 // Everything else returns nullopt, and the importer reads the file with tinyobjloader instead:
 // errors (a zero or unparsable index, a position index out of range: tinyobjloader's messages
-// and line numbers stay the contract), faces of fewer than 3 corners, points, lines, "vw"/"t"
+// and line numbers stay the contract), faces of fewer than 3 corners, "l"/"p" without a corner
+// or with two blanks after "p" (tinyobjloader reads its first corner twice), "vw"/"t"
 // extensions, text tinyobjloader reads leniently ("v 1 2" with a default z, "1x" as 1, words
 // as 0), a lone "\r" or a NUL byte (tinyobjloader's line splitting differs), a quad or n-gon
 // naming a position defined after it, an n-gon its ear clipping gives no triangle.
@@ -92,10 +94,13 @@ struct ObjEvent {
         UseMtl, // text: the material name (its first word)
         Group,  // "g": text: the names joined by one space
         Object, // "o": text: the rest of the line after "o "
+        Lines,  // "l" lines (count: how many, one element each), dropped by the importer
+        Points, // "p" lines (count: their vertices, one point each), dropped likewise
     };
     Kind kind;
     uint64_t triangle; // triangles before this line
     std::string text;
+    uint64_t count = 0; // Lines, Points
 };
 
 struct ObjParse {

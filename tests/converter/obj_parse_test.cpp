@@ -414,8 +414,9 @@ TEST(ObjParse, UnusualTextIsLeftToTinyobjloader) {
         "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3/",    // and at the file's end
         "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3 # c\n",
         "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 1234567890\n", // 10 digits
-        "v 0 0 0\nv 1 0 0\nv 0 1 0\nl 1 2\n",
-        "v 0 0 0\nv 1 0 0\nv 0 1 0\np 1\n",
+        "v 0 0 0\nv 1 0 0\nv 0 1 0\nl 1 0\n",   // index 0 in a line: an error
+        "v 0 0 0\nv 1 0 0\nv 0 1 0\nl \n",      // a line without a corner
+        "v 0 0 0\nv 1 0 0\nv 0 1 0\np  1\n",    // tinyobjloader reads "1" twice
         "vw 0 0 1\n",
         "t crease 1/1/0\n",
         "# a\rv 0 0 0\n",                // lone CR ends a line for tinyobjloader
@@ -649,8 +650,8 @@ TEST(ObjParseEquivalence, RandomNgonsGiveTheReferenceIr) {
     EXPECT_EQ(c.reader, ObjReader::Fast);
 }
 
-// What still goes to tinyobjloader beside n-gons gives its result: points and lines, a polygon
-// naming a later position, one its ear clipping leaves empty.
+// What still goes to tinyobjloader beside n-gons gives its result: a lenient face, a "t" line,
+// a polygon naming a later position, one its ear clipping leaves empty.
 TEST(ObjParseEquivalence, NgonsBesideTheConstructsLeftToTinyobjloader) {
     TempDir dir("obj_parse_ngon_fallback");
     FloatCompare floats;
@@ -658,8 +659,8 @@ TEST(ObjParseEquivalence, NgonsBesideTheConstructsLeftToTinyobjloader) {
     size_t vertices = 0;
     for (const auto& poly : handMadeNgons()) vertices += poly.size();
     const std::string cases[] = {
-        ngons + "l 1 2 3\n",
-        ngons + "p 4\n",
+        ngons + "f 1 2 3x\n", // tinyobjloader reads "3x" as 3
+        ngons + "t crease 1/1/0\n",
         ngons + "f 1 2 3 4 " + std::to_string(vertices + 1) + "\nv 0 0 0\n",
         ngons + "v -1 -4 0\nv 2 4 0\nv -1 2 0\nv 4 0 0\nv 0 2 0\nv -4 3 -1\n"
                 "f -6 -5 -4 -3 -2 -1\n", // ear clipping gives nothing
@@ -699,6 +700,39 @@ TEST(ObjParseEquivalence, AFewNgonsInALargeFileStayOnTheFastPath) {
     ASSERT_TRUE(got.ok() && want.ok());
     FloatCompare floats;
     expectSameScene(*got, *want, floats, file);
+}
+
+// [SECTION] lines and points
+
+// "l" and "p" lines (Blender writes loose edges as "l") stay on the fast path, and the
+// importer's warnings count them as tinyobjloader does: per group, again at each material
+// change, lost with a "g" group that has no faces, kept with an "o" object.
+TEST(ObjParseEquivalence, LinesAndPointsGiveTheReferenceIr) {
+    TempDir dir("obj_parse_lines");
+    FloatCompare floats;
+    const std::string v = "mtllib two.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nvt 0 0\nvn 0 0 1\n";
+    const std::string cases[] = {
+        v + "o edges\nl 1 2\nl 2 3 4\nf 1 2 3\n",
+        v + "f 1 2 3\nl 1 2\nusemtl red\nf 2 3 4\nl 3 4\nusemtl green tree\nf 1 2 4\n",
+        v + "g lonely\nl 1 2\ng faces\nf 1 2 3\nl -1 -2\n",
+        v + "o only_lines\nl 1 2\nl 2 3\no next\nf 1 2 3\n",
+        v + "f 1 2 3\no at_end\nl 1/1 2/1\np 3\n",
+        v + "o pts\np 1 2 3\np 4\nusemtl red\np 1//1\nf 1/1/1 2/1/1 3/1/1 4/1/1 1/1/1\n",
+        v + "l 1 2\n", // nothing but a line: an error, no triangle meshes
+        v + "f 1 2 3\nl 9 -9\n", // positions out of range: not checked
+        withCrLf(v + "o a\nl 1 2 \nf 1 2 3\ns 1\nusemtl red\n  l\t3 4\np 1\n"),
+    };
+    for (size_t i = 0; i < std::size(cases); ++i) {
+        const Comparison c =
+            compareReaders(writeObj(dir, "lines" + std::to_string(i) + ".obj", cases[i]), floats);
+        if (HasFatalFailure()) return;
+        EXPECT_EQ(c.reader, ObjReader::Fast) << i;
+        EXPECT_EQ(c.ok, i != 6) << i;
+    }
+    auto r = importObj(writeObj(dir, "lines1.obj", cases[1]));
+    ASSERT_TRUE(r.ok());
+    // 1 + 2 + 2: the first line counted at both material changes and at the end.
+    EXPECT_TRUE(hasWarning(*r, {"dropped 5 line(s)"})) << allWarnings(*r);
 }
 
 // [SECTION] whole conversions
