@@ -21,7 +21,9 @@
 //   result does not depend on the job count.
 // - Numbers: obj_parse rounds correctly (std::from_chars); tinyobjloader's conversion is
 //   approximate, but equals it on every value of the assimp test models and of the benchmark
-//   OBJ (the tests allow one ulp). A number beyond float's range is ±Inf, below it ±0.
+//   OBJ (the tests allow one ulp). A number beyond float's range is ±Inf, below it ±0. A
+//   "v"/"vt"/"vn" line outside obj_parse's grammar ("v 1 2", "v x y z w", a word) is read by
+//   tinyobjloader, that line alone: its defaults and leniency, the rest of the file in parallel.
 // - V flip: IR UVs follow glTF (v = 0 is the top row), OBJ's v = 0 is the bottom row: (u, 1 - v).
 // - Streams: a primitive gets normals (uvs) only when every corner has a valid vn (vt) index;
 //   otherwise they are dropped with a warning naming the mesh and the mesh stage generates
@@ -728,7 +730,8 @@ Result<IrScene, ConvertError> importObjWith(const std::string& path,
 
         std::optional<ObjParse> parsed;
         if (!options.tinyobjOnly) {
-            parsed = parseObjText(obj.view(), ObjParseOptions{options.jobs, options.chunkBytes});
+            parsed = parseObjText(obj.view(), ObjParseOptions{options.jobs, options.chunkBytes,
+                                                              readNumberLinesWithTinyobj});
         }
         if (used) *used = parsed ? ObjReader::Fast : ObjReader::Tinyobj;
         ObjRead read;

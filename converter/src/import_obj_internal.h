@@ -59,6 +59,10 @@ Result<ObjRead, ConvertError> readObjWithTinyobj(const std::string& path, char* 
                                                 size_t size, tinyobj::MaterialReader& mtl,
                                                 IrScene& out);
 
+// ObjParseOptions::lenient: LoadObj on those "v"/"vt"/"vn" lines alone (no line of another
+// kind is passed, so nothing else in the file can change what it reads from them).
+bool readNumberLinesWithTinyobj(std::string_view lines, ObjLenientNumbers& out);
+
 struct ObjImportOptions {
     unsigned jobs = 0;        // threads (parallel_for.h: 0 = all cores)
     size_t chunkBytes = 0;    // obj_parse's chunk size (0 = its choice; tests force small)

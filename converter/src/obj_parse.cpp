@@ -134,19 +134,24 @@ struct Chunk {
     std::vector<ObjCorner> ngonCorners;
     std::vector<ObjEvent> events;        // triangle: the chunk's own count until step 3
     std::string failure; // why tinyobjloader must read the file, if it must
+    // "v"/"vt"/"vn" lines for ObjParseOptions::lenient, and the slots (the chunk's element
+    // numbers) their values go to, by kind.
+    std::string lenientLines;
+    std::vector<uint64_t> lenientV, lenientVt, lenientVn;
 };
 
 // Step 2 for one chunk: parses its lines into the file's arrays at the chunk's slots.
 class ChunkParser {
 public:
-    ChunkParser(Chunk& c, ObjGeometry& g, const Counts& total)
-        : mC(c), mTotal(total), mPositions(g.positions.data() + c.base.v * 3),
+    ChunkParser(Chunk& c, ObjGeometry& g, const Counts& total, const ObjParseOptions& options)
+        : mC(c), mTotal(total), mOptions(options), mPositions(g.positions.data() + c.base.v * 3),
           mColors(g.colors.data() + c.base.v * 3), mTexcoords(g.texcoords.data() + c.base.vt * 2),
           mNormals(g.normals.data() + c.base.vn * 3),
           mCorners(g.triangles.corners.data() + c.base.slots) {}
 
     void run() {
-        forEachLine(mC.begin, mC.end, [this](const char* p, const char* e) { return line(p, e); });
+        if (forEachLine(mC.begin, mC.end, [this](const char* p, const char* e) { return line(p, e); }))
+            readLenientLines();
     }
 
 private:
@@ -222,6 +227,40 @@ private:
         return true;
     }
 
+    // A "v"/"vt"/"vn" line the strict grammar refuses: kept for ObjParseOptions::lenient, its
+    // element number taken. Without that reader, or with a "\r" or NUL in it (tinyobjloader
+    // would split the line elsewhere), the file goes to tinyobjloader.
+    bool lenient(const char* p, const char* e, std::vector<uint64_t>& slots, uint64_t& count,
+                 const char* why) {
+        if (!mOptions.lenient || !clean(p, e)) return fail(why);
+        mC.lenientLines.append(p, e);
+        mC.lenientLines += '\n';
+        slots.push_back(count++);
+        return true;
+    }
+
+    // The chunk's lenient lines through ObjParseOptions::lenient, once, into their slots.
+    void readLenientLines() {
+        if (mC.lenientLines.empty()) return;
+        ObjLenientNumbers n;
+        if (!mOptions.lenient(mC.lenientLines, n) || n.positions.size() != mC.lenientV.size() * 3 ||
+            n.texcoords.size() != mC.lenientVt.size() * 2 ||
+            n.normals.size() != mC.lenientVn.size() * 3 ||
+            (!n.colors.empty() && n.colors.size() != n.positions.size())) {
+            fail("'v', 'vt' or 'vn' lines tinyobjloader did not read as expected");
+            return;
+        }
+        for (size_t i = 0; i < mC.lenientV.size(); ++i) {
+            std::copy_n(&n.positions[i * 3], 3, mPositions + mC.lenientV[i] * 3);
+            if (!n.colors.empty()) std::copy_n(&n.colors[i * 3], 3, mColors + mC.lenientV[i] * 3);
+        }
+        if (!mC.lenientV.empty() && n.colors.empty()) mC.allColors = false;
+        for (size_t i = 0; i < mC.lenientVt.size(); ++i)
+            std::copy_n(&n.texcoords[i * 2], 2, mTexcoords + mC.lenientVt[i] * 2);
+        for (size_t i = 0; i < mC.lenientVn.size(); ++i)
+            std::copy_n(&n.normals[i * 3], 3, mNormals + mC.lenientVn[i] * 3);
+    }
+
     // An "l" or "p" line: its corners parsed as a face's (tinyobjloader's parse errors are
     // the importer's), their positions not checked (tinyobjloader does not: the importer drops
     // these elements, saying how many). Consecutive ones with no face between are one event.
@@ -283,7 +322,7 @@ private:
     bool vertex(const char* p, const char* e) {
         float v[6];
         const int n = readNumbers(p, e, v, 6);
-        if (n != 3 && n != 6) return fail("a 'v' line without 3 or 6 numbers");
+        if (n != 3 && n != 6) return lenient(p, e, mC.lenientV, mV, "a 'v' line without 3 or 6 numbers");
         std::copy(v, v + 3, mPositions + mV * 3);
         if (n == 3) mC.allColors = false;
         else if (mC.allColors) std::copy(v + 3, v + 6, mColors + mV * 3);
@@ -293,7 +332,10 @@ private:
 
     bool numbers(const char* p, const char* e, float* out, uint64_t& count, int keep, int max) {
         float v[3];
-        if (readNumbers(p, e, v, max) < keep) return fail("a 'vn' or 'vt' line with too few numbers");
+        if (readNumbers(p, e, v, max) < keep) {
+            return lenient(p, e, keep == 2 ? mC.lenientVt : mC.lenientVn, count,
+                           "a 'vn' or 'vt' line with too few numbers");
+        }
         std::copy(v, v + keep, out + count * uint64_t(keep)); // tinyobjloader ignores a vt's w
         ++count;
         return true;
@@ -373,6 +415,7 @@ private:
 
     Chunk& mC;
     const Counts& mTotal;
+    const ObjParseOptions& mOptions;
     float* mPositions;
     float* mColors;
     float* mTexcoords;
@@ -569,7 +612,7 @@ std::optional<ObjParse> parseObjText(std::string_view text, const ObjParseOption
     g.triangles.corners.resize(total.slots);
 
     // Step 2.
-    parallelFor(chunks.size(), options.jobs, [&](size_t i) { ChunkParser(chunks[i], g, total).run(); });
+    parallelFor(chunks.size(), options.jobs, [&](size_t i) { ChunkParser(chunks[i], g, total, options).run(); });
     for (const Chunk& c : chunks) {
         if (!c.failure.empty()) return refuse(c.failure);
     }

@@ -25,9 +25,11 @@
 // errors (a zero or unparsable index, a position index out of range: tinyobjloader's messages
 // and line numbers stay the contract), faces of fewer than 3 corners, "l"/"p" without a corner
 // or with two blanks after "p" (tinyobjloader reads its first corner twice), "vw"/"t"
-// extensions, text tinyobjloader reads leniently ("v 1 2" with a default z, "1x" as 1, words
-// as 0), a lone "\r" or a NUL byte (tinyobjloader's line splitting differs), a quad or n-gon
-// naming a position defined after it, an n-gon its ear clipping gives no triangle.
+// extensions, face corners tinyobjloader reads leniently ("1x" as 1), a lone "\r" or a NUL byte
+// (tinyobjloader's line splitting differs), a quad or n-gon naming a position defined after
+// it, an n-gon its ear clipping gives no triangle. Numbers in "v", "vt" and "vn" lines that
+// tinyobjloader reads leniently ("v 1 2" with a default z, "1x" as 1, words as 0) are read by
+// it, those lines alone (ObjParseOptions::lenient), without it the whole file is.
 //
 // The output is the same for every job count and chunk size (each chunk writes its own slots;
 // the chunk size depends on the text's size only).
@@ -36,6 +38,7 @@
 #include <algorithm>
 #include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -108,9 +111,20 @@ struct ObjParse {
     std::vector<ObjEvent> events;
 };
 
+// What tinyobjloader reads from "v", "vt" and "vn" lines that the strict grammar refuses.
+struct ObjLenientNumbers {
+    std::vector<float> positions, colors, texcoords, normals; // colors: empty unless every
+                                                              // "v" line had one
+};
+
 struct ObjParseOptions {
     unsigned jobs = 0;     // threads (parallel_for.h: 0 = all cores)
     size_t chunkBytes = 0; // bytes per chunk (0 = chosen by size; tests force small chunks)
+    // Reads `lines` ("v", "vt" and "vn" lines the strict grammar refuses, each ended by "\n")
+    // as tinyobjloader does (import_obj_tinyobj.cpp): its defaults for missing numbers ("v 1 2"
+    // has z = 0), a "w" ignored, "1x" as 1, a word as 0. Called once per chunk that has such
+    // lines, on its thread; false or unset: such a line sends the whole file to tinyobjloader.
+    std::function<bool(std::string_view lines, ObjLenientNumbers& out)> lenient;
 };
 
 // nullopt: the text needs tinyobjloader (see above); `why`, if given, says what was found.

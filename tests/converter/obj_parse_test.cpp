@@ -472,7 +472,7 @@ TEST(ObjParseEquivalence, MalformedFilesFailWithTheLineAtFault) {
 }
 
 // Non-finite values: Inf from huge numbers on the fast path, dropped streams with warnings as
-// the contract says; NaN/Inf words go to tinyobjloader (which reads them as 0).
+// the contract says; NaN/Inf words are read by tinyobjloader (as 0), those lines alone.
 TEST(ObjParseEquivalence, HugeNumbersAndNonFiniteValues) {
     TempDir dir("obj_parse_nonfinite");
     const std::string tri = "f 1/1/1 2/2/2 3/3/3\n";
@@ -487,7 +487,7 @@ TEST(ObjParseEquivalence, HugeNumbersAndNonFiniteValues) {
         const std::string file = writeObj(dir, "n" + std::to_string(i) + ".obj", cases[i]);
         const Comparison c = compareReaders(file, floats);
         EXPECT_TRUE(c.ok) << i;
-        EXPECT_EQ(c.reader, i == 2 ? ObjReader::Tinyobj : ObjReader::Fast) << i;
+        EXPECT_EQ(c.reader, ObjReader::Fast) << i; // case 2's words: those lines by tinyobjloader
     }
     auto r = importObj(writeObj(dir, "n0.obj", cases[0]));
     ASSERT_TRUE(r.ok());
@@ -700,6 +700,38 @@ TEST(ObjParseEquivalence, AFewNgonsInALargeFileStayOnTheFastPath) {
     ASSERT_TRUE(got.ok() && want.ok());
     FloatCompare floats;
     expectSameScene(*got, *want, floats, file);
+}
+
+// [SECTION] lenient number lines
+
+// "v"/"vt"/"vn" lines outside the strict grammar are read by tinyobjloader, those lines alone,
+// in a file that stays on the fast path: defaults for missing numbers, a "w", words, "1x",
+// numbers beyond double; colours kept only when every "v" line has one.
+TEST(ObjParseEquivalence, LenientNumberLinesAreReadByTinyobjloaderAlone) {
+    TempDir dir("obj_parse_lenient");
+    FloatCompare floats;
+    const std::string grid = gridObj(false, true);
+    const std::string coloured = gridObj(true, false);
+    const std::string cases[] = {
+        "v 1 2\nv 1 2 3 1\nv 1x 2 3\nvt 0.5\nvt 1 2 3 4\nvn nan 0 1\nvn 1e400 0 1\n" + grid,
+        grid + "v 1 2\nv 9 9 9 1\nvt 0.5\nvn 0 1\nf -1/-1/-1 -2/-2/-2 -3/-1/-2\n",
+        coloured + "v 1 2 3 0.5 0.5 0.5 1\nf -1 -2 -3\n", // 7 numbers: a colour (kept)
+        coloured + "v 1 2 3 0.5\nf -1 -2 -3\n",           // 4: none, so no colours at all
+        "v 0 0 0\nv 1 0 0\nv 0 1 0 # c\nf 1 2 3\n",
+    };
+    for (size_t i = 0; i < std::size(cases); ++i) {
+        const Comparison c =
+            compareReaders(writeObj(dir, "l" + std::to_string(i) + ".obj", cases[i]), floats);
+        if (HasFatalFailure()) return;
+        EXPECT_TRUE(c.ok) << i;
+        EXPECT_EQ(c.reader, ObjReader::Fast) << i;
+    }
+    auto r = importObj(writeObj(dir, "l2.obj", cases[2]));
+    ASSERT_TRUE(r.ok());
+    EXPECT_FALSE(r->meshes.back().primitives.back().colors.empty());
+    // A lone carriage return in such a line still sends the file to tinyobjloader.
+    const Comparison cr = compareReaders(writeObj(dir, "cr.obj", "v 1 2\r3\n" + grid), floats);
+    EXPECT_EQ(cr.reader, ObjReader::Tinyobj);
 }
 
 // [SECTION] lines and points
