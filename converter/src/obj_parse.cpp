@@ -68,19 +68,16 @@ bool parseNumber(const char* b, const char* e, float& out) {
     return true;
 }
 
-// The corner slots a face line needs (step 1): its corners are its blank-separated words after
-// the "f" (step 2 refuses a line whose words are not corners).
+// The corner slots a face line may need (step 1): each of its corners follows a blank, so it
+// has at most as many corners as blanks, and the slots for that many are enough (the chunk
+// writes what its faces need, in order, and leaves the rest unused). Counted without telling
+// words apart, a loop the compiler vectorises: telling them apart byte by byte cost a quarter
+// of the benchmark OBJ's parse.
 uint64_t faceSlots(const char* p, const char* e) {
-    while (p < e && isBlank(*p)) ++p;
-    ++p; // "f"
-    uint64_t corners = 0;
-    bool blank = true;
-    for (; p < e; ++p) {
-        const bool b = isBlank(*p);
-        corners += blank && !b;
-        blank = b;
-    }
-    return corners <= 3 ? 3 : corners == 4 ? 6 : 3 * (corners - 2);
+    if (uint64_t(e - p) > std::numeric_limits<uint32_t>::max()) return 3 * uint64_t(e - p);
+    uint32_t blanks = 0; // 32 bits: more lanes per vector than size_t
+    for (; p < e; ++p) blanks += uint32_t(*p == ' ') + uint32_t(*p == '\t');
+    return blanks <= 3 ? 3 : blanks == 4 ? 6 : 3 * (uint64_t(blanks) - 2);
 }
 
 // The line kinds that take room in the output arrays (step 1 counts them, step 2 fills them),
