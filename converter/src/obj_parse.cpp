@@ -2,7 +2,7 @@
 //
 // The text is cut into chunks at line ends (about 1/16 of it each, at least 256 KiB), then:
 // 1. In parallel, each chunk counts its v, vt and vn lines and the corner slots its f lines
-//    need (3 for a triangle, 6 for a quad, 3 (n - 2) for an n-gon: its corners counted).
+//    may need (3 for a triangle, 6 for a quad, 3 (n - 2) for an n-gon; faceSlots).
 // 2. The counts give every chunk its first slot in each output array (its base) and the arrays
 //    their final size, allocated once; in parallel, each chunk parses its lines straight into
 //    its slots, relative indices resolved with its bases and every position index checked.
@@ -385,7 +385,7 @@ private:
         }
         const size_t n = mFace.size();
         if (n < 3) return fail("a face with fewer than 3 corners");
-        if (n > std::numeric_limits<uint32_t>::max() / 4) return fail("a polygon of 1G corners");
+        if (n > (size_t(1) << 30)) return fail("a polygon of over 2^30 corners"); // Ngon's sizes
         // tinyobjloader splits a polygon when it flushes its faces, at the next usemtl/g/o or
         // the end, checking (quads) or reading (n-gons) positions it has read by then, so one
         // defined after the polygon may or may not pass: left to it.
