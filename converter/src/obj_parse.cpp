@@ -179,7 +179,8 @@ private:
         };
         const char c = *p;
         // The rest of tinyobjloader's checks, in its order.
-        if (c == 'v' && at(1) == 'w' && isBlank(at(2))) return fail("a 'vw' line");
+        // "vw" (skin weights): the tinyobjloader reader blanks these lines before LoadObj
+        // (import_obj_tinyobj.cpp), so both ignore them; below, with the lines it ignores.
         if ((c == 'l' || c == 'p') && isBlank(at(1))) return elements(p, e);
         if (startsWith("usemtl")) {
             const char* n = p + 6;
@@ -213,8 +214,8 @@ private:
             if (!clean(p, e)) return fail("an unusual 'o' line");
             return event(ObjEvent::Kind::Object, std::string(p + 2, e));
         }
-        if (c == 't' && isBlank(at(1))) return fail("a 't' line");
-        // Comments, "s" and lines tinyobjloader ignores: only a lone "\r" would change them.
+        // Comments, "s", "t" (tags, which LoadObj reads without an error and the importer
+        // ignores), "vw" and lines tinyobjloader ignores: only a lone "\r" would change them.
         if (std::memchr(p, '\r', size_t(e - p)) != nullptr) return fail("a lone carriage return");
         return true;
     }

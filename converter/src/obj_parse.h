@@ -12,8 +12,8 @@
 // tests compare the two): lines "v x y z" and "v x y z r g b", "vn x y z", "vt u v [w]",
 // "f" with 3 or more corners in the forms v, v/vt, v//vn, v/vt/vn (negative = relative; at most
 // 9 digits), "l" and "p" with corners in those forms (the importer only counts them),
-// "usemtl name", "mtllib ...", "o ...", "g names...", comments, blank lines, "s",
-// "vp" and other lines tinyobjloader ignores; "\n" or "\r\n" line ends. Polygons are
+// "usemtl name", "mtllib ...", "o ...", "g names...", comments, blank lines, "s", "vp", the
+// "t" and "vw" extensions (which the importer ignores) and other lines tinyobjloader ignores; "\n" or "\r\n" line ends. Polygons are
 // triangulated as tinyobjloader does: a quad along its shorter diagonal, a larger polygon (an
 // n-gon, as Blender's exporter writes by default) by tinyobjloader's own ear clipping, step for
 // step in its float arithmetic (obj_parse.cpp, earClip). Numbers follow tinyobjloader's
@@ -24,8 +24,8 @@
 // Everything else returns nullopt, and the importer reads the file with tinyobjloader instead:
 // errors (a zero or unparsable index, a position index out of range: tinyobjloader's messages
 // and line numbers stay the contract), faces of fewer than 3 corners, "l"/"p" without a corner
-// or with two blanks after "p" (tinyobjloader reads its first corner twice), "vw"/"t"
-// extensions, face corners tinyobjloader reads leniently ("1x" as 1), a lone "\r" or a NUL byte
+// or with two blanks after "p" (tinyobjloader reads its first corner twice), face corners
+// tinyobjloader reads leniently ("1x" as 1), a lone "\r" or a NUL byte
 // (tinyobjloader's line splitting differs), a quad or n-gon naming a position defined after
 // it, an n-gon its ear clipping gives no triangle. Numbers in "v", "vt" and "vn" lines that
 // tinyobjloader reads leniently ("v 1 2" with a default z, "1x" as 1, words as 0) are read by

@@ -417,8 +417,7 @@ TEST(ObjParse, UnusualTextIsLeftToTinyobjloader) {
         "v 0 0 0\nv 1 0 0\nv 0 1 0\nl 1 0\n",   // index 0 in a line: an error
         "v 0 0 0\nv 1 0 0\nv 0 1 0\nl \n",      // a line without a corner
         "v 0 0 0\nv 1 0 0\nv 0 1 0\np  1\n",    // tinyobjloader reads "1" twice
-        "vw 0 0 1\n",
-        "t crease 1/1/0\n",
+        "vw 0 0 1\rv 0 0 0\n",           // a lone CR ends a "vw" line for both readers
         "# a\rv 0 0 0\n",                // lone CR ends a line for tinyobjloader
         "usemtl\n",
         "usemtlx\n",
@@ -431,9 +430,10 @@ TEST(ObjParse, UnusualTextIsLeftToTinyobjloader) {
     }
     const std::string withNul("o a\0b\n", 6);
     EXPECT_FALSE(parseObjText(withNul, ObjParseOptions{1, 0}).has_value());
-    // And what it keeps: comments, s, unknown lines, blank lines, tabs, w of a vt.
+    // And what it keeps: comments, s, unknown lines, blank lines, tabs, w of a vt, the "t" and
+    // "vw" extensions (ignored by the importer).
     auto p = parseObjText("# c\n\n  \t\ns off\nvp 1 2\ncstype bezier\nvt 0.5 0.5 0\n"
-                          "v\t1 2 3\n",
+                          "v\t1 2 3\nt crease 1/1/0 4\n  vw 6e21 0 1\n",
                           ObjParseOptions{1, 0});
     ASSERT_TRUE(p.has_value());
     EXPECT_EQ(p->geometry.texcoords.size(), 2u);
@@ -650,7 +650,7 @@ TEST(ObjParseEquivalence, RandomNgonsGiveTheReferenceIr) {
     EXPECT_EQ(c.reader, ObjReader::Fast);
 }
 
-// What still goes to tinyobjloader beside n-gons gives its result: a lenient face, a "t" line,
+// What still goes to tinyobjloader beside n-gons gives its result: a lenient face, "g" without a name,
 // a polygon naming a later position, one its ear clipping leaves empty.
 TEST(ObjParseEquivalence, NgonsBesideTheConstructsLeftToTinyobjloader) {
     TempDir dir("obj_parse_ngon_fallback");
@@ -660,7 +660,7 @@ TEST(ObjParseEquivalence, NgonsBesideTheConstructsLeftToTinyobjloader) {
     for (const auto& poly : handMadeNgons()) vertices += poly.size();
     const std::string cases[] = {
         ngons + "f 1 2 3x\n", // tinyobjloader reads "3x" as 3
-        ngons + "t crease 1/1/0\n",
+        ngons + "g \n", // tinyobjloader warns with the line number
         ngons + "f 1 2 3 4 " + std::to_string(vertices + 1) + "\nv 0 0 0\n",
         ngons + "v -1 -4 0\nv 2 4 0\nv -1 2 0\nv 4 0 0\nv 0 2 0\nv -4 3 -1\n"
                 "f -6 -5 -4 -3 -2 -1\n", // ear clipping gives nothing
@@ -732,6 +732,19 @@ TEST(ObjParseEquivalence, LenientNumberLinesAreReadByTinyobjloaderAlone) {
     // A lone carriage return in such a line still sends the file to tinyobjloader.
     const Comparison cr = compareReaders(writeObj(dir, "cr.obj", "v 1 2\r3\n" + grid), floats);
     EXPECT_EQ(cr.reader, ObjReader::Tinyobj);
+}
+
+// tinyobjloader's "t" (tags) and "vw" (skin weights) extensions are ignored by the importer;
+// the fast path ignores them too, on either side of n-gons.
+TEST(ObjParseEquivalence, ExtensionLinesStayOnTheFastPath) {
+    TempDir dir("obj_parse_extensions");
+    FloatCompare floats;
+    const std::string text = "t crease 1/1/0 2\n  vw 6e21 0 1\n" + ngonObj(handMadeNgons()) +
+                             "vw\t0 1 0.5\nt hole 0/0/0\n";
+    const Comparison c = compareReaders(writeObj(dir, "ext.obj", text), floats);
+    if (HasFatalFailure()) return;
+    EXPECT_TRUE(c.ok);
+    EXPECT_EQ(c.reader, ObjReader::Fast);
 }
 
 // [SECTION] lines and points
