@@ -386,7 +386,8 @@ private:
         }
         const size_t n = mFace.size();
         if (n < 3) return fail("a face with fewer than 3 corners");
-        if (n > (size_t(1) << 30)) return fail("a polygon of over 2^30 corners"); // Ngon's sizes
+        if (mC.ngonCorners.size() + n > std::numeric_limits<uint32_t>::max())
+            return fail("n-gons of over 2^32 corners in one chunk"); // Ngon's 32-bit fields
         // tinyobjloader splits a polygon when it flushes its faces, at the next usemtl/g/o or
         // the end, checking (quads) or reading (n-gons) positions it has read by then, so one
         // defined after the polygon may or may not pass: left to it.
