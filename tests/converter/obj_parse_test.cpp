@@ -452,6 +452,11 @@ TEST(ObjParseEquivalence, MalformedFilesFailWithTheLineAtFault) {
         {big + "f 1 2 999\n", "line " + std::to_string(lines + 1) + ": vertex index out of range"},
         {big + "f -1 -2 -999\n", "line " + std::to_string(lines + 1) + ": vertex index out of range"},
         {"v 0 0 0\nv 1 0 0\nv 0 1 0\n\nf 1//1 2/x/1 3\n", "line 5: malformed 'f'"},
+        // In an n-gon, a line and a point (all on the fast path when well-formed).
+        {big + "f 1 2 3 4 0\n", "line " + std::to_string(lines + 1) + ": malformed 'f'"},
+        {big + "f 1 2 3 4 999\n", "line " + std::to_string(lines + 1) + ": vertex index out of range"},
+        {big + "l 1 2\nl 1 0\n", "line " + std::to_string(lines + 2) + ": malformed 'l'"},
+        {big + "p 1 x\n", "line " + std::to_string(lines + 1) + ": malformed 'p'"},
     };
     for (const Case& c : cases) {
         const std::string file = writeObj(dir, "bad.obj", c.text);
