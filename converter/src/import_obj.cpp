@@ -1,10 +1,10 @@
 // import_obj.cpp — Wavefront OBJ/MTL into the scene IR. The OBJ text is read by our parallel
-// parser (obj_parse.h) when it stays in that parser's subset (v/vt/vn lines, triangles and quads,
-// usemtl, mtllib, o, g, comments: what exporters write), else by tinyobjloader (Debian's
-// libtinyobjloader-dev, import_obj_tinyobj.cpp), which also gives every error message; both give
-// the same IR (tests/converter/obj_parse_test.cpp). MTL files are read by tinyobjloader's
-// LoadMtl. Parsing the 1M-triangle benchmark OBJ took assimp 1.37 s CPU, tinyobjloader 0.87 s,
-// obj_parse ~0.17 s on one thread (docs/CONVERTER.md, "Speed" and "Issue 30").
+// parser (obj_parse.h) when it stays in that parser's subset (v/vt/vn lines, polygons of any
+// size, lines, points, usemtl, mtllib, o, g, s, comments: what exporters write), else by
+// tinyobjloader (Debian's libtinyobjloader-dev, import_obj_tinyobj.cpp), which also gives every
+// error message; both give the same IR (tests/converter/obj_parse_test.cpp). MTL files are read
+// by tinyobjloader's LoadMtl. Parsing the 1M-triangle benchmark OBJ took assimp 1.37 s CPU,
+// tinyobjloader 0.87 s, obj_parse ~0.17 s on one thread (docs/CONVERTER.md, "Speed", "Issue 30").
 //
 // A translation, not a processing step: welding, normals, tangents and optimisations are the
 // mesh stage's (mesh_processing.h). The behaviour is the assimp importer's for OBJ
@@ -16,12 +16,14 @@
 // - Vertices: one per distinct (v, vt, vn) index triple of a primitive, in order of first use
 //   (assimp gave every face corner its own vertex; the mesh stage's weld makes the two
 //   equivalent, and fewer vertices make it faster). Polygons are triangulated as tinyobjloader
-//   does (quads along the shorter diagonal, in its float arithmetic; larger polygons by its ear
-//   clipping, through the tinyobjloader reader). Primitives are built in parallel (`jobs`); the
+//   does (quads along the shorter diagonal, larger polygons by its ear clipping, both in its
+//   float arithmetic, in either reader). Primitives are built in parallel (`jobs`); the
 //   result does not depend on the job count.
 // - Numbers: obj_parse rounds correctly (std::from_chars); tinyobjloader's conversion is
 //   approximate, but equals it on every value of the assimp test models and of the benchmark
-//   OBJ (the tests allow one ulp). A number beyond float's range is ±Inf, below it ±0.
+//   OBJ (the tests allow one ulp). A number beyond float's range is ±Inf, below it ±0. A
+//   "v"/"vt"/"vn" line outside obj_parse's grammar ("v 1 2", "v x y z w", a word) is read by
+//   tinyobjloader, that line alone: its defaults and leniency, the rest of the file in parallel.
 // - V flip: IR UVs follow glTF (v = 0 is the top row), OBJ's v = 0 is the bottom row: (u, 1 - v).
 // - Streams: a primitive gets normals (uvs) only when every corner has a valid vn (vt) index;
 //   otherwise they are dropped with a warning naming the mesh and the mesh stage generates
@@ -32,9 +34,10 @@
 //   not a number (tinyobjloader's parse error), a position index outside the file's vertices
 //   (found again by scanning the text, since tinyobjloader keeps no line numbers). obj_parse
 //   hands any such file to tinyobjloader, so the messages are its reader's.
-// - Points and lines: dropped with a warning naming the mesh (the IR is triangles only).
-//   tinyobjloader discards a "g" group that has only points or lines before we see it, so those
-//   go unreported; a file with no triangles at all is an error.
+// - Points and lines: dropped with a warning naming the mesh (the IR is triangles only), with
+//   tinyobjloader's counts (which count a group's lines again at each material change within
+//   it: readObjEvents). tinyobjloader discards a "g" group that has only points or lines, so
+//   those go unreported; a file with no triangles at all is an error.
 // - Materials: MTL parameters map onto PBR through applyMtlToPbr (mtl_to_pbr.h) with assimp's
 //   defaults where the MTL is silent (Kd 0.6, Ns 0: tinyobjloader's defaults differ, so the MTL
 //   text is scanned for which keys each material sets); map_Kd → base colour, map_d → the base
@@ -416,7 +419,12 @@ std::vector<std::string> splitMtllib(const std::string& s) {
 // The events of obj_parse in order, as LoadObj acts on those lines: mtllib reads MTL files
 // (the first of its names that loads, skipping those read before), usemtl switches the
 // material of the following faces (a name no MTL read so far defines is -1, with a warning
-// after the MTL reader's), "g"/"o" start a new shape. A shape with no faces is not kept.
+// after the MTL reader's), "g"/"o" start a new shape. LoadObj gathers faces, lines and points
+// in a group that it flushes into the shape (exportGroupsToShape) when the material changes and
+// at "g", "o" and the end: a flush of an empty group does nothing; a material change clears only
+// the group's faces, so its lines and points count again at the next flush. "g" keeps the shape
+// only if it has triangles, "o" also if it has lines or points, the end if it has triangles or
+// the last flush was not empty.
 ObjRead readObjEvents(ObjParse&& parsed, tinyobj::MaterialReader& mtl, IrScene& out) {
     ObjRead read;
     read.geometry = std::move(parsed.geometry);
@@ -425,16 +433,21 @@ ObjRead readObjEvents(ObjParse&& parsed, tinyobj::MaterialReader& mtl, IrScene& 
     std::vector<std::string> usemtlWarnings;
     int material = -1;
     ObjShape shape;
-    uint64_t runStart = 0;
-    auto endRun = [&](uint64_t at) {
+    uint64_t runStart = 0;                  // the group's faces: triangles [runStart, now)
+    size_t groupLines = 0, groupPoints = 0; // and its lines and points
+    auto flush = [&](uint64_t at) {
+        if (at == runStart && groupLines == 0 && groupPoints == 0) return false;
         if (at > runStart) shape.runs.push_back(ObjRun{runStart, at, material});
         runStart = at;
+        shape.lines += groupLines;
+        shape.points += groupPoints;
+        return true;
     };
-    auto endShape = [&](uint64_t at, std::string nextName) {
-        endRun(at);
-        if (!shape.runs.empty()) read.shapes.push_back(std::move(shape));
+    auto newShape = [&](uint64_t at, std::string nextName) {
         shape = ObjShape{};
         shape.name = std::move(nextName);
+        runStart = at;
+        groupLines = groupPoints = 0;
     };
     for (ObjEvent& e : parsed.events) {
         switch (e.kind) {
@@ -457,18 +470,29 @@ ObjRead readObjEvents(ObjParse&& parsed, tinyobj::MaterialReader& mtl, IrScene& 
                                                 e.text.c_str()));
             }
             if (id != material) {
-                endRun(e.triangle);
+                flush(e.triangle);
+                runStart = e.triangle;
                 material = id;
             }
             break;
         }
         case ObjEvent::Kind::Group:
-        case ObjEvent::Kind::Object:
-            endShape(e.triangle, std::move(e.text));
+            flush(e.triangle);
+            if (!shape.runs.empty()) read.shapes.push_back(std::move(shape));
+            newShape(e.triangle, std::move(e.text));
             break;
+        case ObjEvent::Kind::Object:
+            flush(e.triangle);
+            if (!shape.runs.empty() || shape.lines + shape.points > 0)
+                read.shapes.push_back(std::move(shape));
+            newShape(e.triangle, std::move(e.text));
+            break;
+        case ObjEvent::Kind::Lines: groupLines += size_t(e.count); break;
+        case ObjEvent::Kind::Points: groupPoints += size_t(e.count); break;
         }
     }
-    endShape(read.geometry.triangles.count(), {});
+    if (flush(read.geometry.triangles.count()) || !shape.runs.empty())
+        read.shapes.push_back(std::move(shape));
     for (std::string& w : usemtlWarnings) out.warnings.push_back(std::move(w));
     return read;
 }
@@ -706,7 +730,8 @@ Result<IrScene, ConvertError> importObjWith(const std::string& path,
 
         std::optional<ObjParse> parsed;
         if (!options.tinyobjOnly) {
-            parsed = parseObjText(obj.view(), ObjParseOptions{options.jobs, options.chunkBytes});
+            parsed = parseObjText(obj.view(), ObjParseOptions{options.jobs, options.chunkBytes,
+                                                              readNumberLinesWithTinyobj});
         }
         if (used) *used = parsed ? ObjReader::Fast : ObjReader::Tinyobj;
         ObjRead read;

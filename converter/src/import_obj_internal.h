@@ -43,7 +43,7 @@ struct ObjRun {
 struct ObjShape {
     std::string name; // "" before any "o"/"g" line
     std::vector<ObjRun> runs;
-    size_t points = 0, lines = 0; // dropped with a warning (tinyobjloader reader only)
+    size_t points = 0, lines = 0; // dropped with a warning
 };
 
 struct ObjRead {
@@ -58,6 +58,10 @@ struct ObjRead {
 Result<ObjRead, ConvertError> readObjWithTinyobj(const std::string& path, char* text,
                                                 size_t size, tinyobj::MaterialReader& mtl,
                                                 IrScene& out);
+
+// ObjParseOptions::lenient: LoadObj on those "v"/"vt"/"vn" lines alone (no line of another
+// kind is passed, so nothing else in the file can change what it reads from them).
+bool readNumberLinesWithTinyobj(std::string_view lines, ObjLenientNumbers& out);
 
 struct ObjImportOptions {
     unsigned jobs = 0;        // threads (parallel_for.h: 0 = all cores)

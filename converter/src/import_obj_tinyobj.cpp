@@ -1,7 +1,8 @@
 // import_obj_tinyobj.cpp — the OBJ importer's second reader: tinyobjloader's LoadObj, for the
-// files the parallel parser leaves to it (obj_parse.h: errors, polygons beyond quads, points,
-// lines, extensions, lenient text). Its errors and warnings are the importer's contract
-// (import_obj.cpp's header block); the result is an ObjRead like the fast parser's.
+// files the parallel parser leaves to it (obj_parse.h: errors, extensions, lenient face text),
+// and for the "v"/"vt"/"vn" lines with lenient numbers in the files it reads. Its errors and
+// warnings are the importer's contract (import_obj.cpp's header block); the result is an ObjRead
+// like the fast parser's.
 #include <tiny_obj_loader.h>
 
 #include <cctype>
@@ -88,6 +89,23 @@ std::string lineText(std::string_view text, size_t number) {
 }
 
 } // namespace
+
+bool readNumberLinesWithTinyobj(std::string_view lines, ObjLenientNumbers& out) {
+    tinyobj::attrib_t attrib;
+    std::vector<tinyobj::shape_t> shapes;
+    std::vector<tinyobj::material_t> materials;
+    std::string warn, err;
+    MemoryBuffer buffer(lines);
+    std::istream stream(&buffer);
+    if (!tinyobj::LoadObj(&attrib, &shapes, &materials, &warn, &err, &stream, nullptr,
+                          /*triangulate=*/true, /*default_vcols_fallback=*/false))
+        return false;
+    out.positions.assign(attrib.vertices.begin(), attrib.vertices.end());
+    out.colors.assign(attrib.colors.begin(), attrib.colors.end());
+    out.texcoords.assign(attrib.texcoords.begin(), attrib.texcoords.end());
+    out.normals.assign(attrib.normals.begin(), attrib.normals.end());
+    return true;
+}
 
 Result<ObjRead, ConvertError> readObjWithTinyobj(const std::string& path, char* bytes,
                                                 size_t size, tinyobj::MaterialReader& mtl,

@@ -1,13 +1,17 @@
 // obj_parse.cpp — the parallel OBJ text parser (obj_parse.h says what it accepts and why).
 //
 // The text is cut into chunks at line ends (about 1/16 of it each, at least 256 KiB), then:
-// 1. In parallel, each chunk counts its v, vt, vn and f lines.
+// 1. In parallel, each chunk counts its v, vt and vn lines and the corner slots its f lines
+//    may need (3 for a triangle, 6 for a quad, 3 (n - 2) for an n-gon; faceSlots).
 // 2. The counts give every chunk its first slot in each output array (its base) and the arrays
 //    their final size, allocated once; in parallel, each chunk parses its lines straight into
 //    its slots, relative indices resolved with its bases and every position index checked.
 //    Anything outside the accepted subset stops the chunk with a reason, and the whole parse
 //    returns nullopt.
-// 3. In parallel, quads are split (their positions may be in an earlier chunk).
+// 3. In parallel, quads are split and n-gons ear-clipped as tinyobjloader does (their positions
+//    may be in an earlier chunk). Its ear clipping can stop early and leave fewer than n - 2
+//    triangles: those slots stay unused, the chunk's triangles continue in a new block after
+//    them, and its later events move back by the triangles missing.
 // No array grows, and nothing is copied to join the chunks: on this kind of VM, touching fresh
 // memory costs more than parsing (docs/CONVERTER.md, "Issue 30").
 #include "obj_parse.h"
@@ -64,6 +68,18 @@ bool parseNumber(const char* b, const char* e, float& out) {
     return true;
 }
 
+// The corner slots a face line may need (step 1): each of its corners follows a blank, so it
+// has at most as many corners as blanks, and the slots for that many are enough (the chunk
+// writes what its faces need, in order, and leaves the rest unused). Counted without telling
+// words apart, a loop the compiler vectorises: telling them apart byte by byte cost a quarter
+// of the benchmark OBJ's parse.
+uint64_t faceSlots(const char* p, const char* e) {
+    if (uint64_t(e - p) > std::numeric_limits<uint32_t>::max()) return 3 * uint64_t(e - p);
+    uint32_t blanks = 0; // 32 bits: more lanes per vector than size_t
+    for (; p < e; ++p) blanks += uint32_t(*p == ' ') + uint32_t(*p == '\t');
+    return blanks <= 3 ? 3 : blanks == 4 ? 6 : 3 * (uint64_t(blanks) - 2);
+}
+
 // The line kinds that take room in the output arrays (step 1 counts them, step 2 fills them),
 // classified as ChunkParser::line does.
 enum class Kind { Other, V, Vt, Vn, F };
@@ -92,7 +108,15 @@ template <class Fn> bool forEachLine(const char* p, const char* end, Fn&& fn) {
 }
 
 struct Counts {
-    uint64_t v = 0, vt = 0, vn = 0, faces = 0;
+    uint64_t v = 0, vt = 0, vn = 0, slots = 0; // slots: corners of the triangles faces make
+};
+
+// A polygon of more than 4 corners, ear-clipped in step 3 into its 3 (n - 2) slots.
+struct Ngon {
+    uint64_t slot;     // its first corner slot in ObjTriangles::corners
+    uint64_t triangle; // the chunk's triangles before it
+    uint32_t first, n; // its corners: Chunk::ngonCorners[first, first + n)
+    uint32_t made = 0; // triangles the ear clipping gave (step 3)
 };
 
 struct Chunk {
@@ -101,23 +125,30 @@ struct Chunk {
     Counts count; // its lines of each kind (step 1)
     Counts base;  // what the chunks before it hold: its first slot in each array
     bool allColors = true; // every "v" line had a colour (else ObjGeometry::colors is dropped)
-    uint64_t corners = 0, triangles = 0; // written
+    uint64_t corners = 0, triangles = 0; // written (an n-gon counted as n - 2 triangles)
     std::vector<size_t> quads;           // first corner of each quad, split in step 3
+    std::vector<Ngon> ngons;             // triangulated in step 3
+    std::vector<ObjCorner> ngonCorners;
     std::vector<ObjEvent> events;        // triangle: the chunk's own count until step 3
     std::string failure; // why tinyobjloader must read the file, if it must
+    // "v"/"vt"/"vn" lines for ObjParseOptions::lenient, and the slots (the chunk's element
+    // numbers) their values go to, by kind.
+    std::string lenientLines;
+    std::vector<uint64_t> lenientV, lenientVt, lenientVn;
 };
 
 // Step 2 for one chunk: parses its lines into the file's arrays at the chunk's slots.
 class ChunkParser {
 public:
-    ChunkParser(Chunk& c, ObjGeometry& g, const Counts& total)
-        : mC(c), mTotal(total), mPositions(g.positions.data() + c.base.v * 3),
+    ChunkParser(Chunk& c, ObjGeometry& g, const Counts& total, const ObjParseOptions& options)
+        : mC(c), mTotal(total), mOptions(options), mPositions(g.positions.data() + c.base.v * 3),
           mColors(g.colors.data() + c.base.v * 3), mTexcoords(g.texcoords.data() + c.base.vt * 2),
           mNormals(g.normals.data() + c.base.vn * 3),
-          mCorners(g.triangles.corners.data() + c.base.faces * 6) {}
+          mCorners(g.triangles.corners.data() + c.base.slots) {}
 
     void run() {
-        forEachLine(mC.begin, mC.end, [this](const char* p, const char* e) { return line(p, e); });
+        if (forEachLine(mC.begin, mC.end, [this](const char* p, const char* e) { return line(p, e); }))
+            readLenientLines();
     }
 
 private:
@@ -148,8 +179,9 @@ private:
         };
         const char c = *p;
         // The rest of tinyobjloader's checks, in its order.
-        if (c == 'v' && at(1) == 'w' && isBlank(at(2))) return fail("a 'vw' line");
-        if ((c == 'l' || c == 'p') && isBlank(at(1))) return fail("points or lines");
+        // "vw" (skin weights): the tinyobjloader reader blanks these lines before LoadObj
+        // (import_obj_tinyobj.cpp), so both ignore them; below, with the lines it ignores.
+        if ((c == 'l' || c == 'p') && isBlank(at(1))) return elements(p, e);
         if (startsWith("usemtl")) {
             const char* n = p + 6;
             if (n == e || !isBlank(*n) || !clean(n, e)) return fail("an unusual 'usemtl' line");
@@ -182,14 +214,90 @@ private:
             if (!clean(p, e)) return fail("an unusual 'o' line");
             return event(ObjEvent::Kind::Object, std::string(p + 2, e));
         }
-        if (c == 't' && isBlank(at(1))) return fail("a 't' line");
-        // Comments, "s" and lines tinyobjloader ignores: only a lone "\r" would change them.
+        // Comments, "s", "t" (tags, which LoadObj reads without an error and the importer
+        // ignores), "vw" and lines tinyobjloader ignores: only a lone "\r" would change them.
         if (std::memchr(p, '\r', size_t(e - p)) != nullptr) return fail("a lone carriage return");
         return true;
     }
 
     bool event(ObjEvent::Kind kind, std::string text) {
         mC.events.push_back(ObjEvent{kind, mC.triangles, std::move(text)});
+        return true;
+    }
+
+    // A "v"/"vt"/"vn" line the strict grammar refuses: kept for ObjParseOptions::lenient, its
+    // element number taken. Without that reader, or with a "\r" or NUL in it (tinyobjloader
+    // would split the line elsewhere), the file goes to tinyobjloader.
+    bool lenient(const char* p, const char* e, std::vector<uint64_t>& slots, uint64_t& count,
+                 const char* why) {
+        if (!mOptions.lenient || !clean(p, e)) return fail(why);
+        mC.lenientLines.append(p, e);
+        mC.lenientLines += '\n';
+        slots.push_back(count++);
+        return true;
+    }
+
+    // The chunk's lenient lines through ObjParseOptions::lenient, once, into their slots.
+    void readLenientLines() {
+        if (mC.lenientLines.empty()) return;
+        ObjLenientNumbers n;
+        if (!mOptions.lenient(mC.lenientLines, n) || n.positions.size() != mC.lenientV.size() * 3 ||
+            n.texcoords.size() != mC.lenientVt.size() * 2 ||
+            n.normals.size() != mC.lenientVn.size() * 3 ||
+            (!n.colors.empty() && n.colors.size() != n.positions.size())) {
+            fail("'v', 'vt' or 'vn' lines tinyobjloader did not read as expected");
+            return;
+        }
+        for (size_t i = 0; i < mC.lenientV.size(); ++i) {
+            std::copy_n(&n.positions[i * 3], 3, mPositions + mC.lenientV[i] * 3);
+            if (!n.colors.empty()) std::copy_n(&n.colors[i * 3], 3, mColors + mC.lenientV[i] * 3);
+        }
+        if (!mC.lenientV.empty() && n.colors.empty()) mC.allColors = false;
+        for (size_t i = 0; i < mC.lenientVt.size(); ++i)
+            std::copy_n(&n.texcoords[i * 2], 2, mTexcoords + mC.lenientVt[i] * 2);
+        for (size_t i = 0; i < mC.lenientVn.size(); ++i)
+            std::copy_n(&n.normals[i * 3], 3, mNormals + mC.lenientVn[i] * 3);
+    }
+
+    // An "l" or "p" line: its corners parsed as a face's (tinyobjloader's parse errors are
+    // the importer's), their positions not checked (tinyobjloader does not: the importer drops
+    // these elements, saying how many). Consecutive ones with no face between are one event.
+    bool elements(const char* p, const char* e) {
+        const bool points = *p == 'p';
+        p += 2;
+        // tinyobjloader reads the first corner from just after "p ": after two blanks, its
+        // atoi skips the second but its scan does not, and the corner counts twice.
+        if (points && p < e && isBlank(*p)) return fail("a 'p' line with two blanks");
+        const uint64_t v = mC.base.v + mV, vt = mC.base.vt + mVt, vn = mC.base.vn + mVn;
+        uint64_t corners = 0;
+        bool unused = true;
+        int32_t k = 0;
+        for (;;) {
+            while (p < e && isBlank(*p)) ++p;
+            if (p == e) break;
+            if (!index(p, e, v, k, unused, mTotal.v)) return fail("an unusual 'l' or 'p' corner");
+            if (p < e && *p == '/') {
+                ++p;
+                if ((p == e || *p != '/') && !index(p, e, vt, k, unused, mTotal.vt))
+                    return fail("an unusual 'l' or 'p' corner");
+                if (p < e && *p == '/') {
+                    ++p;
+                    if (!index(p, e, vn, k, unused, mTotal.vn))
+                        return fail("an unusual 'l' or 'p' corner");
+                }
+            }
+            if (p < e && !isBlank(*p)) return fail("an unusual 'l' or 'p' corner");
+            ++corners;
+        }
+        if (corners == 0) return fail("an 'l' or 'p' line without a corner");
+        const ObjEvent::Kind kind = points ? ObjEvent::Kind::Points : ObjEvent::Kind::Lines;
+        const uint64_t count = points ? corners : 1;
+        if (!mC.events.empty() && mC.events.back().kind == kind &&
+            mC.events.back().triangle == mC.triangles) {
+            mC.events.back().count += count;
+            return true;
+        }
+        mC.events.push_back(ObjEvent{kind, mC.triangles, {}, count});
         return true;
     }
 
@@ -212,7 +320,7 @@ private:
     bool vertex(const char* p, const char* e) {
         float v[6];
         const int n = readNumbers(p, e, v, 6);
-        if (n != 3 && n != 6) return fail("a 'v' line without 3 or 6 numbers");
+        if (n != 3 && n != 6) return lenient(p, e, mC.lenientV, mV, "a 'v' line without 3 or 6 numbers");
         std::copy(v, v + 3, mPositions + mV * 3);
         if (n == 3) mC.allColors = false;
         else if (mC.allColors) std::copy(v + 3, v + 6, mColors + mV * 3);
@@ -222,7 +330,10 @@ private:
 
     bool numbers(const char* p, const char* e, float* out, uint64_t& count, int keep, int max) {
         float v[3];
-        if (readNumbers(p, e, v, max) < keep) return fail("a 'vn' or 'vt' line with too few numbers");
+        if (readNumbers(p, e, v, max) < keep) {
+            return lenient(p, e, keep == 2 ? mC.lenientVt : mC.lenientVn, count,
+                           "a 'vn' or 'vt' line with too few numbers");
+        }
         std::copy(v, v + keep, out + count * uint64_t(keep)); // tinyobjloader ignores a vt's w
         ++count;
         return true;
@@ -248,16 +359,14 @@ private:
     bool face(const char* p, const char* e) {
         while (p < e && isBlank(*p)) ++p;
         p += 2; // "f" and a blank
-        ObjCorner c[4];
-        int n = 0;
+        mFace.clear();
         const uint64_t v = mC.base.v + mV, vt = mC.base.vt + mVt, vn = mC.base.vn + mVn;
         bool valid = true, unused = true;
         uint64_t latest = 0; // the largest position index
         for (;;) {
             while (p < e && isBlank(*p)) ++p;
             if (p == e) break;
-            if (n == 4) return fail("a polygon with more than 4 corners");
-            ObjCorner& k = c[n];
+            ObjCorner& k = mFace.emplace_back();
             k.vt = k.vn = -1;
             if (!index(p, e, v, k.v, valid, mTotal.v)) return fail("an unusual face corner");
             if (!valid) return fail("a position index out of range");
@@ -274,33 +383,45 @@ private:
                 }
             }
             if (p < e && !isBlank(*p)) return fail("an unusual face corner");
-            ++n;
         }
+        const size_t n = mFace.size();
         if (n < 3) return fail("a face with fewer than 3 corners");
-        ObjCorner* out = mCorners + mC.corners;
-        std::copy(c, c + n, out);
-        if (n == 4) {
-            // tinyobjloader checks a quad's positions when it splits it, at the next usemtl/g/o
-            // or the end, so one defined after the quad may or may not pass: left to it.
-            if (latest >= v) return fail("a quad naming a later position");
-            mC.quads.push_back(size_t(out - mCorners) + mC.base.faces * 6);
+        if (mC.ngonCorners.size() + n > std::numeric_limits<uint32_t>::max())
+            return fail("n-gons of over 2^32 corners in one chunk"); // Ngon's 32-bit fields
+        // tinyobjloader splits a polygon when it flushes its faces, at the next usemtl/g/o or
+        // the end, checking (quads) or reading (n-gons) positions it has read by then, so one
+        // defined after the polygon may or may not pass: left to it.
+        if (n > 3 && latest >= v) return fail("a polygon naming a later position");
+        const size_t slot = size_t(mC.corners) + mC.base.slots;
+        if (n == 3) {
+            std::copy(mFace.begin(), mFace.end(), mCorners + mC.corners);
+            mC.corners += 3;
+            mC.triangles += 1;
+        } else if (n == 4) {
+            std::copy(mFace.begin(), mFace.end(), mCorners + mC.corners);
+            mC.quads.push_back(slot);
             mC.corners += 6; // two slots more: step 3 writes both triangles
             mC.triangles += 2;
         } else {
-            mC.corners += 3;
-            mC.triangles += 1;
+            mC.ngons.push_back(Ngon{slot, mC.triangles, uint32_t(mC.ngonCorners.size()),
+                                    uint32_t(n)});
+            mC.ngonCorners.insert(mC.ngonCorners.end(), mFace.begin(), mFace.end());
+            mC.corners += 3 * (n - 2);
+            mC.triangles += n - 2;
         }
         return true;
     }
 
     Chunk& mC;
     const Counts& mTotal;
+    const ObjParseOptions& mOptions;
     float* mPositions;
     float* mColors;
     float* mTexcoords;
     float* mNormals;
     ObjCorner* mCorners;
     uint64_t mV = 0, mVt = 0, mVn = 0; // elements written
+    std::vector<ObjCorner> mFace;      // the face line's corners
 };
 
 // Chunks of about `size` bytes, each ending after a "\n" (the last at the end of the text).
@@ -344,6 +465,100 @@ void splitQuad(ObjCorner* c, const float* positions) {
     }
 }
 
+// tinyobjloader's pnpoly (W. R. Franklin's point-in-polygon test) on a triangle, in its float
+// arithmetic: whether (tx, ty) is inside.
+bool insideTriangle(const float* vx, const float* vy, float tx, float ty) {
+    bool inside = false;
+    for (int i = 0, j = 2; i < 3; j = i++) {
+        if (((vy[i] > ty) != (vy[j] > ty)) &&
+            (tx < (vx[j] - vx[i]) * (ty - vy[i]) / (vy[j] - vy[i]) + vx[i]))
+            inside = !inside;
+    }
+    return inside;
+}
+
+// tinyobjloader's triangulation of a polygon of more than 4 corners (its built-in ear clipping:
+// Debian's libtinyobjloader is built without TINYOBJLOADER_USE_MAPBOX_EARCUT), step for step
+// and in the same float arithmetic, so that every triangle and corner order is its own:
+// 1. The projection plane: at the first corner triple (k, k+1, k+2) whose cross product has a
+//    component above FLT_EPSILON, drop the axis of its largest component (y z if x is largest,
+//    x y if z is, else x z); y z when there is none.
+// 2. Ear clipping from corner 0: the candidate (g, g+1, g+2) is an ear unless
+//    cross(e0, e1) * (x0 y1 - y0 x1) / 2 < 0 (its convexity test, which depends on the origin)
+//    or another remaining corner lies inside it; an ear is written as (g, g+1, g+2) and g+1
+//    removed, else g moves on. It gives up after as many candidates as corners remain without
+//    finding an ear; the last 3 corners are a triangle. So it may write fewer than n - 2.
+// Writes the triangles' corners to `out` (room for 3 (n - 2)); returns how many triangles.
+uint32_t earClip(const ObjCorner* face, uint32_t n, const float* positions, ObjCorner* out,
+                 std::vector<ObjCorner>& remaining) {
+    auto at = [&](const ObjCorner& c, size_t axis) { return positions[size_t(c.v) * 3 + axis]; };
+    size_t axes[2] = {1, 2};
+    for (uint32_t k = 0; k < n; ++k) {
+        const ObjCorner &i0 = face[k % n], &i1 = face[(k + 1) % n], &i2 = face[(k + 2) % n];
+        const float e0x = at(i1, 0) - at(i0, 0), e0y = at(i1, 1) - at(i0, 1),
+                    e0z = at(i1, 2) - at(i0, 2);
+        const float e1x = at(i2, 0) - at(i1, 0), e1y = at(i2, 1) - at(i1, 1),
+                    e1z = at(i2, 2) - at(i1, 2);
+        const float cx = std::fabs(e0y * e1z - e0z * e1y);
+        const float cy = std::fabs(e0z * e1x - e0x * e1z);
+        const float cz = std::fabs(e0x * e1y - e0y * e1x);
+        const float epsilon = std::numeric_limits<float>::epsilon();
+        if (cx > epsilon || cy > epsilon || cz > epsilon) {
+            if (!(cx > cy && cx > cz)) {
+                axes[0] = 0;
+                if (cz > cx && cz > cy) axes[1] = 1;
+            }
+            break;
+        }
+    }
+    remaining.assign(face, face + n);
+    uint32_t made = 0;
+    size_t guess = 0;
+    size_t iterations = n, previousSize = n;
+    while (remaining.size() > 3 && iterations > 0) {
+        const size_t size = remaining.size();
+        if (guess >= size) guess -= size;
+        if (previousSize != size) {
+            previousSize = size;
+            iterations = size;
+        } else {
+            --iterations;
+        }
+        ObjCorner ind[3];
+        float vx[3], vy[3];
+        for (size_t k = 0; k < 3; ++k) {
+            ind[k] = remaining[(guess + k) % size];
+            vx[k] = at(ind[k], axes[0]);
+            vy[k] = at(ind[k], axes[1]);
+        }
+        const float e0x = vx[1] - vx[0], e0y = vy[1] - vy[0];
+        const float e1x = vx[2] - vx[1], e1y = vy[2] - vy[1];
+        const float cross = e0x * e1y - e0y * e1x;
+        const float area = (vx[0] * vy[1] - vy[0] * vx[1]) * 0.5f;
+        if (cross * area < 0.0f) {
+            ++guess;
+            continue;
+        }
+        bool overlap = false;
+        for (size_t other = 3; other < size && !overlap; ++other) {
+            const ObjCorner& c = remaining[(guess + other) % size];
+            overlap = insideTriangle(vx, vy, at(c, axes[0]), at(c, axes[1]));
+        }
+        if (overlap) {
+            ++guess;
+            continue;
+        }
+        std::copy(ind, ind + 3, out + size_t(made) * 3);
+        ++made;
+        remaining.erase(remaining.begin() + std::ptrdiff_t((guess + 1) % size));
+    }
+    if (remaining.size() == 3) {
+        std::copy(remaining.begin(), remaining.end(), out + size_t(made) * 3);
+        ++made;
+    }
+    return made;
+}
+
 } // namespace
 
 std::optional<ObjParse> parseObjText(std::string_view text, const ObjParseOptions& options,
@@ -368,7 +583,7 @@ std::optional<ObjParse> parseObjText(std::string_view text, const ObjParseOption
             case Kind::V: ++n.v; break;
             case Kind::Vt: ++n.vt; break;
             case Kind::Vn: ++n.vn; break;
-            case Kind::F: ++n.faces; break;
+            case Kind::F: n.slots += faceSlots(p, e); break;
             case Kind::Other: break;
             }
             return true;
@@ -380,44 +595,74 @@ std::optional<ObjParse> parseObjText(std::string_view text, const ObjParseOption
         total.v += c.count.v;
         total.vt += c.count.vt;
         total.vn += c.count.vn;
-        total.faces += c.count.faces;
+        total.slots += c.count.slots;
     }
     constexpr uint64_t kMaxCount = uint64_t(std::numeric_limits<int32_t>::max());
     if (total.v > kMaxCount || total.vt > kMaxCount || total.vn > kMaxCount)
         return refuse("more elements than tinyobjloader's int indices reach");
     ObjParse out;
     ObjGeometry& g = out.geometry;
-    // Not value-initialised (LargeAllocator): every element read is written first. The corner
-    // array has room for a quad's 6 corners per face; pages a chunk leaves unused are never
-    // touched.
+    // Not value-initialised (LargeAllocator): every element read is written first; slots an
+    // n-gon's ear clipping leaves unused are never read.
     g.positions.resize(total.v * 3);
     g.colors.resize(total.v * 3);
     g.texcoords.resize(total.vt * 2);
     g.normals.resize(total.vn * 3);
-    g.triangles.corners.resize(total.faces * 6);
+    g.triangles.corners.resize(total.slots);
 
     // Step 2.
-    parallelFor(chunks.size(), options.jobs, [&](size_t i) { ChunkParser(chunks[i], g, total).run(); });
+    parallelFor(chunks.size(), options.jobs, [&](size_t i) { ChunkParser(chunks[i], g, total, options).run(); });
     for (const Chunk& c : chunks) {
         if (!c.failure.empty()) return refuse(c.failure);
     }
 
-    // Step 3: quads (their positions may be another chunk's), block offsets, events.
+    // Step 3: quads and n-gons (their positions may be another chunk's), block offsets,
+    // events.
     parallelFor(chunks.size(), options.jobs, [&](size_t i) {
-        for (size_t q : chunks[i].quads) splitQuad(&g.triangles.corners[q], g.positions.data());
+        Chunk& c = chunks[i];
+        for (size_t q : c.quads) splitQuad(&g.triangles.corners[q], g.positions.data());
+        std::vector<ObjCorner> remaining;
+        for (Ngon& n : c.ngons) {
+            n.made = earClip(&c.ngonCorners[n.first], n.n, g.positions.data(),
+                             &g.triangles.corners[n.slot], remaining);
+        }
     });
+    for (const Chunk& c : chunks) {
+        for (const Ngon& n : c.ngons) {
+            // tinyobjloader would keep a shape of such faces even without triangles (at the
+            // end of the file): rare enough to leave to it.
+            if (n.made == 0) return refuse("a polygon tinyobjloader's ear clipping leaves empty");
+        }
+    }
     bool allColors = total.v > 0;
     ObjTriangles& t = g.triangles;
     uint64_t start = 0;
     for (Chunk& c : chunks) {
         allColors &= c.allColors;
+        t.start.push_back(start);
+        t.offset.push_back(c.base.slots);
+        // An n-gon with fewer than n - 2 triangles ends the block after them; the chunk's
+        // next triangles start a new one after its slots, and everything after it moves back.
+        uint64_t missing = 0;
+        size_t next = 0; // the next such n-gon
+        auto skipWhole = [&] {
+            while (next < c.ngons.size() && c.ngons[next].made == c.ngons[next].n - 2) ++next;
+        };
+        auto splitAtNext = [&] {
+            const Ngon& n = c.ngons[next++];
+            t.start.push_back(start + n.triangle - missing + n.made);
+            t.offset.push_back(n.slot + 3 * uint64_t(n.n - 2));
+            missing += n.n - 2 - n.made;
+            skipWhole();
+        };
+        skipWhole();
         for (ObjEvent& e : c.events) {
-            e.triangle += start;
+            while (next < c.ngons.size() && c.ngons[next].triangle < e.triangle) splitAtNext();
+            e.triangle += start - missing;
             out.events.push_back(std::move(e));
         }
-        t.start.push_back(start);
-        t.offset.push_back(c.base.faces * 6);
-        start += c.triangles;
+        while (next < c.ngons.size()) splitAtNext();
+        start += c.triangles - missing;
     }
     t.start.push_back(start);
     if (!allColors) g.colors = {};

@@ -10,19 +10,26 @@
 // What it accepts is a strict subset of what tinyobjloader reads, on which it gives
 // tinyobjloader's result (import_obj.cpp's header block is the contract; the ObjParseEquivalence
 // tests compare the two): lines "v x y z" and "v x y z r g b", "vn x y z", "vt u v [w]",
-// "f" with 3 or 4 corners in the forms v, v/vt, v//vn, v/vt/vn (negative = relative; at most 9
-// digits), "usemtl name", "mtllib ...", "o ...", "g names...", comments, blank lines, "s" and
-// other lines tinyobjloader ignores; "\n" or "\r\n" line ends. Numbers follow tinyobjloader's
+// "f" with 3 or more corners in the forms v, v/vt, v//vn, v/vt/vn (negative = relative; at most
+// 9 digits), "l" and "p" with corners in those forms (the importer only counts them),
+// "usemtl name", "mtllib ...", "o ...", "g names...", comments, blank lines, "s", "vp", the
+// "t" and "vw" extensions (which the importer ignores) and other lines tinyobjloader ignores; "\n" or "\r\n" line ends. Polygons are
+// triangulated as tinyobjloader does: a quad along its shorter diagonal, a larger polygon (an
+// n-gon, as Blender's exporter writes by default) by tinyobjloader's own ear clipping, step for
+// step in its float arithmetic (obj_parse.cpp, earClip). Numbers follow tinyobjloader's
 // grammar ([+-] digits [. digits] [e [+-] digits]); they are rounded correctly, where
 // tinyobjloader's own conversion is approximate (a value may differ from it in the last bit).
 // A number too large for a float is ±Inf, one too small is ±0, as with tinyobjloader.
 //
 // Everything else returns nullopt, and the importer reads the file with tinyobjloader instead:
 // errors (a zero or unparsable index, a position index out of range: tinyobjloader's messages
-// and line numbers stay the contract), polygons of other sizes, points, lines, "vw"/"t"
-// extensions, text tinyobjloader reads leniently ("v 1 2" with a default z, "1x" as 1, words
-// as 0), a lone "\r" or a NUL byte (tinyobjloader's line splitting differs), a quad naming a
-// position defined after it.
+// and line numbers stay the contract), faces of fewer than 3 corners, "l"/"p" without a corner
+// or with two blanks after "p" (tinyobjloader reads its first corner twice), face corners
+// tinyobjloader reads leniently ("1x" as 1), a lone "\r" or a NUL byte
+// (tinyobjloader's line splitting differs), a quad or n-gon naming a position defined after
+// it, an n-gon its ear clipping gives no triangle. Numbers in "v", "vt" and "vn" lines that
+// tinyobjloader reads leniently ("v 1 2" with a default z, "1x" as 1, words as 0) are read by
+// it, those lines alone (ObjParseOptions::lenient), without it the whole file is.
 //
 // The output is the same for every job count and chunk size (each chunk writes its own slots;
 // the chunk size depends on the text's size only).
@@ -31,6 +38,7 @@
 #include <algorithm>
 #include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -49,9 +57,10 @@ struct ObjCorner {
 using ObjFloats = std::vector<float, LargeAllocator<float>>;
 using ObjCorners = std::vector<ObjCorner, LargeAllocator<ObjCorner>>;
 
-// The triangles of the file in order, three corners each, in blocks (one per parsed chunk,
-// each written where the chunk's faces could have needed room: a quad takes 6). Triangle t is
-// block b's triangle t - start[b], at corners[offset[b] + 3 * (t - start[b])].
+// The triangles of the file in order, three corners each, in blocks (one per parsed chunk, and
+// one more after each n-gon whose ear clipping gave fewer than n - 2 triangles, whose unused
+// slots lie between two blocks). Triangle t is block b's triangle t - start[b], at
+// corners[offset[b] + 3 * (t - start[b])].
 struct ObjTriangles {
     ObjCorners corners;
     std::vector<uint64_t> offset; // first corner of each block
@@ -88,10 +97,13 @@ struct ObjEvent {
         UseMtl, // text: the material name (its first word)
         Group,  // "g": text: the names joined by one space
         Object, // "o": text: the rest of the line after "o "
+        Lines,  // "l" lines (count: how many, one element each), dropped by the importer
+        Points, // "p" lines (count: their vertices, one point each), dropped likewise
     };
     Kind kind;
     uint64_t triangle; // triangles before this line
     std::string text;
+    uint64_t count = 0; // Lines, Points
 };
 
 struct ObjParse {
@@ -99,9 +111,20 @@ struct ObjParse {
     std::vector<ObjEvent> events;
 };
 
+// What tinyobjloader reads from "v", "vt" and "vn" lines that the strict grammar refuses.
+struct ObjLenientNumbers {
+    std::vector<float> positions, colors, texcoords, normals; // colors: empty unless every
+                                                              // "v" line had one
+};
+
 struct ObjParseOptions {
     unsigned jobs = 0;     // threads (parallel_for.h: 0 = all cores)
     size_t chunkBytes = 0; // bytes per chunk (0 = chosen by size; tests force small chunks)
+    // Reads `lines` ("v", "vt" and "vn" lines the strict grammar refuses, each ended by "\n")
+    // as tinyobjloader does (import_obj_tinyobj.cpp): its defaults for missing numbers ("v 1 2"
+    // has z = 0), a "w" ignored, "1x" as 1, a word as 0. Called once per chunk that has such
+    // lines, on its thread; false or unset: such a line sends the whole file to tinyobjloader.
+    std::function<bool(std::string_view lines, ObjLenientNumbers& out)> lenient;
 };
 
 // nullopt: the text needs tinyobjloader (see above); `why`, if given, says what was found.

@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <cstdlib>
@@ -406,17 +407,17 @@ TEST(ObjParse, UnusualTextIsLeftToTinyobjloader) {
         "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 4\n",   // out of range: an error
         "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 -4\n",  // relative out of range
         "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2\n",     // degenerate
-        "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nv 2 2 0\nf 1 2 3 4 5\n", // pentagon
         "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3 4\nv 1 1 0\n",   // quad naming a later vertex
+        "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nf 1 2 3 4 5\nv 2 2 0\n", // and a pentagon
         "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1/ 2 3\n",  // lenient corner
         "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3/\n",  // the same at the line's end (fuzzer)
         "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3/",    // and at the file's end
         "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3 # c\n",
         "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 1234567890\n", // 10 digits
-        "v 0 0 0\nv 1 0 0\nv 0 1 0\nl 1 2\n",
-        "v 0 0 0\nv 1 0 0\nv 0 1 0\np 1\n",
-        "vw 0 0 1\n",
-        "t crease 1/1/0\n",
+        "v 0 0 0\nv 1 0 0\nv 0 1 0\nl 1 0\n",   // index 0 in a line: an error
+        "v 0 0 0\nv 1 0 0\nv 0 1 0\nl \n",      // a line without a corner
+        "v 0 0 0\nv 1 0 0\nv 0 1 0\np  1\n",    // tinyobjloader reads "1" twice
+        "vw 0 0 1\rv 0 0 0\n",           // a lone CR ends a "vw" line for both readers
         "# a\rv 0 0 0\n",                // lone CR ends a line for tinyobjloader
         "usemtl\n",
         "usemtlx\n",
@@ -429,9 +430,10 @@ TEST(ObjParse, UnusualTextIsLeftToTinyobjloader) {
     }
     const std::string withNul("o a\0b\n", 6);
     EXPECT_FALSE(parseObjText(withNul, ObjParseOptions{1, 0}).has_value());
-    // And what it keeps: comments, s, unknown lines, blank lines, tabs, w of a vt.
+    // And what it keeps: comments, s, unknown lines, blank lines, tabs, w of a vt, the "t" and
+    // "vw" extensions (ignored by the importer).
     auto p = parseObjText("# c\n\n  \t\ns off\nvp 1 2\ncstype bezier\nvt 0.5 0.5 0\n"
-                          "v\t1 2 3\n",
+                          "v\t1 2 3\nt crease 1/1/0 4\n  vw 6e21 0 1\n",
                           ObjParseOptions{1, 0});
     ASSERT_TRUE(p.has_value());
     EXPECT_EQ(p->geometry.texcoords.size(), 2u);
@@ -450,6 +452,11 @@ TEST(ObjParseEquivalence, MalformedFilesFailWithTheLineAtFault) {
         {big + "f 1 2 999\n", "line " + std::to_string(lines + 1) + ": vertex index out of range"},
         {big + "f -1 -2 -999\n", "line " + std::to_string(lines + 1) + ": vertex index out of range"},
         {"v 0 0 0\nv 1 0 0\nv 0 1 0\n\nf 1//1 2/x/1 3\n", "line 5: malformed 'f'"},
+        // In an n-gon, a line and a point (all on the fast path when well-formed).
+        {big + "f 1 2 3 4 0\n", "line " + std::to_string(lines + 1) + ": malformed 'f'"},
+        {big + "f 1 2 3 4 999\n", "line " + std::to_string(lines + 1) + ": vertex index out of range"},
+        {big + "l 1 2\nl 1 0\n", "line " + std::to_string(lines + 2) + ": malformed 'l'"},
+        {big + "p 1 x\n", "line " + std::to_string(lines + 1) + ": malformed 'p'"},
     };
     for (const Case& c : cases) {
         const std::string file = writeObj(dir, "bad.obj", c.text);
@@ -470,7 +477,7 @@ TEST(ObjParseEquivalence, MalformedFilesFailWithTheLineAtFault) {
 }
 
 // Non-finite values: Inf from huge numbers on the fast path, dropped streams with warnings as
-// the contract says; NaN/Inf words go to tinyobjloader (which reads them as 0).
+// the contract says; NaN/Inf words are read by tinyobjloader (as 0), those lines alone.
 TEST(ObjParseEquivalence, HugeNumbersAndNonFiniteValues) {
     TempDir dir("obj_parse_nonfinite");
     const std::string tri = "f 1/1/1 2/2/2 3/3/3\n";
@@ -485,7 +492,7 @@ TEST(ObjParseEquivalence, HugeNumbersAndNonFiniteValues) {
         const std::string file = writeObj(dir, "n" + std::to_string(i) + ".obj", cases[i]);
         const Comparison c = compareReaders(file, floats);
         EXPECT_TRUE(c.ok) << i;
-        EXPECT_EQ(c.reader, i == 2 ? ObjReader::Tinyobj : ObjReader::Fast) << i;
+        EXPECT_EQ(c.reader, ObjReader::Fast) << i; // case 2's words: those lines by tinyobjloader
     }
     auto r = importObj(writeObj(dir, "n0.obj", cases[0]));
     ASSERT_TRUE(r.ok());
@@ -496,6 +503,339 @@ TEST(ObjParseEquivalence, HugeNumbersAndNonFiniteValues) {
     EXPECT_TRUE(hasWarning(*colors, {"non-finite vertex colours"})) << allWarnings(*colors);
     ASSERT_EQ(colors->meshes.size(), 1u);
     EXPECT_TRUE(std::isinf(colors->meshes[0].primitives[0].positions[7]));
+}
+
+// [SECTION] n-gons
+
+// Hand-made polygons of more than 4 corners for tinyobjloader's ear clipping (import_obj.cpp's
+// header block): convex and concave, both windings, in each axis plane and tilted, near and far
+// from the origin (its convexity test depends on it), with repeated and collinear corners, and
+// polygons it leaves with fewer than n - 2 triangles (found by trying random ones).
+const std::vector<std::vector<std::array<float, 3>>>& handMadeNgons() {
+    static const std::vector<std::vector<std::array<float, 3>>> polygons = {
+        {{0, 0, 0}, {2, 0, 0}, {3, 1.5f, 0}, {1, 3, 0}, {-1, 1.5f, 0}},        // convex pentagon
+        {{-1, 1.5f, 0}, {1, 3, 0}, {3, 1.5f, 0}, {2, 0, 0}, {0, 0, 0}},        // clockwise
+        {{0, 0, 0}, {2, 0, 0}, {3, 0, 1.5f}, {1, 0, 3}, {-1, 0, 1.5f}},        // xz plane
+        {{0, 0, 0}, {0, 2, 0}, {0, 3, 1.5f}, {0, 1, 3}, {0, -1, 1.5f}},        // yz plane
+        {{0, 0, 0}, {2, 0.5f, 1}, {3, 2, 2.5f}, {1, 3, 2}, {-1, 1.5f, 0.2f}},  // tilted
+        {{100, 100, 5}, {102, 100, 5}, {103, 101.5f, 5}, {101, 103, 5}, {99, 101.5f, 5}}, // far
+        {{-100, 50, 0}, {-98, 50, 0}, {-97, 51.5f, 0}, {-99, 53, 0}, {-101, 51.5f, 0}},
+        {{0, 0, 0}, {4, 0, 0}, {4, 4, 0}, {2, 1, 0}, {0, 4, 0}},               // concave pentagon
+        {{0, 0, 0}, {4, 0, 0}, {4, 1, 0}, {1, 1, 0}, {1, 4, 0}, {0, 4, 0}},     // L hexagon
+        {{10, 10, 0}, {14, 10, 0}, {14, 11, 0}, {11, 11, 0}, {11, 14, 0}, {10, 14, 0}},
+        {{0, 0, 0}, {1, 0, 0}, {2, 0, 0}, {3, 0, 0}, {3, 2, 0}, {0, 2, 0}},     // collinear run
+        {{0, 0, 0}, {1, 1, 0}, {2, 2, 0}, {3, 3, 0}, {4, 4, 0}},               // all on a line
+        {{0, 0, 0}, {1, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}},               // repeated corner
+        {{1, 1, 1}, {1, 1, 1}, {1, 1, 1}, {1, 1, 1}, {1, 1, 1}},               // one point
+        {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0.5f, 1.5f, 0}, {0, 1, 0}, {0, 0.5f, 0}},
+        {{0, 3, 0}, {1, 1, 0}, {3, 1, 0}, {1.5f, -0.5f, 0}, {2, -3, 0}, {0, -1.5f, 0},
+         {-2, -3, 0}, {-1.5f, -0.5f, 0}, {-3, 1, 0}, {-1, 1, 0}},               // star
+        {{0, 0, 0}, {3, 0, 0}, {3, 3, 0}, {2, 3, 0}, {2, 1, 0}, {1, 1, 0}, {1, 3, 0}, {0, 3, 0}},
+        {{0, 0, 0}, {1, 0, 0.3f}, {2, 1, -0.2f}, {1, 2, 0.4f}, {0, 1, -0.5f}, {-1, 0.5f, 0}},
+        {{1, -1, 0}, {4, -1, 0}, {2, -3, 0}, {-1, -4, 0}, {-3, 3, 0}, {3, 4, 0}}, // 2 of 4
+        {{-1, 1, 0}, {3, 3, 0}, {0, 0, 0}, {3, 4, 0}, {4, -2, 0}, {-2, 3, 0}, {-1, 1, -4},
+         {-1, -1, 0}},                                                         // 4 of 6
+        {{0, 4, 0}, {-1, 0, 0}, {-3, 1, 0}, {3, -2, 3}, {0, 3, 0}, {-1, 0, -4}, {-3, 2, 0},
+         {0, -2, 3}},                                                          // 1 of 6
+    };
+    return polygons;
+}
+
+// An OBJ of `polygons` with uvs and normals, in 3 objects that switch materials, corners in
+// the forms v/vt/vn, v//vn and v (some relative), triangles and quads between them.
+std::string ngonObj(const std::vector<std::vector<std::array<float, 3>>>& polygons) {
+    std::ostringstream s;
+    s << "# n-gons\r\nmtllib two.mtl\n";
+    int vertices = 0;
+    for (size_t i = 0; i < polygons.size(); ++i) {
+        const auto& poly = polygons[i];
+        if (i % 7 == 0) s << (i % 14 ? "o obj " : "g grp ") << i << "\n";
+        if (i % 3 == 0) s << (i % 2 ? "usemtl red\n" : "usemtl green tree\n");
+        if (i % 5 == 2) s << "s off\n";
+        for (const auto& p : poly) {
+            s << "v " << p[0] << " " << p[1] << " " << p[2] << "\n";
+            s << "vt " << p[0] * 0.1f << " " << p[1] * 0.1f << "\n";
+            s << "vn 0 0 1\n";
+        }
+        const int base = vertices + 1, n = int(poly.size());
+        vertices += n;
+        s << (i % 4 == 3 ? "f\t" : "f ");
+        for (int k = 0; k < n; ++k) {
+            const int v = base + k;
+            if (i % 4 == 0) s << v << "/" << v << "/" << v << " ";
+            else if (i % 4 == 1) s << v << "//" << v << "  ";
+            else if (i % 4 == 2) s << v - vertices - 1 << "/" << v - vertices - 1 << "/" << v << " ";
+            else s << v << "\t";
+        }
+        s << (i % 2 ? "\r\n" : "\n");
+        if (i % 3 == 1) s << "f " << base << " " << base + 1 << " " << base + 2 << "\n";
+        if (i % 3 == 2) s << "f " << base << " " << base + 1 << " " << base + 2 << " " << base + 3 << "\n";
+    }
+    return s.str();
+}
+
+TEST(ObjParseEquivalence, NgonsAreTriangulatedAsTinyobjloaderDoes) {
+    TempDir dir("obj_parse_ngons");
+    FloatCompare floats;
+    const std::string file = writeObj(dir, "ngons.obj", ngonObj(handMadeNgons()));
+    const Comparison c = compareReaders(file, floats);
+    if (HasFatalFailure()) return;
+    EXPECT_TRUE(c.ok);
+    EXPECT_EQ(c.reader, ObjReader::Fast);
+    // Each polygon on its own, too (a failure names it).
+    for (size_t i = 0; i < handMadeNgons().size(); ++i) {
+        const std::string one = writeObj(dir, "ngon" + std::to_string(i) + ".obj",
+                                         ngonObj({handMadeNgons()[i]}));
+        const Comparison d = compareReaders(one, floats);
+        if (HasFatalFailure()) return;
+        EXPECT_EQ(d.reader, ObjReader::Fast) << "polygon " << i;
+    }
+}
+
+// The ear clipping leaves some polygons with fewer than n - 2 triangles: the parse continues
+// after their unused slots, at every chunk size, and its events move back.
+TEST(ObjParse, NgonsWithFewerTrianglesKeepTheParseConsistent) {
+    const std::string text = ngonObj(handMadeNgons());
+    auto whole = parseObjText(text, ObjParseOptions{1, text.size() + 1});
+    ASSERT_TRUE(whole.has_value());
+    const ObjTriangles& w = whole->geometry.triangles;
+    uint64_t full = 0; // n - 2 per polygon, and the triangles and quads between
+    for (size_t i = 0; i < handMadeNgons().size(); ++i)
+        full += handMadeNgons()[i].size() - 2 + (i % 3 == 1 ? 1 : i % 3 == 2 ? 2 : 0);
+    EXPECT_EQ(full - w.count(), 2u + 2 + 5) << "three polygons are left short";
+    EXPECT_GT(w.offset.size(), 1u);
+    std::vector<ObjCorner> expected;
+    w.forEachCorner(0, w.count(), [&](const ObjCorner& c) { expected.push_back(c); });
+    for (size_t chunk = 1; chunk < text.size() + 2; chunk += chunk < 64 ? 1 : 53) {
+        auto p = parseObjText(text, ObjParseOptions{2, chunk});
+        ASSERT_TRUE(p.has_value()) << chunk;
+        std::vector<ObjCorner> got;
+        p->geometry.triangles.forEachCorner(0, p->geometry.triangles.count(),
+                                            [&](const ObjCorner& c) { got.push_back(c); });
+        ASSERT_EQ(got.size(), expected.size()) << chunk;
+        for (size_t i = 0; i < got.size(); ++i) {
+            ASSERT_EQ(got[i].v, expected[i].v) << chunk << " corner " << i;
+            ASSERT_EQ(got[i].vt, expected[i].vt) << chunk << " corner " << i;
+            ASSERT_EQ(got[i].vn, expected[i].vn) << chunk << " corner " << i;
+        }
+        ASSERT_EQ(p->events.size(), whole->events.size()) << chunk;
+        for (size_t i = 0; i < p->events.size(); ++i)
+            EXPECT_EQ(p->events[i].triangle, whole->events[i].triangle) << chunk << " event " << i;
+    }
+}
+
+// Random polygons of 5 to 9 corners on a small integer lattice (so many are concave, repeat
+// positions or have collinear corners), with the same file at every chunk size.
+TEST(ObjParseEquivalence, RandomNgonsGiveTheReferenceIr) {
+    TempDir dir("obj_parse_random_ngons");
+    FloatCompare floats;
+    uint32_t state = 38;
+    auto next = [&](int range) {
+        state = state * 1664525u + 1013904223u;
+        return int((state >> 8) % uint32_t(range));
+    };
+    std::vector<std::vector<std::array<float, 3>>> polygons;
+    size_t empty = 0;
+    while (polygons.size() < 300) {
+        std::vector<std::array<float, 3>> poly(size_t(5 + next(5)));
+        const bool planar = next(3) != 0;
+        for (auto& p : poly)
+            p = {float(next(9) - 4), float(next(9) - 4), planar ? 0.0f : float(next(9) - 4)};
+        // Polygons left without any triangle go to tinyobjloader (obj_parse.h): kept apart.
+        if (!parseObjText(ngonObj({poly}), ObjParseOptions{1, 0}).has_value()) {
+            ++empty;
+            continue;
+        }
+        polygons.push_back(std::move(poly));
+    }
+    std::cout << empty << " random polygons left without a triangle\n";
+    const Comparison c = compareReaders(writeObj(dir, "random.obj", ngonObj(polygons)), floats);
+    if (HasFatalFailure()) return;
+    EXPECT_TRUE(c.ok);
+    EXPECT_EQ(c.reader, ObjReader::Fast);
+}
+
+// What still goes to tinyobjloader beside n-gons gives its result: a lenient face, "g" without a name,
+// a polygon naming a later position, one its ear clipping leaves empty.
+TEST(ObjParseEquivalence, NgonsBesideTheConstructsLeftToTinyobjloader) {
+    TempDir dir("obj_parse_ngon_fallback");
+    FloatCompare floats;
+    const std::string ngons = ngonObj(handMadeNgons());
+    size_t vertices = 0;
+    for (const auto& poly : handMadeNgons()) vertices += poly.size();
+    const std::string cases[] = {
+        ngons + "f 1 2 3x\n", // tinyobjloader reads "3x" as 3
+        ngons + "g \n", // tinyobjloader warns with the line number
+        ngons + "f 1 2 3 4 " + std::to_string(vertices + 1) + "\nv 0 0 0\n",
+        ngons + "v -1 -4 0\nv 2 4 0\nv -1 2 0\nv 4 0 0\nv 0 2 0\nv -4 3 -1\n"
+                "f -6 -5 -4 -3 -2 -1\n", // ear clipping gives nothing
+    };
+    for (size_t i = 0; i < std::size(cases); ++i) {
+        const Comparison c =
+            compareReaders(writeObj(dir, "mixed" + std::to_string(i) + ".obj", cases[i]), floats);
+        if (HasFatalFailure()) return;
+        EXPECT_TRUE(c.ok) << i;
+        EXPECT_EQ(c.reader, ObjReader::Tinyobj) << i;
+    }
+}
+
+// The held-out case of issue 38: a few pentagons in a large file no longer send it to
+// tinyobjloader (which read all of it on one thread).
+TEST(ObjParseEquivalence, AFewNgonsInALargeFileStayOnTheFastPath) {
+    TempDir dir("obj_parse_few_ngons");
+    std::string text = "mtllib two.mtl\n";
+    int vertices = 0;
+    for (int i = 0; i < 80; ++i) {
+        text += gridObj(i % 2, i % 3 == 0).substr(std::strlen("# generated\nmtllib two.mtl\n"));
+        vertices += 64;
+        // A pentagon over five of this grid's positions (absolute indices).
+        const int b = vertices - 63;
+        text += "f " + std::to_string(b) + " " + std::to_string(b + 1) + " " +
+                std::to_string(b + 5) + " " + std::to_string(b + 8) + " " +
+                std::to_string(b + 4) + "\n";
+    }
+    ASSERT_GT(text.size(), size_t(300) << 10) << "more than one default chunk";
+    const std::string file = writeObj(dir, "scene.obj", text);
+    ObjReader used = ObjReader::Tinyobj;
+    auto got = importObjWith(file, ObjImportOptions{2}, &used);
+    EXPECT_EQ(used, ObjReader::Fast);
+    ObjImportOptions reference;
+    reference.tinyobjOnly = true;
+    auto want = importObjWith(file, reference);
+    ASSERT_TRUE(got.ok() && want.ok());
+    FloatCompare floats;
+    expectSameScene(*got, *want, floats, file);
+}
+
+// [SECTION] lenient number lines
+
+// "v"/"vt"/"vn" lines outside the strict grammar are read by tinyobjloader, those lines alone,
+// in a file that stays on the fast path: defaults for missing numbers, a "w", words, "1x",
+// numbers beyond double; colours kept only when every "v" line has one.
+TEST(ObjParseEquivalence, LenientNumberLinesAreReadByTinyobjloaderAlone) {
+    TempDir dir("obj_parse_lenient");
+    FloatCompare floats;
+    const std::string grid = gridObj(false, true);
+    const std::string coloured = gridObj(true, false);
+    const std::string cases[] = {
+        "v 1 2\nv 1 2 3 1\nv 1x 2 3\nvt 0.5\nvt 1 2 3 4\nvn nan 0 1\nvn 1e400 0 1\n" + grid,
+        grid + "v 1 2\nv 9 9 9 1\nvt 0.5\nvn 0 1\nf -1/-1/-1 -2/-2/-2 -3/-1/-2\n",
+        coloured + "v 1 2 3 0.5 0.5 0.5 1\nf -1 -2 -3\n", // 7 numbers: a colour (kept)
+        coloured + "v 1 2 3 0.5\nf -1 -2 -3\n",           // 4: none, so no colours at all
+        "v 0 0 0\nv 1 0 0\nv 0 1 0 # c\nf 1 2 3\n",
+    };
+    for (size_t i = 0; i < std::size(cases); ++i) {
+        const Comparison c =
+            compareReaders(writeObj(dir, "l" + std::to_string(i) + ".obj", cases[i]), floats);
+        if (HasFatalFailure()) return;
+        EXPECT_TRUE(c.ok) << i;
+        EXPECT_EQ(c.reader, ObjReader::Fast) << i;
+    }
+    auto r = importObj(writeObj(dir, "l2.obj", cases[2]));
+    ASSERT_TRUE(r.ok());
+    EXPECT_FALSE(r->meshes.back().primitives.back().colors.empty());
+    // A lone carriage return in such a line still sends the file to tinyobjloader.
+    const Comparison cr = compareReaders(writeObj(dir, "cr.obj", "v 1 2\r3\n" + grid), floats);
+    EXPECT_EQ(cr.reader, ObjReader::Tinyobj);
+}
+
+// tinyobjloader's "t" (tags) and "vw" (skin weights) extensions are ignored by the importer;
+// the fast path ignores them too, on either side of n-gons.
+TEST(ObjParseEquivalence, ExtensionLinesStayOnTheFastPath) {
+    TempDir dir("obj_parse_extensions");
+    FloatCompare floats;
+    const std::string text = "t crease 1/1/0 2\n  vw 6e21 0 1\n" + ngonObj(handMadeNgons()) +
+                             "vw\t0 1 0.5\nt hole 0/0/0\n";
+    const Comparison c = compareReaders(writeObj(dir, "ext.obj", text), floats);
+    if (HasFatalFailure()) return;
+    EXPECT_TRUE(c.ok);
+    EXPECT_EQ(c.reader, ObjReader::Fast);
+}
+
+// What common exporters write, in their own layout (abridged from their output): every file
+// stays on the fast path and gives the reference IR.
+TEST(ObjParseEquivalence, CommonExportersStayOnTheFastPath) {
+    TempDir dir("obj_parse_exporters");
+    FloatCompare floats;
+    const std::string cube = "v 1.000000 1.000000 -1.000000\nv 1.000000 -1.000000 -1.000000\n"
+                             "v 1.000000 1.000000 1.000000\nv 1.000000 -1.000000 1.000000\n"
+                             "v -1.000000 1.000000 -1.000000\nv -1.000000 -1.000000 -1.000000\n"
+                             "v -1.000000 1.000000 1.000000\nv -1.000000 -1.000000 1.000000\n";
+    const std::pair<const char*, std::string> files[] = {
+        // Blender 3.x/4.x: "o", "s 0/1", n-gons by default, loose edges as "l", -0.0000.
+        {"blender.obj", "# Blender 4.1.1\n# www.blender.org\nmtllib two.mtl\no Cube\n" + cube +
+                            "v 0.000000 1.500000 0.000000\nvn -0.0000 1.0000 -0.0000\n"
+                            "vn -0.0000 -0.0000 1.0000\nvt 0.625000 0.500000\nvt 0.375000 0.500000\n"
+                            "vt 0.625000 0.750000\ns 0\nusemtl red\nf 1/1/1 5/2/1 9/3/1 7/1/1 3/2/1\n"
+                            "f 4/1/2 3/2/2 7/3/2 8/1/2\nusemtl green tree\nf 8/1/2 7/2/2 5/3/2 6/1/2\n"
+                            "s 1\nf 6/1/1 2/2/1 4/3/1 8/2/1\nf 2/1/1 1/2/1 3/3/1 4/1/1\nl 1 2\nl 2 6\n"
+                            "o Plane.001\nv -2 0 -2\nv 2 0 -2\nv -2 0 2\nv 2 0 2\nv 0 0 3\n"
+                            "vn -0.0000 1.0000 -0.0000\ns 0\nf -5//3 -3//3 -1//3 -2//3 -4//3\n"},
+        // 3ds Max: two blanks after "v", three vt numbers, trailing blanks, "g" closing objects.
+        {"max.obj", "# 3ds Max Wavefront OBJ Exporter v0.97b - (c)2007 guruware\n# File Created: "
+                    "07.12.2026 05:00:00\n\nmtllib ./two.mtl\n\n#\n# object Box001\n#\n\n"
+                    "v  -1.0000 -1.0000 0.0000\nv  -1.0000 1.0000 0.0000\nv  1.0000 1.0000 0.0000\n"
+                    "v  1.0000 -1.0000 0.0000\nv  0.0000 -1.5000 0.0000\n# 5 vertices\n\n"
+                    "vn 0.0000 0.0000 1.0000\n# 1 vertex normals\n\nvt 0.0000 0.0000 0.0000\n"
+                    "vt 1.0000 1.0000 0.0000\n# 2 texture coords\n\ng Box001\nusemtl red\ns 2\n"
+                    "f 1/1/1 2/2/1 3/1/1 4/2/1 5/1/1 \n# 1 polygons\n\ng\n"},
+        // Maya: "g default", "s off", quads and n-gons under a shading group.
+        {"maya.obj", "# This file uses centimeters as units for non-parametric coordinates.\n\n"
+                     "mtllib two.mtl\ng default\n" + cube +
+                     "vt 0.375 0.0\nvt 0.625 0.0\nvt 0.625 0.25\nvn 0.0 0.0 1.0\ns off\ng pCube1\n"
+                     "usemtl initialShadingGroup\nf 1/1/1 2/2/1 4/3/1 3/1/1\n"
+                     "f 3/1/1 4/2/1 8/3/1 7/1/1 5/2/1\n"},
+        // ZBrush: #MRGB comment blocks, quads.
+        {"zbrush.obj", "#\n# Wavefront OBJ file\n# Created by ZBrush\n#\n" + cube +
+                           "#MRGB ff7f7f7fff7f7f7fff7f7f7fff7f7f7f\nvt 0 0\nvt 1 0\nvt 1 1\n"
+                           "g Cube\nf 1/1 2/2 4/3 3/1\nf 5/1 6/2 8/3 7/1\n"},
+        // MeshLab: vertex colours, "v//vn" faces, CRLF.
+        {"meshlab.obj", withCrLf("####\n#\n# OBJ File Generated by Meshlab\n#\n####\n"
+                                 "# Vertices: 4\n# Faces: 2\n####\n"
+                                 "vn 0 0 1\nv 0 0 0 1 0 0\nvn 0 0 1\nv 1 0 0 0 1 0\nvn 0 0 1\n"
+                                 "v 1 1 0 0 0 1\nvn 0 0 1\nv 0 1 0 1 1 1\n"
+                                 "f 1//1 2//2 3//3\nf 1//1 3//3 4//4\n# 2 faces, 0 coords texture\n"
+                                 "\n# End of File\n")},
+    };
+    for (const auto& [name, text] : files) {
+        const Comparison c = compareReaders(writeObj(dir, name, text), floats);
+        if (HasFatalFailure()) return;
+        EXPECT_TRUE(c.ok) << name;
+        EXPECT_EQ(c.reader, ObjReader::Fast) << name;
+    }
+}
+
+// [SECTION] lines and points
+
+// "l" and "p" lines (Blender writes loose edges as "l") stay on the fast path, and the
+// importer's warnings count them as tinyobjloader does: per group, again at each material
+// change, lost with a "g" group that has no faces, kept with an "o" object.
+TEST(ObjParseEquivalence, LinesAndPointsGiveTheReferenceIr) {
+    TempDir dir("obj_parse_lines");
+    FloatCompare floats;
+    const std::string v = "mtllib two.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nvt 0 0\nvn 0 0 1\n";
+    const std::string cases[] = {
+        v + "o edges\nl 1 2\nl 2 3 4\nf 1 2 3\n",
+        v + "f 1 2 3\nl 1 2\nusemtl red\nf 2 3 4\nl 3 4\nusemtl green tree\nf 1 2 4\n",
+        v + "g lonely\nl 1 2\ng faces\nf 1 2 3\nl -1 -2\n",
+        v + "o only_lines\nl 1 2\nl 2 3\no next\nf 1 2 3\n",
+        v + "f 1 2 3\no at_end\nl 1/1 2/1\np 3\n",
+        v + "o pts\np 1 2 3\np 4\nusemtl red\np 1//1\nf 1/1/1 2/1/1 3/1/1 4/1/1 1/1/1\n",
+        v + "l 1 2\n", // nothing but a line: an error, no triangle meshes
+        v + "f 1 2 3\nl 9 -9\n", // positions out of range: not checked
+        withCrLf(v + "o a\nl 1 2 \nf 1 2 3\ns 1\nusemtl red\n  l\t3 4\np 1\n"),
+    };
+    for (size_t i = 0; i < std::size(cases); ++i) {
+        const Comparison c =
+            compareReaders(writeObj(dir, "lines" + std::to_string(i) + ".obj", cases[i]), floats);
+        if (HasFatalFailure()) return;
+        EXPECT_EQ(c.reader, ObjReader::Fast) << i;
+        EXPECT_EQ(c.ok, i != 6) << i;
+    }
+    auto r = importObj(writeObj(dir, "lines1.obj", cases[1]));
+    ASSERT_TRUE(r.ok());
+    // 1 + 2 + 2: the first line counted at both material changes and at the end.
+    EXPECT_TRUE(hasWarning(*r, {"dropped 5 line(s)"})) << allWarnings(*r);
 }
 
 // [SECTION] whole conversions
