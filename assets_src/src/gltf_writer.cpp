@@ -132,6 +132,7 @@ json materialJson(const Material& m) {
         j["alphaMode"] = "BLEND";
     }
     if (m.doubleSided) j["doubleSided"] = true;
+    if (m.unlit) j["extensions"]["KHR_materials_unlit"] = json::object();
     if (m.emissiveFactor != Float3{0, 0, 0}) j["emissiveFactor"] = arr(m.emissiveFactor);
     return j;
 }
@@ -382,6 +383,8 @@ std::vector<uint8_t> encodeGlb(const Document& doc, GlbStats* stats) {
         root["extensionsUsed"] = json::array({"KHR_lights_punctual"});
     }
     if (instancing) root["extensionsUsed"].push_back("EXT_mesh_gpu_instancing");
+    if (std::any_of(doc.materials.begin(), doc.materials.end(), [](const Material& m) { return m.unlit; }))
+        root["extensionsUsed"].push_back("KHR_materials_unlit");
     json scene = json::object();
     if (!doc.nodes.empty()) scene["nodes"] = rootNodes(doc);
     if (!doc.sceneName.empty()) scene["name"] = doc.sceneName;

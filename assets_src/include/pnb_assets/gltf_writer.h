@@ -62,6 +62,7 @@ struct Material {
     AlphaMode alphaMode = AlphaMode::Opaque;
     float alphaCutoff = 0.5f; // written only for AlphaMode::Mask. Default 0.5.
     bool doubleSided = false;
+    bool unlit = false;             // KHR_materials_unlit
     Float3 emissiveFactor{0, 0, 0}; // linear RGB, each in [0, 1]
     int32_t baseColorImage = kNone; // index into Document::images, or kNone. The texture
                                     // uses a repeat-wrap, trilinear sampler.

@@ -1,7 +1,9 @@
-// Two node transforms real glTF files use, headless: a mirrored node (negative scale) is drawn
-// and lit like its unmirrored twin (glTF's NegativeScaleTest), and EXT_mesh_gpu_instancing copies
-// are drawn as one instanced draw with the same image as the same copies as separate nodes
-// (SimpleInstancing). The Khronos models themselves: tests/conformance/.
+// What real glTF files use, headless: a mirrored node (negative scale) is drawn and lit like its
+// unmirrored twin (glTF's NegativeScaleTest), EXT_mesh_gpu_instancing copies are drawn as one
+// instanced draw with the same image as the same copies as separate nodes (SimpleInstancing), and
+// a KHR_materials_unlit surface shows its colour whatever the light, in both shading paths
+// (UnlitTest). The Khronos models themselves: tests/conformance/.
+#include <array>
 #include <cmath>
 
 #include "render_fixture.h"
@@ -95,6 +97,48 @@ TEST(Instancing, CopiesAreOneInstancedDrawWithTheSameImageAsSeparateNodes) {
     EXPECT_EQ(a.stats.triangles, b.stats.triangles);
     const ImageDiff d = compareRgba8(a.color, b.color);
     EXPECT_LE(d.maxAbs, 2) << "mean " << d.meanAbs;
+}
+
+// Unlit surfaces (deferred: opaque; forward: blended at alpha 1) keep their colour when the sun
+// is ten times brighter; the lit twin of each does not.
+TEST(Unlit, TheColourIsTheSameWhateverTheLightInBothPaths) {
+    auto scene = [](float sunIntensity) {
+        gltf::Document doc = litDocument();
+        doc.lights[0].intensity = sunIntensity;
+        gltf::Material unlit;
+        unlit.name = "unlit";
+        unlit.baseColorFactor = {0.6f, 0.3f, 0.1f, 1};
+        unlit.unlit = true;
+        gltf::Material unlitForward = unlit;
+        unlitForward.name = "unlitForward";
+        unlitForward.alphaMode = gltf::AlphaMode::Blend;
+        gltf::Material lit = unlit;
+        lit.name = "lit";
+        lit.unlit = false;
+        doc.materials = {unlit, unlitForward, lit};
+        addObject(doc, "deferred", quad(1.8f, 1.8f, 0), {-2, 1, 0});
+        addObject(doc, "forward", quad(1.8f, 1.8f, 1), {0, 1, 0});
+        addObject(doc, "lit", quad(1.8f, 1.8f, 2), {2, 1, 0});
+        return doc;
+    };
+    const CameraState view = lookAt({0, 1, 6}, {0, 1, 0});
+    const Rendered dim = render(convert(scene(0.5f), "unlit-dim"), view, kW, kH);
+    const Rendered bright = render(convert(scene(5.0f), "unlit-bright"), view, kW, kH);
+    // The view's half width at the quads (distance 6, yfov 0.8, aspect 4:3): 6 tan(0.4) 4/3.
+    const float halfWidth = 6.0f * std::tan(0.4f) * float(kW) / float(kH);
+    auto pixel = [&](const Rendered& r, float worldX) { // the centre of the quad at x = worldX
+        const uint32_t x = uint32_t(float(kW) / 2 * (1 + worldX / halfWidth)), y = kH / 2;
+        const uint8_t* c = &r.color.u8[(size_t(y) * kW + x) * 4];
+        return std::array<int, 3>{c[0], c[1], c[2]};
+    };
+    for (float x : {-2.0f, 0.0f}) {
+        const auto a = pixel(dim, x), b = pixel(bright, x);
+        EXPECT_EQ(a, b) << "unlit quad at x = " << x;
+        EXPECT_GT(a[0], a[1]) << "its own colour, not black";
+        EXPECT_GT(a[1], a[2]);
+    }
+    const auto litDim = pixel(dim, 2.0f), litBright = pixel(bright, 2.0f);
+    EXPECT_GT(litBright[0], litDim[0] + 20) << "the lit twin does brighten";
 }
 
 } // namespace
