@@ -9,6 +9,7 @@
 #include <optional>
 
 #include "environment_internal.h"
+#include "parallel_for.h"
 #include "pnb_converter/environment.h"
 #include "pnb_lighting/sh9.h"
 #include "pnb_lighting/split_sum.h"
@@ -163,7 +164,13 @@ Result<BakedEnvironment, ConvertError> bakeEnvironment(const RadianceImage& radi
     out.lut = texture(TextureDimension::Tex2D, TextureFormat::RG16F, s.lutSize, s.lutSize, 1,
                       Wrap::ClampToEdge, Wrap::ClampToEdge);
     {
-        const std::vector<float> ab = lighting::splitSumLut(s.lutSize, s.lutSize, s.lutSamples);
+        // Its rows on the bake's threads: the table was most of the default studio's bake time
+        // (0.1 of 0.13 s on one thread), and is the same for every environment.
+        std::vector<float> ab(size_t(s.lutSize) * s.lutSize * 2);
+        parallelFor(s.lutSize, jobs, [&](size_t j) {
+            lighting::splitSumLutRow(s.lutSize, s.lutSize, s.lutSamples, uint32_t(j),
+                                     &ab[j * s.lutSize * 2]);
+        });
         std::vector<std::byte> bytes(ab.size() * 2);
         for (size_t k = 0; k < ab.size(); ++k) {
             const uint16_t h = texture_detail::floatToHalf(ab[k]);

@@ -99,13 +99,16 @@ std::vector<float> splitSumLut(uint32_t width, uint32_t height, uint32_t samples
     std::vector<float> lut;
     if (width == 0 || height == 0) return lut;
     lut.resize(size_t(width) * height * 2);
-    for (uint32_t j = 0; j < height; ++j)
-        for (uint32_t i = 0; i < width; ++i) {
-            glm::dvec2 ab = splitSumBrdf((i + 0.5) / width, (j + 0.5) / height, samples);
-            lut[(size_t(j) * width + i) * 2] = float(ab.x);
-            lut[(size_t(j) * width + i) * 2 + 1] = float(ab.y);
-        }
+    for (uint32_t j = 0; j < height; ++j) splitSumLutRow(width, height, samples, j, &lut[size_t(j) * width * 2]);
     return lut;
+}
+
+void splitSumLutRow(uint32_t width, uint32_t height, uint32_t samples, uint32_t j, float* out) {
+    for (uint32_t i = 0; i < width; ++i) {
+        glm::dvec2 ab = splitSumBrdf((i + 0.5) / width, (j + 0.5) / height, samples);
+        out[size_t(i) * 2] = float(ab.x);
+        out[size_t(i) * 2 + 1] = float(ab.y);
+    }
 }
 
 } // namespace pnb::lighting

@@ -65,4 +65,8 @@ glm::dvec2 splitSumBrdf(double nDotV, double roughness, uint32_t samples);
 // empty vector.
 std::vector<float> splitSumLut(uint32_t width, uint32_t height, uint32_t samples);
 
+// Row j of that table (width × 2 floats into `out`): rows are independent, so a caller with
+// threads (the converter's environment bake) fills them in parallel, bit for bit the same.
+void splitSumLutRow(uint32_t width, uint32_t height, uint32_t samples, uint32_t j, float* out);
+
 } // namespace pnb::lighting
