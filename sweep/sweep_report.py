@@ -480,6 +480,12 @@ def write_report(columns, rows, out_dir, results_dir=None, extremes=None, experi
     os.replace(os.path.join(out_dir, "results.csv.tmp"), os.path.join(out_dir, "results.csv"))
     body = ["<h1>pnb-sweep report</h1>",
             "<p>%d configurations. <a href=\"results.csv\">results.csv</a></p>" % len(rows)]
+    # scripts/gallery's sheets beside the report (scripts/demo writes them to ../gallery): the
+    # Khronos sample models as the player draws them next to the sample viewer's screenshots.
+    if os.path.exists(os.path.join(out_dir, "..", "gallery", "index.html")):
+        body.append("<p><a href=\"../gallery/index.html\">Conformance gallery</a>: the Khronos "
+                    "glTF sample models, ours next to the sample viewer's screenshot, each judged "
+                    "by its own criterion.</p>")
     if experiments:
         body += index_section(experiments)
     body += command_section(command_rows, results_dir)
