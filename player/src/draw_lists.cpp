@@ -30,6 +30,18 @@ static_assert(sizeof(InstanceData) == 144);
 constexpr GLuint kInstanceBinding = 10; // SSBO binding of InstanceBlock (surface.vert)
 constexpr uint32_t kNoGroup = 0xFFFFFFFFu;
 
+ObjectBlock objectBlock(const GpuScene& scene, const DrawItem& item, const glm::dmat4& toCamera,
+                        float casterIndex) {
+    const GpuMesh& mesh = scene.meshes[item.mesh];
+    ObjectBlock block;
+    block.model = glm::mat4(toCamera * item.world); // relative in double, then float
+    block.normalMatrix = glm::mat4(item.normalMatrix);
+    block.dequantScale = glm::vec4(mesh.dequantScale, 0);
+    block.dequantOffset = glm::vec4(mesh.dequantOffset, 0);
+    block.params = {mesh.octahedralNormals ? 1.0f : 0.0f, casterIndex, item.mirrored ? -1.0f : 1.0f, 0};
+    return block;
+}
+
 bool layerHasTranslucency(const GpuScene& scene, std::span<const DrawRef> refs) {
     return std::any_of(refs.begin(), refs.end(), [&](const DrawRef& r) {
         return scene.materials[scene.items[r.item].material].translucent();
@@ -40,13 +52,7 @@ bool layerHasTranslucency(const GpuScene& scene, std::span<const DrawRef> refs) 
 
 size_t pushObjectBlock(const GpuScene& scene, const DrawItem& item, const glm::dmat4& toCamera,
                        StreamRing& ring, float casterIndex) {
-    const GpuMesh& mesh = scene.meshes[item.mesh];
-    ObjectBlock block;
-    block.model = glm::mat4(toCamera * item.world); // relative in double, then float
-    block.normalMatrix = glm::mat4(item.normalMatrix);
-    block.dequantScale = glm::vec4(mesh.dequantScale, 0);
-    block.dequantOffset = glm::vec4(mesh.dequantOffset, 0);
-    block.params = {mesh.octahedralNormals ? 1.0f : 0.0f, casterIndex, item.mirrored ? -1.0f : 1.0f, 0};
+    const ObjectBlock block = objectBlock(scene, item, toCamera, casterIndex);
     return ring.push(&block, sizeof block);
 }
 
@@ -125,8 +131,10 @@ void drawItems(FrameContext& ctx, std::span<const DrawRef> refs, GLuint program,
     int cullState = -1;
     bool clockwise = false; // glFrontFace: a mirrored item's triangles wind the other way
     // Consecutive copies of one instanced submesh at one level draw as one instanced draw, in
-    // the passes whose programs are the materials' own (surface.vert reads the copies).
+    // the passes whose programs are the materials' own (surface.vert reads the copies): those
+    // draw the main view's lists, whose object blocks are relative to ctx.view's position.
     const bool batching = program == 0 && materialProgram == &GpuMaterial::program;
+    const glm::dmat4 toCamera = glm::translate(glm::dmat4(1.0), -ctx.view.position);
     for (size_t r = 0; r < refs.size();) {
         const DrawRef& ref = refs[r];
         const DrawItem& item = scene.items[ref.item];
@@ -160,18 +168,17 @@ void drawItems(FrameContext& ctx, std::span<const DrawRef> refs, GLuint program,
         if (item.mirrored != clockwise) glFrontFace((clockwise = item.mirrored) ? GL_CW : GL_CCW);
         size_t objectOffset = ref.objectOffset;
         if (copies > 1) {
-            // The copies' object blocks, as buildDrawLists pushed them, packed into the array
-            // surface.vert indexes with gl_InstanceID; the first block, flagged (params.w), says so.
+            // The copies' matrices packed into the array surface.vert indexes with
+            // gl_InstanceID; the first copy's object block, flagged (params.w), says so. (Built
+            // again rather than read back: the ring's mapping is write-only.)
             std::byte* array = nullptr;
             const size_t arrayOffset = ctx.ring.allocate(copies * sizeof(InstanceData), array);
             for (size_t k = 0; k < copies; ++k) {
-                ObjectBlock b;
-                std::memcpy(&b, ctx.ring.at(refs[r + k].objectOffset), sizeof b);
+                const ObjectBlock b = objectBlock(scene, scene.items[refs[r + k].item], toCamera, 0.0f);
                 const InstanceData d{b.model, b.normalMatrix, b.params};
                 std::memcpy(array + k * sizeof d, &d, sizeof d);
             }
-            ObjectBlock head;
-            std::memcpy(&head, ctx.ring.at(ref.objectOffset), sizeof head);
+            ObjectBlock head = objectBlock(scene, item, toCamera, 0.0f);
             head.params.w = 1.0f;
             objectOffset = ctx.ring.push(&head, sizeof head);
             glBindBufferRange(GL_SHADER_STORAGE_BUFFER, kInstanceBinding, ctx.ring.buffer(),

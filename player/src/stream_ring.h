@@ -38,9 +38,6 @@ public:
     void endFrame();
 
     GLuint buffer() const { return mBuffer.id(); }
-    // What an earlier push of this frame wrote at buffer offset `offset` (for a pass that
-    // regroups blocks it pushed before; the mapping is coherent, so this reads what the GPU will).
-    const std::byte* at(size_t offset) const { return mMapped + offset; }
     size_t totalBytes() const { return mSectionBytes * kSections; }
 
 private:
