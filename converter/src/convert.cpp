@@ -287,10 +287,11 @@ Result<ConvertSummary, ConvertError> convertScene(const ConvertSettings& s,
     if (!imported) return imported.error();
     IrScene& scene = *imported;
     sum.warnings = scene.warnings;
-    for (const IrNotRendered& n : scene.notRendered)
-        sum.notRendered.push_back(n.feature + " (" +
-                                  (n.count ? std::to_string(n.count) + " " : std::string()) +
-                                  n.unit + "): " + n.fallback);
+    for (const IrNotRendered& n : scene.notRendered) {
+        std::string use = n.count ? std::to_string(n.count) : std::string();
+        if (!n.unit.empty()) use += (use.empty() ? "" : " ") + n.unit;
+        sum.notRendered.push_back(n.feature + " (" + use + "): " + n.fallback);
+    }
     sum.dependencies.push_back(s.input);
     for (const std::string& d : scene.dependencies) sum.dependencies.push_back(d);
     clock.stop();

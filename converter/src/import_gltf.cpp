@@ -477,7 +477,7 @@ Result<IrScene, ConvertError> importGltfUnguarded(const std::string& path,
     ctx.cameraMap.assign(model.cameras.size(), -1);
 
     if (!model.skins.empty())
-        scene.noteNotRendered("skins", model.skins.size(), "skins",
+        scene.noteNotRendered("skins", model.skins.size(), "",
                               "the meshes in their bind pose, as stored");
     if (!model.animations.empty())
         scene.noteNotRendered("animations", model.animations.size(), "clips",

@@ -124,7 +124,8 @@ struct IrCamera {
 struct IrNotRendered {
     std::string feature;
     size_t count = 0;     // 0: `unit` says it all ("2 materials, 1 texture")
-    std::string unit;     // what `count` counts: "materials", "primitives", "clips", ...
+    std::string unit;     // what `count` counts: "materials", "primitives", "clips", ... ("":
+                          // the feature's own name says it: "skins (2)")
     std::string fallback; // what the player draws instead
 };
 
