@@ -125,13 +125,29 @@ Result<MaterialOverrides, ConvertError> loadSidecar(const std::string& path) {
 
 namespace {
 
-// A KHR_materials_pbrSpecularGlossiness material (IrMaterial::specGloss) in metallic-roughness:
-// without textures its factors are converted once; with a diffuse or specular-glossiness texture
-// the conversion runs per texel (TextureRequest::specGloss) into a base colour and a
-// metallic-roughness texture of this material's own, and its factors become 1.
-std::optional<ConvertError> resolveSpecGloss(const IrScene& scene, const IrMaterial& source,
-                                             const std::string& name, Material& m,
-                                             MaterialFeatures& f, ResolvedMaterials& r) {
+// A KHR_materials_pbrSpecularGlossiness material's metallic-roughness factors, before sidecar
+// overrides apply to them: converted once when it has no texture, 1 when the conversion runs per
+// texel (resolveSpecGlossTextures).
+void specGlossFactors(const IrMaterial& source, Material& m) {
+    const SpecGlossFactors& k = *source.specGloss;
+    if (source.textures[size_t(TextureSlotKind::BaseColor)].image < 0 &&
+        source.textures[size_t(TextureSlotKind::MetallicRoughness)].image < 0) {
+        const MetalRough c = specGlossToMetalRough(k.diffuse, k.specular, k.glossiness);
+        m.baseColorFactor = c.baseColor;
+        m.metallicFactor = c.metallic;
+        m.roughnessFactor = c.roughness;
+    } else {
+        m.baseColorFactor = {1, 1, 1, 1};
+        m.metallicFactor = m.roughnessFactor = 1;
+    }
+}
+
+// Its textures: with a diffuse or specular-glossiness texture the conversion runs per texel
+// (TextureRequest::specGloss) into a base colour and a metallic-roughness texture of this
+// material's own.
+std::optional<ConvertError> resolveSpecGlossTextures(const IrScene& scene, const IrMaterial& source,
+                                                     const std::string& name, Material& m,
+                                                     MaterialFeatures& f, ResolvedMaterials& r) {
     const SpecGlossFactors& k = *source.specGloss;
     const IrTextureRef& diffuse = source.textures[size_t(TextureSlotKind::BaseColor)];
     const IrTextureRef& specular = source.textures[size_t(TextureSlotKind::MetallicRoughness)];
@@ -142,13 +158,7 @@ std::optional<ConvertError> resolveSpecGloss(const IrScene& scene, const IrMater
             return inputError(scene.sourcePath + ": material '" + name + "' refers to image " +
                               std::to_string(ref->image) + " of " +
                               std::to_string(scene.images.size()));
-    if (diffuse.image < 0 && specular.image < 0) {
-        const MetalRough c = specGlossToMetalRough(k.diffuse, k.specular, k.glossiness);
-        m.baseColorFactor = c.baseColor;
-        m.metallicFactor = c.metallic;
-        m.roughnessFactor = c.roughness;
-        return std::nullopt;
-    }
+    if (diffuse.image < 0 && specular.image < 0) return std::nullopt;
     // The texels are converted on the grid of one texture: both must be read alike.
     const IrTextureRef& grid = diffuse.image >= 0 ? diffuse : specular;
     if (diffuse.image >= 0 && specular.image >= 0 &&
@@ -158,8 +168,6 @@ std::optional<ConvertError> resolveSpecGloss(const IrScene& scene, const IrMater
         r.warnings.push_back("material '" + name + "': KHR_materials_pbrSpecularGlossiness's "
                              "two textures use different UV sets or transforms; converted on "
                              "the diffuse texture's");
-    m.baseColorFactor = {1, 1, 1, 1};
-    m.metallicFactor = m.roughnessFactor = 1;
     for (bool toMetallicRoughness : {false, true}) {
         TextureRequest req;
         req.image = diffuse.image >= 0 ? &scene.images[size_t(diffuse.image)] : nullptr;
@@ -220,6 +228,7 @@ Result<ResolvedMaterials, ConvertError> resolveMaterials(const IrScene& scene,
     std::vector<bool> ruleMatched(overrides.rules.size(), false);
     for (size_t i = 0; i < sources.size(); ++i) {
         Material m = sources[i]->pbr;
+        if (sources[i]->specGloss) specGlossFactors(*sources[i], m);
         m.name = kNone;
         m.program = kNone;
         m.shadingPath = m.alphaMode == AlphaMode::Blend ? ShadingPath::Forward : ShadingPath::Deferred;
@@ -258,7 +267,7 @@ Result<ResolvedMaterials, ConvertError> resolveMaterials(const IrScene& scene,
         MaterialFeatures& f = r.features[i];
         f.alphaMask = m.alphaMode == AlphaMode::Mask;
         if (sources[i]->specGloss) {
-            if (auto e = resolveSpecGloss(scene, *sources[i], r.names[i], m, f, r)) return *e;
+            if (auto e = resolveSpecGlossTextures(scene, *sources[i], r.names[i], m, f, r)) return *e;
         }
         for (size_t slot = 0; slot < size_t(TextureSlotKind::Count); ++slot) {
             const IrTextureRef& ref = sources[i]->textures[slot];

@@ -162,6 +162,31 @@ TEST(MaterialResolve, OneImageThroughTwoSamplersIsTwoTextures) {
     EXPECT_EQ(r->textures[b].wrapU, Wrap::Repeat);
 }
 
+// A spec-gloss material is converted before the sidecar applies: a user's override of its
+// roughness wins over the converted factor, and its gold stays gold.
+TEST(MaterialResolve, SpecGlossFactorsAreConvertedBeforeOverrides) {
+    IrScene s;
+    s.sourcePath = "gold.gltf";
+    IrMaterial gold;
+    gold.name = "gold";
+    gold.specGloss = SpecGlossFactors{{0, 0, 0, 1}, {1.0f, 0.766f, 0.336f}, 0.8f};
+    s.materials = {gold};
+    IrMesh mesh;
+    mesh.primitives.push_back(IrPrimitive{.positions = {0, 0, 0}, .material = 0});
+    s.meshes = {mesh};
+    auto plain = resolveMaterials(s, {});
+    ASSERT_TRUE(plain.ok()) << plain.error().message;
+    EXPECT_GT(plain->materials[0].metallicFactor, 0.95f);
+    EXPECT_NEAR(plain->materials[0].roughnessFactor, 0.2f, 1e-6f);
+    EXPECT_NEAR(plain->materials[0].baseColorFactor.y, 0.766f, 0.05f);
+    MaterialOverrides o;
+    o.rules.push_back({"gold", {{"roughness", "0.6"}}});
+    auto overridden = resolveMaterials(s, o);
+    ASSERT_TRUE(overridden.ok()) << overridden.error().message;
+    EXPECT_FLOAT_EQ(overridden->materials[0].roughnessFactor, 0.6f);
+    EXPECT_GT(overridden->materials[0].metallicFactor, 0.95f);
+}
+
 // KHR_materials_pbrSpecularGlossiness with Khronos's published conversion: a metal (black
 // diffuse, coloured specular) keeps its colour as base colour with metallic ~1, not black; a
 // dielectric (4 % specular) keeps its diffuse with metallic 0.
