@@ -82,6 +82,22 @@ inline uint32_t addObject(gltf::Document& doc, const std::string& name, gltf::Pr
     return uint32_t(doc.nodes.size() - 1);
 }
 
+// Adds a directional light ("sun", KHR_lights_punctual) of `intensity` lux on a node turned by
+// `rotation` (it shines down the node's -Z; gltf::lookRotation(direction) aims it); returns the
+// node's index.
+inline uint32_t addSun(gltf::Document& doc, float intensity, gltf::Float4 rotation) {
+    gltf::Light sun;
+    sun.name = "sun";
+    sun.intensity = intensity;
+    doc.lights.push_back(sun);
+    gltf::Node node;
+    node.name = "sun";
+    node.light = int32_t(doc.lights.size() - 1);
+    node.rotation = rotation;
+    doc.nodes.push_back(node);
+    return uint32_t(doc.nodes.size() - 1);
+}
+
 // Writes doc as dir/name.glb (+ dir/name.sidecar.json if given), converts it to dir/name.pnb
 // and returns that path. A conversion error fails the test.
 inline std::string convertDocument(const std::string& dir, const gltf::Document& doc,

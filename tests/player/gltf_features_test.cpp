@@ -20,15 +20,7 @@ gltf::Document litDocument() {
     grey.baseColorFactor = {0.7f, 0.7f, 0.7f, 1};
     grey.metallicFactor = 0.0f;
     doc.materials.push_back(grey);
-    gltf::Light sun;
-    sun.name = "sun";
-    sun.intensity = 3.0f;
-    doc.lights.push_back(sun);
-    gltf::Node sunNode;
-    sunNode.name = "sun";
-    sunNode.light = 0;
-    sunNode.rotation = gltf::lookRotation({0.0f, -1.0f, -0.6f}); // symmetric in x
-    doc.nodes.push_back(sunNode);
+    addSun(doc, 3.0f, gltf::lookRotation({0.0f, -1.0f, -0.6f})); // symmetric in x
     return doc;
 }
 

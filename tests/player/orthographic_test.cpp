@@ -32,15 +32,7 @@ std::string twoCubes() {
     doc.materials.push_back(grey);
     addObject(doc, "nearCube", box(1, 1, 1, 0), {-1.5f, 0, -2});
     addObject(doc, "farCube", box(1, 1, 1, 0), {1.5f, 0, -12});
-    gltf::Light sun;
-    sun.name = "sun";
-    sun.intensity = 2.0f;
-    doc.lights.push_back(sun);
-    gltf::Node sunNode;
-    sunNode.name = "sun";
-    sunNode.light = 0;
-    sunNode.rotation = gltf::lookRotation({0.3f, -0.5f, -1.0f});
-    doc.nodes.push_back(sunNode);
+    addSun(doc, 2.0f, gltf::lookRotation({0.3f, -0.5f, -1.0f}));
     gltf::Camera ortho;
     ortho.name = "ortho";
     ortho.orthographic = true;
@@ -134,15 +126,8 @@ TEST(Orthographic, TheViewVectorIsTheSameAtEveryPixel) {
     doc.materials = {gloss, glossForward};
     addObject(doc, "deferredHalf", quad(20, 40, 0), {-10, 0, 0});
     addObject(doc, "forwardHalf", quad(20, 40, 1), {10, 0, 0});
-    gltf::Light sun;
-    sun.name = "sun";
-    sun.intensity = 3.0f;
-    doc.lights.push_back(sun);
-    gltf::Node sunNode;
-    sunNode.name = "sun";
-    sunNode.light = 0;
-    sunNode.rotation = gltf::lookRotation({0.15f, -0.1f, -1.0f}); // its mirror image is near the view axis
-    doc.nodes.push_back(sunNode);
+    // Its mirror image is near the view axis.
+    addSun(doc, 3.0f, gltf::lookRotation({0.15f, -0.1f, -1.0f}));
     const std::string file = convert(doc, "gloss-plane");
 
     auto spread = [](const CapturedImage& hdr, bool left) {

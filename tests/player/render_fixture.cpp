@@ -40,15 +40,7 @@ void HeadlessEnvironment::TearDown() {
 }
 
 void addLights(gltf::Document& doc, gltf::Float3 offset) {
-    gltf::Light sun;
-    sun.name = "sun";
-    sun.intensity = 2.0f;
-    doc.lights.push_back(sun);
-    gltf::Node sunNode;
-    sunNode.name = "sun";
-    sunNode.light = 0;
-    sunNode.rotation = gltf::lookRotation({0.4f, -1.0f, -0.6f});
-    doc.nodes.push_back(sunNode);
+    addSun(doc, 2.0f, gltf::lookRotation({0.4f, -1.0f, -0.6f}));
     gltf::Light point;
     point.name = "lamp";
     point.type = gltf::LightType::Point;

@@ -31,6 +31,7 @@ public:
     void TearDown() override;
 };
 
+using pnb::test::addSun;
 using pnb::test::addObject;
 using pnb::test::box;
 using pnb::test::quad;

@@ -35,19 +35,12 @@ std::string shadowScene(glm::dvec3 toward, const std::string& name, gltf::Float3
     addObject(doc, "ground", quad(2 * ground, 2 * ground, 0), offset, flat);
     addObject(doc, "box", box(2 * kBoxHalf, kBoxHeight, 2 * kBoxHalf, 1),
               {offset[0], offset[1] + kBoxHeight / 2, offset[2]}, {0, 0, 0, 1});
-    gltf::Light sun;
-    sun.name = "sun";
-    sun.intensity = 3.0f;
-    doc.lights.push_back(sun);
-    gltf::Node sunNode;
-    sunNode.name = "sun";
-    sunNode.light = 0;
     // Straight down is exactly a -90 degree turn about x (-Z onto -Y); lookRotation's helper
     // up vector would be parallel to it.
-    sunNode.rotation = toward == glm::dvec3(0, 1, 0)
-                           ? gltf::Float4{-0.70710678f, 0, 0, 0.70710678f}
-                           : gltf::lookRotation({float(-toward.x), float(-toward.y), float(-toward.z)});
-    doc.nodes.push_back(sunNode);
+    addSun(doc, 3.0f,
+           toward == glm::dvec3(0, 1, 0)
+               ? gltf::Float4{-0.70710678f, 0, 0, 0.70710678f}
+               : gltf::lookRotation({float(-toward.x), float(-toward.y), float(-toward.z)}));
     return convert(doc, name);
 }
 
