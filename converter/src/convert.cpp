@@ -703,6 +703,7 @@ Result<ConvertSummary, ConvertError> convertScene(const ConvertSettings& s,
     // most inputs share, once (compression_memo.h; the bytes written are the same).
     static const auto memo = std::make_shared<CompressionMemo>();
     wo.compressionMemo = memo;
+    wo.lock = s.outputLock;
     auto writer = Writer::create(s.output, wo);
     if (!writer) return outputError(writer.error().message);
     Status st = writeScene(*writer, out, s.compressBulk ? Compression::Zstd : Compression::None);

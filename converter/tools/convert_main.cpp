@@ -704,6 +704,10 @@ int main(int argc, char** argv) {
         return kExitUsage;
     }
     if (!c.testDir.empty()) return runTest(c);
+    if (!c.quiet) // the output's lock (pnb/file_lock.h): a save of pnb-edit is in progress
+        c.settings.outputLock.onWait = [] {
+            std::fprintf(stderr, "waiting: another program is saving the output\n");
+        };
     if (!c.batchList.empty() || positional.size() > 1) {
         std::vector<BatchItem> items;
         if (!c.batchList.empty() && !readBatchList(c.batchList, items)) return kExitUsage;

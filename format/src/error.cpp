@@ -28,6 +28,8 @@ const char* toString(FormatError e) {
     case FormatError::UnsupportedChunkVersion: return "unsupported-chunk-version";
     case FormatError::BadReference: return "bad-reference";
     case FormatError::Missing: return "missing";
+    case FormatError::Locked: return "locked";
+    case FormatError::ChangedOnDisk: return "changed-on-disk";
     }
     return "unknown-error";
 }

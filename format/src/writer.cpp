@@ -202,6 +202,23 @@ Status Writer::commit() {
         return makeError(FormatError::IoError, w.size, "cannot flush '%s': %s",
                          w.tempPath.c_str(), std::strerror(errno));
     }
+    // Under the target's lock, so this rename never lands between another tool's read of the
+    // target and its own rename (FORMAT.md §5): that tool's result would silently replace ours,
+    // or ours its.
+    FileLock ownLock;
+    if (!w.options.heldLock) {
+        auto lock = FileLock::acquire(w.path, w.options.lock);
+        if (!lock) {
+            w.failed = true;
+            return lock.error();
+        }
+        ownLock = std::move(*lock);
+    }
+    if (w.options.beforeReplace)
+        if (Status s = w.options.beforeReplace(); !isOk(s)) {
+            w.failed = true;
+            return s;
+        }
     if (::rename(w.tempPath.c_str(), w.path.c_str()) != 0) {
         w.failed = true;
         return makeError(FormatError::IoError, 0, "cannot rename '%s' to '%s': %s",

@@ -47,13 +47,33 @@ bool isIndex(std::string_view s) {
 // [SECTION] Impl: baseline and state
 
 Status Document::Impl::load(const std::string& file) {
-    auto opened = Container::open(file); // checksums verified as readScene loads each chunk
-    if (!opened) return opened.error();
-    auto decoded = readScene(*opened);
-    if (!decoded) {
-        Error e = decoded.error();
-        e.message = file + ": " + e.message;
-        return e;
+    // The stamp must describe the bytes read: taken before and after, and the read repeated
+    // when another program replaced the file in between.
+    std::optional<Container> opened;
+    std::optional<Scene> decoded;
+    for (int attempt = 1;; ++attempt) {
+        auto before = stampOf(file);
+        if (!before) return before.error();
+        auto c = Container::open(file); // checksums verified as readScene loads each chunk
+        if (!c) return c.error();
+        auto sc = readScene(*c);
+        if (!sc) {
+            Error e = sc.error();
+            e.message = file + ": " + e.message;
+            return e;
+        }
+        auto after = stampOf(file);
+        if (!after) return after.error();
+        if (*before == *after) {
+            stamp = *after;
+            opened = std::move(*c);
+            decoded = std::move(*sc);
+            break;
+        }
+        if (attempt == 5)
+            return makeError(FormatError::ChangedOnDisk, 0,
+                             "'%s' changed on disk %d times while it was being read",
+                             file.c_str(), attempt);
     }
     path = file;
     scene = std::move(*decoded);
@@ -66,6 +86,8 @@ Status Document::Impl::load(const std::string& file) {
     base.textures = scene.textures.size();
     base.mips = scene.textureMips.size();
     base.materials = scene.materials;
+    for (const Material& m : scene.materials) base.materialNames.emplace_back(scene.str(m.name));
+    for (const TextureDesc& t : scene.textures) base.textureNames.emplace_back(scene.str(t.name));
     base.meshesOf.assign(scene.materials.size(), {});
     for (uint32_t m = 0; m < scene.meshes.size(); ++m)
         for (const Submesh& sm : scene.meshes[m].submeshes)
@@ -203,9 +225,16 @@ void Document::Impl::pushState(State next, bool merge) {
 Document::Document() : mImpl(std::make_unique<Impl>()) {}
 Document::~Document() = default;
 
-Result<std::unique_ptr<Document>> Document::open(const std::string& path) {
+Result<std::unique_ptr<Document>> Document::open(const std::string& path,
+                                                  const OpenOptions& options) {
     std::unique_ptr<Document> doc(new Document());
     Impl& d = *doc->mImpl;
+    d.lockOptions = options.lock;
+    if (options.holdLock) {
+        auto lock = FileLock::acquire(path, options.lock);
+        if (!lock) return lock.error();
+        d.heldLock = std::move(*lock);
+    }
     if (Status s = d.load(path); !isOk(s)) return s;
     d.current.materials = d.scene.materials;
     d.savedMaterials = d.current.materials;
@@ -213,6 +242,7 @@ Result<std::unique_ptr<Document>> Document::open(const std::string& path) {
 }
 
 const std::string& Document::path() const { return mImpl->path; }
+const FileStamp& Document::stamp() const { return mImpl->stamp; }
 const Scene& Document::scene() const { return mImpl->scene; }
 size_t Document::materialCount() const { return mImpl->current.materials.size(); }
 
@@ -333,5 +363,13 @@ Document::LayerOrder Document::layerOrder() const {
 }
 
 Result<SaveStats> Document::save(const std::string& path) { return mImpl->save(path); }
+
+Result<Document::DiskChange> Document::compareWithDisk() const {
+    auto c = mImpl->compareWithDisk();
+    if (!c) return c.error();
+    return std::move(c->change);
+}
+
+Status Document::reload(Reload mode) { return mImpl->reload(mode); }
 
 } // namespace pnb::editor

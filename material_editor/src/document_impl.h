@@ -52,6 +52,9 @@ struct State {
 struct Baseline {
     size_t strings = 0, shaders = 0, programs = 0, textures = 0, mips = 0;
     std::vector<Material> materials;            // as in the file
+    // Names of the file's materials and textures, copied: comparing with the file on disk must
+    // not read them from the mapping, which a program that rewrites files in place changes.
+    std::vector<std::string> materialNames, textureNames;
     std::vector<std::vector<uint32_t>> meshesOf; // per material: meshes with a submesh drawing it
     std::vector<bool> vertexColor;              // per material: the HAS_VERTEX_COLOR feature
     // Scene-level program variants (deferred lighting, shadow, tonemap) the file's own materials
@@ -81,6 +84,9 @@ namespace pnb::editor {
 
 struct Document::Impl {
     std::string path;
+    FileStamp stamp;                 // of the file `container` maps
+    FileLock::Options lockOptions;   // for every lock this document takes
+    std::optional<FileLock> heldLock; // OpenOptions::holdLock, until a save in place
     std::optional<Container> container;
     Scene scene; // materialized current state
     detail::Baseline base;
@@ -126,6 +132,18 @@ struct Document::Impl {
     std::vector<converter::MaterialFeatures> featuresOf(const std::vector<Material>& materials) const;
     converter::SceneShaderNeeds sceneNeeds(const std::vector<Material>& materials) const;
     Result<const detail::ResolvedStage*> resolveStage(const std::string& file, ShaderStage stage);
+
+    // [SECTION] document_disk.cpp
+    // The file at `path` now against the baseline and the current state; with `plan`, this
+    // document's edits re-expressed against that file (material indices, texture indices: the
+    // file's, or its texture count + k for imported texture k).
+    struct DiskComparison {
+        Document::DiskChange change;
+        std::vector<FieldEdit> plan;
+        bool unmergeable = false; // an edit's material or texture is not in their file
+    };
+    Result<DiskComparison> compareWithDisk() const;
+    Status reload(Document::Reload mode);
 
     // [SECTION] document_save.cpp
     Result<SaveStats> save(const std::string& target);

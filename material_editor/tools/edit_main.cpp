@@ -27,7 +27,7 @@ namespace {
 using pnb::editor::Document;
 
 constexpr int kExitOk = 0, kExitUsage = 1, kExitInput = 2, kExitUnsupported = 3,
-              kExitOutput = 4;
+              kExitOutput = 4, kExitBusy = 5;
 
 struct Import {
     std::string name, image;
@@ -41,6 +41,7 @@ struct Settings {
     std::vector<std::string> sets;
     std::vector<Import> imports;
     uint64_t maxMemory = 0; // 0 = the converter's default
+    double lockTimeout = 60; // seconds to wait for another program saving the file
 
     bool batch() const { return list || !sets.empty() || !imports.empty() || !output.empty(); }
 };
@@ -100,6 +101,16 @@ const std::vector<Option>& options() {
         {"Batch edits", "-o, --output", "FILE",
          "write the result here (default: replace SCENE.pnb in place, atomically)",
          [](Settings& s, const char* a) { s.output = a; return !s.output.empty(); }},
+        {"Batch edits", "--lock-timeout", "SECONDS",
+         "how long to wait while another program saves the file (default 60). An edit in place "
+         "holds the file's lock from reading it to replacing it, so concurrent edits queue "
+         "instead of overwriting each other; past the wait, exit 5 with nothing written",
+         [](Settings& s, const char* a) {
+             char* end = nullptr;
+             s.lockTimeout = std::strtod(a, &end);
+             return end != a && *end == '\0' && std::isfinite(s.lockTimeout) &&
+                    s.lockTimeout >= 0;
+         }},
         {"Listing", "--list", nullptr,
          "print every material with every field, the deferred layer order and the textures "
          "(after the edits, if any)",
@@ -158,6 +169,8 @@ void printHelp(std::FILE* f) {
                  "                [--import-texture NAME=IMAGE ...] [-o OUT.pnb] [-q]\n"
                  "       pnb-edit SCENE.pnb          (no batch option: the editor window)\n"
                  "       pnb-edit SCENE.pnb --ui-set MATERIAL.FIELD=VALUE ... [--ui-save-as OUT.pnb]\n"
+                 "                [--ui-external CMD] [--ui-on-change reload|merge|merge-mine|save-as|keep]\n"
+                 "                [--ui-save]  (another program changes the file; the prompt's answer)\n"
                  "                [--ui-frames N] [--ui-screenshot FILE.png] [--ui-size WxH]\n"
                  "                [--ui-check-labels]  (exit 4 if a property label is cut off)\n"
                  "                (a scripted window session through the widgets' own actions)\n\n"
@@ -199,8 +212,10 @@ void printHelp(std::FILE* f) {
                  "     the file is not touched\n"
                  "  %d  unsupported (a newer format or chunk version than this build reads)\n"
                  "  %d  output error (the result could not be written; the file is not "
-                 "touched)\n",
-                 kExitOk, kExitUsage, kExitInput, kExitUnsupported, kExitOutput);
+                 "touched)\n"
+                 "  %d  busy: another program kept the file locked past --lock-timeout, or\n"
+                 "     replaced it during the edit; the file is not touched, run again\n",
+                 kExitOk, kExitUsage, kExitInput, kExitUnsupported, kExitOutput, kExitBusy);
 }
 
 int usageError(const std::string& message) {
@@ -208,8 +223,13 @@ int usageError(const std::string& message) {
     return kExitUsage;
 }
 
+bool isBusy(const pnb::Error& e) {
+    return e.code == pnb::FormatError::Locked || e.code == pnb::FormatError::ChangedOnDisk;
+}
+
 int inputError(const pnb::Error& e) {
     std::fprintf(stderr, "Error: %s\n", e.message.c_str());
+    if (isBusy(e)) return kExitBusy;
     return e.code == pnb::FormatError::UnsupportedVersion ||
                    e.code == pnb::FormatError::UnsupportedChunkVersion
                ? kExitUnsupported
@@ -394,6 +414,13 @@ void listJson(const Document& doc, std::FILE* out) {
 
 // [SECTION] batch mode
 
+// Two names of one existing file (a hard link, "./x" and "x", a symlink).
+bool sameFile(const std::string& a, const std::string& b) {
+    auto sa = pnb::stampOf(a), sb = pnb::stampOf(b);
+    return sa && sb && sa->exists && sb->exists && sa->device == sb->device &&
+           sa->inode == sb->inode;
+}
+
 // The edits one --set expression stands for; errors list the valid fields or material names.
 pnb::Result<std::vector<Document::FieldEdit>> expand(const Document& doc,
                                                      const pnb::editor::SetExpression& e) {
@@ -422,7 +449,19 @@ pnb::Result<std::vector<Document::FieldEdit>> expand(const Document& doc,
 
 int runBatch(const Settings& s) {
     std::FILE* info = s.json ? stderr : stdout; // keep stdout pure JSON
-    auto opened = Document::open(s.input);
+    // An edit in place holds the file's lock from this read to its rename: a concurrent edit
+    // waits and then reads this one's result (pnb/file_lock.h). Writing elsewhere replaces
+    // nothing this run read, so the input is not locked (and no run holds two locks).
+    pnb::editor::DocumentOpenOptions open;
+    open.lock.timeoutSeconds = s.lockTimeout;
+    open.lock.onWait = [&s] {
+        if (!s.quiet)
+            std::fprintf(stderr, "waiting: another program is saving %s\n",
+                         printable(s.output.empty() ? s.input : s.output).c_str());
+    };
+    const bool edited = !s.imports.empty() || !s.sets.empty();
+    open.holdLock = edited && (s.output.empty() || sameFile(s.output, s.input));
+    auto opened = Document::open(s.input, open);
     if (!opened) return inputError(opened.error());
     Document& doc = **opened;
 
@@ -461,12 +500,11 @@ int runBatch(const Settings& s) {
         std::fprintf(stderr, "note: %s has no effect on %zu material%s: %s\n", what.first.c_str(),
                      count, count == 1 ? "" : "s", what.second.c_str());
 
-    const bool edited = !s.imports.empty() || !s.sets.empty();
     if (!s.output.empty() || (edited && doc.dirty())) {
         auto saved = doc.save(s.output);
         if (!saved) {
             std::fprintf(stderr, "Error: %s\n", saved.error().message.c_str());
-            return kExitOutput;
+            return isBusy(saved.error()) ? kExitBusy : kExitOutput;
         }
         if (!s.quiet)
             std::fprintf(info,

@@ -129,7 +129,16 @@ void EditorApp::redo() {
 
 Result<SaveStats> EditorApp::save(const std::string& path) {
     auto r = mDocument->save(path);
-    if (!r) status("save failed: " + r.error().message);
+    if (!r && r.error().code == FormatError::ChangedOnDisk) {
+        // Another program saved the file since this window read it: nothing was written; ask.
+        status("not saved: " + mDocument->path() + " changed on disk");
+        if (auto change = mDocument->compareWithDisk(); change) {
+            mDiskSeen = change->now;
+            mDiskChange = std::move(*change);
+            mShowDiskPrompt = true;
+        }
+    } else if (!r)
+        status("save failed: " + r.error().message);
     else
         status("saved " + mDocument->path() + " in " + std::to_string(r->seconds * 1000.0) + " ms");
     return r;
@@ -393,6 +402,10 @@ void EditorApp::drawMenuAndPrompts() {
                 mShowSaveAs = true;
                 mSaveAsPath = mDocument->path();
             }
+            if (ImGui::MenuItem("Reload and merge my edits")) {
+                if (Status s = reloadDocument(Document::Reload::Merge); isOk(s))
+                    status("reloaded " + mDocument->path() + " with your edits on top");
+            }
             if (ImGui::MenuItem("Quit")) glfwSetWindowShouldClose(mContext.glfwWindow(), GLFW_TRUE);
             ImGui::EndMenu();
         }
@@ -442,6 +455,7 @@ void EditorApp::drawMenuAndPrompts() {
         }
         ImGui::EndPopup();
     }
+    drawDiskPrompt();
 }
 
 bool EditorApp::frame() {
@@ -451,6 +465,8 @@ bool EditorApp::frame() {
         glfwSetWindowShouldClose(window, GLFW_FALSE);
     }
     if (mQuitConfirmed) return false;
+    if (std::chrono::steady_clock::now() - mLastDiskCheck > std::chrono::milliseconds(500))
+        checkDisk();
     int w = 0, h = 0;
     mContext.framebufferSize(w, h);
     if (std::string title = windowTitle(); title != mTitle) {

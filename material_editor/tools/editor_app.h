@@ -4,7 +4,9 @@
 // the GUI smoke test also drives, so the test exercises the UI's code path.
 #pragma once
 
+#include <chrono>
 #include <memory>
+#include <optional>
 #include <set>
 #include <string>
 #include <vector>
@@ -41,6 +43,21 @@ public:
     // unsaved-changes prompt opens and false is returned.
     bool requestQuit();
 
+    // --- the file on disk (editor_disk_change.cpp) -------------------------------------------
+    enum class DiskChoice { Reload, Merge, MergeMineWin, SaveAs, KeepEditing };
+    // Notices another program's save of the open file (frame() calls it twice a second: one
+    // open, fstat and two small reads). With no unsaved edits the window reloads the file and
+    // the status line names what changed; otherwise the "Changed on disk" prompt opens.
+    void checkDisk();
+    bool diskPromptOpen() const { return mShowDiskPrompt; }
+    // The prompt's buttons. Reload drops this window's edits; Merge brings them onto the file as
+    // it is now (one undo step; refused, naming the fields, when both changed one differently);
+    // MergeMineWin resolves such conflicts with this window's values; SaveAs opens the save-as
+    // prompt; KeepEditing closes the prompt (a save in place then refuses and asks again). On
+    // an error the prompt stays open and the status line says why.
+    Status resolveDiskChange(DiskChoice choice);
+    const std::string& statusLine() const { return mStatus; }
+
     const Document& document() const { return *mDocument; }
     std::string windowTitle() const;
     // The property labels the last frame could not show whole (the panel cut them off).
@@ -55,6 +72,9 @@ private:
     void drawMenuAndPrompts();
     void updateCamera();
     void status(std::string message);
+    void drawDiskPrompt();
+    // Document::reload, then the viewport's scene uploaded anew (the file may be another scene).
+    Status reloadDocument(Document::Reload mode);
 
     std::unique_ptr<Document> mDocument;
     player::GlContext& mContext;
@@ -74,6 +94,10 @@ private:
     int mViewportWidth = 640, mViewportHeight = 400;
     std::string mTitle; // last title given to the window
     std::vector<std::string> mClippedLabels;
+    FileStamp mDiskSeen; // the last stamp on disk this window handled (reloaded or prompted)
+    std::optional<Document::DiskChange> mDiskChange; // what the prompt shows
+    bool mShowDiskPrompt = false;
+    std::chrono::steady_clock::time_point mLastDiskCheck{};
 };
 
 } // namespace pnb::editor

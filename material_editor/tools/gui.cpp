@@ -11,6 +11,7 @@
 
 #include <cstdio>
 #include <cstdlib>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -26,10 +27,22 @@ namespace {
 struct GuiArgs {
     std::string scene;
     std::vector<std::string> sets; // --ui-set PATTERN.FIELD=VALUE, applied at frame 2
-    std::string saveAs, screenshot;
+    // --ui-external CMD: at frame 3 another program (CMD, through the shell) changes the file;
+    // at frame 4 the window checks the disk; --ui-on-change picks the prompt's button.
+    std::string external, onChange;
+    bool save = false; // --ui-save: save in place at frame 5 (as Ctrl+S)
+    std::string saveAs, screenshot; // --ui-save-as at frame 5
     int frames = 0;                // 0 = until the window closes
     int width = 1400, height = 800; // --ui-size WxH: the window (the default is the first)
     bool checkLabels = false;      // --ui-check-labels: exit 4 if a property label is cut off
+};
+
+const std::map<std::string, EditorApp::DiskChoice> kChoices = {
+    {"reload", EditorApp::DiskChoice::Reload},
+    {"merge", EditorApp::DiskChoice::Merge},
+    {"merge-mine", EditorApp::DiskChoice::MergeMineWin},
+    {"save-as", EditorApp::DiskChoice::SaveAs},
+    {"keep", EditorApp::DiskChoice::KeepEditing},
 };
 
 // The window's default framebuffer, bottom-up RGBA8.
@@ -60,6 +73,16 @@ int runGui(int argc, char** argv) {
             return argv[++i];
         };
         if (s == "--ui-set") a.sets.push_back(value());
+        else if (s == "--ui-external") a.external = value();
+        else if (s == "--ui-on-change") {
+            a.onChange = value();
+            if (!kChoices.count(a.onChange)) {
+                std::fprintf(stderr, "pnb-edit: --ui-on-change %s: expected reload, merge, "
+                                     "merge-mine, save-as or keep\n", a.onChange.c_str());
+                return 1;
+            }
+        }
+        else if (s == "--ui-save") a.save = true;
         else if (s == "--ui-save-as") a.saveAs = value();
         else if (s == "--ui-screenshot") a.screenshot = value();
         else if (s == "--ui-frames") a.frames = std::atoi(value().c_str());
@@ -110,6 +133,7 @@ int runGui(int argc, char** argv) {
     ImGui_ImplOpenGL3_Init("#version 450 core");
 
     int exitCode = 0;
+    std::string lastStatus;
     for (int frame = 0; a.frames == 0 || frame < a.frames; ++frame) {
         (*context)->pollEvents();
         // Scripted session: the edits go through the app's actions, as a click would.
@@ -133,7 +157,31 @@ int runGui(int argc, char** argv) {
                 }
             }
         }
-        if (frame == 3 && !a.saveAs.empty()) {
+        if (frame == 3 && !a.external.empty()) {
+            const int rc = std::system(a.external.c_str());
+            std::printf("external command exited %d\n", rc);
+        }
+        if (frame == 4) app.checkDisk();
+        // The scripted answer to the "Changed on disk" prompt, whenever it is open.
+        if (app.diskPromptOpen() && !a.onChange.empty()) {
+            Status st = app.resolveDiskChange(kChoices.at(a.onChange));
+            if (!isOk(st)) {
+                std::fprintf(stderr, "pnb-edit: %s\n", st.message.c_str());
+                exitCode = 2;
+                a.onChange.clear(); // answered once; the prompt stays as a person would see it
+            }
+        }
+        if (frame == 5 && a.save) {
+            auto saved = app.save();
+            if (!saved) {
+                std::fprintf(stderr, "pnb-edit: %s\n", saved.error().describe().c_str());
+                exitCode = 2;
+            } else {
+                std::printf("saved %s in %.2f ms\n", app.document().path().c_str(),
+                            saved->seconds * 1000.0);
+            }
+        }
+        if (frame == 5 && !a.saveAs.empty()) {
             auto saved = app.save(a.saveAs);
             if (!saved) {
                 std::fprintf(stderr, "pnb-edit: %s\n", saved.error().describe().c_str());
@@ -146,6 +194,10 @@ int runGui(int argc, char** argv) {
         ImGui_ImplGlfw_NewFrame();
         ImGui::NewFrame();
         bool keepGoing = app.frame();
+        if (a.frames != 0 && app.statusLine() != lastStatus) { // scripted: the status bar, logged
+            lastStatus = app.statusLine();
+            std::printf("status: %s\n", lastStatus.c_str());
+        }
         ImGui::Render();
         int w = 0, h = 0;
         (*context)->framebufferSize(w, h);

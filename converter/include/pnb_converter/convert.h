@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "pnb/error.h"
+#include "pnb/file_lock.h"
 #include "pnb_converter/environment.h"
 #include "pnb_converter/light_processing.h"
 #include "pnb_converter/mesh_processing.h"
@@ -27,6 +28,9 @@ namespace pnb::converter {
 struct ConvertSettings {
     std::string input;          // source scene file
     std::string output;         // .pnb to write (atomically)
+    // The wait for the output's lock while another tool saves it (pnb/file_lock.h): the
+    // conversion's rename waits for pnb-edit's save rather than landing inside it.
+    FileLockOptions outputLock;
     std::string sidecar;        // material overrides; "" = <input stem>.pnb.json if it exists
     bool noSidecar = false;     // ignore any sidecar. Default: false.
     std::string cameraPath;     // --path keyframe file; "" = the source's or a generated orbit

@@ -33,6 +33,8 @@ enum class FormatError : uint8_t {
     UnsupportedChunkVersion, // a known chunk kind with a newer chunk version
     BadReference,            // an index refers to something that does not exist (or later)
     Missing,                 // a required chunk is absent
+    Locked,                  // another program is saving the file (its lock, file_lock.h)
+    ChangedOnDisk,           // another program replaced the file since this one read it
 };
 
 // Stable lowercase name of an error code, e.g. "checksum-mismatch".

@@ -11,6 +11,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <span>
 #include <string>
@@ -18,6 +19,7 @@
 
 #include "pnb/container.h"
 #include "pnb/error.h"
+#include "pnb/file_lock.h"
 
 namespace pnb {
 
@@ -32,6 +34,16 @@ struct WriteOptions {
     // When set, zstd results are looked up in and added to this memo (compression_memo.h):
     // the same bytes, computed once per process for payloads several containers share.
     std::shared_ptr<CompressionMemo> compressionMemo;
+    // commit() renames under an exclusive lock on the file it replaces (pnb/file_lock.h), so it
+    // never lands inside another tool's read-to-rename; this bounds the wait for that lock.
+    FileLock::Options lock;
+    // The caller already holds the target's lock (pnb-edit, from read to rename): commit() uses
+    // it instead of taking it a second time (which would wait on itself). Its path must be the
+    // target's.
+    const FileLock* heldLock = nullptr;
+    // Called under the lock just before the rename (the compare-before-rename of a tool that
+    // read the target): an error aborts the commit and leaves the target untouched.
+    std::function<Status()> beforeReplace;
 };
 
 class Writer {
@@ -66,7 +78,10 @@ public:
     // Preconditions: `chunk` is one of `source.chunks()` (so never the TOCX). Errors: the
     // source's (BadToc, ChecksumMismatch), IoError (disk, after which only destruction is valid).
     Status copyChunk(const Container& source, const ChunkInfo& chunk);
-    // Writes the TOC and footer, flushes, fsyncs and renames into place. Call once.
+    // Writes the TOC and footer, flushes, fsyncs and renames into place, under the target's
+    // lock (WriteOptions::lock, heldLock, beforeReplace). Call once. Errors: IoError, Locked
+    // (another tool kept the target locked past the timeout), beforeReplace's; on any error the
+    // target is untouched.
     Status commit();
 
     // Bytes written so far (next chunk's offset is alignUp of this).

@@ -20,7 +20,11 @@
 //     no re-compression; the old file's checksums are verified on the way), unknown chunk kinds
 //     included, in their places;
 //   - the file is written atomically (temporary + fsync + rename): a crash or kill during save
-//     leaves the previous file intact.
+//     leaves the previous file intact;
+//   - no other writer's work is lost (pnb/file_lock.h): the rename happens under the file's
+//     lock, and a save in place first compares the file on disk with the one the document read;
+//     when another program replaced it, the save refuses, naming the other change, and
+//     reload(Reload::Merge) brings this document's edits onto the new file.
 //
 // Does NOT do: geometry edits; normal maps on meshes without tangents, or textures on meshes
 // without the texture coordinates the slot reads (the converter keeps only the streams the
@@ -36,9 +40,21 @@
 #include <vector>
 
 #include "pnb/error.h"
+#include "pnb/file_lock.h"
 #include "pnb/scene.h"
 
 namespace pnb::editor {
+
+// How Document::open reads the file (a namespace-scope struct so it can be a default argument).
+struct DocumentOpenOptions {
+    // Hold the file's lock from the read until the document is saved in place or destroyed, so
+    // no other tool replaces the file in between (pnb-edit's batch mode: a second batch edit
+    // waits, then reads this one's result). The window does not: a person edits for minutes;
+    // its saves compare stamps instead.
+    bool holdLock = false;
+    // The wait for that lock, and for the target's lock at every save.
+    FileLock::Options lock;
+};
 
 struct SaveStats {
     double seconds = 0;       // writing the file: chunks, TOC, fsync, rename (wall clock)
@@ -51,8 +67,11 @@ struct SaveStats {
 
 class Document {
 public:
-    // Opens and fully validates `path` (checksums on). Errors name the file and the problem.
-    static Result<std::unique_ptr<Document>> open(const std::string& path);
+    using OpenOptions = DocumentOpenOptions;
+    // Opens and fully validates `path` (checksums on). Errors name the file and the problem;
+    // Locked when holdLock and another tool kept the file locked past the timeout.
+    static Result<std::unique_ptr<Document>> open(const std::string& path,
+                                                  const OpenOptions& options = {});
 
     const std::string& path() const;
     // The scene with the current edits. After every edit each material's `program` names the
@@ -114,11 +133,52 @@ public:
     };
     LayerOrder layerOrder() const;
 
+    // The stamp of the file this document read (at open, or at its last save or reload).
+    const FileStamp& stamp() const;
+
+    // How the file on disk differs from the one this document read.
+    struct DiskChange {
+        FileStamp was, now; // equal: unchanged, and the lists below are empty
+        // What the other program changed in the materials: "'glass'.roughness: 0.2 -> 0.5",
+        // "material 'lamp' is new", "material 'old' is gone"; or why the file cannot be read.
+        std::vector<std::string> theirs;
+        // Fields this document edited that the other program changed to another value:
+        // "'glass'.roughness: mine 0.3, theirs 0.5" (or a material it removed).
+        std::vector<std::string> conflicts;
+        uint32_t mine = 0;      // fields this document changed against the file it read
+        bool readable = true;   // the file now is a container (else `theirs` says why)
+        bool changed() const { return !(was == now); }
+        // "'S.pnb' changed on disk since it was read (was: ..., now: ...); their changes: ...;
+        // conflicts with your edits: ..." (lists cut after a few entries, with a count).
+        std::string describe(const std::string& path) const;
+    };
+    // Cheap when nothing changed (one open, one fstat, two small reads); reads the new file
+    // otherwise. Materials are matched by name (by index where names are not unique), texture
+    // slots compared by texture name. Errors: the file cannot be stat-ed.
+    Result<DiskChange> compareWithDisk() const;
+
+    enum class Reload {
+        Discard,      // the file as it is now; this document's edits are dropped
+        Merge,        // the file as it is now, with this document's edits on top
+        MergeMineWin, // as Merge; on a conflict this document's value replaces theirs
+    };
+    // Re-reads the file from disk as the new baseline. Merging applies every field this
+    // document changed against the file it read (matched as in compareWithDisk; imported
+    // textures kept) to the new file as one undo step, so undo shows the file as the other
+    // program left it. All or nothing: with conflicts (Merge), a texture the new file lacks, or
+    // an edit the new file cannot take, it refuses (ChangedOnDisk or the edit's error, naming
+    // them) and the document is unchanged. The undo history before the reload is dropped.
+    Status reload(Reload mode);
+
     // Writes to `path` ("" = the opened file). On success the document is clean and refers to
     // the written file, which is read back (and re-validated) as its new baseline; undo/redo
     // history is kept, re-expressed against the new file. On error the target is untouched
     // (and the document unchanged). Errors: IoError (the disk), the old file's own errors if it
-    // changed on disk since it was opened (its checksums are verified while copying).
+    // changed on disk since it was opened (its checksums are verified while copying); Locked
+    // (another tool kept the target locked past OpenOptions::lock's timeout); ChangedOnDisk
+    // (saving in place, and another program replaced or rewrote the file since this document
+    // read it: the message is DiskChange::describe; reload(Reload::Merge) and save again, or
+    // save to another path).
     Result<SaveStats> save(const std::string& path = "");
 
     // Testing only: called during save() with ("chunk", chunks written so far) after every
