@@ -76,6 +76,7 @@ pnb-judge when the build has it (player_for).
 import argparse
 import csv
 import hashlib
+import io
 import itertools
 import json
 import os
@@ -88,6 +89,7 @@ import tomllib
 
 from sweep_command import (SweepError, collect_row, combinations, describe, load_command_experiment, plan_command,
                            run_command_job, value_text)
+from output_guard import check_outputs, write_atomically
 from sweep_report import LOAD_PHASES  # pnb-play's load phases, in the order they happen
 
 REPO = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
@@ -552,6 +554,13 @@ def convert_one(inp, outdir, options, converter):
     return "converted"
 
 
+def refuse_replacing(inputs, outputs):
+    """SweepError when an output is an input or another output (output_guard.py)."""
+    message = check_outputs(inputs, outputs)
+    if message:
+        raise SweepError(message)
+
+
 def collect(results, keys=None):
     """One row per finished job in `results` (`keys`: only those jobs)."""
     rows = []
@@ -723,8 +732,8 @@ def main(argv=None):
             pending = [job for job in data["jobs"] if not done(job)]
             if a.command == "plan":
                 if a.output:
-                    with open(a.output, "w") as f:
-                        json.dump(data, f, indent=2)
+                    refuse_replacing([(a.sweep, "the sweep file")], [(a.output, "the plan (-o)")])
+                    write_atomically(a.output, json.dumps(data, indent=2))
                 for job in data["jobs"]:
                     print("%3d %s %-8s %-16s %s" % (job["index"], job["key"], "done" if done(job) else "pending",
                                                     job["scene"], " ".join(["%s=%s" % kv for kv in job["settings"].items()]
@@ -754,6 +763,10 @@ def main(argv=None):
             converter = binaries(os.path.abspath(a.build))["convert"]
             inputs = [os.path.abspath(i) for i in conversion_inputs(a.inputs)]
             outdir = os.path.abspath(a.output)
+            # Two inputs with one stem would write one file, reported as two; an output may not
+            # be an input (an input list that holds .pnb files inside the output directory).
+            refuse_replacing([(i, "the input '%s'" % os.path.basename(i)) for i in inputs],
+                             [(converted_path(i, outdir), "the output of '%s'" % i) for i in inputs])
             if a.local:
                 counts = {"skipped": 0, "converted": 0}
                 for inp in inputs:
@@ -848,12 +861,15 @@ def main(argv=None):
             return 0
         if a.command == "collect":
             columns, rows = collect(a.results, a.keys)
-            out = open(a.output, "w", newline="") if a.output else sys.stdout
+            if a.output:
+                refuse_replacing([(f, "the sweep file") for f in (a.sweep or [])],
+                                 [(a.output, "the table (-o)")])
+            out = io.StringIO() if a.output else sys.stdout
             w = csv.DictWriter(out, fieldnames=columns)
             w.writeheader()
             w.writerows(rows)
             if a.output:
-                out.close()
+                write_atomically(a.output, out.getvalue())
                 print("%d jobs -> %s" % (len(rows), a.output))
             return 0
     except SweepError as e:

@@ -16,6 +16,7 @@
 #include "parallel_for.h"
 #include "pnb/compression_memo.h"
 #include "pnb/mesh_levels.h"
+#include "pnb/output_guard.h"
 #include "pnb/scene_builder.h"
 #include "pnb/user_cache_directory.h"
 #include "pnb/writer.h"
@@ -279,6 +280,16 @@ Result<ConvertSummary, ConvertError> convertScene(const ConvertSettings& s,
         return ConvertError{ConvertErrorKind::Input,
                             "light cut-off " + std::to_string(s.lights.cutoffLux) +
                                 " lux: not a positive finite illuminance"};
+
+    // The output never replaces a file the conversion reads: checked here for the files named
+    // so far, and before writing for every file the import read (a glTF's buffers and images).
+    const std::vector<RoleFile> outputs = {{s.output, "the output"},
+                                           {s.depfile, "the dependency file"}};
+    const std::vector<RoleFile> named = {{s.input, "the input"},
+                                         {s.noSidecar ? "" : sidecar, "the sidecar"},
+                                         {env.image, "the environment image"},
+                                         {s.cameraPath, "the camera path"}};
+    if (Status st = checkOutputs(named, outputs); !isOk(st)) return outputError(st.message);
 
     // [SECTION] import
     clock.start("import");
@@ -704,6 +715,9 @@ Result<ConvertSummary, ConvertError> convertScene(const ConvertSettings& s,
     static const auto memo = std::make_shared<CompressionMemo>();
     wo.compressionMemo = memo;
     wo.lock = s.outputLock;
+    std::vector<RoleFile> read;
+    for (const std::string& d : sum.dependencies) read.push_back({d, "a file the conversion read"});
+    if (Status st = checkOutputs(read, outputs); !isOk(st)) return outputError(st.message);
     auto writer = Writer::create(s.output, wo);
     if (!writer) return outputError(writer.error().message);
     Status st = writeScene(*writer, out, s.compressBulk ? Compression::Zstd : Compression::None);

@@ -23,6 +23,7 @@
 #include <string>
 #include <vector>
 
+#include "pnb/output_guard.h"
 #include "pnb/reader.h"
 #include "pnb/scene.h"
 #include "pnb/user_cache_directory.h"
@@ -498,6 +499,11 @@ bool readBatchList(const std::string& list, std::vector<BatchItem>& items) {
             std::fprintf(stderr, "Error: %s: an output without an input\n", origin.c_str());
             return false;
         }
+        if (line.find('\0') != std::string::npos) { // no file name holds one: a damaged list
+            std::fprintf(stderr, "Error: %s: a NUL byte in the line (no path can contain one)\n",
+                         origin.c_str());
+            return false;
+        }
         items.push_back({input, output, origin});
     }
     if (file.bad() || (list == "-" && std::cin.bad())) {
@@ -532,17 +538,18 @@ int runBatch(CliState& c, std::vector<BatchItem> items) {
         it.output = (fs::path(dir) / (fs::path(it.input).stem().string() + ".pnb")).string();
         dirNeeded = true;
     }
-    // Two inputs writing one file would silently keep only the last: refuse before converting.
-    std::map<std::string, const BatchItem*> byOutput;
+    // Two inputs writing one file would silently keep only the last, and an output that is
+    // another item's input would replace it: refuse before converting (real paths, symlinked
+    // directories and hard links included; each conversion then checks its own output against
+    // every file it reads).
+    std::vector<pnb::RoleFile> inputs, outputs;
     for (const BatchItem& it : items) {
-        std::string key = fs::absolute(it.output).lexically_normal().string();
-        auto [pos, fresh] = byOutput.emplace(key, &it);
-        if (!fresh) {
-            std::fprintf(stderr, "Error: %s (%s) and %s (%s) would both write %s\n",
-                         pos->second->input.c_str(), pos->second->origin.c_str(),
-                         it.input.c_str(), it.origin.c_str(), it.output.c_str());
-            return kExitUsage;
-        }
+        inputs.push_back({it.input, "the input of " + it.origin});
+        outputs.push_back({it.output, "the output of " + it.origin});
+    }
+    if (pnb::Status st = pnb::checkOutputs(inputs, outputs); !pnb::isOk(st)) {
+        std::fprintf(stderr, "Error: %s\n", st.message.c_str());
+        return kExitUsage;
     }
     if (dirNeeded) {
         std::error_code ec;
@@ -724,6 +731,16 @@ int main(int argc, char** argv) {
         return kExitUsage;
     }
     c.settings.input = positional[0];
+    {
+        const pnb::RoleFile inputs[] = {{c.settings.input, "the input"}};
+        const pnb::RoleFile outputs[] = {{c.settings.output, "the output (-o)"},
+                                         {c.summaryJson, "the summary (--summary-json)"},
+                                         {c.settings.depfile, "the dependency file (--depfile)"}};
+        if (pnb::Status st = pnb::checkOutputs(inputs, outputs); !pnb::isOk(st)) {
+            std::fprintf(stderr, "Error: %s\n", st.message.c_str());
+            return kExitUsage;
+        }
+    }
     Progress progress(!c.quiet);
     auto result = pnb::converter::convertScene(
         c.settings, [&](const std::string& stage, size_t done, size_t total) {

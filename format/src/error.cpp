@@ -30,6 +30,7 @@ const char* toString(FormatError e) {
     case FormatError::Missing: return "missing";
     case FormatError::Locked: return "locked";
     case FormatError::ChangedOnDisk: return "changed-on-disk";
+    case FormatError::OutputConflict: return "output-conflict";
     }
     return "unknown-error";
 }

@@ -18,6 +18,7 @@
 
 #include "gui.h"
 #include "pnb/material_fields.h"
+#include "pnb/output_guard.h"
 #include "pnb_converter/memory_budget.h"
 #include "pnb_editor/document.h"
 #include "pnb_editor/set_expression.h"
@@ -460,6 +461,12 @@ int runBatch(const Settings& s) {
                          printable(s.output.empty() ? s.input : s.output).c_str());
     };
     const bool edited = !s.imports.empty() || !s.sets.empty();
+    // -o may name the scene itself (an edit in place), never an image it imports.
+    std::vector<pnb::RoleFile> images;
+    for (const Import& i : s.imports) images.push_back({i.image, "the image imported as " + i.name});
+    const pnb::RoleFile outputs[] = {{s.output, "the output (-o)"}};
+    if (pnb::Status st = pnb::checkOutputs(images, outputs); !pnb::isOk(st))
+        return usageError(st.message);
     open.holdLock = edited && (s.output.empty() || sameFile(s.output, s.input));
     auto opened = Document::open(s.input, open);
     if (!opened) return inputError(opened.error());

@@ -21,6 +21,7 @@
 #include "lod_quality.h"
 #include "input_actions.h"
 #include "window_session.h"
+#include "pnb/output_guard.h"
 #include "pnb_player/benchmark.h"
 #include "pnb_player/gl_context.h"
 #include "pnb_player/path_json.h"
@@ -255,6 +256,12 @@ Args parseArgs(int argc, char** argv) {
         else usageError("more than one scene given ('" + a.scene + "', '" + s + "')");
     }
     if (a.scene.empty()) usageError("no scene given");
+    {
+        const pnb::RoleFile inputs[] = {{a.scene == "-" ? "" : a.scene, "the scene"}};
+        const pnb::RoleFile outputs[] = {{a.screenshot, "the screenshot (--screenshot)"}};
+        if (pnb::Status st = pnb::checkOutputs(inputs, outputs); !pnb::isOk(st))
+            usageError(st.message);
+    }
     if (a.bench && a.outDir.empty()) usageError("--bench needs --out DIR");
     if (!a.dumps.empty() && a.outDir.empty()) usageError("--dump needs --out DIR");
     if (a.errorMaps && (!a.bench || !(a.shadowMetrics || a.giMetrics || a.skyMetrics || a.lodMetrics)))

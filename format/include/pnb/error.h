@@ -35,6 +35,7 @@ enum class FormatError : uint8_t {
     Missing,                 // a required chunk is absent
     Locked,                  // another program is saving the file (its lock, file_lock.h)
     ChangedOnDisk,           // another program replaced the file since this one read it
+    OutputConflict,          // an output is an input, or two outputs are one file (output_guard.h)
 };
 
 // Stable lowercase name of an error code, e.g. "checksum-mismatch".
