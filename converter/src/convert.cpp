@@ -259,6 +259,13 @@ Result<ConvertSummary, ConvertError> convertScene(const ConvertSettings& s,
     std::string sidecar = s.sidecar;
     if (sidecar.empty() && !s.noSidecar && fs::exists(defaultSidecarPath(s.input)))
         sidecar = defaultSidecarPath(s.input);
+    // Inputs are regular files: a FIFO or a device named here would block the read forever.
+    const std::vector<RoleFile> given = {{s.input, "the input"},
+                                         {s.noSidecar ? "" : sidecar, "the sidecar"},
+                                         {s.environment.image, "the environment image"},
+                                         {s.cameraPath, "the camera path"}};
+    if (Status st = checkInputs(given); !isOk(st))
+        return ConvertError{ConvertErrorKind::Input, st.message};
     if (!sidecar.empty() && !s.noSidecar) {
         auto loaded = loadSidecar(sidecar);
         if (!loaded) return loaded.error();
@@ -290,6 +297,8 @@ Result<ConvertSummary, ConvertError> convertScene(const ConvertSettings& s,
                                          {env.image, "the environment image"},
                                          {s.cameraPath, "the camera path"}};
     if (Status st = checkOutputs(named, outputs); !isOk(st)) return outputError(st.message);
+    if (Status st = checkInputs(named); !isOk(st)) // the sidecar's environment image
+        return ConvertError{ConvertErrorKind::Input, st.message};
 
     // [SECTION] import
     clock.start("import");
@@ -305,6 +314,12 @@ Result<ConvertSummary, ConvertError> convertScene(const ConvertSettings& s,
     }
     sum.dependencies.push_back(s.input);
     for (const std::string& d : scene.dependencies) sum.dependencies.push_back(d);
+    { // the files the textures will be read from (a glTF or MTL may name a FIFO too)
+        std::vector<RoleFile> read;
+        for (const std::string& d : scene.dependencies) read.push_back({d, "a file the scene names"});
+        if (Status st = checkInputs(read); !isOk(st))
+            return ConvertError{ConvertErrorKind::Input, s.input + ": " + st.message};
+    }
     clock.stop();
 
     // The image decoder module's load (dynamic linking of OpenImageIO), when an image needs it,

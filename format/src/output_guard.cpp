@@ -59,4 +59,19 @@ Status checkOutputs(std::span<const RoleFile> inputs, std::span<const RoleFile> 
     return {};
 }
 
+Status checkInputs(std::span<const RoleFile> inputs) {
+    for (const RoleFile& f : inputs) {
+        struct stat st {};
+        if (f.path.empty() || ::stat(f.path.c_str(), &st) != 0 || S_ISREG(st.st_mode)) continue;
+        const char* what = S_ISFIFO(st.st_mode)  ? "a FIFO (named pipe)"
+                           : S_ISDIR(st.st_mode) ? "a directory"
+                           : S_ISSOCK(st.st_mode) ? "a socket"
+                                                  : "a device";
+        return Error{FormatError::IoError, 0,
+                     f.role + " '" + f.path + "' is " + what +
+                         ", not a regular file (reading it could wait forever or never end)"};
+    }
+    return {};
+}
+
 } // namespace pnb

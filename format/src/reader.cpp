@@ -148,7 +148,8 @@ Payload& Payload::operator=(Payload&& o) noexcept {
 // [SECTION] Container: open and index
 
 Result<Container> Container::open(const std::string& path, const ReadOptions& options) {
-    int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+    // O_NONBLOCK: opening a FIFO must not wait for a writer (it is refused just below).
+    int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC | O_NONBLOCK);
     if (fd < 0)
         return makeError(FormatError::IoError, 0, "cannot open '%s': %s", path.c_str(),
                          std::strerror(errno));
@@ -158,6 +159,13 @@ Result<Container> Container::open(const std::string& path, const ReadOptions& op
         ::close(fd);
         return makeError(FormatError::IoError, 0, "cannot stat '%s': %s", path.c_str(),
                          std::strerror(e));
+    }
+    if (!S_ISREG(st.st_mode)) { // a FIFO or device cannot be mapped; a directory is no file
+        ::close(fd);
+        return makeError(FormatError::IoError, 0,
+                         "'%s' is not a regular file but a FIFO, device or directory, which "
+                         "cannot be mapped",
+                         path.c_str());
     }
     Container c;
     c.mOptions = options;

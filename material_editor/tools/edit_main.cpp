@@ -467,6 +467,7 @@ int runBatch(const Settings& s) {
     const pnb::RoleFile outputs[] = {{s.output, "the output (-o)"}};
     if (pnb::Status st = pnb::checkOutputs(images, outputs); !pnb::isOk(st))
         return usageError(st.message);
+    if (pnb::Status st = pnb::checkInputs(images); !pnb::isOk(st)) return inputError(st);
     open.holdLock = edited && (s.output.empty() || sameFile(s.output, s.input));
     auto opened = Document::open(s.input, open);
     if (!opened) return inputError(opened.error());

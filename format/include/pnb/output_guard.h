@@ -1,4 +1,5 @@
-// pnb/output_guard.h — an output never replaces an input, and two outputs are never one file.
+// pnb/output_guard.h — an output never replaces an input, two outputs are never one file, and
+// inputs are regular files.
 //
 // Every tool that writes (pnb-convert, its batch mode, pnb-edit -o, pnb-sweep's outputs) names the
 // files it reads and the files it will write, each with a role for the message, and asks
@@ -24,5 +25,10 @@ struct RoleFile {
 // OutputConflict naming both files and their roles when an output is one of the inputs or
 // another output; ok otherwise. Empty paths are skipped (an option not given).
 Status checkOutputs(std::span<const RoleFile> inputs, std::span<const RoleFile> outputs);
+
+// Inputs are regular files (or symlinks to one): a FIFO, a device, a socket or a directory is
+// refused up front (IoError naming the role, the path and what it is), because reading a FIFO
+// or a device can wait forever or never end. A missing file passes: the reader reports it.
+Status checkInputs(std::span<const RoleFile> inputs);
 
 } // namespace pnb
