@@ -1,6 +1,6 @@
 // The document against the file on disk: what another program changed since the document read
-// it (compareWithDisk), and re-reading the file with this document's edits on top (reload). The
-// guard that makes a save notice such a change is in document_save.cpp (compare-before-rename).
+// it (compareWithDisk), the save's guard against it (guardSave: the lock and the
+// compare-before-rename), and re-reading the file with this document's edits on top (reload).
 
 #include <map>
 
@@ -99,11 +99,13 @@ Result<Document::Impl::DiskComparison> Document::Impl::compareWithDisk() const {
     for (const std::string& name : base.materialNames) namesA.push_back(name);
     for (const Material& m : other->materials) namesB.push_back(other->str(m.name));
     const std::vector<int> match = matchMaterials(namesA, namesB);
+    auto label = [&](uint32_t i) {
+        return namesA[i].empty() ? "#" + std::to_string(i) : quoted(namesA[i]);
+    };
     std::vector<bool> matched(namesB.size(), false);
     for (uint32_t i = 0; i < base.materials.size(); ++i) {
-        const std::string label = namesA[i].empty() ? "#" + std::to_string(i) : quoted(namesA[i]);
         if (match[i] < 0) {
-            change.theirs.push_back("material " + label + " is gone");
+            change.theirs.push_back("material " + label(i) + " is gone");
             continue;
         }
         matched[size_t(match[i])] = true;
@@ -112,7 +114,7 @@ Result<Document::Impl::DiskComparison> Document::Impl::compareWithDisk() const {
             const std::string before = text(base.materials[i], f, ours),
                               after = text(theirs, f, theirsName);
             if (before != after)
-                change.theirs.push_back(label + "." + f.name + ": " + before + " -> " + after);
+                change.theirs.push_back(label(i) + "." + f.name + ": " + before + " -> " + after);
         }
     }
     for (size_t j = 0; j < namesB.size(); ++j)
@@ -124,11 +126,10 @@ Result<Document::Impl::DiskComparison> Document::Impl::compareWithDisk() const {
 
     // Mine against theirs, and the plan that applies mine to their file.
     for (auto [i, f] : edited) {
-        const std::string label = namesA[i].empty() ? "#" + std::to_string(i) : quoted(namesA[i]);
         const std::string was = text(base.materials[i], *f, ours),
                           mine = text(current.materials[i], *f, ours);
         if (match[i] < 0) {
-            change.conflicts.push_back(label + "." + f->name + ": you edited it, their file " +
+            change.conflicts.push_back(label(i) + "." + f->name + ": you edited it, their file " +
                                        "no longer has this material");
             out.unmergeable = true;
             continue;
@@ -136,7 +137,7 @@ Result<Document::Impl::DiskComparison> Document::Impl::compareWithDisk() const {
         const uint32_t j = uint32_t(match[i]);
         const std::string theirs = text(other->materials[j], *f, theirsName);
         if (theirs != was && theirs != mine)
-            change.conflicts.push_back(label + "." + f->name + ": mine " + mine + ", theirs " +
+            change.conflicts.push_back(label(i) + "." + f->name + ": mine " + mine + ", theirs " +
                                        theirs);
         std::string value = getMaterialField(current.materials[i], f->name);
         if (f->type == FieldType::TextureRef && value != "none") {
@@ -148,7 +149,7 @@ Result<Document::Impl::DiskComparison> Document::Impl::compareWithDisk() const {
                 for (uint32_t k = 0; k < other->textures.size(); ++k)
                     if (theirsName(k) == ours(t)) same.push_back(k);
                 if (same.size() != 1) {
-                    change.conflicts.push_back(label + "." + f->name + ": your texture " +
+                    change.conflicts.push_back(label(i) + "." + f->name + ": your texture " +
                                                quoted(ours(t)) + " is " +
                                                (same.empty() ? "not in" : "not unique in") +
                                                " their file");
@@ -161,6 +162,48 @@ Result<Document::Impl::DiskComparison> Document::Impl::compareWithDisk() const {
         out.plan.push_back({j, f->name, std::move(value)});
     }
     return out;
+}
+
+Status Document::Impl::unchangedOnDisk() const {
+    auto now = stampOf(path);
+    if (!now) return now.error();
+    if (*now == stamp) return {};
+    Document::DiskChange unread; // when the new file cannot even be compared
+    unread.was = stamp;
+    unread.now = *now;
+    auto c = compareWithDisk();
+    return Error{FormatError::ChangedOnDisk, 0,
+                 (c ? c->change : unread).describe(path) +
+                     ". Nothing was written: merge your edits into the file as it is now (the "
+                     "window's Merge; pnb-edit --set again), or save to another path"};
+}
+
+Status Document::Impl::guardSave(const std::string& target, WriteOptions& options) {
+    options.lock = lockOptions;
+    bool inPlace = target == path;
+    if (!inPlace)
+        if (auto t = stampOf(target); t && t->exists)
+            inPlace = t->device == stamp.device && t->inode == stamp.inode;
+    if (!inPlace) {
+        // Saving elsewhere copies the unedited chunks from the mapping: if another program
+        // rewrote the file in place (same inode), those bytes are no longer the ones read.
+        auto now = stampOf(path);
+        if (now && now->exists && now->device == stamp.device && now->inode == stamp.inode &&
+            !(*now == stamp))
+            return Error{FormatError::ChangedOnDisk, 0,
+                         "'" + path + "' was rewritten in place by another program (" +
+                             now->describe() + ") while this document had it open, so the "
+                             "unedited chunks it would copy changed: nothing was written. "
+                             "Reload and merge your edits into the file as it is now"};
+        return {};
+    }
+    // In place: the file must still be the one read (compare-before-rename), or another
+    // program's save would be silently replaced. Checked now, which also spares writing a file
+    // for nothing, and again under the lock just before the rename.
+    if (Status s = unchangedOnDisk(); !isOk(s)) return s;
+    options.heldLock = heldLock ? &*heldLock : nullptr;
+    options.beforeReplace = [this] { return unchangedOnDisk(); };
+    return {};
 }
 
 Status Document::Impl::reload(Document::Reload mode) {

@@ -20,6 +20,7 @@
 #include <vector>
 
 #include "pnb/reader.h"
+#include "pnb/writer.h"
 #include "pnb/scene.h"
 #include "pnb_converter/shader_permutations.h"
 #include "pnb_editor/document.h"
@@ -144,6 +145,11 @@ struct Document::Impl {
     };
     Result<DiskComparison> compareWithDisk() const;
     Status reload(Document::Reload mode);
+    // Ok while the file at `path` is still the one read; else ChangedOnDisk naming the change.
+    Status unchangedOnDisk() const;
+    // Sets the save's guard against other writers into `options`: the lock, and for a save in
+    // place the compare-before-rename (checked once now, and again under the lock).
+    Status guardSave(const std::string& target, WriteOptions& options);
 
     // [SECTION] document_save.cpp
     Result<SaveStats> save(const std::string& target);

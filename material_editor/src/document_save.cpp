@@ -31,21 +31,6 @@ Result<SaveStats> Document::Impl::save(const std::string& target) {
     const std::string out = target.empty() ? path : target;
     const Container& source = *container;
     SaveStats stats;
-    // Checked again under the lock before the rename; this early check also spares copying
-    // from a mapping that a program rewriting the file in place has changed underneath.
-    auto staleness = [this]() -> Status {
-        auto now = stampOf(path);
-        if (!now) return now.error();
-        if (*now == stamp) return {};
-        auto c = compareWithDisk();
-        DiskChange change;
-        change.was = stamp;
-        change.now = *now;
-        return Error{FormatError::ChangedOnDisk, 0,
-                     (c ? c->change : change).describe(path) +
-                         ". Nothing was written: merge your edits into the file as it is now "
-                         "(the window's Merge; pnb-edit --set again), or save to another path"};
-    };
 
     // [SECTION] what the state adds, with its new strings numbered after the file's
     std::unordered_map<StringRef, StringRef> remap;
@@ -84,27 +69,7 @@ Result<SaveStats> Document::Impl::save(const std::string& target) {
         if (c.header.tag == tags::kTextureMip || c.header.tag == tags::kMesh)
             bulk = c.header.compression();
     }
-    // Saving over the file this document read: under its lock, the file must still be the one
-    // read (compare-before-rename), or another program's save would be silently replaced.
-    bool inPlace = out == path;
-    if (!inPlace)
-        if (auto t = stampOf(out); t && t->exists)
-            inPlace = t->device == stamp.device && t->inode == stamp.inode;
-    options.lock = lockOptions;
-    if (!inPlace)
-        if (auto now = stampOf(path);
-            now && now->exists && now->inode == stamp.inode && now->device == stamp.device &&
-            !(*now == stamp))
-            return Error{FormatError::ChangedOnDisk, 0,
-                         "'" + path + "' was rewritten in place by another program (" +
-                             now->describe() + ") while this document had it open, so the "
-                             "unedited chunks it would copy changed: nothing was written. "
-                             "Reload and merge your edits into the file as it is now"};
-    if (inPlace) {
-        if (Status s = staleness(); !isOk(s)) return s;
-        options.heldLock = heldLock ? &*heldLock : nullptr;
-        options.beforeReplace = staleness;
-    }
+    if (Status s = guardSave(out, options); !isOk(s)) return s;
     auto writer = Writer::create(out, options);
     if (!writer) return writer.error();
     Writer& w = *writer;

@@ -42,6 +42,11 @@ std::string fieldOnDisk(const std::string& path, const char* material, const cha
     return d ? field(*d, material, name) : "";
 }
 
+// One field of the material named `material`, as a window or --set would.
+Status edit(Document& d, const char* material, const char* field, const char* value) {
+    return d.setField(materialIndex(d.scene(), material), field, value);
+}
+
 bool contains(const std::string& text, const std::string& part) {
     return text.find(part) != std::string::npos;
 }
@@ -199,8 +204,7 @@ TEST(ConcurrentSave, HeldLockMakesASecondBatchEditWaitThenReadTheFirstOnesResult
     ASSERT_FALSE(blocked.ok());
     EXPECT_EQ(blocked.error().code, FormatError::Locked);
 
-    ASSERT_TRUE(isOk((*first)->setField(materialIndex((*first)->scene(), "box"), "roughness",
-                                        "0.125")));
+    ASSERT_TRUE(isOk(edit(**first, "box", "roughness", "0.125")));
     std::unique_ptr<Document> second;
     std::thread waiter([&] {
         DocumentOpenOptions o;
@@ -213,7 +217,7 @@ TEST(ConcurrentSave, HeldLockMakesASecondBatchEditWaitThenReadTheFirstOnesResult
     waiter.join();
     ASSERT_TRUE(second);
     EXPECT_EQ(field(*second, "box", "roughness"), "0.125") << "it read the first edit's result";
-    ASSERT_TRUE(isOk(second->setField(materialIndex(second->scene(), "pole"), "metallic", "1")));
+    ASSERT_TRUE(isOk(edit(*second, "pole", "metallic", "1")));
     ASSERT_TRUE(second->save().ok());
     EXPECT_EQ(fieldOnDisk(path, "box", "roughness"), "0.125");
     EXPECT_EQ(fieldOnDisk(path, "pole", "metallic"), "1");
@@ -226,9 +230,9 @@ TEST(ConcurrentSave, SaveInPlaceRefusesAFileAnotherProgramSavedAndMergeKeepsBoth
     auto theirs = openDoc(path);
     ASSERT_TRUE(mine && theirs);
     const std::string originalRoughness = field(*mine, "box", "roughness");
-    ASSERT_TRUE(isOk(theirs->setField(materialIndex(theirs->scene(), "pole"), "metallic", "0.5")));
+    ASSERT_TRUE(isOk(edit(*theirs, "pole", "metallic", "0.5")));
     ASSERT_TRUE(theirs->save().ok());
-    ASSERT_TRUE(isOk(mine->setField(materialIndex(mine->scene(), "box"), "roughness", "0.75")));
+    ASSERT_TRUE(isOk(edit(*mine, "box", "roughness", "0.75")));
 
     auto change = mine->compareWithDisk();
     ASSERT_TRUE(change.ok());
@@ -269,9 +273,9 @@ TEST(ConcurrentSave, ConflictsAreNamedAndResolvedOnlyByAnExplicitChoice) {
     auto mine = openDoc(path);
     auto theirs = openDoc(path);
     ASSERT_TRUE(mine && theirs);
-    ASSERT_TRUE(isOk(theirs->setField(materialIndex(theirs->scene(), "box"), "metallic", "0.875")));
+    ASSERT_TRUE(isOk(edit(*theirs, "box", "metallic", "0.875")));
     ASSERT_TRUE(theirs->save().ok());
-    ASSERT_TRUE(isOk(mine->setField(materialIndex(mine->scene(), "box"), "metallic", "0.25")));
+    ASSERT_TRUE(isOk(edit(*mine, "box", "metallic", "0.25")));
 
     Status merge = mine->reload(Document::Reload::Merge);
     EXPECT_EQ(merge.code, FormatError::ChangedOnDisk);
@@ -293,8 +297,8 @@ TEST(ConcurrentSave, AProgramThatIgnoresTheLockAndRewritesInPlaceIsStillNoticed)
     auto mine = openDoc(path);
     auto theirs = openDoc(path);
     ASSERT_TRUE(mine && theirs);
-    ASSERT_TRUE(isOk(mine->setField(materialIndex(mine->scene(), "box"), "metallic", "1")));
-    ASSERT_TRUE(isOk(theirs->setField(materialIndex(theirs->scene(), "wall"), "roughness", "0.5")));
+    ASSERT_TRUE(isOk(edit(*mine, "box", "metallic", "1")));
+    ASSERT_TRUE(isOk(edit(*theirs, "wall", "roughness", "0.5")));
     ASSERT_TRUE(theirs->save(dir.file("theirs.pnb")).ok());
     // cp over the open file: the same inode rewritten, no lock taken, no rename.
     fs::copy_file(dir.file("theirs.pnb"), path, fs::copy_options::overwrite_existing);
@@ -321,7 +325,7 @@ TEST(ConcurrentSave, AMergeIntoAnotherSceneRefusesNamingWhatIsGone) {
     const std::string path = copyScene(dir, "grazing-plane");
     auto mine = openDoc(path);
     ASSERT_TRUE(mine);
-    ASSERT_TRUE(isOk(mine->setField(materialIndex(mine->scene(), "box"), "metallic", "1")));
+    ASSERT_TRUE(isOk(edit(*mine, "box", "metallic", "1")));
     // A reconversion of another scene lands on the path (atomically, as the tools write).
     fs::copy_file(std::string(PNB_SCENE_DIR) + "/box-room.pnb", dir.file("other.pnb"));
     ASSERT_EQ(::rename(dir.file("other.pnb").c_str(), path.c_str()), 0);
@@ -346,9 +350,8 @@ TEST(ConcurrentSave, MergeKeepsImportedTextures) {
     writeBytes(dir.file("stripes.png"), checkerPng(16, {255, 0, 0}, {0, 0, 255}));
     auto t = mine->importTexture(dir.file("stripes.png"), true);
     ASSERT_TRUE(t.ok()) << t.error().describe();
-    ASSERT_TRUE(isOk(mine->setField(materialIndex(mine->scene(), "checker-plane"),
-                                    "base_color_texture", "stripes")));
-    ASSERT_TRUE(isOk(theirs->setField(materialIndex(theirs->scene(), "wall"), "roughness", "0.5")));
+    ASSERT_TRUE(isOk(edit(*mine, "checker-plane", "base_color_texture", "stripes")));
+    ASSERT_TRUE(isOk(edit(*theirs, "wall", "roughness", "0.5")));
     ASSERT_TRUE(theirs->save().ok());
     ASSERT_TRUE(isOk(mine->reload(Document::Reload::Merge)));
     ASSERT_TRUE(mine->save().ok());
