@@ -137,10 +137,13 @@ Result<SaveStats> EditorApp::save(const std::string& path) {
             mDiskChange = std::move(*change);
             mShowDiskPrompt = true;
         }
-    } else if (!r)
+    } else if (!r) {
         status("save failed: " + r.error().message);
-    else
+    } else {
+        mPreview.clear(); // the document now reads the written file: the preview's views are gone
+        mPreviewStale = true;
         status("saved " + mDocument->path() + " in " + std::to_string(r->seconds * 1000.0) + " ms");
+    }
     return r;
 }
 

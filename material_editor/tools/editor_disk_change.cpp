@@ -50,6 +50,7 @@ Status EditorApp::reloadDocument(Document::Reload mode) {
     }
     mRenderer = std::move(*renderer);
     std::erase_if(mSelection, [&](uint32_t m) { return m >= mDocument->materialCount(); });
+    mPreview.clear(); // it viewed the replaced scene's strings and shaders
     mPreviewStale = true;
     return {};
 }

@@ -33,6 +33,15 @@ player::PlayResult<player::Done> MaterialPreview::refresh(const Scene& doc, uint
     return player::updateMaterials(*mGpu, mScene);
 }
 
+void MaterialPreview::clear() {
+    mRenderer.reset();
+    mGpu.reset();
+    mScene = Scene{};
+    mStorage.clear();
+    mMaterial = kNone;
+    mRenderedSize = 0;
+}
+
 player::PlayResult<player::Done> MaterialPreview::show(const Scene& doc, uint32_t material) {
     mMaterial = material;
     mShown = doc.materials[material];

@@ -19,6 +19,9 @@ public:
     // After an edit: updates values in place, or rebuilds if the material, its textures or its
     // program changed.
     player::PlayResult<player::Done> refresh(const Scene& document, uint32_t material);
+    // Forgets the preview after the document was read anew (a save or a reload): its scene
+    // views the document's strings and shaders, which that replaced. The next refresh rebuilds.
+    void clear();
     // Renders at size x size when something changed since the last call; returns the sRGB
     // output texture (0 if nothing is shown).
     GLuint render(uint32_t size);
