@@ -101,6 +101,18 @@ void processLights(IrScene& scene, std::vector<bool>& generated, const LightSett
             for (float* c : {&l.color.x, &l.color.y, &l.color.z})
                 if (!finiteNonNegative(*c)) *c = 0;
         }
+        // The reader's bound on the light a light gives (kMaxLightOutput): beyond it the
+        // renderer's sums overflow. The intensity is lowered to the bound, the colour kept.
+        if (const double brightest = std::max({double(l.color.x), double(l.color.y), double(l.color.z)});
+            double(l.intensity) * brightest > double(kMaxLightOutput)) {
+            const float clamped = float(double(kMaxLightOutput) / brightest);
+            warnings.push_back(lightLabel(scene, nodeOf, i) +
+                               strf(": intensity %g x brightest colour channel %g exceeds %g, the "
+                                    "most a light may give; intensity lowered to %g",
+                                    double(l.intensity), brightest, double(kMaxLightOutput),
+                                    double(clamped)));
+            l.intensity = clamped;
+        }
         if (l.type == LightType::Spot) {
             const float outer = std::isnan(l.outerConeRadians)
                                     ? 0.7853982f

@@ -190,6 +190,13 @@ Status validateLight(const Light& l, size_t i) {
     if (!std::isfinite(l.intensity) || !(l.intensity >= 0))
         return makeError(FormatError::BadPayload, 0, "LGHT light %zu: intensity %g is not finite and >= 0",
                          i, double(l.intensity));
+    if (const double output = double(l.intensity) * std::max({double(l.color.x),
+                                                               double(l.color.y), double(l.color.z)});
+        !(output <= double(kMaxLightOutput)))
+        return makeError(FormatError::BadPayload, 0,
+                         "LGHT light %zu: intensity %g x brightest colour channel = %g exceeds "
+                         "%g, the most a light may give (kMaxLightOutput)",
+                         i, double(l.intensity), output, double(kMaxLightOutput));
     if (!std::isfinite(l.range) || !(l.range >= 0))
         return makeError(FormatError::BadPayload, 0,
                          "LGHT light %zu: range %g is not finite and >= 0 (0 means unlimited)", i,

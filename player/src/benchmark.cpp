@@ -259,6 +259,11 @@ PlayResult<BenchResult> runBenchmark(const GpuScene& scene, Renderer& renderer,
             if (c.frame != k) continue;
             auto img = renderer.capture(c.buffer);
             if (!img) return img.error();
+            if (c.buffer == CaptureBuffer::Hdr)
+                if (size_t bad = nonFinitePixels(*img))
+                    result.warnings.push_back("frame " + std::to_string(k) + ": " +
+                                              std::to_string(bad) + " pixels of the HDR buffer "
+                                              "are NaN or infinite");
             if (auto s = saveCapture(c.path, *img); !s) return s.error();
             result.written.push_back(c.path);
             if (c.buffer == CaptureBuffer::Position || c.buffer == CaptureBuffer::Shadow ||
@@ -293,6 +298,18 @@ PlayResult<BenchResult> runBenchmark(const GpuScene& scene, Renderer& renderer,
         f.frame -= lastRendererFrame - (records.size() - 1);
     collect();
     result.frames = uint32_t(records.size());
+    // The frame check: a NaN or an infinity in the last frame's radiance would otherwise pass
+    // as a black or white patch (a light the shaders overflow on, a degenerate input).
+    if (!records.empty()) {
+        auto hdr = renderer.capture(CaptureBuffer::Hdr);
+        if (!hdr) return hdr.error();
+        result.nonFinitePixels = nonFinitePixels(*hdr);
+        if (result.nonFinitePixels)
+            result.warnings.push_back("the last frame (" + std::to_string(result.frames - 1) +
+                                      "): " + std::to_string(result.nonFinitePixels) + " of " +
+                                      std::to_string(size_t(hdr->width) * hdr->height) +
+                                      " pixels of the HDR buffer are NaN or infinite");
+    }
 
     // The quality pass: the same frames again, measured by the caller's hook.
     nlohmann::json quality = nlohmann::json::object();
@@ -422,6 +439,8 @@ PlayResult<BenchResult> runBenchmark(const GpuScene& scene, Renderer& renderer,
                 {"dt_s", options.fixedDt ? dt : 0.0}, {"frames", result.frames},
                 {"width", options.width}, {"height", options.height},
                 {"timer_stalls", renderer.timer().stalls()}};
+    j["frame_check"] = {{"frame", result.frames ? result.frames - 1 : 0},
+                        {"nonfinite_pixels", result.nonFinitePixels}};
     nlohmann::json settings = nlohmann::json::object();
     for (const auto& [k, v] : settingValues(renderer.settings())) settings[k] = v;
     j["settings"] = settings;

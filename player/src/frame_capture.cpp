@@ -30,6 +30,17 @@ glm::vec3 octDecode(glm::vec2 e) {
 
 } // namespace
 
+size_t nonFinitePixels(const CapturedImage& image) {
+    if (image.channels == 0 || image.f32.empty()) return 0;
+    size_t count = 0;
+    for (size_t i = 0; i + image.channels <= image.f32.size(); i += image.channels) {
+        bool finite = true;
+        for (uint32_t c = 0; c < image.channels; ++c) finite &= std::isfinite(image.f32[i + c]);
+        count += !finite;
+    }
+    return count;
+}
+
 PlayResult<CapturedImage> Renderer::capture(CaptureBuffer buffer) {
     const FrameTargets& t = mImpl->targets;
     if (t.width == 0) return PlayError{PlayErrorKind::Usage, "capture before the first frame"};

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <span>
+#include <string>
 #include <vector>
 
 #include "frame_targets.h"
@@ -128,6 +129,7 @@ struct Renderer::Impl {
     float appliedAnisotropy = 1.0f;       // textures' GL_TEXTURE_MAX_ANISOTROPY (1 at upload)
     size_t alignment = 256;
     uint64_t frame = 0;
+    std::string debugViewNote; // of the last frame (debugViewNote())
 };
 
 // Binds material state and draws `refs` with each material's own program (or the one
@@ -156,5 +158,8 @@ void runDeferredLayers(FrameContext& ctx);
 void runForward(FrameContext& ctx);
 void runTonemap(FrameContext& ctx);
 void runDebugView(FrameContext& ctx);
+// Why the chosen debug view shows nothing this frame ("" when it shows something): a shadow
+// view without shadows, a GI view without GI, the LOD view without levels.
+std::string debugViewNote(const FrameContext& ctx);
 
 } // namespace pnb::player

@@ -86,6 +86,7 @@ struct GiResources {
 // This frame's GI state (prepareGi).
 struct GiFrame {
     bool active = false;
+    const char* off = nullptr; // why GI is off this frame (nullptr while active): debug-view notes
     bool pending = false; // finishGi still to run this frame
     std::vector<LpvCascade> cascades;
     bool following = false;    // the outer cascade follows the camera (its border fades out)

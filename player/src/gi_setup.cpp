@@ -75,12 +75,14 @@ void prepareGi(FrameContext& ctx) {
         gi.diffuseVersion = scene.materialsVersion;
     }
     const bool diffuse = s.giEnabled && scene.giPrograms && sun >= 0 && gi.diffuse;
+    f.off = !s.giEnabled          ? "gi.enabled is false"
+            : !scene.giPrograms   ? "the container's lighting has no GI (convert with pnb-convert --gi)"
+            : sun < 0             ? "the scene has no directional light"
+            : !gi.diffuse         ? "no opaque surface reflects diffuse light (all metal or black)"
+                                  : nullptr;
     if (s.giEnabled && !diffuse && !gi.warned) {
         gi.warned = true;
-        std::fprintf(stderr, "pnb-play: gi.enabled, but %s: no indirect light\n",
-                     !scene.giPrograms ? "the container's lighting has no GI (convert with pnb-convert --gi)"
-                     : sun < 0         ? "the scene has no directional light"
-                                       : "no opaque surface reflects diffuse light (all metal or black)");
+        std::fprintf(stderr, "pnb-play: gi.enabled, but %s: no indirect light\n", f.off);
     }
     if (diffuse) {
         glm::dvec3 forward = ctx.view.forward();
@@ -113,6 +115,7 @@ void prepareGi(FrameContext& ctx) {
         std::fprintf(stderr, "pnb-play: GI off: %s\n", ok.error().message.c_str());
         gi.resources = GiResources{};
         f.cascades.clear();
+        f.off = "its volumes could not be allocated (see the message above)";
         return;
     }
     f.active = true;

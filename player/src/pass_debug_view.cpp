@@ -11,6 +11,37 @@
 
 namespace pnb::player {
 
+std::string debugViewNote(const FrameContext& ctx) {
+    const DebugView v = ctx.settings.debugView;
+    const std::string view = "debug.view=" + std::string(toString(v));
+    const ShadowFrame& shadows = ctx.shadows.frame;
+    const GiFrame& gi = ctx.gi.frame;
+    switch (v) {
+    case DebugView::Cascades:
+    case DebugView::ShadowMap:
+    case DebugView::Histogram:
+        if (!shadows.active && shadows.off) return view + " shows nothing: " + shadows.off;
+        if (v == DebugView::Histogram && !shadows.gpuFit)
+            return view + " shows nothing: the depth histogram is SDSM's (shadows.technique=sdsm)";
+        break;
+    case DebugView::GiIndirect:
+        if (!gi.active && gi.off) return view + " shows the lit image unchanged: GI is off: " + gi.off;
+        break;
+    case DebugView::GiRsm:
+    case DebugView::GiVolume:
+        if (!gi.active && gi.off) return view + " shows nothing: GI is off: " + gi.off;
+        break;
+    case DebugView::Lod:
+        if (std::none_of(ctx.scene.items.begin(), ctx.scene.items.end(),
+                         [](const DrawItem& i) { return i.levelCount > 1; }))
+            return view + " shows one colour: no item has levels of detail (convert with "
+                          "pnb-convert --lods N)";
+        break;
+    default: break;
+    }
+    return {};
+}
+
 namespace {
 
 glm::vec4 layerColor(size_t index) {

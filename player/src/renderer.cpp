@@ -129,6 +129,7 @@ TargetMemory Renderer::targetMemory() const {
 }
 
 const CameraState& Renderer::lastCamera() const { return mImpl->lastCamera; }
+const std::string& Renderer::debugViewNote() const { return mImpl->debugViewNote; }
 
 GLuint Renderer::outputTexture() const { return mImpl->targets.output.id(); }
 
@@ -180,6 +181,7 @@ PlayResult<Done> Renderer::render(const CameraState& camera, uint32_t width, uin
     prepareShadows(ctx);
     prepareGi(ctx);
     prepareIbl(ctx);
+    impl.debugViewNote = player::debugViewNote(ctx);
     FrameBlock fb;
     fb.viewProjection = mView.viewProjection;
     fb.view = mView.view;

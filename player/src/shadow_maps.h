@@ -81,6 +81,7 @@ struct ShadowResources {
 struct ShadowFrame {
     bool sceneHasShadows = false; // lighting programs were built with SHADOWS (bind a block)
     bool active = false;          // maps are drawn and read this frame
+    const char* off = nullptr;    // why they are not (nullptr while active): debug-view notes
     bool gpuFit = false;          // SDSM: block, masks and draws live in GPU buffers
     bool pending = false;         // SDSM waits for the first deferred layer's depth
     uint32_t cascades = 0;

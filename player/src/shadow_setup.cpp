@@ -77,6 +77,11 @@ void prepareShadows(FrameContext& ctx) {
     const GpuScene& scene = ctx.scene;
     f.sceneHasShadows = scene.shadowProgram.has_value();
     f.active = f.gpuFit = false;
+    f.off = !f.sceneHasShadows ? "the container has no shadow programs (no material casts shadows)"
+            : s.shadowTechnique == ShadowTechnique::Off ? "shadows.technique is off"
+            : sc.light < 0 ? "the scene has no shadow-casting directional light"
+            : sc.casters.empty() ? "nothing in the scene casts a shadow"
+                                 : nullptr;
     f.cascades = 0;
     f.casters.clear();
     f.objectOffsets.clear();

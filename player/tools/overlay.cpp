@@ -42,6 +42,10 @@ bool Overlay::draw(const Renderer& renderer, const FrameGpuTimes* times, RenderS
     ImGui::Begin("pnb-play", nullptr, ImGuiWindowFlags_AlwaysAutoResize);
     for (const std::string& line : status) ImGui::TextUnformatted(line.c_str());
     if (!status.empty()) ImGui::Separator();
+    if (const std::string& note = renderer.debugViewNote(); !note.empty()) {
+        ImGui::TextColored(ImVec4(1, 0.75f, 0.3f, 1), "%s", note.c_str());
+        ImGui::Separator();
+    }
     const FrameStats& s = renderer.lastFrame();
     ImGui::Text("CPU %.2f ms   draws %u   triangles %llu", s.cpuMs, s.drawCalls,
                 static_cast<unsigned long long>(s.triangles));

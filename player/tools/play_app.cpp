@@ -579,6 +579,10 @@ int pnb::player::runPlayer(int argc, char** argv, const char* program, const Tru
             };
         auto result = runBenchmark(*scene, **renderer, bo, load, gl, present);
         if (!result) return fail(result.error());
+        for (const std::string& w : result->warnings) // a wrong frame is never silent, even -q
+            std::fprintf(stderr, "%s: warning: %s\n", gProgram, w.c_str());
+        if (const std::string& note = (*renderer)->debugViewNote(); !note.empty())
+            std::fprintf(stderr, "%s: note: %s\n", gProgram, note.c_str());
         if (args.errorMaps) {
             std::vector<ErrorMap> maps;
             for (const auto& judge : judges)

@@ -255,6 +255,26 @@ TEST_F(LightConvert, SpotConesOutsideTheirDomainAreClampedAndWarned) {
     EXPECT_FLOAT_EQ(halfPi->outerConeRadians, float(M_PI / 2));
 }
 
+TEST_F(LightConvert, ALightBrighterThanTheReaderAllowsIsLoweredToTheBoundAndWarned) {
+    // Finite in the source but beyond kMaxLightOutput: intensity x colour overflowed the
+    // renderer's sums (FLT_MAX x FLT_MAX filled the frame with NaN).
+    const std::string in = writeGltf(
+        "bright", {light("blinding", "point", R"("intensity":3e38,"color":[1,0.5,0.25],"range":5)"),
+                   light("ok", "point", R"("intensity":1e9,"range":5)")});
+    ConvertSummary sum;
+    const Scene scene = convertAndRead(settings(in), &sum);
+    const Light* blinding = named(scene, "blinding");
+    const Light* ok = named(scene, "ok");
+    ASSERT_TRUE(blinding && ok);
+    EXPECT_FLOAT_EQ(blinding->intensity, kMaxLightOutput);
+    EXPECT_FLOAT_EQ(blinding->color.y, 0.5f) << "the colour is kept";
+    EXPECT_FLOAT_EQ(ok->intensity, 1e9f);
+    auto w = warningsWith(sum, "light 'blinding': intensity 3e+38 x brightest colour channel 1 "
+                               "exceeds 1e+10");
+    EXPECT_EQ(w.size(), 1u) << all(sum);
+    EXPECT_TRUE(warningsWith(sum, "light 'ok'").empty()) << all(sum);
+}
+
 TEST_F(LightConvert, ALightThatGivesNoLightKeepsRangeZeroAndCastsNoShadow) {
     const std::string in = writeGltf(
         "dark", {light("off", "point", R"("intensity":0)"),

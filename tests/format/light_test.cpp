@@ -129,6 +129,11 @@ TEST(LightValidation, ValuesOutsideTheirDomainAreRefusedNamingLghtAndTheLight) {
         {"infinite range", with(base, [](Light& l) { l.range = kInf; }), "range"},
         {"negative colour", with(base, [](Light& l) { l.color.y = -0.5f; }), "colour"},
         {"NaN colour", with(base, [](Light& l) { l.color.z = kNaN; }), "colour"},
+        // Finite, but the renderer's sums overflow: FLT_MAX x FLT_MAX filled the frame with NaN.
+        {"FLT_MAX intensity and colour", pointLight(FLT_MAX, {FLT_MAX, FLT_MAX, FLT_MAX}),
+         "exceeds 1e+10"},
+        {"just above kMaxLightOutput", pointLight(kMaxLightOutput * 1.01f), "kMaxLightOutput"},
+        {"a bright channel", pointLight(2e4f, {1, 1e6f, 1}), "brightest colour channel"},
         {"inner > outer", spotLight(0.6f, 0.5f), "cone"},
         {"outer > pi/2", spotLight(0.1f, 1.6f), "cone"},
         {"negative inner", spotLight(-0.1f, 0.5f), "cone"},
@@ -165,8 +170,10 @@ TEST(LightValidation, TheDomainsEdgesAreAccepted) {
     // Exactly pi/2 as glTF writes it (a double rounded to float), inner = outer, range 0
     // (unlimited), a dark light, zero cone: all valid.
     const float halfPi = float(M_PI / 2);
+    // The brightest light allowed, and a black colour of any size on a dark light.
     for (const Light& l : {spotLight(halfPi, halfPi), spotLight(0, 0), pointLight(0, {0, 0, 0}),
-                           pointLight(FLT_MAX)}) {
+                           pointLight(kMaxLightOutput), pointLight(0, {FLT_MAX, FLT_MAX, FLT_MAX}),
+                           pointLight(kMaxLightOutput / 1e6f, {1e6f, 0, 0})}) {
         auto r = readWithLight(l);
         EXPECT_TRUE(r.ok()) << r.error().describe();
     }

@@ -261,6 +261,11 @@ inline constexpr uint32_t kMaxLights = 65536;
 // exactly pi/2 as glTF writes it passes). A spot's cone angles satisfy
 // 0 <= innerConeRadians <= outerConeRadians <= kMaxSpotConeRadians.
 inline constexpr float kMaxSpotConeRadians = 1.5707964f;
+// The most light one light may give: intensity x its brightest colour channel (lux for a sun,
+// candela otherwise). 1e10 is 10^5 times the noon sun and 10^3 times a stadium floodlight, and
+// keeps a renderer's sums finite in float: x 10^4 at the 1 cm closest distance, x the BRDF's peak,
+// x kMaxLights stays far below FLT_MAX (3.4e38), where FLT_MAX x FLT_MAX gave infinities and NaN.
+inline constexpr float kMaxLightOutput = 1e10f;
 struct Light {
     StringRef name = kNone;
     LightType type = LightType::Directional;

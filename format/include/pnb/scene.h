@@ -101,7 +101,8 @@ Status validateTextureMip(const Scene& scene, const TextureMip& mip, size_t inde
 Status validateEnvironment(const Scene& scene, const Environment& environment);
 
 // Checks one light's values against their domains (docs/FORMAT.md "LGHT"): a known type; colour
-// finite and >= 0; intensity finite and >= 0; range finite and >= 0; for a spot,
+// finite and >= 0; intensity finite and >= 0; intensity x brightest colour channel at most
+// kMaxLightOutput; range finite and >= 0; for a spot,
 // 0 <= inner <= outer <= pi/2 (kMaxSpotConeRadians). Errors (BadPayload) name LGHT and `index`.
 Status validateLight(const Light& light, size_t index);
 

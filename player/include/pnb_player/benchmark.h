@@ -92,6 +92,10 @@ struct BenchResult {
     std::vector<PassSummary> gpu; // per pass, then "total"
     PassSummary cpu;
     std::vector<std::string> written; // files, in the order written
+    // The frame check: pixels of the last frame's HDR buffer that are NaN or infinite (also in
+    // summary.json "frame_check"), and one warning per frame or buffer found with any.
+    size_t nonFinitePixels = 0;
+    std::vector<std::string> warnings;
 };
 
 // Renders the fly-through with `renderer` in the current context. `present` (optional) shows

@@ -105,6 +105,10 @@ struct CapturedImage {
     std::vector<float> f32;
 };
 
+// Pixels of a float capture with a NaN or infinite channel (0 for 8-bit captures): the frame
+// check of headless runs (a light the shaders overflow on shows up here, not as a black image).
+size_t nonFinitePixels(const CapturedImage& image);
+
 // RenderSettings defaults with driverDefaults() of the current context's GL_RENDERER applied.
 RenderSettings settingsForCurrentDriver();
 
@@ -142,6 +146,9 @@ public:
     GLuint outputTexture() const;
 
     const FrameStats& lastFrame() const { return mStats; }
+    // Why debug.view shows nothing in the last frame, naming what is missing ("" when it shows
+    // something): pnb-play prints it, its window overlay shows it.
+    const std::string& debugViewNote() const;
     GpuTimer& timer() { return mTimer; }
     TargetMemory targetMemory() const;
     // Debug-view helpers need the view of the last frame.
