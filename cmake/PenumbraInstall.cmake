@@ -75,6 +75,7 @@ install(PROGRAMS ${PROJECT_SOURCE_DIR}/player/tools/plot_frames.py
 install(PROGRAMS ${PROJECT_SOURCE_DIR}/sweep/pnb_sweep.py DESTINATION ${PNB_INSTALL_DATADIR}/sweep)
 install(FILES ${PROJECT_SOURCE_DIR}/sweep/sweep_report.py ${PROJECT_SOURCE_DIR}/sweep/slurm_cluster.py
     ${PROJECT_SOURCE_DIR}/sweep/sweep_command.py ${PROJECT_SOURCE_DIR}/sweep/output_guard.py
+    ${PROJECT_SOURCE_DIR}/sweep/sweep_schema.py
     DESTINATION ${PNB_INSTALL_DATADIR}/sweep)
 file(RELATIVE_PATH PNB_BIN_TO_DATA /${CMAKE_INSTALL_BINDIR} /${PNB_INSTALL_DATADIR})
 configure_file(${PROJECT_SOURCE_DIR}/cmake/pnb-sweep.in ${PROJECT_BINARY_DIR}/pnb-sweep @ONLY)
@@ -139,11 +140,11 @@ set(CPACK_PACKAGING_INSTALL_PREFIX /usr)
 set(CPACK_DEBIAN_FILE_NAME DEB-DEFAULT)
 set(CPACK_DEBIAN_PACKAGE_SECTION devel)
 set(CPACK_DEBIAN_PACKAGE_SHLIBDEPS ON)
-# python3 >= 3.11 (tomllib): pnb-sweep.
+# python3 >= 3.11 (tomllib) and python3-jsonschema (its file schemas): pnb-sweep.
 if(PNB_DEB_DEPENDS)
-    set(CPACK_DEBIAN_PACKAGE_DEPENDS "${PNB_DEB_DEPENDS}, python3 (>= 3.11)")
+    set(CPACK_DEBIAN_PACKAGE_DEPENDS "${PNB_DEB_DEPENDS}, python3 (>= 3.11), python3-jsonschema")
 else()
-    set(CPACK_DEBIAN_PACKAGE_DEPENDS "python3 (>= 3.11)")
+    set(CPACK_DEBIAN_PACKAGE_DEPENDS "python3 (>= 3.11), python3-jsonschema")
 endif()
 # Mesa's drivers (llvmpipe when there is no GPU); pnb-play's benchmark plots and pnb-sweep's
 # report (optional: pnb-play warns and goes on without them); pnb-sweep run --slurm's clients.

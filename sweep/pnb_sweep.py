@@ -23,7 +23,10 @@ A file with kind = "command" is a command experiment instead (sweep_command.py):
 per combination of its axes, whose job writes named figures; it plans, runs (locally or on Slurm),
 collects and reports like a sweep. Every experiment of the repository is a file in
 sweep/examples/ (pnb-play sweeps) or sweep/experiments/ (command experiments); scripts/bench-*
-run them through `experiment`.
+run them through `experiment`. Every file is checked against the JSON Schema of its kind
+(sweep_schema.py) before anything else reads it: an error names the file, the key and what was
+expected. plan, run, experiment, and collect/report --sweep refuse a sweep of more than 1000 jobs
+(JOB_LIMIT) unless given --max-jobs N (a larger limit) or --yes (none).
 
 Subcommands:
     plan SWEEP [--results DIR]      the jobs (scene x every combination of the axes), each with its
@@ -87,8 +90,9 @@ import tempfile
 import time
 import tomllib
 
-from sweep_command import (SweepError, collect_row, combinations, describe, load_command_experiment, plan_command,
-                           run_command_job, value_text)
+from sweep_command import (SweepError, collect_row, combination_count, combinations, count_terms, describe,
+                           load_command_experiment, plan_command, run_command_job, value_text)
+from sweep_schema import validate
 from output_guard import check_outputs, write_atomically
 from sweep_report import LOAD_PHASES  # pnb-play's load phases, in the order they happen
 
@@ -102,6 +106,10 @@ EXPERIMENT_DIRS = [os.path.join(REPO, "sweep", "examples"), os.path.join(REPO, "
 # "convert.quantize" = [false, true] -> (nothing) | --quantize; "convert.max-texture-size" = [512]
 # -> --max-texture-size 512.
 CONVERT_PREFIX = "convert."
+# Planning more jobs than this needs --max-jobs or --yes: a sweep's jobs multiply, and a stray axis
+# (or a value list pasted twice) turns an afternoon's sweep into one that never ends. The largest
+# sweep of the repository, sweep/examples/shadows.toml, is 188 jobs.
+JOB_LIMIT = 1000
 
 
 _hashes = {}
@@ -134,37 +142,26 @@ def read_json(path):
 
 
 def load_sweep(path, check_files=True):
-    """A sweep file, checked. check_files=False: scenes and paths need not exist yet (pnb_sweep.py
+    """A sweep file, checked: its shape against the schema of its kind (sweep_schema.py), then what
+    a schema cannot say. check_files=False: scenes and paths need not exist yet (pnb_sweep.py
     list, which only counts the jobs)."""
     try:
         with open(path, "rb") as f:
             data = tomllib.load(f) if path.endswith(".toml") else json.load(f)
     except OSError as e:
         raise SweepError("%s: %s" % (path, e.strerror))
-    except (tomllib.TOMLDecodeError, json.JSONDecodeError) as e:
+    # Also bytes that are not UTF-8, and arrays nested deeper than the parsers recurse.
+    except (tomllib.TOMLDecodeError, json.JSONDecodeError, UnicodeDecodeError, RecursionError) as e:
         raise SweepError("%s: not valid %s: %s" % (path, "TOML" if path.endswith(".toml") else "JSON", e))
-    if not isinstance(data, dict):
-        raise SweepError("%s: the top level must be a table" % path)
-    kind = data.get("kind", "play")
-    if kind == "command":
+    validate(path, data)
+    if data.get("kind") == "command":
         try:
             return load_command_experiment(path, data, check_files)
         except ValueError as e:
             raise SweepError(str(e))
-    if kind != "play":
-        raise SweepError("%s: kind: '%s' is not a kind of experiment (play, command)" % (path, kind))
-    known = {"name", "kind", "description", "frames", "size", "metrics", "fixed", "axes", "scenes"}
-    for key in data:
-        if key not in known:
-            raise SweepError("%s: unknown key '%s' (known: %s)" % (path, key, ", ".join(sorted(known))))
     base = os.path.dirname(os.path.abspath(path))
-    scenes = data.get("scenes")
-    if not isinstance(scenes, list) or not scenes:
-        raise SweepError("%s: 'scenes' must be a non-empty list of tables" % path)
     out_scenes = []
-    for i, s in enumerate(scenes):
-        if not isinstance(s, dict) or "source" not in s:
-            raise SweepError("%s: scenes[%d] needs a 'source'" % (path, i))
+    for i, s in enumerate(data["scenes"]):
         src = os.path.join(base, s["source"])
         if check_files and not os.path.exists(src):
             raise SweepError("%s: scenes[%d].source: %s does not exist" % (path, i, src))
@@ -173,19 +170,12 @@ def load_sweep(path, check_files=True):
             scene_path = os.path.join(base, scene_path)
             if check_files and not os.path.exists(scene_path):
                 raise SweepError("%s: scenes[%d].path: %s does not exist" % (path, i, scene_path))
-        convert = s.get("convert", [])
-        if not isinstance(convert, list) or not all(isinstance(c, str) for c in convert):
-            raise SweepError("%s: scenes[%d].convert must be a list of strings" % (path, i))
         out_scenes.append({"name": s.get("name", os.path.splitext(os.path.basename(src))[0]),
-                           "source": src, "convert": convert, "path": scene_path})
+                           "source": src, "convert": s.get("convert", []), "path": scene_path})
     # One table: every combination of its axes. An array of tables: the union of each one's
     # combinations (sweeps that are not a full product, e.g. cascades only for some techniques).
     axes = data.get("axes", {})
     groups = axes if isinstance(axes, list) else [axes]
-    for g in groups:
-        if not isinstance(g, dict) or not all(isinstance(v, list) and v for v in g.values()):
-            raise SweepError("%s: 'axes' must map setting keys to non-empty lists of values "
-                             "(or be an array of such tables)" % path)
     has_convert = any(k.startswith(CONVERT_PREFIX) for g in groups for k in g) or \
         any(k.startswith(CONVERT_PREFIX) for k in data.get("fixed", {}))
     if has_convert:
@@ -193,15 +183,11 @@ def load_sweep(path, check_files=True):
             if s["source"].endswith(".pnb"):
                 raise SweepError("%s: converter axes (%s*) need scenes given by their source, and %s "
                                  "is a container" % (path, CONVERT_PREFIX, s["source"]))
-    metrics = data.get("metrics", {})
-    for m, every in metrics.items():
-        if m not in METRIC_FLAGS or not isinstance(every, int) or every < 1:
-            raise SweepError("%s: metrics.%s: known metrics are %s, each with a frame interval >= 1"
-                             % (path, m, ", ".join(METRIC_FLAGS)))
     return {"kind": "play", "name": data.get("name", os.path.splitext(os.path.basename(path))[0]),
-            "description": describe(path, data),
-            "frames": int(data.get("frames", 30)), "size": str(data.get("size", "320x180")),
-            "metrics": dict(sorted(metrics.items())),
+            "file": path, "description": describe(path, data),
+            "frames": int(data.get("frames", 30)), "size": data.get("size", "320x180"),
+            # Whole numbers, as the schema has them, may be written 8.0 (JSON): pnb-play takes "8".
+            "metrics": {m: int(every) for m, every in sorted(data.get("metrics", {}).items())},
             "fixed": {k: value_text(v) for k, v in sorted(data.get("fixed", {}).items())},
             "axes": [{k: [value_text(v) for v in vs] for k, vs in g.items()} for g in groups],
             "scenes": out_scenes}
@@ -280,15 +266,29 @@ def play_combinations(sweep):
 
 
 def job_count(sweep):
-    """How many jobs a sweep expands into (without hashing anything: `list`)."""
+    """How many jobs a sweep expands into: counted from the sizes of its axes, nothing expanded or
+    hashed (`list`, the job limit)."""
     if sweep["kind"] == "command":
-        return len(combinations(sweep["axes"]))
-    return len(sweep["scenes"]) * len(play_combinations(sweep))
+        return combination_count(sweep["axes"])
+    return len(sweep["scenes"]) * combination_count(sweep["axes"], sweep["fixed"])
 
 
-def plan(sweep, bins, results, args=()):
+def job_count_terms(sweep):
+    """How job_count's number arises: "3 scenes x 4 x 2", "3 scenes x (1 + 2 x 4) less 1 shared"."""
+    if sweep["kind"] == "command":
+        return count_terms(sweep["axes"])
+    n = len(sweep["scenes"])
+    return "%d scene%s x %s" % (n, "" if n == 1 else "s", count_terms(sweep["axes"], sweep["fixed"]))
+
+
+def plan(sweep, bins, results, args=(), max_jobs=JOB_LIMIT):
     """The jobs of a sweep with their keys. `args`: extra arguments for a command experiment's
-    command (pnb_sweep.py run ... -- ARGS)."""
+    command (pnb_sweep.py run ... -- ARGS). More than `max_jobs` jobs (None: no limit) is an
+    error before any job is made: an axis too many or a stray value multiplies them."""
+    n = job_count(sweep)
+    if max_jobs is not None and n > max_jobs:
+        raise SweepError("%s: %d jobs (%s), more than the limit of %d; to plan them, give --max-jobs %d or --yes"
+                         % (sweep["file"], n, job_count_terms(sweep), max_jobs, n))
     if sweep["kind"] == "command":
         jobs = plan_command(sweep, bins["build"], results, args, combinations(sweep["axes"]), file_hash)
         return {"sweep": sweep["name"], "results": results, "binaries": bins, "jobs": jobs}
@@ -632,17 +632,24 @@ def experiment_index(paths):
 
 
 def main(argv=None):
-    ap = argparse.ArgumentParser(prog="pnb-sweep", description=__doc__.split("\n")[0])
+    ap = argparse.ArgumentParser(prog="pnb-sweep", description=__doc__.split("\n")[0],
+                                 epilog="plan, run, experiment and collect/report --sweep refuse a sweep of more "
+                                        "than %d jobs unless given --max-jobs N or --yes" % JOB_LIMIT)
     # Installed, the pnb-sweep wrapper names its own bin/ in PNB_SWEEP_TOOLS.
     ap.add_argument("--build", default=os.environ.get("PNB_SWEEP_TOOLS") or os.path.join(REPO, "build", "release"),
                     help="the build tree (or a directory holding the tools, like an installed bin/) whose "
                          "pnb-convert and pnb-play run the jobs")
     sub = ap.add_subparsers(dest="command", required=True)
-    p = sub.add_parser("plan")
+    # Every subcommand that plans a sweep's jobs refuses more than a limit of them.
+    limit = argparse.ArgumentParser(add_help=False)
+    limit.add_argument("--max-jobs", type=int, default=JOB_LIMIT, metavar="N",
+                       help="refuse to plan a sweep of more than N jobs (default %d)" % JOB_LIMIT)
+    limit.add_argument("--yes", action="store_true", help="plan any number of jobs")
+    p = sub.add_parser("plan", parents=[limit])
     p.add_argument("sweep")
     p.add_argument("--results", default=None)
     p.add_argument("-o", "--output", help="write the plan (JSON) here")
-    r = sub.add_parser("run")
+    r = sub.add_parser("run", parents=[limit])
     where = r.add_mutually_exclusive_group(required=True)
     where.add_argument("--local", action="store_true", help="run on this machine")
     where.add_argument("--slurm", action="store_true", help="submit to Slurm (sbatch --array)")
@@ -658,7 +665,8 @@ def main(argv=None):
                    help="with --local: pnb-play jobs at once (default 1: jobs sharing a GPU time each other)")
     r.add_argument("--rerun", action="store_true",
                    help="with --local: run every job again, finished or not (a benchmark's second sample)")
-    ex = sub.add_parser("experiment", help="run --local --rerun, then report: what scripts/bench-* call")
+    ex = sub.add_parser("experiment", parents=[limit],
+                        help="run --local --rerun, then report: what scripts/bench-* call")
     ex.add_argument("sweep")
     ex.add_argument("--results", default=None, help="default out/sweep/<name>")
     ex.add_argument("-o", "--output", default=None, help="the report's directory (default RESULTS/report)")
@@ -683,10 +691,10 @@ def main(argv=None):
     co = sub.add_parser("convert-one")
     co.add_argument("list")
     co.add_argument("index", type=int)
-    c = sub.add_parser("collect")
+    c = sub.add_parser("collect", parents=[limit])
     c.add_argument("results")
     c.add_argument("-o", "--output", default=None)
-    rp = sub.add_parser("report")
+    rp = sub.add_parser("report", parents=[limit])
     rp.add_argument("results")
     for p_ in (c, rp):
         # A results directory keeps every job ever run into it (other sweeps, older binaries).
@@ -702,6 +710,7 @@ def main(argv=None):
     argv = argv[:argv.index("--")] if "--" in argv else argv
     a = ap.parse_args(argv)
     a.options = extra
+    max_jobs = None if getattr(a, "yes", False) else getattr(a, "max_jobs", None)
     try:
         if a.command == "list":
             entries = experiment_index(a.paths or EXPERIMENT_DIRS)
@@ -714,7 +723,7 @@ def main(argv=None):
         if a.command == "experiment":
             sweep = load_sweep(a.sweep)
             results = os.path.abspath(a.results or os.path.join("out", "sweep", sweep["name"]))
-            data = plan(sweep, binaries(os.path.abspath(a.build), sweep["kind"]), results, extra)
+            data = plan(sweep, binaries(os.path.abspath(a.build), sweep["kind"]), results, extra, max_jobs)
             run_local(data, data["jobs"], os.cpu_count() or 1, 1, force=True)
             from sweep_report import write_report
             columns, rows = collect(results, {j["key"] for j in data["jobs"]})
@@ -728,7 +737,7 @@ def main(argv=None):
         if a.command in ("plan", "run"):
             sweep = load_sweep(a.sweep)
             results = os.path.abspath(a.results or os.path.join("out", "sweep", sweep["name"]))
-            data = plan(sweep, binaries(os.path.abspath(a.build), sweep["kind"]), results, extra)
+            data = plan(sweep, binaries(os.path.abspath(a.build), sweep["kind"]), results, extra, max_jobs)
             pending = [job for job in data["jobs"] if not done(job)]
             if a.command == "plan":
                 if a.output:
@@ -838,7 +847,7 @@ def main(argv=None):
             for f in a.sweep:
                 sweep = load_sweep(f)
                 bins = binaries(os.path.abspath(a.build), sweep["kind"])
-                a.keys |= {j["key"] for j in plan(sweep, bins, os.path.abspath(a.results))["jobs"]}
+                a.keys |= {j["key"] for j in plan(sweep, bins, os.path.abspath(a.results), max_jobs=max_jobs)["jobs"]}
         else:
             a.keys = None
         if a.command == "report":

@@ -27,6 +27,7 @@ import glob
 import hashlib
 import json
 import itertools
+import math
 import os
 import re
 import shutil
@@ -36,7 +37,6 @@ import tempfile
 import time
 
 REPO = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-KNOWN = {"name", "kind", "description", "command", "args", "depends", "env", "figures", "axes"}
 BUILTIN = ("repo", "build", "out", "python")
 PLACEHOLDER = re.compile(r"\{([A-Za-z_][A-Za-z0-9_]*)\}")
 
@@ -69,38 +69,15 @@ def describe(path, data):
     return ""
 
 
-def _strings(path, key, value):
-    if not isinstance(value, list) or not value or not all(isinstance(v, str) for v in value):
-        raise ValueError("%s: '%s' must be a non-empty list of strings" % (path, key))
-    return value
-
-
 def load_command_experiment(path, data, check_files=True):
-    """The checked description of a command experiment; ValueError names the file and the key."""
-    for key in data:
-        if key not in KNOWN:
-            raise ValueError("%s: unknown key '%s' for kind = \"command\" (known: %s)"
-                             % (path, key, ", ".join(sorted(KNOWN))))
-    if "command" not in data:
-        raise ValueError("%s: kind = \"command\" needs 'command' (a list of strings)" % path)
-    command = _strings(path, "command", data["command"])
-    depends = _strings(path, "depends", data["depends"]) if "depends" in data else []
-    default_args = data.get("args", [])
-    if not isinstance(default_args, list) or not all(isinstance(v, str) for v in default_args):
-        raise ValueError("%s: 'args' must be a list of strings" % path)
+    """The description of a command experiment whose shape sweep_schema.py has checked; what the
+    schema cannot say (the placeholders it uses) is checked here. ValueError names the file and
+    the key."""
+    command = data["command"]
+    depends = data.get("depends", [])
     env = data.get("env", {})
-    if not isinstance(env, dict) or not all(isinstance(v, str) for v in env.values()):
-        raise ValueError("%s: 'env' must map variable names to strings" % path)
     axes = data.get("axes", {})
     groups = axes if isinstance(axes, list) else [axes]
-    for g in groups:
-        if not isinstance(g, dict) or not all(isinstance(v, list) and v for v in g.values()):
-            raise ValueError("%s: 'axes' must map placeholder names to non-empty lists of values "
-                             "(or be an array of such tables)" % path)
-        for k in g:
-            if k in BUILTIN or not PLACEHOLDER.fullmatch("{%s}" % k):
-                raise ValueError("%s: axes.%s: not a usable placeholder name (%s are given)"
-                                 % (path, k, ", ".join(BUILTIN)))
     names = set(BUILTIN) | {k for g in groups for k in g}
     for where, texts in (("command", command), ("depends", depends), ("env", list(env.values()))):
         for text in texts:
@@ -108,25 +85,9 @@ def load_command_experiment(path, data, check_files=True):
                 if m.group(1) not in names:
                     raise ValueError("%s: %s: unknown placeholder {%s} (known: %s)"
                                      % (path, where, m.group(1), ", ".join(sorted(names))))
-    figures = data.get("figures")
-    if figures is not None:
-        if not isinstance(figures, dict) or not isinstance(figures.get("file"), str):
-            raise ValueError("%s: 'figures' must be a table with 'file' (a glob in the job directory)" % path)
-        unknown = set(figures) - {"file", "keys", "rows", "label", "columns"}
-        if unknown:
-            raise ValueError("%s: figures: unknown key '%s' (known: file, keys, rows, label, columns)"
-                             % (path, sorted(unknown)[0]))
-        if "rows" in figures and not isinstance(figures["rows"], str):
-            raise ValueError("%s: figures.rows must be the dotted path of a list in the JSON" % path)
-        if figures["file"].endswith(".csv") or "rows" in figures:
-            for k in ("label", "columns"):
-                _strings(path, "figures." + k, figures.get(k))
-        else:
-            _strings(path, "figures.keys", figures.get("keys"))
     return {"kind": "command", "name": data.get("name", os.path.splitext(os.path.basename(path))[0]),
-            "description": describe(path, data), "command": command, "args": default_args,
-            "depends": depends, "env": env,
-            "figures": figures,
+            "file": path, "description": describe(path, data), "command": command,
+            "args": data.get("args", []), "depends": depends, "env": env, "figures": data.get("figures"),
             "axes": [{k: [value_text(v) for v in vs] for k, vs in g.items()} for g in groups]}
 
 
@@ -328,3 +289,40 @@ def combinations(axes):
                 seen.add(tuple(sorted(settings.items())))
                 combos.append(settings)
     return combos
+
+
+def _union_size(boxes):
+    """How many settings the union of `boxes` holds (each a dict of key -> set of values, all over
+    the same keys): each box's size less what it shares with the boxes before it."""
+    total = 0
+    for i, box in enumerate(boxes):
+        shared = []
+        for earlier in boxes[:i]:
+            meet = {k: box[k] & earlier[k] for k in box}
+            if all(meet.values()) and meet not in shared:
+                shared.append(meet)
+        total += math.prod(len(values) for values in box.values()) - _union_size(shared)
+    return total
+
+
+def combination_count(axes, fixed=None):
+    """len(combinations(axes)), or with `fixed` the number of a play sweep's settings (the fixed
+    ones under each combination), from the axes' sizes alone: a sweep of 10^8 jobs is counted,
+    not expanded. Groups whose settings have the same keys may share combinations: once each."""
+    by_keys = {}
+    for group in axes:
+        box = {k: frozenset([v]) for k, v in (fixed or {}).items()}
+        box.update({k: frozenset(vs) for k, vs in group.items()})
+        by_keys.setdefault(frozenset(box), []).append(box)
+    return sum(_union_size(boxes) for boxes in by_keys.values())
+
+
+def count_terms(axes, fixed=None):
+    """How combination_count's number arises: "4 x 2" (the distinct values of each axis), for
+    several groups "(1 + 2 x 4 + 8)", less the combinations they share."""
+    sizes = [[len(set(vs)) for vs in group.values()] for group in axes]
+    terms = [" x ".join(str(n) for n in s) or "1" for s in sizes]
+    if len(terms) == 1:
+        return terms[0]
+    shared = sum(math.prod(s) for s in sizes) - combination_count(axes, fixed)
+    return "(%s)%s" % (" + ".join(terms), " less %d shared" % shared if shared else "")
