@@ -317,6 +317,7 @@ Result<ConvertSummary, ConvertError> convertScene(const ConvertSettings& s,
     { // the files the textures will be read from (a glTF or MTL may name a FIFO too)
         std::vector<RoleFile> read;
         for (const std::string& d : scene.dependencies) read.push_back({d, "a file the scene names"});
+        for (const IrImage& img : scene.images) read.push_back({img.path, "an image the scene names"});
         if (Status st = checkInputs(read); !isOk(st))
             return ConvertError{ConvertErrorKind::Input, s.input + ": " + st.message};
     }
@@ -411,6 +412,16 @@ Result<ConvertSummary, ConvertError> convertScene(const ConvertSettings& s,
     auto texturesResult = processTextures(materials.textures, textureSettings);
     if (!texturesResult) return texturesResult.error();
     std::vector<ProcessedTexture>& textures = *texturesResult;
+    for (size_t t = 0; t < textures.size(); ++t)
+        if (s.texture.maxSize == 0 &&
+            std::max(textures[t].sourceWidth, textures[t].sourceHeight) > kMaxPortableTextureSize)
+            sum.warnings.push_back(
+                "texture " + std::to_string(t) + ": " + std::to_string(textures[t].sourceWidth) +
+                "x" + std::to_string(textures[t].sourceHeight) + " is larger than " +
+                std::to_string(kMaxPortableTextureSize) +
+                ", the largest texture every OpenGL 4.5 GPU takes; resized to " +
+                std::to_string(textures[t].desc.width) + "x" + std::to_string(textures[t].desc.height) +
+                " (--max-texture-size keeps more)");
     for (const IrImage& img : scene.images)
         if (!img.path.empty()) sum.dependencies.push_back(img.path);
     report("textures", textures.size(), textures.size());

@@ -110,7 +110,8 @@ Result<BakedEnvironment, ConvertError> bakeEnvironment(const RadianceImage& radi
     }
     // Halving with the box filter keeps every texel's energy (the mean radiance, hence the SH,
     // is unchanged), which a resampling filter with negative lobes would not near a sun.
-    while (mips[0].height > s.maxRadianceHeight) {
+    // And no edge beyond what every OpenGL 4.5 GPU takes (a 65535x1 image drew nothing).
+    while (mips[0].height > s.maxRadianceHeight || mips[0].width > kMaxPortableTextureSize) {
         mips[0] = texture_detail::downsample(mips[0]);
         ++sum.downsampled;
     }

@@ -158,6 +158,12 @@ std::optional<ConvertError> bakeSpecGloss(const TextureRequest& request,
     return std::nullopt;
 }
 
+// The longest edge a texture is written with: --max-texture-size, else the largest every
+// OpenGL 4.5 GPU takes (kMaxPortableTextureSize; convert.cpp warns when that one applies).
+uint32_t edgeLimit(const TextureSettings& settings) {
+    return settings.maxSize > 0 ? settings.maxSize : kMaxPortableTextureSize;
+}
+
 Result<ProcessedTexture, ConvertError> processOne(const TextureRequest& request,
                                                   const TextureSettings& settings,
                                                   const MemoryShare& share) {
@@ -190,10 +196,11 @@ Result<ProcessedTexture, ConvertError> processOne(const TextureRequest& request,
     }
 
     uint32_t longest = std::max(level.width, level.height);
-    if (settings.maxSize > 0 && longest > settings.maxSize) {
-        double scale = double(settings.maxSize) / double(longest);
+    const uint32_t limit = edgeLimit(settings);
+    if (longest > limit) {
+        double scale = double(limit) / double(longest);
         auto edge = [&](uint32_t e) {
-            return std::clamp(uint32_t(std::lround(e * scale)), 1u, settings.maxSize);
+            return std::clamp(uint32_t(std::lround(e * scale)), 1u, limit);
         };
         auto resized = resizeImage(level, edge(level.width), edge(level.height));
         if (!resized)
@@ -291,7 +298,7 @@ Result<ProcessedTexture, ConvertError> processGuarded(const TextureRequest& requ
 uint64_t estimateTextureBytes(uint32_t width, uint32_t height, uint32_t channels,
                               uint32_t bytesPerChannel, const TextureSettings& settings) {
     const uint64_t texels = uint64_t(width) * height;
-    const bool resized = settings.maxSize > 0 && std::max(width, height) > settings.maxSize;
+    const bool resized = std::max(width, height) > edgeLimit(settings);
     const uint64_t perTexel = uint64_t(channels + std::min(channels, 4u)) * bytesPerChannel +
                               16 + (resized ? 16 : 0) + 4;
     const uint64_t packed = texels * 8 + texels * 8 / 3;

@@ -57,7 +57,7 @@ PlayResult<std::unique_ptr<Renderer>> Renderer::create(const GpuScene& scene,
     // The light list and, when clustering, one view-space sphere per light.
     size_t lightBytes = 16 + (sizeof(GpuLight) + sizeof(glm::vec4)) * std::max<size_t>(scene.lights.size(), 1);
     size_t objectStride = (kObjectBlockBytes + impl.alignment - 1) / impl.alignment * impl.alignment;
-    impl.ring.reserve(kFrameBlocks * (sizeof(FrameBlock) + impl.alignment) + lightBytes + impl.alignment + sizeof(ShadowBlock) +
+    const bool ringMade = impl.ring.reserve(kFrameBlocks * (sizeof(FrameBlock) + impl.alignment) + lightBytes + impl.alignment + sizeof(ShadowBlock) +
                           sizeof(GiBlock) + sizeof(IblBlock) + impl.alignment * 8 +
                           kLocalShadowBytes + 64 * impl.alignment +
                           scene.items.size() * (kObjectBlocksPerItem * objectStride + 4 + 32) +
@@ -65,6 +65,10 @@ PlayResult<std::unique_ptr<Renderer>> Renderer::create(const GpuScene& scene,
                           // per batch a flagged object block; both passes that batch
                           2 * scene.items.size() * (144 + objectStride + impl.alignment),
                       impl.alignment);
+    if (!ringMade)
+        return PlayError{PlayErrorKind::Gl, "the GL cannot allocate the per-frame stream ring (" +
+                                                std::to_string(scene.items.size()) +
+                                                " draw items): out of GPU memory"};
     impl.targets.memory.streamingBytes = impl.ring.totalBytes();
     return r;
 }

@@ -3,6 +3,7 @@
 #include "pnb_player/scene_stream.h"
 
 #include <algorithm>
+#include <cstdio>
 #include <chrono>
 #include <cmath>
 #include <cstring>
@@ -570,9 +571,22 @@ PlayResult<Done> SceneStream::update(const CameraState& camera, uint32_t width, 
             const TextureDesc& d = sc.textures[t];
             largestUnit = std::max(largestUnit, rowBytes(d, im.pending[t].levels.front().mip.level, rowUnit(d)));
         }
-        // The frame's bytes, and one unit more: a unit larger than them still goes alone.
-        im.staging.reserve(mOptions.uploadBytesPerFrame + alignUp(largestUnit, kStagingAlignment),
-                           kStagingAlignment);
+        // The frame's bytes, and one unit more: a unit larger than them still goes alone. A
+        // stream.upload_mib the GPU cannot hold three frames of (4096 MiB: GL_OUT_OF_MEMORY,
+        // then a crash) is halved until it fits, once, with a message.
+        const uint64_t asked = mOptions.uploadBytesPerFrame;
+        while (!im.staging.reserve(mOptions.uploadBytesPerFrame + alignUp(largestUnit, kStagingAlignment),
+                                   kStagingAlignment)) {
+            if (mOptions.uploadBytesPerFrame <= (uint64_t(1) << 20))
+                return PlayError{PlayErrorKind::Gl, "the GL cannot allocate even 1 MiB per frame of "
+                                                    "texture upload staging: out of GPU memory"};
+            mOptions.uploadBytesPerFrame /= 2;
+        }
+        if (mOptions.uploadBytesPerFrame != asked)
+            std::fprintf(stderr, "pnb-play: stream.upload_mib=%.0f: the GPU cannot hold %d frames of "
+                                 "upload staging that large; uploading %.0f MiB per frame instead\n",
+                         double(asked) / 1048576.0, StreamRing::kSections,
+                         double(mOptions.uploadBytesPerFrame) / 1048576.0);
         im.staging.beginFrame();
         glGetIntegerv(GL_UNPACK_ALIGNMENT, &im.unpackAlignment);
         glPixelStorei(GL_UNPACK_ALIGNMENT, 1);

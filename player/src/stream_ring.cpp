@@ -11,10 +11,10 @@ StreamRing::~StreamRing() {
     if (mMapped) glUnmapNamedBuffer(mBuffer.id());
 }
 
-void StreamRing::reserve(size_t sectionBytes, size_t alignment) {
+bool StreamRing::reserve(size_t sectionBytes, size_t alignment) {
     mAlignment = alignment;
     sectionBytes = (sectionBytes + alignment - 1) / alignment * alignment;
-    if (sectionBytes <= mSectionBytes) return;
+    if (sectionBytes <= mSectionBytes) return true;
     for (GLsync& f : mFences) {
         if (f) {
             glClientWaitSync(f, GL_SYNC_FLUSH_COMMANDS_BIT, ~GLuint64(0));
@@ -23,13 +23,23 @@ void StreamRing::reserve(size_t sectionBytes, size_t alignment) {
         }
     }
     if (mMapped) glUnmapNamedBuffer(mBuffer.id());
+    mMapped = nullptr;
     mSectionBytes = sectionBytes;
     mBuffer = createBuffer();
     GLbitfield flags = GL_MAP_WRITE_BIT | GL_MAP_PERSISTENT_BIT | GL_MAP_COHERENT_BIT;
+    while (glGetError() != GL_NO_ERROR) {
+    } // earlier errors are not this allocation's
     glNamedBufferStorage(mBuffer.id(), GLsizeiptr(totalBytes()), nullptr, flags);
-    mMapped = static_cast<std::byte*>(
-        glMapNamedBufferRange(mBuffer.id(), 0, GLsizeiptr(totalBytes()), flags));
+    if (glGetError() == GL_NO_ERROR)
+        mMapped = static_cast<std::byte*>(
+            glMapNamedBufferRange(mBuffer.id(), 0, GLsizeiptr(totalBytes()), flags));
+    if (!mMapped) { // a ring that cannot be written to must not be handed out (it crashed)
+        mBuffer = {};
+        mSectionBytes = 0;
+        return false;
+    }
     glObjectLabel(GL_BUFFER, mBuffer.id(), -1, "per-frame stream ring");
+    return true;
 }
 
 void StreamRing::beginFrame() {

@@ -21,7 +21,9 @@ public:
     StreamRing& operator=(const StreamRing&) = delete;
 
     // (Re)allocates if a section must hold more than it does. `alignment`: offset granularity.
-    void reserve(size_t sectionBytes, size_t alignment);
+    // False when the GL cannot allocate or map that much (GL_OUT_OF_MEMORY, a null mapping):
+    // the ring is then empty (no section, nothing mapped) and the caller asks for less or stops.
+    [[nodiscard]] bool reserve(size_t sectionBytes, size_t alignment);
     // Starts a frame: waits for (normally long-finished) GPU use of the next section.
     void beginFrame();
     // Reserves `bytes` in the current section for the caller to fill; returns the buffer offset

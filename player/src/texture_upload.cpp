@@ -1,4 +1,5 @@
 #include <algorithm>
+#include <cstdio>
 
 #include "upload.h"
 
@@ -66,6 +67,24 @@ PlayResult<GpuTexture> createTexture(const TextureDesc& desc, uint32_t index, ui
                          "TEXR " + std::to_string(index) + ": unsupported texture format"};
     GLenum internal = desc.colorSpace == ColorSpace::Srgb ? f.internal : f.linearInternal;
     bool cube = desc.dimension == TextureDimension::Cube;
+    // Larger than this GPU takes (a 65535-texel-wide environment drew nothing but GL errors):
+    // start at the first level within its limit, and say so; refuse if none is.
+    GLint limit = 0;
+    glGetIntegerv(cube ? GL_MAX_CUBE_MAP_TEXTURE_SIZE : GL_MAX_TEXTURE_SIZE, &limit);
+    const uint32_t asked = firstLevel;
+    while (limit > 0 && firstLevel < desc.mipCount &&
+           std::max(desc.width >> firstLevel, desc.height >> firstLevel) > uint32_t(limit))
+        ++firstLevel;
+    if (firstLevel >= desc.mipCount)
+        return PlayError{PlayErrorKind::Input,
+                         "TEXR " + std::to_string(index) + ": " + std::to_string(desc.width) + "x" +
+                             std::to_string(desc.height) + " exceeds this GPU's texture size limit (" +
+                             std::to_string(limit) + ") and has no mip level within it"};
+    if (firstLevel != asked)
+        std::fprintf(stderr, "pnb-play: texture %u: %ux%u exceeds this GPU's texture size limit "
+                             "(%d); drawn from mip level %u (%ux%u)\n",
+                     index, desc.width, desc.height, limit, firstLevel,
+                     std::max(desc.width >> firstLevel, 1u), std::max(desc.height >> firstLevel, 1u));
     const uint32_t levels = desc.mipCount - firstLevel;
     GpuTexture t;
     t.texture = pnb::player::createTexture(cube ? GL_TEXTURE_CUBE_MAP : GL_TEXTURE_2D);
@@ -98,6 +117,7 @@ void uploadTextureRows(const GpuTexture& texture, const TextureDesc& desc, uint3
                        uint32_t face, uint32_t firstRow, uint32_t rows, const void* pixels) {
     GlFormat f = glFormat(desc.format);
     GLenum internal = desc.colorSpace == ColorSpace::Srgb ? f.internal : f.linearInternal;
+    if (level < texture.firstLevel) return; // above this GPU's size limit (createTexture)
     const GLint glLevel = GLint(level - texture.firstLevel);
     const auto w = GLsizei(std::max(desc.width >> level, 1u));
     const auto h = GLsizei(std::max(desc.height >> level, 1u));

@@ -7,13 +7,13 @@ with an error naming both, exit code non-zero, and every input byte-identical af
 usage: output_guard_test.py PNB_CONVERT PNB_EDIT PNB_PLAY SOURCE.glb SCENE.pnb WORKDIR
 """
 import hashlib
-import json
 import os
 import shutil
-import struct
 import subprocess
 import sys
-import zlib
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "common"))
+from gltf_files import write_png, write_textured_triangle  # noqa: E402
 
 failures = []
 tried = 0
@@ -22,39 +22,6 @@ tried = 0
 def digest(path):
     with open(path, "rb") as f:
         return hashlib.sha256(f.read()).hexdigest()
-
-
-def png(path, size=4):
-    rows = b"".join(b"\0" + bytes([200, 40, 40]) * size for _ in range(size))
-    chunk = lambda tag, data: (struct.pack(">I", len(data)) + tag + data +
-                               struct.pack(">I", zlib.crc32(tag + data)))
-    with open(path, "wb") as f:
-        f.write(b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", struct.pack(">IIBBBBB", size, size, 8, 2, 0, 0, 0))
-                + chunk(b"IDAT", zlib.compress(rows)) + chunk(b"IEND", b""))
-
-
-def gltf_with_image(path, image):
-    """A textured triangle whose image is the external file `image`."""
-    positions = struct.pack("<9f", 0, 0, 0, 1, 0, 0, 0, 1, 0)
-    uvs = struct.pack("<6f", 0, 0, 1, 0, 0, 1)
-    data = positions + uvs
-    doc = {
-        "asset": {"version": "2.0"},
-        "buffers": [{"byteLength": len(data), "uri": "data:application/octet-stream;base64," +
-                     __import__("base64").b64encode(data).decode()}],
-        "bufferViews": [{"buffer": 0, "byteOffset": 0, "byteLength": 36},
-                        {"buffer": 0, "byteOffset": 36, "byteLength": 24}],
-        "accessors": [{"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3",
-                       "min": [0, 0, 0], "max": [1, 1, 0]},
-                      {"bufferView": 1, "componentType": 5126, "count": 3, "type": "VEC2"}],
-        "images": [{"uri": image}], "textures": [{"source": 0}],
-        "materials": [{"pbrMetallicRoughness": {"baseColorTexture": {"index": 0}}}],
-        "meshes": [{"primitives": [{"attributes": {"POSITION": 0, "TEXCOORD_0": 1},
-                                    "material": 0}]}],
-        "nodes": [{"mesh": 0}], "scenes": [{"nodes": [0]}], "scene": 0,
-    }
-    with open(path, "w") as f:
-        json.dump(doc, f)
 
 
 def refused(what, command, protected, names):
@@ -97,8 +64,8 @@ def main():
             [convert, "x.glb", "-o", "out.pnb", "--summary-json", "x.glb"], ["x.glb"],
             ["the summary (--summary-json) 'x.glb'", "the input 'x.glb'"])
     # A file only the import reads: the glTF's image.
-    png("tex.png")
-    gltf_with_image("tri.gltf", "tex.png")
+    write_png("tex.png", 4, 4)
+    write_textured_triangle("tri.gltf", "tex.png")
     refused("convert onto the glTF's image", [convert, "tri.gltf", "-o", "tex.png"],
             ["tex.png", "tri.gltf"], ["'tex.png'", "a file the conversion read"])
 

@@ -11,6 +11,11 @@
 - A debug view whose prerequisite is missing says what is missing; one that shows something
   says nothing.
 
+- A setting the GPU cannot honour (stream.upload_mib=4096: GL_OUT_OF_MEMORY, then a crash) falls
+  back with a message naming it; an environment wider than every GL 4.5 GPU takes (65535x1) is
+  stored at most 16384 wide and plays without a GL error; a larger texture (kept with
+  --max-texture-size) is drawn from the first mip level the GPU takes, with a message.
+
 usage: frame_check_test.py PNB_CONVERT PNB_PLAY BOX_ROOM.pnb WORKDIR
 """
 import base64
@@ -20,6 +25,9 @@ import shutil
 import struct
 import subprocess
 import sys
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "common"))
+from gltf_files import write_png, write_textured_triangle  # noqa: E402
 
 failures = []
 
@@ -96,6 +104,39 @@ def main():
               f"{scene}: a sane frame was flagged: {r.returncode} {r.stderr}")
         check(summary.get("frame_check", {}).get("nonfinite_pixels") == 0,
               f"{scene}: frame_check {summary.get('frame_check')}")
+
+    # A documented setting the GPU cannot honour falls back with a message (it crashed):
+    # three frames of 4096 MiB staging do not fit llvmpipe's buffers.
+    r = subprocess.run([play_exe, box_room, "--headless", "-q", "--size", "96x64", "--stream",
+                        "--set", "stream.upload_mib=4096", "--screenshot", "streamed.png"],
+                       capture_output=True, text=True, timeout=300)
+    check(r.returncode == 0 and "stream.upload_mib=4096: the GPU cannot hold" in r.stderr
+          and os.path.exists("streamed.png"),
+          f"stream.upload_mib=4096: exit {r.returncode}, {r.stderr.strip()[-600:]}")
+
+    # Textures beyond what every GL 4.5 GPU takes are stored at 16384 at most (a 65535x1
+    # environment converted and verified, then drew nothing but GL errors).
+    write_png("wide.png", 65535, 1, (100, 150, 200))
+    r = subprocess.run([convert, box_room.replace(".pnb", ".glb"), "-o", "wide.pnb",
+                        "--environment", "wide.png"], capture_output=True, text=True)
+    check(r.returncode == 0 and "16383x1" in r.stdout, f"the wide environment: {r.stdout} {r.stderr}")
+    r = subprocess.run([play_exe, "wide.pnb", "--headless", "-q", "--size", "96x64", "--gl-debug",
+                        "--screenshot", "wide-frame.png"], capture_output=True, text=True, timeout=300)
+    check(r.returncode == 0 and "GL error" not in r.stderr, f"the wide environment plays with: {r.stderr}")
+
+    # A texture larger than this GPU takes (kept by --max-texture-size): drawn from the first mip
+    # level within the limit, with a message, and no GL error.
+    write_png("big.png", 20000)
+    write_textured_triangle("big.gltf", "big.png")
+    r = subprocess.run([convert, "big.gltf", "-o", "portable.pnb"], capture_output=True, text=True)
+    check(r.returncode == 0 and "20000x1 is larger than 16384" in r.stderr,
+          f"a 20000-texel texture converts without the portable-size warning: {r.stderr}")
+    r = subprocess.run([convert, "big.gltf", "-o", "big.pnb", "-q", "--max-texture-size", "65536"],
+                       capture_output=True, text=True)
+    r = subprocess.run([play_exe, "big.pnb", "--headless", "-q", "--size", "96x64", "--gl-debug",
+                        "--screenshot", "big-frame.png"], capture_output=True, text=True, timeout=300)
+    check(r.returncode == 0 and "drawn from mip level 1" in r.stderr and "GL error" not in r.stderr,
+          f"a texture over the GPU's limit: exit {r.returncode}, {r.stderr}")
 
     notes = [
         (["debug.view=gi_rsm", "gi.enabled=false"], "debug.view=gi_rsm shows nothing: GI is off: gi.enabled is false"),

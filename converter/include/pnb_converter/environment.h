@@ -72,7 +72,8 @@ struct EnvironmentSummary {
     uint32_t lutSize = 0;
     uint64_t bytes = 0;          // texel bytes of the three textures, all levels
     uint64_t cleanedTexels = 0;  // non-finite or negative texels set to 0 (load and bake)
-    uint32_t downsampled = 0;    // times the image was halved to fit maxRadianceHeight
+    uint32_t downsampled = 0;    // times the image was halved to fit maxRadianceHeight and
+                                 // kMaxPortableTextureSize
     bool generated = false;      // the converter's default (kDefaultEnvironmentName)
     double seconds = 0;          // bakeEnvironment's time (mips, SH, cube, LUT); convertScene
                                  // reports its whole stage (with the load or the sky)

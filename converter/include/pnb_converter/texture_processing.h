@@ -51,7 +51,9 @@ struct TextureRequest {
 
 struct TextureSettings {
     bool compress = false;     // BC1/BC3/BC4/BC5 block compression. Default: false.
-    uint32_t maxSize = 0;      // longest edge in texels after resizing; 0 = unlimited. Default: 0.
+    // Longest edge in texels after resizing; 0 = kMaxPortableTextureSize (16384, the largest
+    // every OpenGL 4.5 GPU takes). Default: 0.
+    uint32_t maxSize = 0;
     uint32_t jobs = 0;         // worker threads; 0 = hardware concurrency. Default: 0.
     uint32_t maxSourceTexels = 1u << 28; // refuse larger decoded images (a clear error, not an
                                          // out-of-memory). Default: 268 M texels.

@@ -266,6 +266,10 @@ inline constexpr float kMaxSpotConeRadians = 1.5707964f;
 // keeps a renderer's sums finite in float: x 10^4 at the 1 cm closest distance, x the BRDF's peak,
 // x kMaxLights stays far below FLT_MAX (3.4e38), where FLT_MAX x FLT_MAX gave infinities and NaN.
 inline constexpr float kMaxLightOutput = 1e10f;
+// The largest texture edge every OpenGL 4.5 GPU takes (the minimum GL_MAX_TEXTURE_SIZE the
+// standard guarantees): pnb-convert writes no larger texture unless --max-texture-size asks for
+// one; a player meets a larger one by starting at a smaller mip level.
+inline constexpr uint32_t kMaxPortableTextureSize = 16384;
 struct Light {
     StringRef name = kNone;
     LightType type = LightType::Directional;
