@@ -536,6 +536,7 @@ Result<ConvertSummary, ConvertError> convertScene(const ConvertSettings& s,
     }
     if (env.any()) {
         clock.start("environment");
+        report("environment", 0, 1); // the bake can take a while (--specular-size 2048)
         const auto environmentStart = std::chrono::steady_clock::now();
         RadianceImage radiance;
         std::string envName;
@@ -594,6 +595,7 @@ Result<ConvertSummary, ConvertError> convertScene(const ConvertSettings& s,
             std::chrono::duration<double>(std::chrono::steady_clock::now() - environmentStart).count();
         ownEnvironment = std::move(*baked);
         environment = &*ownEnvironment;
+        report("environment", 1, 1);
         clock.stop();
     }
 

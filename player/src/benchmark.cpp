@@ -287,6 +287,12 @@ PlayResult<BenchResult> runBenchmark(const GpuScene& scene, Renderer& renderer,
                     result.written.push_back(jsonPath);
             }
         }
+        if (options.progress) {
+            const uint32_t planned =
+                options.lastFrame == ~0u ? frames : std::min(frames, options.lastFrame + 1);
+            options.progress(k + 1, planned == ~0u ? 0 : planned,
+                             std::chrono::duration<double>(std::chrono::steady_clock::now() - wallStart).count());
+        }
         if (present && !present()) break;
     }
     if (!records.empty())

@@ -7,6 +7,8 @@
 #define GLFW_INCLUDE_NONE
 #include <GLFW/glfw3.h>
 
+#include <unistd.h>
+
 #include <chrono>
 #include <csignal>
 #include <cstdio>
@@ -577,7 +579,20 @@ int pnb::player::runPlayer(int argc, char** argv, const char* program, const Tru
                 context->pollEvents();
                 return !context->shouldClose();
             };
+        // A run past two seconds shows where it is on a terminal (gi.cells at its maximum on a
+        // software GL takes minutes); redirected output stays clean.
+        bool progressShown = false;
+        if (!args.quiet && isatty(STDERR_FILENO))
+            bo.progress = [&progressShown, last = 0.0](uint32_t done, uint32_t planned,
+                                                       double seconds) mutable {
+                if (seconds < 2.0 || seconds - last < 0.25) return;
+                last = seconds;
+                progressShown = true;
+                if (planned) std::fprintf(stderr, "\r%s: frame %u of %u, %.0f s", gProgram, done, planned, seconds);
+                else std::fprintf(stderr, "\r%s: frame %u, %.0f s", gProgram, done, seconds);
+            };
         auto result = runBenchmark(*scene, **renderer, bo, load, gl, present);
+        if (progressShown) std::fprintf(stderr, "\n");
         if (!result) return fail(result.error());
         for (const std::string& w : result->warnings) // a wrong frame is never silent, even -q
             std::fprintf(stderr, "%s: warning: %s\n", gProgram, w.c_str());

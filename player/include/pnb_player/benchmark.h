@@ -80,6 +80,9 @@ struct BenchOptions {
     QualityHook quality;
     std::optional<StartupTimes> startup; // pnb-play's time to first frame, for summary.json
     SceneStream* stream = nullptr;       // streaming: update() before every frame, and its figures
+    // Called after every frame with (frames done, frames planned; 0 when the path's time decides)
+    // and the seconds since the run began: pnb-play shows progress on a terminal.
+    std::function<void(uint32_t done, uint32_t planned, double seconds)> progress;
 };
 
 struct PassSummary {
