@@ -9,6 +9,7 @@
 #include <glm/gtc/matrix_transform.hpp>
 
 #include "frame_context.h"
+#include "gl_allocation.h"
 #include "pnb_lighting/scene_lights.h"
 
 namespace pnb::player {
@@ -110,7 +111,9 @@ void prepareGi(FrameContext& ctx) {
         gi.resources = GiResources{}; // GI off: nothing allocated, nothing compiled
         return;
     }
+    clearGlErrors();
     auto ok = gi.resources.ensure(s, uint32_t(f.cascades.size()));
+    if (ok) ok = checkGlAllocation("GI's volumes", gi.resources.bytes);
     if (!ok) {
         std::fprintf(stderr, "pnb-play: GI off: %s\n", ok.error().message.c_str());
         gi.resources = GiResources{};

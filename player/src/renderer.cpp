@@ -11,6 +11,7 @@
 #include <glm/gtc/type_ptr.hpp>
 
 #include "frame_context.h"
+#include "gl_allocation.h"
 #include "program_compile.h"
 
 namespace pnb::player {
@@ -160,8 +161,14 @@ PlayResult<Done> Renderer::render(const CameraState& camera, uint32_t width, uin
 
     bool debugTargets = mSettings.debugView == DebugView::Layer ||
                         mSettings.debugView == DebugView::Overdraw || mSettings.debugView == DebugView::Lod;
+    clearGlErrors();
     impl.targets.ensure(width, height, !scene.deferredLayers.empty(),
                         mSettings.fxaa && impl.builtins.fxaa, debugTargets);
+    if (auto ok = checkGlAllocation("the frame's render targets at " + std::to_string(width) + "x" +
+                                        std::to_string(height),
+                                    impl.targets.memory.total());
+        !ok)
+        return ok.error();
 
     timer.beginFrame(mStats.frame);
     timer.mark("setup");
@@ -197,8 +204,12 @@ PlayResult<Done> Renderer::render(const CameraState& camera, uint32_t width, uin
     glBindBufferRange(GL_UNIFORM_BUFFER, 0, impl.ring.buffer(), GLintptr(ctx.frameBlockOffset), sizeof fb);
     ShadowFrame& shadowFrame = impl.shadows.frame;
     if (shadowFrame.active) {
+        clearGlErrors();
         auto ok = impl.shadows.resources.ensure(mSettings.shadowResolution, shadowFrame.cascades,
                                                 shadowFrame.gpuFit, impl.shadows.casters, scene);
+        if (ok) ok = checkGlAllocation("the shadow maps (shadows.resolution " +
+                                           std::to_string(mSettings.shadowResolution) + ")",
+                                       impl.shadows.resources.mapBytes);
         if (!ok) return ok.error();
     } else if (impl.shadows.resources.resolution) {
         impl.shadows.resources = ShadowResources{}; // nothing drawn: nothing allocated

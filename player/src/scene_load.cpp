@@ -14,6 +14,7 @@
 #include "pnb/node_transform.h"
 #include "pnb/scene.h"
 #include "pnb_lighting/scene_lights.h"
+#include "gl_allocation.h"
 #include "lod_select.h"
 #include "program_compile.h"
 #include "scene_upload.h"
@@ -355,6 +356,7 @@ PlayResult<std::unique_ptr<GpuScene>> uploadSceneWithoutTexels(const Scene& scen
     for (const Setting& s : scene.settings.entries)
         gpu->settings.emplace_back(std::string(scene.str(s.key)), std::string(scene.str(s.value)));
     glPixelStorei(GL_UNPACK_ALIGNMENT, 1); // RGB8 and R8 rows are tightly packed
+    clearGlErrors();
     for (uint32_t i = 0; i < scene.textures.size(); ++i) {
         auto t = createTexture(scene.textures[i], i, i < firstLevels.size() ? firstLevels[i] : 0);
         if (!t) return t.error();
@@ -389,6 +391,11 @@ PlayResult<std::unique_ptr<GpuScene>> uploadSceneWithoutTexels(const Scene& scen
     glNamedBufferStorage(gpu->materialBuffer.id(), GLsizeiptr(blocks.size()), blocks.data(),
                          GL_DYNAMIC_STORAGE_BIT);
     gpu->memory.uniformBytes += blocks.size();
+    if (auto ok = checkGlAllocation("the scene's textures, meshes and materials",
+                                    gpu->memory.textureBytes + gpu->memory.meshBytes +
+                                        gpu->memory.uniformBytes);
+        !ok)
+        return ok.error();
 
     for (const CameraPath& p : scene.cameraPaths) {
         ScenePath sp{std::string(scene.str(p.name)), p};

@@ -3,6 +3,8 @@
 #include <cstdio>
 #include <cstdlib>
 
+#include "gl_allocation.h"
+
 namespace pnb::player {
 
 StreamRing::~StreamRing() {
@@ -27,10 +29,9 @@ bool StreamRing::reserve(size_t sectionBytes, size_t alignment) {
     mSectionBytes = sectionBytes;
     mBuffer = createBuffer();
     GLbitfield flags = GL_MAP_WRITE_BIT | GL_MAP_PERSISTENT_BIT | GL_MAP_COHERENT_BIT;
-    while (glGetError() != GL_NO_ERROR) {
-    } // earlier errors are not this allocation's
+    clearGlErrors();
     glNamedBufferStorage(mBuffer.id(), GLsizeiptr(totalBytes()), nullptr, flags);
-    if (glGetError() == GL_NO_ERROR)
+    if (checkGlAllocation("the per-frame stream ring", totalBytes()))
         mMapped = static_cast<std::byte*>(
             glMapNamedBufferRange(mBuffer.id(), 0, GLsizeiptr(totalBytes()), flags));
     if (!mMapped) { // a ring that cannot be written to must not be handed out (it crashed)

@@ -14,6 +14,7 @@
 #include "pnb/writer.h"
 #include "pnb_player/benchmark.h"
 #include "pnb_player/gpu_scene.h"
+#include "gl_allocation.h"
 #include "render_fixture.h"
 
 namespace pnb::player::test {
@@ -308,6 +309,24 @@ TEST(SceneLoad, FxaaSoftensEdgesOnly) {
     EXPECT_LT(d.fractionOver(4), 0.15);  // flat regions did not
     EXPECT_EQ(fxaa.renderer->targetMemory().outputBytes, 2u * 4 * 160 * 120);
     EXPECT_EQ(plain.renderer->targetMemory().outputBytes, 1u * 4 * 160 * 120);
+}
+
+// gl_allocation.h: storage the GL refuses (GL_OUT_OF_MEMORY, which llvmpipe sets for a 64 TiB
+// buffer) is an error naming what was being made, not a buffer without storage written later.
+TEST(GlAllocation, AnAllocationTheGlRefusesIsAnErrorNamingIt) {
+    GlHandle refused = createBuffer();
+    clearGlErrors();
+    glNamedBufferStorage(refused.id(), GLsizeiptr(1) << 46, nullptr, 0);
+    auto r = checkGlAllocation("a test buffer", uint64_t(1) << 46);
+    ASSERT_FALSE(r.ok());
+    EXPECT_EQ(r.error().kind, PlayErrorKind::Gl);
+    EXPECT_NE(r.error().message.find("could not allocate a test buffer (67108864 MiB)"),
+              std::string::npos)
+        << r.error().message;
+    GlHandle fine = createBuffer();
+    clearGlErrors();
+    glNamedBufferStorage(fine.id(), 1 << 20, nullptr, 0);
+    EXPECT_TRUE(checkGlAllocation("a 1 MiB buffer", 1 << 20).ok());
 }
 
 } // namespace pnb::player::test
