@@ -428,6 +428,20 @@ std::vector<std::pair<std::string, std::string>> driverDefaults(std::string_view
     return {};
 }
 
+std::string settingNote(std::string_view key, const RenderSettings& s) {
+    auto in = [&](std::string_view section) { return key.substr(0, section.size()) == section; };
+    if (in("gi.") && key != "gi.enabled" && !s.giEnabled) return "gi.enabled is false";
+    if (in("shadows.") && key != "shadows.technique" && s.shadowTechnique == ShadowTechnique::Off)
+        return "shadows.technique is off";
+    if (key == "shadows.cascades" && (s.shadowTechnique == ShadowTechnique::Single ||
+                                      s.shadowTechnique == ShadowTechnique::Lispsm))
+        return std::string("shadows.technique ") + (s.shadowTechnique == ShadowTechnique::Single ? "single" : "lispsm") +
+               " draws one map";
+    if (in("ibl.") && key != "ibl.enabled" && !s.iblEnabled) return "ibl.enabled is false";
+    if (key == "debug.gi_slice" && s.debugView != DebugView::GiVolume) return "debug.view is not gi_volume";
+    return {};
+}
+
 PlayResult<RenderSettings> resolveSettings(
     const std::vector<std::pair<std::string, std::string>>& containerSettings,
     const std::vector<std::string>& commandLine, std::vector<std::string>* warnings) {

@@ -85,7 +85,14 @@ bool Overlay::draw(const Renderer& renderer, const FrameGpuTimes* times, RenderS
             if (ImGui::Combo(key.c_str(), &current, names.data(), int(names.size())))
                 changed |= bool(applySetting(settings, key, names[size_t(current)]));
         }
-        if (ImGui::IsItemHovered()) ImGui::SetTooltip("%s", std::string(info.description).c_str());
+        const std::string why = settingNote(info.key, settings);
+        if (ImGui::IsItemHovered())
+            ImGui::SetTooltip("%s%s%s", std::string(info.description).c_str(),
+                              why.empty() ? "" : "\nno effect now: ", why.c_str());
+        if (!why.empty()) { // greyed out: changing it changes nothing as the others stand
+            ImGui::SameLine();
+            ImGui::TextDisabled("(no effect)");
+        }
     }
     ImGui::TextDisabled("WASD/QE move, right-drag look, O orbit, wheel speed, Ctrl+wheel zoom");
     ImGui::TextDisabled("F9 record path, K add key, F12 screenshot, Esc quit, drop a file to open");

@@ -413,6 +413,12 @@ int pnb::player::runPlayer(int argc, char** argv, const char* program, const Tru
     RenderSettings settings = *resolved;
     if (!args.quiet)
         for (const std::string& w : warnings) std::fprintf(stderr, "%s: warning: %s\n", gProgram, w.c_str());
+    // A setting given that changes nothing as the others stand is applied, but never silently.
+    for (const std::string& assignment : args.sets) {
+        const std::string key = assignment.substr(0, assignment.find('='));
+        if (std::string why = settingNote(key, settings); !why.empty())
+            std::fprintf(stderr, "%s: note: %s has no effect: %s\n", gProgram, key.c_str(), why.c_str());
+    }
     auto renderer = Renderer::create(*scene, settings);
     if (!renderer) return fail(renderer.error());
     if (stream)

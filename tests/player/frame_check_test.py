@@ -8,8 +8,8 @@
   "frame_check", counts 0), as for the same scene with a sane light and for box-room. The check's
   counting itself is tested in frame_check_test.cpp (llvmpipe clamps RGBA16F overflow, so no
   scene here can make it non-zero).
-- A debug view whose prerequisite is missing says what is missing; one that shows something
-  says nothing.
+- A debug view or a setting whose prerequisite is missing says what is missing; one that has an
+  effect says nothing.
 
 - A setting the GPU cannot honour (stream.upload_mib=4096: GL_OUT_OF_MEMORY, then a crash) falls
   back with a message naming it; an environment wider than every GL 4.5 GPU takes (65535x1) is
@@ -144,6 +144,10 @@ def main():
         (["debug.view=histogram", "shadows.technique=pssm"], "the depth histogram is SDSM's"),
         (["debug.view=shadowmap", "shadows.technique=off"], "shows nothing: shadows.technique is off"),
         (["debug.view=lod"], "no item has levels of detail"),
+        (["gi.cells=16"], "note: gi.cells has no effect: gi.enabled is false"),
+        (["shadows.technique=single", "shadows.cascades=4"], "shadows.cascades has no effect: "
+                                                             "shadows.technique single draws one map"),
+        (["shadows.technique=off", "shadows.resolution=512"], "shadows.resolution has no effect"),
     ]
     for sets, expected in notes:
         r, _ = play(play_exe, box_room, "note", *sets)

@@ -187,6 +187,12 @@ std::string_view toString(DebugView view);
 // (Mesa 22.3) takes up to tens of seconds per frame for anisotropic lookups at grazing angles.
 std::vector<std::pair<std::string, std::string>> driverDefaults(std::string_view glRenderer);
 
+// Why the setting `key`, as `settings` stand, changes nothing ("" when it does): a gi.* setting
+// while gi.enabled is false, a shadows.* one while shadows.technique is off, shadows.cascades with
+// a one-map technique, ibl.* while ibl.enabled is false, debug.gi_slice outside the gi_volume
+// view. Scene-dependent reasons (no environment, no GI programs) are the renderer's notes.
+std::string settingNote(std::string_view key, const RenderSettings& settings);
+
 // Defaults, then the container's RSET entries, then command-line assignments ("key=value"):
 // later wins. A container entry that does not apply is skipped with a line in `warnings`; a
 // command-line one is an error.
