@@ -543,6 +543,7 @@ int runBatch(CliState& c, std::vector<BatchItem> items) {
     // directories and hard links included; each conversion then checks its own output against
     // every file it reads).
     std::vector<pnb::RoleFile> inputs, outputs;
+    if (c.batchList != "-") inputs.push_back({c.batchList, "the batch list"});
     for (const BatchItem& it : items) {
         inputs.push_back({it.input, "the input of " + it.origin});
         outputs.push_back({it.output, "the output of " + it.origin});
@@ -711,6 +712,13 @@ int main(int argc, char** argv) {
         return kExitUsage;
     }
     if (!c.testDir.empty()) return runTest(c);
+    if (!c.batchList.empty() && c.batchList != "-") { // a FIFO or device list would never end
+        const pnb::RoleFile list[] = {{c.batchList, "the batch list"}};
+        if (pnb::Status st = pnb::checkInputs(list); !pnb::isOk(st)) {
+            std::fprintf(stderr, "Error: %s\n", st.message.c_str());
+            return kExitUsage;
+        }
+    }
     if (!c.quiet) // the output's lock (pnb/file_lock.h): a save of pnb-edit is in progress
         c.settings.outputLock.onWait = [] {
             std::fprintf(stderr, "waiting: another program is saving the output\n");
@@ -732,7 +740,10 @@ int main(int argc, char** argv) {
     }
     c.settings.input = positional[0];
     {
-        const pnb::RoleFile inputs[] = {{c.settings.input, "the input"}};
+        const pnb::RoleFile inputs[] = {{c.settings.input, "the input"},
+                                        {c.settings.sidecar, "the sidecar (--sidecar)"},
+                                        {c.settings.environment.image, "the environment (--environment)"},
+                                        {c.settings.cameraPath, "the camera path (--path)"}};
         const pnb::RoleFile outputs[] = {{c.settings.output, "the output (-o)"},
                                          {c.summaryJson, "the summary (--summary-json)"},
                                          {c.settings.depfile, "the dependency file (--depfile)"}};

@@ -71,9 +71,9 @@ constexpr std::string_view kSkyVisibilityNames[] = {"none", "screen", "height", 
 const std::vector<Row>& rows() {
     using S = RenderSettings;
     static const std::vector<Row> table = {
-        {{"lighting.exposure", "float > 0", "HDR scale applied before tone mapping"},
+        {{"lighting.exposure", "float 1e-6..1e6", "HDR scale applied before tone mapping"},
          FloatField{&S::exposure, 1e-6f, 1e6f}},
-        {{"lighting.ambient", "float >= 0",
+        {{"lighting.ambient", "float 0..1e6",
           "uniform ambient radiance, multiplied by base colour and occlusion"},
          FloatField{&S::ambient, 0.0f, 1e6f}},
         {{"lighting.sun_turn_deg", "float -360..360",
@@ -86,7 +86,7 @@ const std::vector<Row>& rows() {
          BoolField{&S::fxaa}},
         {{"cull.frustum", "bool", "skip draws whose world bounds are outside the view frustum"},
          BoolField{&S::frustumCulling}},
-        {{"camera.near", "float >= 0", "near plane in scene units; 0 = the container camera's"},
+        {{"camera.near", "float 0..1e9", "near plane in scene units; 0 = the container camera's"},
          FloatField{&S::nearPlane, 0.0f, 1e9f}},
         {{"camera.far", "float >= -1",
           "far plane in scene units; 0 = infinite (reversed-Z), -1 = the container camera's"},

@@ -259,8 +259,17 @@ Args parseArgs(int argc, char** argv) {
     }
     if (a.scene.empty()) usageError("no scene given");
     {
-        const pnb::RoleFile inputs[] = {{a.scene == "-" ? "" : a.scene, "the scene"}};
-        const pnb::RoleFile outputs[] = {{a.screenshot, "the screenshot (--screenshot)"}};
+        // What the run reads (the scene, a path file) against what it writes: the screenshot and
+        // the benchmark's fixed names in --out.
+        const pnb::RoleFile inputs[] = {{a.scene == "-" ? "" : a.scene, "the scene"},
+                                        {a.pathName, "the camera path (--path)"}};
+        auto inOut = [&](const char* name) {
+            return a.outDir.empty() ? std::string() : a.outDir + "/" + name;
+        };
+        const pnb::RoleFile outputs[] = {{a.screenshot, "the screenshot (--screenshot)"},
+                                         {inOut("summary.json"), "the benchmark's summary.json"},
+                                         {inOut("frames.csv"), "the benchmark's frames.csv"},
+                                         {inOut("frame_times.png"), "the benchmark's frame_times.png"}};
         if (pnb::Status st = pnb::checkOutputs(inputs, outputs); !pnb::isOk(st))
             usageError(st.message);
     }
