@@ -290,8 +290,8 @@ Result<ConvertSummary, ConvertError> convertScene(const ConvertSettings& s,
 
     // The output never replaces a file the conversion reads: checked here for the files named
     // so far, and before writing for every file the import read (a glTF's buffers and images).
-    const std::vector<RoleFile> outputs = {{s.output, "the output"},
-                                           {s.depfile, "the dependency file"}};
+    std::vector<RoleFile> outputs = {{s.output, "the output"}, {s.depfile, "the dependency file"}};
+    outputs.insert(outputs.end(), s.alsoWrites.begin(), s.alsoWrites.end());
     const std::vector<RoleFile> named = {{s.input, "the input"},
                                          {s.noSidecar ? "" : sidecar, "the sidecar"},
                                          {env.image, "the environment image"},

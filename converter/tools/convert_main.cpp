@@ -751,6 +751,9 @@ int main(int argc, char** argv) {
             std::fprintf(stderr, "Error: %s\n", st.message.c_str());
             return kExitUsage;
         }
+        // The files the import reads are known only then: the conversion checks them.
+        if (!c.summaryJson.empty())
+            c.settings.alsoWrites.push_back({c.summaryJson, "the summary (--summary-json)"});
     }
     Progress progress(!c.quiet);
     auto result = pnb::converter::convertScene(

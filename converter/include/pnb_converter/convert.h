@@ -17,6 +17,7 @@
 
 #include "pnb/error.h"
 #include "pnb/file_lock.h"
+#include "pnb/output_guard.h"
 #include "pnb_converter/environment.h"
 #include "pnb_converter/light_processing.h"
 #include "pnb_converter/mesh_processing.h"
@@ -31,6 +32,9 @@ struct ConvertSettings {
     // The wait for the output's lock while another tool saves it (pnb/file_lock.h): the
     // conversion's rename waits for pnb-edit's save rather than landing inside it.
     FileLockOptions outputLock;
+    // Files the caller writes after the conversion (pnb-convert's --summary-json): checked, like
+    // the output, against every file the conversion reads before anything is written.
+    std::vector<RoleFile> alsoWrites;
     std::string sidecar;        // material overrides; "" = <input stem>.pnb.json if it exists
     bool noSidecar = false;     // ignore any sidecar. Default: false.
     std::string cameraPath;     // --path keyframe file; "" = the source's or a generated orbit
