@@ -517,7 +517,8 @@ bool readBatchList(const std::string& list, std::vector<BatchItem>& items) {
 // OUTPUT` with the same options would. A failure is reported and the batch goes on.
 int runBatch(CliState& c, std::vector<BatchItem> items) {
     if (items.empty()) {
-        std::fprintf(stderr, "Error: no inputs to convert\n");
+        std::fprintf(stderr, "Error: no inputs to convert%s%s\n",
+                     c.batchList.empty() ? "" : ": the batch list has none: ", c.batchList.c_str());
         return kExitUsage;
     }
     if (!c.settings.depfile.empty() || !c.settings.sidecar.empty() || !c.summaryJson.empty()) {
