@@ -111,9 +111,9 @@ void prepareGi(FrameContext& ctx) {
         gi.resources = GiResources{}; // GI off: nothing allocated, nothing compiled
         return;
     }
-    clearGlErrors();
+    const uint64_t giBytes = gi.resources.bytes; // checked only when storage was made (renderer.cpp)
     auto ok = gi.resources.ensure(s, uint32_t(f.cascades.size()));
-    if (ok) ok = checkGlAllocation("GI's volumes", gi.resources.bytes);
+    if (ok && gi.resources.bytes != giBytes) ok = checkGlAllocation("GI's volumes", gi.resources.bytes);
     if (!ok) {
         std::fprintf(stderr, "pnb-play: GI off: %s\n", ok.error().message.c_str());
         gi.resources = GiResources{};

@@ -21,7 +21,9 @@ inline void clearGlErrors() {
 }
 
 // Ok, or a Gl error naming `what` (and its size) when the GL ran out of memory since
-// clearGlErrors().
+// clearGlErrors() (or since the flags were last read: only GL_OUT_OF_MEMORY counts, so an older
+// error of another kind is dropped, not blamed). Call it where storage was just made, not every
+// frame: glGetError can stall a threaded driver.
 inline PlayResult<Done> checkGlAllocation(const std::string& what, uint64_t bytes) {
     bool outOfMemory = false;
     for (GLenum e; (e = glGetError()) != GL_NO_ERROR;) outOfMemory |= e == GL_OUT_OF_MEMORY;

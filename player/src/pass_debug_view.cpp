@@ -13,6 +13,7 @@ namespace pnb::player {
 
 std::string debugViewNote(const FrameContext& ctx) {
     const DebugView v = ctx.settings.debugView;
+    if (v == DebugView::None) return {}; // every frame of a normal run: no string built
     const std::string view = "debug.view=" + std::string(toString(v));
     const ShadowFrame& shadows = ctx.shadows.frame;
     const GiFrame& gi = ctx.gi.frame;

@@ -161,14 +161,17 @@ PlayResult<Done> Renderer::render(const CameraState& camera, uint32_t width, uin
 
     bool debugTargets = mSettings.debugView == DebugView::Layer ||
                         mSettings.debugView == DebugView::Overdraw || mSettings.debugView == DebugView::Lod;
-    clearGlErrors();
+    // Storage is checked only when it was made (glGetError can stall a threaded driver, so not
+    // every frame): the targets' bytes change with every allocation.
+    const uint64_t targetBytes = impl.targets.memory.total();
     impl.targets.ensure(width, height, !scene.deferredLayers.empty(),
                         mSettings.fxaa && impl.builtins.fxaa, debugTargets);
-    if (auto ok = checkGlAllocation("the frame's render targets at " + std::to_string(width) + "x" +
-                                        std::to_string(height),
-                                    impl.targets.memory.total());
-        !ok)
-        return ok.error();
+    if (impl.targets.memory.total() != targetBytes)
+        if (auto ok = checkGlAllocation("the frame's render targets at " + std::to_string(width) +
+                                            "x" + std::to_string(height),
+                                        impl.targets.memory.total());
+            !ok)
+            return ok.error();
 
     timer.beginFrame(mStats.frame);
     timer.mark("setup");
@@ -204,12 +207,13 @@ PlayResult<Done> Renderer::render(const CameraState& camera, uint32_t width, uin
     glBindBufferRange(GL_UNIFORM_BUFFER, 0, impl.ring.buffer(), GLintptr(ctx.frameBlockOffset), sizeof fb);
     ShadowFrame& shadowFrame = impl.shadows.frame;
     if (shadowFrame.active) {
-        clearGlErrors();
+        const uint64_t shadowBytes = impl.shadows.resources.mapBytes + impl.shadows.resources.bufferBytes;
         auto ok = impl.shadows.resources.ensure(mSettings.shadowResolution, shadowFrame.cascades,
                                                 shadowFrame.gpuFit, impl.shadows.casters, scene);
-        if (ok) ok = checkGlAllocation("the shadow maps (shadows.resolution " +
-                                           std::to_string(mSettings.shadowResolution) + ")",
-                                       impl.shadows.resources.mapBytes);
+        if (ok && impl.shadows.resources.mapBytes + impl.shadows.resources.bufferBytes != shadowBytes)
+            ok = checkGlAllocation("the shadow maps (shadows.resolution " +
+                                       std::to_string(mSettings.shadowResolution) + ")",
+                                   impl.shadows.resources.mapBytes);
         if (!ok) return ok.error();
     } else if (impl.shadows.resources.resolution) {
         impl.shadows.resources = ShadowResources{}; // nothing drawn: nothing allocated
