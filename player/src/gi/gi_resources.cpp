@@ -1,0 +1,209 @@
+// GI's GPU objects, created for the current gi.* sizes and dropped with GI (gi.h).
+#include <span>
+#include <string_view>
+#include <utility>
+#include <vector>
+
+#include "gi/gi.h"
+#include "gl/program_compile.h"
+
+namespace pnb::player {
+
+namespace {
+
+GlHandle texture2d(GLenum format, uint32_t size, const char* label) {
+    GlHandle t = createTexture(GL_TEXTURE_2D);
+    glTextureStorage2D(t.id(), 1, format, GLsizei(size), GLsizei(size));
+    glTextureParameteri(t.id(), GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+    glTextureParameteri(t.id(), GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+    glTextureParameteri(t.id(), GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+    glTextureParameteri(t.id(), GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+    glObjectLabel(GL_TEXTURE, t.id(), -1, label);
+    return t;
+}
+
+// Linear filtering: the look-up is trilinear and propagation interpolates the geometry volume.
+GlHandle volume(uint32_t side, uint32_t depth, const char* label, GLenum format = GL_RGBA16F) {
+    GlHandle t = createTexture(GL_TEXTURE_3D);
+    glTextureStorage3D(t.id(), 1, format, GLsizei(side), GLsizei(side), GLsizei(depth));
+    glTextureParameteri(t.id(), GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+    glTextureParameteri(t.id(), GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+    for (GLenum wrap : {GL_TEXTURE_WRAP_S, GL_TEXTURE_WRAP_T, GL_TEXTURE_WRAP_R})
+        glTextureParameteri(t.id(), wrap, GL_CLAMP_TO_EDGE);
+    glObjectLabel(GL_TEXTURE, t.id(), -1, label);
+    return t;
+}
+
+// The probes' depth maps: a (16 + 2)^2 tile per probe, probes (x, y) side by side in layer z.
+GlHandle depthAtlas(uint32_t probes) {
+    GlHandle t = createTexture(GL_TEXTURE_2D_ARRAY);
+    const GLsizei side = GLsizei(probes * 18);
+    glTextureStorage3D(t.id(), 1, GL_R16F, side, side, GLsizei(probes));
+    glTextureParameteri(t.id(), GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+    glTextureParameteri(t.id(), GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+    for (GLenum wrap : {GL_TEXTURE_WRAP_S, GL_TEXTURE_WRAP_T}) glTextureParameteri(t.id(), wrap, GL_CLAMP_TO_EDGE);
+    glObjectLabel(GL_TEXTURE, t.id(), -1, "gi probe depth maps");
+    return t;
+}
+
+GlHandle storage(uint64_t bytes, const char* label) {
+    GlHandle b = createBuffer();
+    glNamedBufferStorage(b.id(), GLsizeiptr(bytes), nullptr, GL_DYNAMIC_STORAGE_BIT);
+    glObjectLabel(GL_BUFFER, b.id(), -1, label);
+    return b;
+}
+
+GlHandle voxelGrid(uint32_t side) {
+    GlHandle t = createTexture(GL_TEXTURE_3D);
+    glTextureStorage3D(t.id(), 1, GL_R8UI, GLsizei(side), GLsizei(side), GLsizei(side));
+    glTextureParameteri(t.id(), GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+    glTextureParameteri(t.id(), GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+    glObjectLabel(GL_TEXTURE, t.id(), -1, "gi probe voxels");
+    return t;
+}
+
+PlayResult<Done> compileStages(std::span<const std::pair<GlHandle*, std::pair<const char*, std::string_view>>> stages,
+                               bool floatAtomics) {
+    for (const auto& [program, what] : stages) {
+        std::vector<std::string_view> defines;
+        if (floatAtomics) defines.push_back("FLOAT_ATOMICS");
+        if (!what.second.empty()) defines.push_back(what.second);
+        auto p = compileEmbeddedCompute(what.first, defines);
+        if (!p) return p.error();
+        *program = std::move(*p);
+    }
+    return Done{};
+}
+
+} // namespace
+
+PlayResult<Done> GiResources::ensure(const RenderSettings& s, uint32_t cascadeCount) {
+    const GiTechnique want = s.giTechnique;
+    const uint32_t cellCount = want == GiTechnique::Probes ? s.giProbeCells : s.giCells;
+    const bool useFloatAtomics = want == GiTechnique::Lpv && s.giAtomics == GiAtomics::Float;
+    if (want != technique) {
+        *this = GiResources{}; // the other technique's objects go
+        technique = want;
+    }
+    const uint32_t rsm = s.giRsmResolution;
+    if (want == GiTechnique::Lpv && (useFloatAtomics != floatAtomics || !injectRsm)) {
+        floatAtomics = useFloatAtomics;
+        const std::pair<GlHandle*, std::pair<const char*, std::string_view>> stages[] = {
+            {&injectRsm, {"lpv_inject.comp", "SOURCE_RSM"}},
+            {&injectCamera, {"lpv_inject.comp", "SOURCE_CAMERA"}},
+            {&resolveLight, {"lpv_resolve.comp", "RESOLVE_LIGHT"}},
+            {&resolveGeometry, {"lpv_resolve.comp", "RESOLVE_GEOMETRY"}},
+            {&resolveTransmittance, {"lpv_resolve.comp", "RESOLVE_TRANSMITTANCE"}},
+            {&propagate, {"lpv_propagate.comp", "PLAIN"}},
+            {&propagateOccluded, {"lpv_propagate.comp", "OCCLUSION"}}};
+        if (auto ok = compileStages(stages, floatAtomics); !ok) return ok.error();
+    }
+    const bool depthMaps = want == GiTechnique::Probes && s.giProbeVisibility == ProbeVisibility::Depth;
+    if (want == GiTechnique::Probes && (!gatherProbes || gatherVisibility != s.giProbeVisibility)) {
+        gatherVisibility = s.giProbeVisibility;
+        const std::pair<GlHandle*, std::pair<const char*, std::string_view>> stages[] = {
+            {&gatherProbes, {"gi_probe_gather.comp", depthMaps ? "" : "EXACT_VISIBILITY"}}};
+        if (auto ok = compileStages(stages, false); !ok) return ok.error();
+    }
+    if (!depthMaps) {
+        probeDepth = {};
+        probeNeeded = {};
+        traceDepth = {};
+    } else if (!traceDepth) {
+        std::string_view define = "PROBE_DEPTH";
+        auto p = compileEmbeddedCompute("gi_probe_gather.comp", std::span(&define, 1));
+        if (!p) return p.error();
+        traceDepth = std::move(*p);
+        depthCurrent = false;
+    }
+    if (want == GiTechnique::Probes && !clusterVpls) {
+        const std::pair<GlHandle*, std::pair<const char*, std::string_view>> stages[] = {
+            {&clusterVpls, {"gi_vpls.comp", ""}}};
+        if (auto ok = compileStages(stages, false); !ok) return ok.error();
+        auto v = compileEmbeddedProgram("flat.vert", "gi_voxelize.frag");
+        if (!v) return v.error();
+        voxelize = std::move(*v);
+        voxelFb = createFramebuffer();
+        glNamedFramebufferDrawBuffer(voxelFb.id(), GL_NONE);
+    }
+    // The probes' sky visibility exists only while ibl.visibility asks for it.
+    const bool sky = want == GiTechnique::Probes && s.iblVisibility == SkyVisibility::Probes;
+    if (!sky) {
+        skyVisibility = {};
+        traceSky = {};
+    } else if (!traceSky) {
+        std::string_view define = "SKY_VISIBILITY";
+        auto p = compileEmbeddedCompute("gi_probe_gather.comp", std::span(&define, 1));
+        if (!p) return p.error();
+        traceSky = std::move(*p);
+    }
+    if (rsm != rsmResolution) {
+        rsmResolution = rsm;
+        rsmColor = texture2d(GL_SRGB8_ALPHA8, rsm, "rsm base colour");
+        rsmNormal = texture2d(GL_RGBA16, rsm, "rsm normal+material");
+        rsmDepth = texture2d(GL_DEPTH_COMPONENT32F, rsm, "rsm depth");
+        rsmFb = createFramebuffer();
+        glNamedFramebufferTexture(rsmFb.id(), GL_COLOR_ATTACHMENT0, rsmColor.id(), 0);
+        glNamedFramebufferTexture(rsmFb.id(), GL_COLOR_ATTACHMENT1, rsmNormal.id(), 0);
+        glNamedFramebufferTexture(rsmFb.id(), GL_DEPTH_ATTACHMENT, rsmDepth.id(), 0);
+        // gbuffer.frag's third output (emissive) has no attachment: discarded.
+        const GLenum buffers[3] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1, GL_NONE};
+        glNamedFramebufferDrawBuffers(rsmFb.id(), 3, buffers);
+    }
+    if (cellCount != cells || cascadeCount != cascades) {
+        cells = cellCount;
+        cascades = cascadeCount;
+        const uint32_t depth = cells * cascades, corners = cells + 1;
+        const char* names[3][3] = {{"lpv source r", "lpv source g", "lpv source b"},
+                                   {"lpv next r", "lpv next g", "lpv next b"},
+                                   {"gi sum r", "gi sum g", "gi sum b"}};
+        for (int ch = 0; ch < 3; ++ch) sum[size_t(ch)] = volume(cells, depth, names[2][ch]);
+        skyVisibility = {};
+        probeDepth = {};
+        probeNeeded = {};
+        if (want == GiTechnique::Lpv) {
+            for (int ch = 0; ch < 3; ++ch) {
+                source[size_t(ch)] = volume(cells, depth, names[0][ch]);
+                next[size_t(ch)] = volume(cells, depth, names[1][ch]);
+            }
+            geometry = volume(corners, corners * cascades, "lpv geometry");
+            transmittance[0] = volume(cells, depth, "lpv transmittance -x +x -y +y", GL_RGBA8);
+            transmittance[1] = volume(cells, depth, "lpv transmittance -z +z", GL_RGBA8);
+            uint64_t cellsTotal = uint64_t(cells) * cells * depth;
+            uint64_t cornersTotal = uint64_t(corners) * corners * corners * cascades;
+            lightAccumulation = storage(cellsTotal * 12 * 4, "lpv light accumulation");
+            geometryAccumulation = storage(cornersTotal * 2 * 4 * 4, "lpv geometry accumulation");
+        }
+    }
+    const uint64_t cellsTotal = uint64_t(cells) * cells * cells * cascades;
+    const uint64_t rsmBytes = uint64_t(rsmResolution) * rsmResolution * (4 + 8 + 4);
+    if (want == GiTechnique::Probes) {
+        if (s.giVoxels != voxelSide) {
+            voxelSide = s.giVoxels;
+            voxels = voxelGrid(voxelSide);
+            voxelVersion = ~0ull;
+        }
+        if (s.giVpls != vplSide) {
+            vplSide = s.giVpls;
+            vpls = storage(uint64_t(vplSide) * vplSide * 48, "gi probe vpls");
+        }
+        if (sky && !skyVisibility) {
+            skyVisibility = volume(cells, cells, "gi probe sky visibility");
+            skyCurrent = false;
+        }
+        if (depthMaps && !probeDepth) {
+            probeDepth = depthAtlas(cells);
+            probeNeeded = storage(cellsTotal * 4, "gi probes needed");
+            depthCurrent = false;
+        }
+        bytes = rsmBytes + cellsTotal * (sky ? 4 : 3) * 8 + (depthMaps ? cellsTotal * (18 * 18 * 2 + 4) : 0) +
+                uint64_t(voxelSide) * voxelSide * voxelSide + uint64_t(vplSide) * vplSide * 48;
+        return Done{};
+    }
+    const uint64_t cornersTotal = uint64_t(cells + 1) * (cells + 1) * (cells + 1) * cascades;
+    bytes = rsmBytes + cellsTotal * (9 * 8 + 2 * 4) + cornersTotal * 8 + cellsTotal * 12 * 4 +
+            cornersTotal * 2 * 4 * 4;
+    return Done{};
+}
+
+} // namespace pnb::player

@@ -1,0 +1,157 @@
+// gi.technique = probes (gi.h): after the RSM, (1) the scene's occupancy grid over the probes'
+// box, drawn only when the geometry, materials or the box change (gi_voxelize.frag: three
+// orthographic draws, one along each axis); (2) the RSM's texels clustered into gi.vpls^2
+// virtual point lights (gi_vpls.comp); (3) every probe gathers every VPL it can see (by its depth
+// map, traced with the grid, or a walk through the grid: gi.probe_visibility) into the volumes
+// lighting reads (gi_probe_gather.comp). No propagation, no camera surfels:
+// nothing here depends on the view but the box when it follows the camera (gi.cell_size > 0), so
+// with gi.probe_cache all of it (and the RSM) runs again only when an input changed
+// (GiFrame::probeInputs: the sun, the grid, the sizes, geometry, materials, resident texture
+// levels, the RSM items' levels of detail). With ibl.visibility = probes, (4) every probe traces
+// rays through the grid for the sky it sees (gi_probe_gather.comp, SKY_VISIBILITY), again only
+// when the grid was redrawn: it depends on the geometry alone, not on the sun.
+#include <glm/gtc/matrix_transform.hpp>
+#include <glm/gtc/type_ptr.hpp>
+
+#include "frame/frame_context.h"
+
+namespace pnb::player {
+
+namespace {
+
+// Grid-relative world [0, extent]^3 -> clip: x, y the other two axes, depth (0..1) along `axis`.
+glm::dmat4 axisView(int axis, double extent) {
+    glm::dmat4 m(0.0);
+    const int horizontal = axis == 0 ? 2 : 0, vertical = axis == 1 ? 2 : 1;
+    m[horizontal][0] = 2.0 / extent;
+    m[3][0] = -1.0;
+    m[vertical][1] = 2.0 / extent;
+    m[3][1] = -1.0;
+    m[axis][2] = 1.0 / extent;
+    m[3][3] = 1.0;
+    return m;
+}
+
+void voxelizeScene(FrameContext& ctx, const LpvCascade& box) {
+    GiResources& r = ctx.gi.resources;
+    const GpuScene& scene = ctx.scene;
+    const double cell = box.cellSize * double(box.cells) / double(r.voxelSide);
+    if (r.voxelVersion == scene.materialsVersion && r.voxelOrigin == box.origin && r.voxelCell == cell) return;
+    const uint8_t zero = 0;
+    glClearTexImage(r.voxels.id(), 0, GL_RED_INTEGER, GL_UNSIGNED_BYTE, &zero);
+    const glm::dmat4 toGrid = glm::translate(glm::dmat4(1.0), -box.origin);
+    const std::vector<DrawRef> refs = opaqueDrawRefs(ctx, toGrid); // glass lets light through
+    const GLsizei side = GLsizei(r.voxelSide);
+    glNamedFramebufferParameteri(r.voxelFb.id(), GL_FRAMEBUFFER_DEFAULT_WIDTH, side);
+    glNamedFramebufferParameteri(r.voxelFb.id(), GL_FRAMEBUFFER_DEFAULT_HEIGHT, side);
+    glBindFramebuffer(GL_FRAMEBUFFER, r.voxelFb.id());
+    glViewport(0, 0, side, side);
+    glDisable(GL_DEPTH_TEST);
+    glDisable(GL_BLEND);
+    glBindImageTexture(0, r.voxels.id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_R8UI);
+    const GLuint p = r.voxelize.id();
+    glProgramUniform1i(p, 1, GLint(side));
+    for (int axis = 0; axis < 3; ++axis) {
+        FrameBlock fb{};
+        fb.viewProjection = glm::mat4(axisView(axis, box.cellSize * double(box.cells)));
+        fb.view = glm::mat4(1.0f);
+        fb.viewport = {float(side), float(side), 1.0f / float(side), 1.0f / float(side)};
+        const size_t offset = ctx.ring.push(&fb, sizeof fb);
+        glBindBufferRange(GL_UNIFORM_BUFFER, 0, ctx.ring.buffer(), GLintptr(offset), sizeof fb);
+        glProgramUniform1i(p, 0, axis);
+        drawItems(ctx, refs, p, &GpuMaterial::program, true);
+    }
+    glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT);
+    glBindBufferRange(GL_UNIFORM_BUFFER, 0, ctx.ring.buffer(), GLintptr(ctx.frameBlockOffset), sizeof(FrameBlock));
+    glEnable(GL_DEPTH_TEST);
+    r.skyCurrent = r.depthCurrent = false;
+    // The warm-up frame draws cut (Renderer::warmUp): only a real frame's grid is kept.
+    r.voxelVersion = ctx.warmUp ? ~0ull : scene.materialsVersion;
+    r.voxelOrigin = box.origin;
+    r.voxelCell = cell;
+}
+
+// One work group per probe tracing rays through the occupancy grid (gi_probe_gather.comp's
+// SKY_VISIBILITY and PROBE_DEPTH), its outputs bound by the caller. Returns whether what it traced
+// is kept: the warm-up frame's grid is not (voxelizeScene).
+bool traceThroughGrid(FrameContext& ctx, GLuint program, const glm::vec3& origin, float spacing) {
+    GiResources& r = ctx.gi.resources;
+    glProgramUniform4f(program, 0, origin.x, origin.y, origin.z, spacing);
+    glProgramUniform3i(program, 1, GLint(r.cells), 0, GLint(r.voxelSide));
+    glBindTextureUnit(0, r.voxels.id());
+    glUseProgram(program);
+    glDispatchCompute(r.cells, r.cells, r.cells);
+    glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_SHADER_STORAGE_BARRIER_BIT |
+                    GL_TEXTURE_FETCH_BARRIER_BIT);
+    glBindTextureUnit(0, 0);
+    glUseProgram(0);
+    return !ctx.warmUp;
+}
+
+// Every probe's view of the sky (ibl.visibility = probes).
+void traceSkyVisibility(FrameContext& ctx, const glm::vec3& origin, float spacing) {
+    GiResources& r = ctx.gi.resources;
+    glBindImageTexture(0, r.skyVisibility.id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA16F);
+    r.skyCurrent = traceThroughGrid(ctx, r.traceSky.id(), origin, spacing);
+}
+
+// Every needed probe's depth map, and which probes are needed (gi.probe_visibility = depth).
+void traceProbeDepths(FrameContext& ctx, const glm::vec3& origin, float spacing) {
+    GiResources& r = ctx.gi.resources;
+    glBindImageTexture(0, r.probeDepth.id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_R16F);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, r.probeNeeded.id());
+    r.depthCurrent = traceThroughGrid(ctx, r.traceDepth.id(), origin, spacing);
+}
+
+} // namespace
+
+void runGiProbes(FrameContext& ctx) {
+    const GiFrame& f = ctx.gi.frame;
+    GiResources& r = ctx.gi.resources;
+    const bool skyStale = r.skyVisibility && !r.skyCurrent;
+    if (f.probesCurrent && !skyStale) return; // nothing they see changed (gi.probe_cache)
+    // One timer pass for all of it: llvmpipe runs a dispatch when the next command needs it, so
+    // finer marks would put the gather's time into whichever pass came next.
+    ctx.timer.mark("gi_probes");
+    const LpvCascade& box = f.cascades.front();
+    voxelizeScene(ctx, box);
+    const glm::vec3 origin(box.origin - ctx.view.position);
+    if (r.skyVisibility && !r.skyCurrent) traceSkyVisibility(ctx, origin, float(box.cellSize));
+    if (f.probesCurrent) return;
+    if (r.probeDepth && !r.depthCurrent) traceProbeDepths(ctx, origin, float(box.cellSize));
+
+    const GLuint cluster = r.clusterVpls.id();
+    const glm::mat4 inverse(glm::inverse(f.rsm.matrix));
+    const GLint block = GLint((r.rsmResolution + r.vplSide - 1) / r.vplSide);
+    glProgramUniformMatrix4fv(cluster, 0, 1, GL_FALSE, glm::value_ptr(inverse));
+    glProgramUniform3f(cluster, 1, float(f.toward.x), float(f.toward.y), float(f.toward.z));
+    glProgramUniform3i(cluster, 2, GLint(r.rsmResolution), block, GLint(r.vplSide));
+    glProgramUniform1f(cluster, 3, float(f.rsmTexelArea));
+    glBindTextureUnit(0, r.rsmColor.id());
+    glBindTextureUnit(1, r.rsmNormal.id());
+    glBindTextureUnit(2, r.rsmDepth.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, r.vpls.id());
+    glUseProgram(cluster);
+    const GLuint groups = (r.vplSide + 7) / 8;
+    glDispatchCompute(groups, groups, 1);
+    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+
+    const GLuint gather = r.gatherProbes.id();
+    glProgramUniform4f(gather, 0, origin.x, origin.y, origin.z, float(box.cellSize));
+    glProgramUniform3i(gather, 1, GLint(r.cells), GLint(r.vplSide * r.vplSide), GLint(r.voxelSide));
+    glBindTextureUnit(0, r.voxels.id());
+    if (r.probeDepth) {
+        glBindTextureUnit(1, r.probeDepth.id());
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, r.probeNeeded.id());
+    }
+    for (GLuint ch = 0; ch < 3; ++ch)
+        glBindImageTexture(ch, r.sum[ch].id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA16F);
+    glUseProgram(gather);
+    glDispatchCompute((r.cells + 7) / 8, r.cells, r.cells); // 8 probes along x a group
+    glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT);
+    for (GLuint unit = 0; unit < 3; ++unit) glBindTextureUnit(unit, 0); // voxels, depth maps
+    glUseProgram(0);
+    r.probeInputs = ctx.warmUp ? std::vector<uint64_t>{} : f.probeInputs;
+}
+
+} // namespace pnb::player

@@ -1,0 +1,56 @@
+// Propagation (seed 004 §4.4; player/shaders/lpv_propagate.comp): gi.iterations gather steps,
+// ping-ponging between two volumes and adding each step to the sum that lighting reads, after a
+// dispatch that scales the injection into the steps' source form. The geometry volume blocks
+// light (gi.occlusion) at the face each step crosses.
+#include <utility>
+
+#include "frame/frame_context.h"
+
+namespace pnb::player {
+
+void runGiPropagate(FrameContext& ctx) {
+    const GiFrame& f = ctx.gi.frame;
+    GiResources& r = ctx.gi.resources;
+    ctx.timer.mark("gi_propagate");
+    GLuint p = ctx.settings.giOcclusion ? r.propagateOccluded.id() : r.propagate.id();
+    const GLint cells = GLint(r.cells), cascades = GLint(f.cascades.size());
+    glProgramUniform2i(p, 0, cells, cascades);
+    glUseProgram(p);
+    glBindTextureUnit(3, r.transmittance[0].id());
+    glBindTextureUnit(4, r.transmittance[1].id());
+    for (GLuint ch = 0; ch < 3; ++ch)
+        glBindImageTexture(3 + ch, r.sum[ch].id(), 0, GL_TRUE, 0, GL_READ_WRITE, GL_RGBA16F);
+    std::array<GlHandle, 3>* from = &r.source;
+    std::array<GlHandle, 3>* to = &r.next;
+    const GLuint g = GLuint(cells + 3) / 4, gz = GLuint(cells * cascades + 3) / 4;
+    // Dispatch 0 only scales the injection into a propagation source (the sum keeps it as it is);
+    // every step after writes its result so scaled.
+    const uint32_t dispatches = ctx.settings.giIterations > 0 ? ctx.settings.giIterations + 1 : 0;
+    for (uint32_t i = 0; i < dispatches; ++i) {
+        for (GLuint ch = 0; ch < 3; ++ch) {
+            glBindTextureUnit(ch, (*from)[ch].id());
+            glBindImageTexture(ch, (*to)[ch].id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA16F);
+        }
+        glProgramUniform1i(p, 1, i == 0);
+        glDispatchCompute(g, g, gz);
+        glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT);
+        std::swap(from, to);
+    }
+    for (GLuint unit = 0; unit < 5; ++unit) glBindTextureUnit(unit, 0);
+}
+
+void finishGi(FrameContext& ctx) {
+    GiFrame& f = ctx.gi.frame;
+    if (!f.active || !f.pending) return;
+    f.pending = false;
+    bool camera = ctx.settings.giCameraOcclusion && ctx.settings.giOcclusion && ctx.targets.gbuffer[0] &&
+                  ctx.stats.deferredLayersDrawn > 0;
+    if (camera) runGiCameraGeometry(ctx);
+    runGiResolve(ctx, camera);
+    runGiPropagate(ctx);
+    // Lighting's state: its frame block, the volumes.
+    glUseProgram(0);
+    bindGiForLighting(ctx);
+}
+
+} // namespace pnb::player

@@ -1,0 +1,97 @@
+// The IblBlock of a frame: the environment's irradiance SH turned and scaled, the specular
+// cube and BRDF table bound, and the sky-visibility term with what it reads (height map, LPV).
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+
+#include "frame/frame_context.h"
+#include "pnb_lighting/sh9.h"
+
+namespace pnb::player {
+
+using namespace lighting; // SH9 (pnb_lighting/sh9.h)
+
+void prepareIbl(FrameContext& ctx) {
+    IblContext& ibl = ctx.ibl;
+    const GpuScene& scene = ctx.scene;
+    const RenderSettings& s = ctx.settings;
+    ibl.active = false;
+    if (!scene.iblPrograms) return; // no environment: nothing bound, nothing read
+    if (s.iblEnabled && !scene.environment && !ibl.warned) {
+        ibl.warned = true;
+        std::fprintf(stderr, "pnb-play: the lighting programs have IBL but the container has no "
+                             "environment: no sky light\n");
+    }
+    ibl.active = s.iblEnabled && scene.environment.has_value();
+    if (!ibl.active || s.iblVisibility != SkyVisibility::Height) { // nothing kept that is not used
+        ibl.heightMap = {};
+        ibl.heightFb = {};
+        ibl.heightResolution = 0;
+        ibl.heightBytes = 0;
+    }
+    IblBlock block{};
+    if (ibl.active) {
+        const GpuEnvironment& env = *scene.environment;
+        const double angle = double(s.iblRotationDeg) * (3.14159265358979323846 / 180.0);
+        Sh9Rgb sh;
+        for (size_t k = 0; k < 9; ++k) sh.c[k] = glm::dvec3(env.irradianceSh[k]);
+        sh = sh9RotateY(sh, angle);
+        for (size_t k = 0; k < 9; ++k) block.sh[k] = glm::vec4(glm::vec3(sh.c[k] * double(s.iblIntensity)), 0.0f);
+        const bool specular = s.iblSpecular && env.specular && env.brdfLut;
+        block.rotation = {float(std::cos(angle)), float(std::sin(angle)),
+                          float(env.specularLevels > 0 ? env.specularLevels - 1 : 0), specular ? 1.0f : 0.0f};
+        float radius = 0;
+        if (s.iblVisibility != SkyVisibility::None) {
+            const Aabb& b = scene.bounds;
+            glm::vec3 diagonal(b.max.x - b.min.x, b.max.y - b.min.y, b.max.z - b.min.z);
+            radius = s.iblVisibilityRadius > 0 ? s.iblVisibilityRadius
+                                               : (b.min.x <= b.max.x ? glm::length(diagonal) / 8.0f : 0.0f);
+        }
+        block.params = {1.0f, ibl.capture ? 1.0f : 0.0f, radius, s.iblIntensity};
+        float mode = s.iblVisibility == SkyVisibility::Screen ? 1.0f : 0.0f;
+        if (s.iblVisibility == SkyVisibility::Height) {
+            renderSkyHeightMap(ctx);
+            if (ibl.heightMap) {
+                const glm::dvec3 lo = ibl.heightMin - ctx.view.position, size = ibl.heightMax - ibl.heightMin;
+                block.heightRect = {float(lo.x), float(lo.z), float(1.0 / size.x), float(1.0 / size.z)};
+                block.heightRange = {float(lo.y), float(size.y), 2.0f,
+                                     float(std::max(size.x, size.z) / double(ibl.heightResolution))};
+                glBindTextureUnit(15, ibl.heightMap.id());
+                mode = 2.0f;
+            }
+        }
+        if (s.iblVisibility == SkyVisibility::Volume) {
+            // The LPV's geometry: its face transmittances exist while GI runs with occlusion.
+            if (ctx.gi.frame.active && s.giOcclusion) {
+                glBindTextureUnit(16, ctx.gi.resources.transmittance[0].id());
+                glBindTextureUnit(17, ctx.gi.resources.transmittance[1].id());
+                mode = 3.0f;
+            } else if (!ibl.warnedVisibility) {
+                ibl.warnedVisibility = true;
+                std::fprintf(stderr, "pnb-play: ibl.visibility=volume needs GI with occlusion (gi.enabled, "
+                                     "gi.occlusion, a container converted with --gi): no sky visibility\n");
+            }
+        }
+        if (s.iblVisibility == SkyVisibility::Probes) {
+            // The probes' own: traced with their occupancy grid (pass_gi_probes.cpp).
+            if (ctx.gi.frame.active && ctx.gi.resources.skyVisibility) {
+                glBindTextureUnit(18, ctx.gi.resources.skyVisibility.id());
+                mode = 4.0f;
+            } else if (!ibl.warnedVisibility) {
+                ibl.warnedVisibility = true;
+                std::fprintf(stderr, "pnb-play: ibl.visibility=probes needs GI probes (gi.enabled, "
+                                     "gi.technique=probes, a container converted with --gi, a sun): "
+                                     "no sky visibility\n");
+            }
+        }
+        block.heightRange.z = mode;
+        if (specular) {
+            glBindTextureUnit(13, scene.textures[*env.specular].texture.id());
+            glBindTextureUnit(14, scene.textures[*env.brdfLut].texture.id());
+        }
+    }
+    size_t offset = ctx.ring.push(&block, sizeof block);
+    glBindBufferRange(GL_UNIFORM_BUFFER, 7, ctx.ring.buffer(), GLintptr(offset), sizeof block);
+}
+
+} // namespace pnb::player
