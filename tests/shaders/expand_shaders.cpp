@@ -60,13 +60,20 @@ std::vector<ProgramVariant> everySceneVariant() {
                     m.alphaMode = AlphaMode(alpha);
                     m.receivesShadows = flags & 1;
                     MaterialFeatures f;
-                    f.baseColorMap = bits & 1, f.metallicRoughnessMap = bits & 2;
-                    f.normalMap = bits & 4, f.occlusionMap = bits & 8, f.emissiveMap = bits & 16;
-                    f.vertexColor = bits & 32, f.uv0 = bits & 64, f.uv1 = bits & 128;
+                    f.baseColorMap = bits & 1;
+                    f.metallicRoughnessMap = bits & 2;
+                    f.normalMap = bits & 4;
+                    f.occlusionMap = bits & 8;
+                    f.emissiveMap = bits & 16;
+                    f.vertexColor = bits & 32;
+                    f.uv0 = bits & 64;
+                    f.uv1 = bits & 128;
                     f.alphaMask = m.alphaMode == AlphaMode::Mask;
                     SceneShaderNeeds needs;
-                    needs.shadows = flags & 2, needs.maskedCasters = flags & 4;
-                    needs.gi = flags & 8, needs.ibl = flags & 16;
+                    needs.shadows = flags & 2;
+                    needs.maskedCasters = flags & 4;
+                    needs.gi = flags & 8;
+                    needs.ibl = flags & 16;
                     ShaderPlan plan = planShaders(std::span(&m, 1), std::span(&f, 1), needs);
                     for (ProgramVariant& v : plan.programs) variants.emplace(describeVariant(v), v);
                 }
