@@ -1,4 +1,4 @@
-// container_reader_fuzz — libFuzzer target for the .pnb container reader (STYLE.md §2.15).
+// container_reader_fuzz — libFuzzer target for the .pnb container reader (docs/STYLE.md §9.3).
 //
 // Feeds one input to every read path of pnb_format: the table-of-contents index and the
 // front-to-back scan (Container::fromMemory with useToc on and off), verifyAll, load and loadInto

@@ -53,7 +53,7 @@ struct CliState {
     std::string summaryJson; // --summary-json FILE
 };
 
-// Declarative option table: it parses the command line and prints --help (STYLE.md §16).
+// Declarative option table: it parses the command line and prints --help (docs/STYLE.md §7).
 struct Option {
     const char* section;
     const char* name;  // "--quantize", or "-o, --output"

@@ -47,7 +47,7 @@ struct Settings {
     bool batch() const { return list || !sets.empty() || !imports.empty() || !output.empty(); }
 };
 
-// Declarative option table: it parses the command line and prints --help (STYLE.md §16).
+// Declarative option table: it parses the command line and prints --help (docs/STYLE.md §7).
 struct Option {
     const char* section;
     const char* name; // "--list", or "-o, --output"

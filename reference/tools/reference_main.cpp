@@ -69,7 +69,7 @@ struct Settings {
     std::string usageError; // an option's value that could not be used (exit 1)
 };
 
-// [SECTION] command line: a declarative table that parses and prints --help (STYLE.md §16)
+// [SECTION] command line: a declarative table that parses and prints --help (docs/STYLE.md §7)
 
 struct Option {
     const char* name; // "--out" or "-q, --quiet"

@@ -1,7 +1,7 @@
 #!/bin/sh
 # check_format_deps.sh SOURCE_DIR [PNB_FORMAT_LINK_LIBRARIES]
 #
-# format/ depends on zstd and xxhash only: no GL, no windowing, no importers (STYLE.md §2.3,
+# format/ depends on zstd and xxhash only: no GL, no windowing, no importers (docs/STYLE.md §2.3,
 # ARCHITECTURE.md). Fails (exit 1) if
 #   1. any file under format/ mentions a GL, windowing or importer library;
 #   2. format/CMakeLists.txt links pnb_format to anything but zstd, xxhash and pnb_warnings, links

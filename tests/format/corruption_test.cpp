@@ -1,4 +1,4 @@
-// Adversarial tests of the container (docs/STYLE.md 2.15): every single-byte change, every
+// Adversarial tests of the container (docs/STYLE.md §9.3): every single-byte change, every
 // truncation, trailing bytes, text-mode and endianness damage, versions, unknown tags, sizes
 // that overflow, raw-size limits, and streaming vs mapped parity.
 //

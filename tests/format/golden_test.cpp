@@ -1,4 +1,4 @@
-// Golden bytes of format version 1.0 (docs/STYLE.md 2.15, after meshoptimizer's per-version test
+// Golden bytes of format version 1.0 (docs/STYLE.md §9.3, after meshoptimizer's per-version test
 // vectors): a tiny container committed as tests/format/golden/v1.0_minimal.pnb.
 //
 // (a) The writer must still produce it byte for byte: any change to the layout (field order,

@@ -8,9 +8,15 @@ tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 fail() { echo "FAIL: $*" >&2; exit 1; }
 
-# Dynamic dependencies: Embree only in the judge (the check is live: it finds it there).
-readelf -d "$play" | grep -qi 'embree' && fail "pnb-play links Embree: $(readelf -d "$play" | grep -i embree)"
-readelf -d "$judge" | grep -qi 'libembree' || fail "pnb-judge does not link Embree: the dependency check is blind"
+# Dynamic dependencies: Embree only in the judge (the check is live: it finds it there). Each
+# listing goes to a file first: `readelf | grep -q` under pipefail is false when grep matches
+# early and readelf dies of SIGPIPE, which would hide pnb-play's hit and flake the judge's.
+readelf -d "$play" >"$tmp/play-dynamic" || fail "readelf cannot read $play"
+readelf -d "$judge" >"$tmp/judge-dynamic" || fail "readelf cannot read $judge"
+if grep -qi 'embree' "$tmp/play-dynamic"; then
+    fail "pnb-play links Embree: $(grep -i embree "$tmp/play-dynamic")"
+fi
+grep -qi 'libembree' "$tmp/judge-dynamic" || fail "pnb-judge does not link Embree: the dependency check is blind"
 
 for metric in --shadow-metrics --gi-metrics --sky-metrics; do
     set +e

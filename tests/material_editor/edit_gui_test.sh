@@ -20,8 +20,11 @@ xvfb-run -a -s "-screen 0 1400x800x24" "$edit" "$tmp/in.pnb" \
 [ "$(sha256sum "$tmp/in.pnb" | cut -d' ' -f1)" = "$before" ] || fail "the opened file changed (Save As)"
 "$inspect" "$tmp/out.pnb" --verify >/dev/null || fail "saved file does not verify"
 "$edit" "$tmp/out.pnb" --list >"$tmp/list.txt"
-grep -A12 "'tinted-glass'" "$tmp/list.txt" | grep -q "shading_path *= deferred" || fail "path not saved"
-grep -A12 "'tinted-glass'" "$tmp/list.txt" | grep -q "layer_priority *= 2" || fail "layer not saved"
+# The material's block is taken into a variable, not piped: under pipefail a `grep -A12 | grep -q`
+# fails when the first grep dies of SIGPIPE after the second has matched.
+glass=$(grep -A12 "'tinted-glass'" "$tmp/list.txt") || fail "no material 'tinted-glass' in --list"
+grep -q "shading_path *= deferred" <<<"$glass" || fail "path not saved"
+grep -q "layer_priority *= 2" <<<"$glass" || fail "layer not saved"
 "$play" "$tmp/out.pnb" --headless -q --screenshot "$tmp/played.png" || fail "pnb-play cannot play the result"
 # Not blank: the window shows panels and the viewport, so its pixels vary.
 /usr/bin/python3 - "$tmp/window.png" <<'PY' || fail "window screenshot is blank"

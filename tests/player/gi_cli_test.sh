@@ -23,7 +23,10 @@ set -e
 
 "$play" "$tmp/gi.pnb" --headless --bench --frames 4 --fixed-dt --size 96x54 --out "$tmp/bench" \
     --gi-metrics 2 --gi-samples 16 --no-plot -q
-head -1 "$tmp/bench/quality.csv" | grep -q "gi_rmse_pct" || fail "quality.csv has no gi_rmse_pct"
+# The header is read into a variable, not piped (`head | grep -q` under pipefail: a SIGPIPE in head
+# after grep's match would fail the check spuriously).
+header=$(head -1 "$tmp/bench/quality.csv")
+grep -q "gi_rmse_pct" <<<"$header" || fail "quality.csv has no gi_rmse_pct"
 awk -F, 'NR == 2 { if (!($3 > 0 && $3 < 1e6)) exit 1 }' "$tmp/bench/quality.csv" ||
     fail "gi_rmse_pct is not a finite positive number: $(sed -n 2p "$tmp/bench/quality.csv")"
 

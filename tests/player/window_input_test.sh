@@ -92,7 +92,10 @@ window drops "0.05 drop $tmp/broken.pnb
 grep -q "cannot open $tmp/broken.pnb: .*; keeping $scene" "$tmp/drops.err" || { show drops; fail "broken .pnb not reported"; }
 grep -q "cannot open $tmp/notes.txt: drop a .pnb container" "$tmp/drops.err" || { show drops; fail ".txt not reported"; }
 grep -q "cannot open $tmp/broken.gltf: pnb-convert failed (exit code" "$tmp/drops.err" || { show drops; fail "failed conversion not reported"; }
-shot=$(ls "$tmp"/shots/pnb-play-*-001.png 2>/dev/null | head -1)
+# A glob, not `ls | head`: with no match that pipeline fails and set -e would end the script
+# before the check below could say why.
+shots=("$tmp"/shots/pnb-play-*-001.png)
+shot=${shots[0]}
 [ -s "$shot" ] || { show drops; fail "F12 wrote no screenshot"; }
 grep -q "screenshot $shot" "$tmp/drops.out" || { show drops; fail "screenshot path not printed"; }
 grep -q "opened" "$tmp/drops.out" && fail "a bad drop claims to have opened"

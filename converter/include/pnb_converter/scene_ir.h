@@ -21,7 +21,7 @@
 
 namespace pnb::converter {
 
-// What went wrong, and the exit code it maps to (STYLE.md §16).
+// What went wrong, and the exit code it maps to (docs/STYLE.md §5.4).
 enum class ConvertErrorKind : uint8_t {
     Input = 2,       // the source is malformed, missing, or inconsistent
     Unsupported = 3, // the source is valid but needs something we do not do (required extension)

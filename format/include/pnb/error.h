@@ -1,6 +1,6 @@
 // pnb/error.h — error values for bad data, shared by every part of the container library.
 //
-// Penumbra uses three error channels (docs/STYLE): bad data (files, user input) produces a
+// Penumbra uses three error channels (docs/STYLE.md §5): bad data (files, user input) produces a
 // returned Error value, never an assert or an exception; API misuse is a precondition check;
 // internal invariants are asserts. This header is the first channel.
 #pragma once

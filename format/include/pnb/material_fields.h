@@ -1,4 +1,4 @@
-// pnb/material_fields.h — every editable material field, described once (STYLE.md §17).
+// pnb/material_fields.h — every editable material field, described once (docs/STYLE.md §8).
 //
 // The table drives the converter's per-material sidecar overrides, the editor's command line
 // (`--set MATERIAL.FIELD=VALUE`, `--list`) and its widgets; serialisation is chunks.h's. Field
