@@ -4,6 +4,7 @@
 
 #include <cstdio>
 #include <cstdlib>
+#include <iterator>
 #include <string>
 
 #include "pnb/output_guard.h"
@@ -78,7 +79,8 @@ void splitDumps(const std::string& v, std::vector<std::string>& dumps) {
     }
 }
 
-std::vector<Option> options(Args& a, bool& help) {
+// The rows of Modes and Run, in --help order.
+std::vector<Option> modesAndRun(Args& a) {
     return {
         Option{kModes, "--headless", "",
                "render offscreen through EGL (no display needed)",
@@ -149,6 +151,12 @@ std::vector<Option> options(Args& a, bool& help) {
                "(quality.csv, \"quality\" in summary.json); with other metrics, the same N",
                [&a](const char* v) -> Verdict { return count("--lod-metrics", v, a.lodMetrics); },
                ValueKind::Required},
+    };
+}
+
+// The rows of Truth metrics, in --help order.
+std::vector<Option> truthMetrics(Args& a) {
+    return {
         Option{kTruth, "--shadow-metrics", "N",
                "with --bench: replay every N-th frame (and the view 1/60 s later) and compare\n"
                "the sun's shadows with Embree ray-traced visibility: quality.csv and\n"
@@ -202,6 +210,12 @@ std::vector<Option> options(Args& a, bool& help) {
                "(player | truth | difference side by side); error_maps.json: legends",
                [&a](const char*) -> Verdict { return a.errorMaps = true; },
                ValueKind::None},
+    };
+}
+
+// The rows of Window and Settings, in --help order.
+std::vector<Option> windowAndSettings(Args& a) {
+    return {
         text(kWindow, "WASD move, Q/E down/up, Shift faster, right-drag look, O orbit (left-drag, W/S in/out)\n"
              "wheel: fly speed (x1.25 a notch); Ctrl+wheel or right button+wheel: field of view (5..120 deg)\n"
              "F9 start/stop recording a camera path, K add a key now, F12 screenshot, Esc or close: quit\n"
@@ -233,6 +247,12 @@ std::vector<Option> options(Args& a, bool& help) {
                "print every key, its type and meaning",
                [&a](const char*) -> Verdict { a.listSettings = true; return Verdict::stopHere(); },
                ValueKind::None},
+    };
+}
+
+// The rows of Start-up, Streaming and Other (with the hidden -h), in --help order.
+std::vector<Option> startUpAndOther(Args& a, bool& help) {
+    return {
         Option{kStartUp, "--program-cache", "DIR",
                "keep linked program binaries in DIR (default: $PNB_PROGRAM_CACHE_DIR,\n"
                "else $XDG_CACHE_HOME/penumbra/programs, else ~/.cache/penumbra/programs)",
@@ -274,6 +294,14 @@ std::vector<Option> options(Args& a, bool& help) {
                },
                ValueKind::None, /*hidden=*/true},
     };
+}
+
+// The whole table, in --help order (split by section only to keep each function short).
+std::vector<Option> options(Args& a, bool& help) {
+    std::vector<Option> table;
+    for (std::vector<Option> part : {modesAndRun(a), truthMetrics(a), windowAndSettings(a), startUpAndOther(a, help)})
+        table.insert(table.end(), std::make_move_iterator(part.begin()), std::make_move_iterator(part.end()));
+    return table;
 }
 
 const char* gProgram = "pnb-play";
