@@ -27,6 +27,7 @@
 #include "pnb/reader.h"
 #include "pnb/scene.h"
 #include "pnb/user_cache_directory.h"
+#include "pnb_cli/options.h"
 #include "pnb_converter/convert.h"
 #include "pnb_converter/memory_budget.h"
 #include "summary_json.h"
@@ -53,15 +54,6 @@ struct CliState {
     std::string summaryJson; // --summary-json FILE
 };
 
-// Declarative option table: it parses the command line and prints --help (docs/STYLE.md §7).
-struct Option {
-    const char* section;
-    const char* name;  // "--quantize", or "-o, --output"
-    const char* arg;   // nullptr for flags
-    const char* help;
-    std::function<bool(CliState&, const char*)> apply; // false: bad argument
-};
-
 bool parseUnsigned(const char* text, uint32_t lo, uint32_t hi, uint32_t& out) {
     char* end = nullptr;
     long v = std::strtol(text, &end, 10);
@@ -80,176 +72,159 @@ bool parseFloat(const char* text, float lo, float hi, float& out) {
 
 static_assert(pnb::kDefaultLightCutoffLux == 0.01f, "--light-cutoff's help states the default");
 
-const std::vector<Option>& options() {
-    static const std::vector<Option> table = {
-        {"Input and output", "-o, --output", "FILE|DIR",
-         "the .pnb file to write; with several inputs or --batch, the directory to write "
-         "<input stem>.pnb files into (created if missing)",
-         [](CliState& c, const char* a) { c.settings.output = a; return true; }},
-        {"Input and output", "--batch", "LIST",
-         "convert every input listed in LIST (one per line: INPUT, or INPUT<tab>OUTPUT; '#' "
-         "comments; '-' reads standard input) in this one process",
-         [](CliState& c, const char* a) { c.batchList = a; return true; }},
-        {"Input and output", "--sidecar", "FILE",
-         "material overrides (default: <input stem>.pnb.json next to the input, if present)",
-         [](CliState& c, const char* a) { c.settings.sidecar = a; return true; }},
-        {"Input and output", "--no-sidecar", nullptr, "ignore any sidecar file",
-         [](CliState& c, const char*) { c.settings.noSidecar = true; return true; }},
-        {"Input and output", "--path", "FILE",
-         "camera path keyframes (JSON; default: an orbit around the scene)",
-         [](CliState& c, const char* a) { c.settings.cameraPath = a; return true; }},
-        {"Input and output", "--depfile", "FILE",
-         "write a Make-style dependency file listing every file read (for Ninja)",
-         [](CliState& c, const char* a) { c.settings.depfile = a; return true; }},
-        {"Input and output", "--summary-json", "FILE",
-         "also write the summary (sizes, counts, quantisation and LOD errors, worst texture "
-         "PSNR, stage times) as JSON, for tools that compare conversions",
-         [](CliState& c, const char* a) { c.summaryJson = a; return true; }},
-        {"Meshes", "--quantize", nullptr,
-         "16-bit positions, octahedral normals, half-float UVs; prints the error introduced",
-         [](CliState& c, const char*) { c.settings.mesh.quantize = true; return true; }},
-        {"Meshes", "--lods", "N", "add N simplified levels of detail (0..8, default 0)",
-         [](CliState& c, const char* a) { return parseUnsigned(a, 0, 8, c.settings.mesh.lodCount); }},
-        {"Meshes", "--lod-ratio", "R", "index count of each level vs the previous (default 0.5)",
-         [](CliState& c, const char* a) {
-             char* end = nullptr;
-             float r = std::strtof(a, &end);
-             c.settings.mesh.lodRatio = r;
-             return *a && !*end && r > 0.01f && r < 1.0f;
-         }},
-        {"Meshes", "--lod-free-borders", nullptr,
-         "let LODs move open-boundary vertices (more reduction for open meshes; meshes that meet "
-         "edge to edge then crack at their seams)",
-         [](CliState& c, const char*) { c.settings.mesh.lodLockBorders = false; return true; }},
-        {"Meshes", "--no-mesh-proxies", nullptr,
-         "with --lods: write each mesh once, all levels in its MESH chunk (default: a coarse proxy "
-         "first and the full detail after the first frame's data, for streaming players)",
-         [](CliState& c, const char*) { c.settings.mesh.proxies = false; return true; }},
-        {"Meshes", "--no-optimize", nullptr, "skip vertex-cache/overdraw/fetch optimisation",
-         [](CliState& c, const char*) { c.settings.mesh.optimize = false; return true; }},
-        {"Textures", "--compress-textures", nullptr,
-         "BC1/BC3/BC4/BC5 block compression; prints the PSNR it cost",
-         [](CliState& c, const char*) { c.settings.texture.compress = true; return true; }},
-        {"Textures", "--max-texture-size", "N", "scale textures down to at most N texels a side",
-         [](CliState& c, const char* a) {
-             return parseUnsigned(a, 1, 65536, c.settings.texture.maxSize);
-         }},
-        {"Textures", "--max-memory", "SIZE",
-         "memory textures may use while they are decoded and mip-mapped, e.g. 512M or 2G, "
-         "shared by the parallel jobs; an image whose header declares more is refused before "
-         "it is read (default: see below)",
-         [](CliState& c, const char* a) {
-             std::optional<uint64_t> bytes = pnb::converter::parseByteSize(a);
-             c.settings.texture.maxMemoryBytes = bytes.value_or(0);
-             return bytes.has_value();
-         }},
-        {"Environment", "--environment", "FILE",
-         "image-based lighting from an equirectangular HDR image (.hdr, .exr, anything "
-         "OpenImageIO reads; row 0 is the zenith, the centre column looks along +X)",
-         [](CliState& c, const char* a) { c.settings.environment.image = a; return *a != 0; }},
-        {"Environment", "--sky", nullptr,
-         "image-based lighting from the analytic Preetham sky, lit by the scene's sun (its "
-         "first directional light, or the default sun)",
-         [](CliState& c, const char*) { c.settings.environment.sky = true; return true; }},
-        {"Environment", "--no-default-environment", nullptr,
-         "do not add the neutral default environment ('default-studio': a grey studio with soft "
-         "highlights) that a source with no lights and no --environment/--sky otherwise gets",
-         [](CliState& c, const char*) { c.settings.defaultEnvironment = false; return true; }},
-        {"Environment", "--sky-turbidity", "T", "haze of the sky, 2..10 (default 3)",
-         [](CliState& c, const char* a) {
-             return parseFloat(a, 2.0f, 10.0f, c.settings.environment.skyTurbidity);
-         }},
-        {"Environment", "--sky-ground-albedo", "A",
-         "reflectance of the ground below the horizon, 0..1 (default 0.2)",
-         [](CliState& c, const char* a) {
-             return parseFloat(a, 0.0f, 1.0f, c.settings.environment.skyGroundAlbedo);
-         }},
-        {"Environment", "--environment-size", "N",
-         "halve the radiance image until it is at most N texels high (default 1024)",
-         [](CliState& c, const char* a) {
-             return parseUnsigned(a, 1, 65536, c.settings.environment.maxRadianceHeight);
-         }},
-        {"Environment", "--specular-size", "N",
-         "face size of the prefiltered specular cube, a power of two 4..2048 (default 128)",
-         [](CliState& c, const char* a) {
-             uint32_t& n = c.settings.environment.specularSize;
-             return parseUnsigned(a, 4, 2048, n) && (n & (n - 1)) == 0;
-         }},
-        {"Lights", "--light-cutoff", "LUX",
-         "a point or spot light without a range stops where its illuminance falls to LUX "
-         "(> 0; default 0.01): the range written for it, warned",
-         [](CliState& c, const char* a) {
-             return parseFloat(a, std::numeric_limits<float>::denorm_min(),
-                               std::numeric_limits<float>::max(), c.settings.lights.cutoffLux);
-         }},
-        {"Container", "--compress", nullptr,
-         "zstd-compress meshes and texels too (smaller file; loads can no longer be zero-copy)",
-         [](CliState& c, const char*) { c.settings.compressBulk = true; return true; }},
-        {"Container", "--no-checksums", nullptr, "do not store payload checksums",
-         [](CliState& c, const char*) { c.settings.checksums = false; return true; }},
-        {"Container", "--set", "KEY=VALUE",
-         "store a render setting, e.g. shadows.cascades=4 (repeatable)",
-         [](CliState& c, const char* a) {
-             const char* eq = std::strchr(a, '=');
-             if (!eq || eq == a) return false;
-             c.settings.renderSettings.emplace_back(std::string(a, eq), std::string(eq + 1));
-             return true;
-         }},
-        {"Container", "--gi", nullptr,
-         "pack the global-illumination programs and turn GI on (same as --set gi.enabled=true)",
-         [](CliState& c, const char*) {
-             c.settings.renderSettings.emplace_back("gi.enabled", "true");
-             return true;
-         }},
-        {"General", "-j, --jobs", "N", "worker threads (default: all cores)",
-         [](CliState& c, const char* a) { return parseUnsigned(a, 1, 256, c.settings.jobs); }},
-        {"General", "--no-validate-shaders", nullptr, "skip the glslang check of packed shaders",
-         [](CliState& c, const char*) { c.settings.validateShaders = false; return true; }},
-        {"General", "--no-shader-cache", nullptr,
-         "validate every shader program again instead of trusting the cache of programs "
-         "validated before (see below)",
-         [](CliState& c, const char*) { c.settings.shaderCache = false; return true; }},
-        {"General", "-v, --verbose", nullptr, "also print per-chunk-kind size statistics",
-         [](CliState& c, const char*) { c.verbose = true; return true; }},
-        {"General", "-q, --quiet", nullptr, "print errors only",
-         [](CliState& c, const char*) { c.quiet = true; return true; }},
-        {"General", "--test", "DIR",
-         "convert every scene under DIR to a temporary file and verify it; one line each",
-         [](CliState& c, const char* a) { c.testDir = a; return true; }},
+// Declarative option table (pnb_cli): it parses the command line and prints --help (STYLE.md §16).
+std::vector<pnb::cli::Option> options(CliState& c, bool& help) {
+    using pnb::cli::flag;
+    using pnb::cli::valued;
+    return {
+        valued("Input and output", "-o, --output", "FILE|DIR",
+             "the .pnb file to write; with several inputs or --batch, the directory to write "
+             "<input stem>.pnb files into (created if missing)",
+             [&c](const char* a) { c.settings.output = a; return true; }),
+        valued("Input and output", "--batch", "LIST",
+             "convert every input listed in LIST (one per line: INPUT, or INPUT<tab>OUTPUT; '#' "
+             "comments; '-' reads standard input) in this one process",
+             [&c](const char* a) { c.batchList = a; return true; }),
+        valued("Input and output", "--sidecar", "FILE",
+             "material overrides (default: <input stem>.pnb.json next to the input, if present)",
+             [&c](const char* a) { c.settings.sidecar = a; return true; }),
+        flag("Input and output", "--no-sidecar", "ignore any sidecar file",
+             [&c](const char*) { c.settings.noSidecar = true; return true; }),
+        valued("Input and output", "--path", "FILE",
+             "camera path keyframes (JSON; default: an orbit around the scene)",
+             [&c](const char* a) { c.settings.cameraPath = a; return true; }),
+        valued("Input and output", "--depfile", "FILE",
+             "write a Make-style dependency file listing every file read (for Ninja)",
+             [&c](const char* a) { c.settings.depfile = a; return true; }),
+        valued("Input and output", "--summary-json", "FILE",
+             "also write the summary (sizes, counts, quantisation and LOD errors, worst texture "
+             "PSNR, stage times) as JSON, for tools that compare conversions",
+             [&c](const char* a) { c.summaryJson = a; return true; }),
+        flag("Meshes", "--quantize",
+             "16-bit positions, octahedral normals, half-float UVs; prints the error introduced",
+             [&c](const char*) { c.settings.mesh.quantize = true; return true; }),
+        valued("Meshes", "--lods", "N", "add N simplified levels of detail (0..8, default 0)",
+             [&c](const char* a) { return parseUnsigned(a, 0, 8, c.settings.mesh.lodCount); }),
+        valued("Meshes", "--lod-ratio", "R", "index count of each level vs the previous (default 0.5)",
+             [&c](const char* a) {
+                 char* end = nullptr;
+                 float r = std::strtof(a, &end);
+                 c.settings.mesh.lodRatio = r;
+                 return *a && !*end && r > 0.01f && r < 1.0f;
+             }),
+        flag("Meshes", "--lod-free-borders",
+             "let LODs move open-boundary vertices (more reduction for open meshes; meshes that meet "
+             "edge to edge then crack at their seams)",
+             [&c](const char*) { c.settings.mesh.lodLockBorders = false; return true; }),
+        flag("Meshes", "--no-mesh-proxies",
+             "with --lods: write each mesh once, all levels in its MESH chunk (default: a coarse proxy "
+             "first and the full detail after the first frame's data, for streaming players)",
+             [&c](const char*) { c.settings.mesh.proxies = false; return true; }),
+        flag("Meshes", "--no-optimize", "skip vertex-cache/overdraw/fetch optimisation",
+             [&c](const char*) { c.settings.mesh.optimize = false; return true; }),
+        flag("Textures", "--compress-textures", "BC1/BC3/BC4/BC5 block compression; prints the PSNR it cost",
+             [&c](const char*) { c.settings.texture.compress = true; return true; }),
+        valued("Textures", "--max-texture-size", "N", "scale textures down to at most N texels a side",
+             [&c](const char* a) {
+                 return parseUnsigned(a, 1, 65536, c.settings.texture.maxSize);
+             }),
+        valued("Textures", "--max-memory", "SIZE",
+             "memory textures may use while they are decoded and mip-mapped, e.g. 512M or 2G, "
+             "shared by the parallel jobs; an image whose header declares more is refused before "
+             "it is read (default: see below)",
+             [&c](const char* a) {
+                 std::optional<uint64_t> bytes = pnb::converter::parseByteSize(a);
+                 c.settings.texture.maxMemoryBytes = bytes.value_or(0);
+                 return bytes.has_value();
+             }),
+        valued("Environment", "--environment", "FILE",
+             "image-based lighting from an equirectangular HDR image (.hdr, .exr, anything "
+             "OpenImageIO reads; row 0 is the zenith, the centre column looks along +X)",
+             [&c](const char* a) { c.settings.environment.image = a; return *a != 0; }),
+        flag("Environment", "--sky",
+             "image-based lighting from the analytic Preetham sky, lit by the scene's sun (its "
+             "first directional light, or the default sun)",
+             [&c](const char*) { c.settings.environment.sky = true; return true; }),
+        flag("Environment", "--no-default-environment",
+             "do not add the neutral default environment ('default-studio': a grey studio with soft "
+             "highlights) that a source with no lights and no --environment/--sky otherwise gets",
+             [&c](const char*) { c.settings.defaultEnvironment = false; return true; }),
+        valued("Environment", "--sky-turbidity", "T", "haze of the sky, 2..10 (default 3)",
+             [&c](const char* a) {
+                 return parseFloat(a, 2.0f, 10.0f, c.settings.environment.skyTurbidity);
+             }),
+        valued("Environment", "--sky-ground-albedo", "A",
+             "reflectance of the ground below the horizon, 0..1 (default 0.2)",
+             [&c](const char* a) {
+                 return parseFloat(a, 0.0f, 1.0f, c.settings.environment.skyGroundAlbedo);
+             }),
+        valued("Environment", "--environment-size", "N",
+             "halve the radiance image until it is at most N texels high (default 1024)",
+             [&c](const char* a) {
+                 return parseUnsigned(a, 1, 65536, c.settings.environment.maxRadianceHeight);
+             }),
+        valued("Environment", "--specular-size", "N",
+             "face size of the prefiltered specular cube, a power of two 4..2048 (default 128)",
+             [&c](const char* a) {
+                 uint32_t& n = c.settings.environment.specularSize;
+                 return parseUnsigned(a, 4, 2048, n) && (n & (n - 1)) == 0;
+             }),
+        valued("Lights", "--light-cutoff", "LUX",
+             "a point or spot light without a range stops where its illuminance falls to LUX "
+             "(> 0; default 0.01): the range written for it, warned",
+             [&c](const char* a) {
+                 return parseFloat(a, std::numeric_limits<float>::denorm_min(),
+                                   std::numeric_limits<float>::max(), c.settings.lights.cutoffLux);
+             }),
+        flag("Container", "--compress",
+             "zstd-compress meshes and texels too (smaller file; loads can no longer be zero-copy)",
+             [&c](const char*) { c.settings.compressBulk = true; return true; }),
+        flag("Container", "--no-checksums", "do not store payload checksums",
+             [&c](const char*) { c.settings.checksums = false; return true; }),
+        valued("Container", "--set", "KEY=VALUE",
+             "store a render setting, e.g. shadows.cascades=4 (repeatable)",
+             [&c](const char* a) {
+                 const char* eq = std::strchr(a, '=');
+                 if (!eq || eq == a) return false;
+                 c.settings.renderSettings.emplace_back(std::string(a, eq), std::string(eq + 1));
+                 return true;
+             }),
+        flag("Container", "--gi",
+             "pack the global-illumination programs and turn GI on (same as --set gi.enabled=true)",
+             [&c](const char*) {
+                 c.settings.renderSettings.emplace_back("gi.enabled", "true");
+                 return true;
+             }),
+        valued("General", "-j, --jobs", "N", "worker threads (default: all cores)",
+             [&c](const char* a) { return parseUnsigned(a, 1, 256, c.settings.jobs); }),
+        flag("General", "--no-validate-shaders", "skip the glslang check of packed shaders",
+             [&c](const char*) { c.settings.validateShaders = false; return true; }),
+        flag("General", "--no-shader-cache",
+             "validate every shader program again instead of trusting the cache of programs "
+             "validated before (see below)",
+             [&c](const char*) { c.settings.shaderCache = false; return true; }),
+        flag("General", "-v, --verbose", "also print per-chunk-kind size statistics",
+             [&c](const char*) { c.verbose = true; return true; }),
+        flag("General", "-q, --quiet", "print errors only",
+             [&c](const char*) { c.quiet = true; return true; }),
+        valued("General", "--test", "DIR",
+             "convert every scene under DIR to a temporary file and verify it; one line each",
+             [&c](const char* a) { c.testDir = a; return true; }),
+        flag("General", "-h, --help", "print this help", [&help](const char*) {
+            help = true;
+            return pnb::cli::Verdict::stopHere();
+        }),
     };
-    return table;
 }
 
-bool optionMatches(const Option& o, const std::string& arg) {
-    std::string names = o.name;
-    size_t start = 0;
-    while (start < names.size()) {
-        size_t comma = names.find(", ", start);
-        std::string n = names.substr(start, comma == std::string::npos ? comma : comma - start);
-        if (n == arg) return true;
-        if (comma == std::string::npos) break;
-        start = comma + 2;
-    }
-    return false;
-}
-
-void printHelp() {
+void printHelp(const std::vector<pnb::cli::Option>& table) {
     std::printf("usage: pnb-convert INPUT -o OUTPUT.pnb [options]\n"
                 "       pnb-convert INPUT... -o DIR [options]      (batch: one process)\n"
                 "       pnb-convert --batch LIST [-o DIR] [options]\n"
                 "       pnb-convert --test DIR [options]\n\n"
                 "Converts OBJ/MTL and glTF 2.0 (.gltf, .glb, Draco) scenes, and the other formats\n"
                 "assimp reads, into a Penumbra container.\n");
-    const char* section = "";
-    for (const Option& o : options()) {
-        if (std::strcmp(section, o.section) != 0) {
-            section = o.section;
-            std::printf("\n%s:\n", section);
-        }
-        std::string left = std::string(o.name) + (o.arg ? std::string(" ") + o.arg : "");
-        std::printf("  %-26s %s\n", left.c_str(), o.help);
-    }
-    std::printf("  %-26s %s\n", "-h, --help", "print this help");
+    std::fputs(pnb::cli::helpText(table, {.column = 29}).c_str(), stdout);
     std::printf("\n--max-memory defaults to half of the memory this process may use (physical "
                 "RAM,\nulimit -v and the cgroup limit, whichever is least): %s here.\n",
                 pnb::converter::formatBytes(pnb::converter::defaultMemoryBudget()).c_str());
@@ -676,36 +651,31 @@ int main(int argc, char** argv) {
     mallopt(M_TRIM_THRESHOLD, 512 << 20);
     CliState c;
     std::vector<std::string> positional;
-    for (int i = 1; i < argc; ++i) {
-        std::string arg = argv[i];
-        if (arg == "-h" || arg == "--help") {
-            printHelp();
-            return kExitOk;
+    bool help = false;
+    const std::vector<pnb::cli::Option> table = options(c, help);
+    auto input = [&positional](const char* arg) {
+        positional.push_back(arg);
+        return true;
+    };
+    if (auto e = pnb::cli::parse(table, input, argc, argv)) {
+        switch (e->kind) {
+        case pnb::cli::ParseError::Kind::UnknownOption:
+            std::fprintf(stderr, "Error: unknown option '%s' (see --help)\n", e->option.c_str());
+            break;
+        case pnb::cli::ParseError::Kind::MissingValue:
+            std::fprintf(stderr, "Error: %s needs %s\n", e->option.c_str(), e->valueName.c_str());
+            break;
+        case pnb::cli::ParseError::Kind::BadValue:
+            std::fprintf(stderr, "Error: invalid value '%s' for %s (see --help)\n", e->value.c_str(),
+                         e->option.c_str());
+            break;
+        default: std::fprintf(stderr, "Error: %s (see --help)\n", pnb::cli::describe(*e).c_str());
         }
-        if (arg.size() > 1 && arg[0] == '-') {
-            const Option* match = nullptr;
-            for (const Option& o : options())
-                if (optionMatches(o, arg)) match = &o;
-            if (!match) {
-                std::fprintf(stderr, "Error: unknown option '%s' (see --help)\n", arg.c_str());
-                return kExitUsage;
-            }
-            const char* value = nullptr;
-            if (match->arg) {
-                if (i + 1 >= argc) {
-                    std::fprintf(stderr, "Error: %s needs %s\n", arg.c_str(), match->arg);
-                    return kExitUsage;
-                }
-                value = argv[++i];
-            }
-            if (!match->apply(c, value)) {
-                std::fprintf(stderr, "Error: invalid value '%s' for %s (see --help)\n",
-                             value ? value : "", arg.c_str());
-                return kExitUsage;
-            }
-        } else {
-            positional.push_back(arg);
-        }
+        return kExitUsage;
+    }
+    if (help) {
+        printHelp(table);
+        return kExitOk;
     }
     if (c.settings.environment.sky && !c.settings.environment.image.empty()) {
         std::fprintf(stderr, "Error: --environment and --sky both give the environment; "

@@ -1,78 +1,52 @@
 // pnb-inspect: command-line front end of runInspect() (inspect.h). Only argument parsing lives
-// here; the option table below is the single description of the options and prints --help.
+// here; the option table below (pnb_cli) is the single description of the options and prints --help.
 
-#include <algorithm>
 #include <cstdio>
 #include <cstring>
 #include <string>
-#include <string_view>
+#include <vector>
 
 #include "inspect.h"
+#include "pnb_cli/options.h"
 
 namespace {
 
-struct Option {
-    const char* section; // --help groups consecutive options under their section title
-    const char* name;
-    const char* help;
-    void (*apply)(pnb::InspectOptions&);
-};
+using pnb::cli::flag;
 
-constexpr Option kOptions[] = {
-    {"Output", "--json", "print one JSON object (stable snake_case fields) instead of text",
-     [](pnb::InspectOptions& o) { o.json = true; }},
-    {"Checks", "--verify",
-     "check mode: hash and pad-check every chunk, inflate compressed ones, decode every chunk "
-     "and check cross-references; prints only the verdict",
-     [](pnb::InspectOptions& o) { o.verify = true; }},
-    {"Checks", "--strict",
-     "with --verify: also fail when a chunk carries no payload checksum (written with "
-     "--no-checksums), since its bytes cannot be checked",
-     [](pnb::InspectOptions& o) { o.strict = true; }},
-    {"Reading", "--no-checksums",
-     "do not hash payloads while decoding (structural checks still run; --verify hashes anyway)",
-     [](pnb::InspectOptions& o) { o.verifyChecksums = false; }},
-    {"Reading", "--scan",
-     "locate chunks by scanning chunk headers instead of reading the table of contents",
-     [](pnb::InspectOptions& o) { o.useToc = false; }},
-};
-
-// "  NAME             help text", the help wrapped at 100 columns under itself.
-void printWrapped(std::FILE* f, const char* name, std::string_view help) {
-    constexpr size_t kIndent = 19, kWidth = 100;
-    std::string line = "  " + std::string(name);
-    line.resize(std::max(line.size() + 1, kIndent), ' ');
-    size_t column = line.size();
-    while (!help.empty()) {
-        size_t space = help.find(' ');
-        std::string_view word = help.substr(0, space);
-        help = space == std::string_view::npos ? std::string_view{} : help.substr(space + 1);
-        if (column > kIndent && column + 1 + word.size() > kWidth) {
-            line += "\n" + std::string(kIndent, ' ');
-            column = kIndent;
-        } else if (column > kIndent) {
-            line += ' ';
-            ++column;
-        }
-        line += word;
-        column += word.size();
-    }
-    std::fprintf(f, "%s\n", line.c_str());
+std::vector<pnb::cli::Option> options(pnb::InspectOptions& o, bool& help) {
+    return {
+        flag("Output", "--json", "print one JSON object (stable snake_case fields) instead of text",
+             [&o](const char*) { return o.json = true; }),
+        flag("Checks", "--verify",
+             "check mode: hash and pad-check every chunk, inflate compressed ones, decode every chunk "
+             "and check cross-references; prints only the verdict",
+             [&o](const char*) { return o.verify = true; }),
+        flag("Checks", "--strict",
+             "with --verify: also fail when a chunk carries no payload checksum (written with "
+             "--no-checksums), since its bytes cannot be checked",
+             [&o](const char*) { return o.strict = true; }),
+        flag("Reading", "--no-checksums",
+             "do not hash payloads while decoding (structural checks still run; --verify hashes anyway)",
+             [&o](const char*) {
+                 o.verifyChecksums = false;
+                 return true;
+             }),
+        flag("Reading", "--scan", "locate chunks by scanning chunk headers instead of reading the table of contents",
+             [&o](const char*) {
+                 o.useToc = false;
+                 return true;
+             }),
+        flag("", "-h, --help", "print this help and exit", [&help](const char*) {
+            help = true;
+            return pnb::cli::Verdict::stopHere();
+        }),
+    };
 }
 
-void printHelp(std::FILE* f) {
+void printHelp(std::FILE* f, const std::vector<pnb::cli::Option>& table) {
     std::fprintf(f, "usage: pnb-inspect FILE.pnb [options]\n\n"
                     "Reports the chunks and decoded contents of a Penumbra container.\n");
-    const char* section = "";
-    for (const Option& o : kOptions) {
-        if (std::strcmp(section, o.section) != 0) {
-            section = o.section;
-            std::fprintf(f, "\n%s:\n", section);
-        }
-        printWrapped(f, o.name, o.help);
-    }
-    std::fprintf(f, "\n");
-    printWrapped(f, "-h, --help", "print this help and exit");
+    std::fputs(pnb::cli::helpText(table, {.column = 19, .wrapAt = 100}).c_str(), f);
     std::fprintf(f,
                  "\nExit codes:\n"
                  "  %d  ok\n"
@@ -92,29 +66,19 @@ int usageError(const std::string& message) {
 
 int main(int argc, char** argv) {
     pnb::InspectOptions options = pnb::inspectDefaults();
-    bool endOfOptions = false;
-    for (int i = 1; i < argc; ++i) {
-        std::string_view a = argv[i];
-        if (!endOfOptions && (a == "-h" || a == "--help")) {
-            printHelp(stdout);
-            return pnb::kInspectOk;
-        }
-        if (!endOfOptions && a == "--") {
-            endOfOptions = true;
-            continue;
-        }
-        if (!endOfOptions && a.size() > 1 && a[0] == '-') {
-            const Option* match = nullptr;
-            for (const Option& o : kOptions)
-                if (a == o.name) match = &o;
-            if (!match) return usageError("unknown option '" + std::string(a) + "'");
-            match->apply(options);
-            continue;
-        }
+    bool help = false;
+    const std::vector<pnb::cli::Option> table = ::options(options, help);
+    auto positional = [&options](const char* arg) {
         if (!options.path.empty())
-            return usageError("more than one input file ('" + std::string(a) + "')");
-        if (a.empty()) return usageError("empty file name");
-        options.path = a;
+            return pnb::cli::Verdict::error("more than one input file ('" + std::string(arg) + "')");
+        if (!*arg) return pnb::cli::Verdict::error("empty file name");
+        options.path = arg;
+        return pnb::cli::Verdict(true);
+    };
+    if (auto e = pnb::cli::parse(table, positional, argc, argv)) return usageError(pnb::cli::describe(*e));
+    if (help) {
+        printHelp(stdout, table);
+        return pnb::kInspectOk;
     }
     if (options.path.empty()) return usageError("no input file");
     return pnb::runInspect(options, stdout, stderr);

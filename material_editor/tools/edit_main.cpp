@@ -1,7 +1,7 @@
 // pnb-edit: the material editor. With batch options it edits a container's materials without a
 // window, through the same pnb::editor::Document the GUI uses; without them it starts the GUI
-// (gui.h). Only argument parsing and printing live here; the option table below is the single
-// description of the options and prints --help.
+// (gui.h). Only argument parsing and printing live here; the option table below (pnb_cli) is the
+// single description of the options and prints --help.
 //
 // Batch mode is all or nothing: every import and every --set must succeed (one undo step in the
 // document, one atomic save) or the file is not touched.
@@ -9,7 +9,6 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
-#include <functional>
 #include <map>
 #include <optional>
 #include <string>
@@ -19,6 +18,7 @@
 #include "gui.h"
 #include "pnb/material_fields.h"
 #include "pnb/output_guard.h"
+#include "pnb_cli/options.h"
 #include "pnb_converter/memory_budget.h"
 #include "pnb_editor/document.h"
 #include "pnb_editor/set_expression.h"
@@ -47,15 +47,6 @@ struct Settings {
     bool batch() const { return list || !sets.empty() || !imports.empty() || !output.empty(); }
 };
 
-// Declarative option table: it parses the command line and prints --help (docs/STYLE.md §7).
-struct Option {
-    const char* section;
-    const char* name; // "--list", or "-o, --output"
-    const char* arg;  // nullptr for flags
-    const char* help;
-    std::function<bool(Settings&, const char*)> apply; // false: malformed argument
-};
-
 bool parseImport(const char* text, Import& out) {
     std::string_view a = text;
     size_t eq = a.find('=');
@@ -73,98 +64,64 @@ bool parseImport(const char* text, Import& out) {
     return true;
 }
 
-const std::vector<Option>& options() {
-    static const std::vector<Option> table = {
-        {"Batch edits", "--set", "MATERIAL.FIELD=VALUE",
-         "set a field of every material whose name matches MATERIAL ('*' and '?' wildcards), "
-         "e.g. 'glass*.shading_path=forward'; repeatable. All --set options are one edit: all "
-         "apply or none does. Texture fields take a texture name, an index or none",
-         [](Settings& s, const char* a) { s.sets.push_back(a); return true; }},
-        {"Batch edits", "--import-texture", "NAME=IMAGE[:srgb|:linear]",
-         "import an image file (PNG, JPEG, TGA, EXR, ...) as texture NAME, processed as "
-         "pnb-convert does (mips, no compression); :srgb (default) for colour, :linear for "
-         "normal, metallic-roughness and occlusion maps. Repeatable; applied before --set",
-         [](Settings& s, const char* a) {
-             Import i;
-             if (!parseImport(a, i)) return false;
-             s.imports.push_back(i);
-             return true;
-         }},
-        {"Batch edits", "--max-memory", "SIZE",
-         "memory an imported texture may use while it is decoded and mip-mapped, e.g. 512M or "
-         "2G; an image whose header declares more is refused before it is read (default: half "
-         "of the memory this process may use)",
-         [](Settings& s, const char* a) {
-             std::optional<uint64_t> bytes = pnb::converter::parseByteSize(a);
-             s.maxMemory = bytes.value_or(0);
-             return bytes.has_value();
-         }},
-        {"Batch edits", "-o, --output", "FILE",
-         "write the result here (default: replace SCENE.pnb in place, atomically)",
-         [](Settings& s, const char* a) { s.output = a; return !s.output.empty(); }},
-        {"Batch edits", "--lock-timeout", "SECONDS",
-         "how long to wait while another program saves the file (default 60). An edit in place "
-         "holds the file's lock from reading it to replacing it, so concurrent edits queue "
-         "instead of overwriting each other; past the wait, exit 5 with nothing written",
-         [](Settings& s, const char* a) {
-             char* end = nullptr;
-             s.lockTimeout = std::strtod(a, &end);
-             return end != a && *end == '\0' && std::isfinite(s.lockTimeout) &&
-                    s.lockTimeout >= 0;
-         }},
-        {"Listing", "--list", nullptr,
-         "print every material with every field, the deferred layer order and the textures "
-         "(after the edits, if any)",
-         [](Settings& s, const char*) { s.list = true; return true; }},
-        {"Listing", "--json", nullptr, "with --list: one JSON object instead of text",
-         [](Settings& s, const char*) { s.json = true; return true; }},
-        {"General", "-q, --quiet", nullptr, "print errors only",
-         [](Settings& s, const char*) { s.quiet = true; return true; }},
+// Declarative option table (pnb_cli): it parses the command line and prints --help (STYLE.md §16).
+std::vector<pnb::cli::Option> options(Settings& s, bool& help) {
+    using pnb::cli::flag;
+    using pnb::cli::valued;
+    return {
+        valued("Batch edits", "--set", "MATERIAL.FIELD=VALUE",
+             "set a field of every material whose name matches MATERIAL ('*' and '?' wildcards), "
+             "e.g. 'glass*.shading_path=forward'; repeatable. All --set options are one edit: all "
+             "apply or none does. Texture fields take a texture name, an index or none",
+             [&s](const char* a) { s.sets.push_back(a); return true; }),
+        valued("Batch edits", "--import-texture", "NAME=IMAGE[:srgb|:linear]",
+             "import an image file (PNG, JPEG, TGA, EXR, ...) as texture NAME, processed as "
+             "pnb-convert does (mips, no compression); :srgb (default) for colour, :linear for "
+             "normal, metallic-roughness and occlusion maps. Repeatable; applied before --set",
+             [&s](const char* a) {
+                 Import i;
+                 if (!parseImport(a, i)) return false;
+                 s.imports.push_back(i);
+                 return true;
+             }),
+        valued("Batch edits", "--max-memory", "SIZE",
+             "memory an imported texture may use while it is decoded and mip-mapped, e.g. 512M or "
+             "2G; an image whose header declares more is refused before it is read (default: half "
+             "of the memory this process may use)",
+             [&s](const char* a) {
+                 std::optional<uint64_t> bytes = pnb::converter::parseByteSize(a);
+                 s.maxMemory = bytes.value_or(0);
+                 return bytes.has_value();
+             }),
+        valued("Batch edits", "-o, --output", "FILE",
+             "write the result here (default: replace SCENE.pnb in place, atomically)",
+             [&s](const char* a) { s.output = a; return !s.output.empty(); }),
+        valued("Batch edits", "--lock-timeout", "SECONDS",
+             "how long to wait while another program saves the file (default 60). An edit in place "
+             "holds the file's lock from reading it to replacing it, so concurrent edits queue "
+             "instead of overwriting each other; past the wait, exit 5 with nothing written",
+             [&s](const char* a) {
+                 char* end = nullptr;
+                 s.lockTimeout = std::strtod(a, &end);
+                 return end != a && *end == '\0' && std::isfinite(s.lockTimeout) &&
+                        s.lockTimeout >= 0;
+             }),
+        flag("Listing", "--list",
+             "print every material with every field, the deferred layer order and the textures "
+             "(after the edits, if any)",
+             [&s](const char*) { s.list = true; return true; }),
+        flag("Listing", "--json", "with --list: one JSON object instead of text",
+             [&s](const char*) { s.json = true; return true; }),
+        flag("General", "-q, --quiet", "print errors only",
+             [&s](const char*) { s.quiet = true; return true; }),
+        flag("General", "-h, --help", "print this help and exit", [&help](const char*) {
+            help = true;
+            return pnb::cli::Verdict::stopHere();
+        }),
     };
-    return table;
 }
 
-bool optionMatches(const Option& o, std::string_view arg) {
-    std::string_view names = o.name;
-    while (!names.empty()) {
-        size_t comma = names.find(", ");
-        if (names.substr(0, comma) == arg) return true;
-        if (comma == std::string_view::npos) break;
-        names.remove_prefix(comma + 2);
-    }
-    return false;
-}
-
-// "  NAME ARG         help text", the help wrapped at 100 columns under itself.
-void printWrapped(std::FILE* f, const std::string& name, std::string_view help) {
-    constexpr size_t kIndent = 34, kWidth = 100;
-    std::string line = "  " + name;
-    if (line.size() + 1 > kIndent) {
-        std::fprintf(f, "%s\n", line.c_str());
-        line.clear();
-    }
-    line.resize(kIndent, ' ');
-    size_t column = kIndent;
-    bool first = true;
-    while (!help.empty()) {
-        size_t space = help.find(' ');
-        std::string_view word = help.substr(0, space);
-        help = space == std::string_view::npos ? std::string_view{} : help.substr(space + 1);
-        if (!first && column + 1 + word.size() > kWidth) {
-            line += "\n" + std::string(kIndent, ' ');
-            column = kIndent;
-        } else if (!first) {
-            line += ' ';
-            ++column;
-        }
-        line += word;
-        column += word.size();
-        first = false;
-    }
-    std::fprintf(f, "%s\n", line.c_str());
-}
-
-void printHelp(std::FILE* f) {
+void printHelp(std::FILE* f, const std::vector<pnb::cli::Option>& table) {
     std::fprintf(f,
                  "usage: pnb-edit SCENE.pnb [--list [--json]] [--set MATERIAL.FIELD=VALUE ...]\n"
                  "                [--import-texture NAME=IMAGE ...] [-o OUT.pnb] [-q]\n"
@@ -178,16 +135,10 @@ void printHelp(std::FILE* f) {
                  "Edits the materials of a Penumbra container. A save rewrites only the string\n"
                  "table, the edited materials and what they newly need (programs, textures);\n"
                  "every other chunk is copied byte for byte.\n");
-    const char* section = "";
-    for (const Option& o : options()) {
-        if (std::strcmp(section, o.section) != 0) {
-            section = o.section;
-            std::fprintf(f, "\n%s:\n", section);
-        }
-        printWrapped(f, std::string(o.name) + (o.arg ? std::string(" ") + o.arg : ""), o.help);
-    }
-    printWrapped(f, "-h, --help", "print this help and exit");
-    std::fprintf(f, "\nMaterial fields (FIELD):\n");
+    // The material fields as help-only rows, laid out as the options are.
+    std::vector<pnb::cli::Option> rows = table;
+    std::vector<std::string> fieldHelp; // the rows' text lives here
+    fieldHelp.reserve(pnb::materialFields().size());
     for (const pnb::MaterialField& mf : pnb::materialFields()) {
         std::string kind;
         char range[64];
@@ -201,9 +152,10 @@ void printHelp(std::FILE* f) {
         case pnb::FieldType::Integer: kind = std::string("whole number") + range; break;
         case pnb::FieldType::TextureRef: kind = "texture name, index or none"; break;
         }
-        printWrapped(f, mf.name,
-                     mf.type == pnb::FieldType::TextureRef ? kind : kind + ": " + mf.help);
+        fieldHelp.push_back(mf.type == pnb::FieldType::TextureRef ? kind : kind + ": " + mf.help);
+        rows.push_back({"Material fields (FIELD)", mf.name, "", fieldHelp.back(), nullptr});
     }
+    std::fputs(pnb::cli::helpText(rows, {.column = 34, .wrapAt = 100, .longNameOwnLine = true}).c_str(), f);
     std::fprintf(f,
                  "\nExit codes:\n"
                  "  %d  ok\n"
@@ -535,38 +487,28 @@ int main(int argc, char** argv) {
     for (int i = 1; i < argc; ++i)
         if (std::string_view(argv[i]).rfind("--ui-", 0) == 0) return pnb::editor::runGui(argc, argv);
     Settings s;
-    bool endOfOptions = false;
-    for (int i = 1; i < argc; ++i) {
-        std::string_view a = argv[i];
-        if (!endOfOptions && (a == "-h" || a == "--help")) {
-            printHelp(stdout);
-            return kExitOk;
-        }
-        if (!endOfOptions && a == "--") {
-            endOfOptions = true;
-            continue;
-        }
-        if (!endOfOptions && a.size() > 1 && a[0] == '-') {
-            const Option* match = nullptr;
-            for (const Option& o : options())
-                if (optionMatches(o, a)) match = &o;
-            if (!match) return usageError("unknown option '" + std::string(a) + "'");
-            const char* arg = nullptr;
-            if (match->arg) {
-                if (i + 1 >= argc)
-                    return usageError(std::string(a) + " needs an argument " + match->arg);
-                arg = argv[++i];
-            }
-            if (!match->apply(s, arg))
-                return usageError(std::string(a) + ": malformed argument '" +
-                                  (arg ? arg : "") + "', expected " + match->arg);
-            continue;
-        }
+    bool help = false;
+    const std::vector<pnb::cli::Option> table = options(s, help);
+    auto scene = [&s](const char* arg) {
         if (!s.input.empty())
-            return usageError("more than one scene ('" + s.input + "' and '" + std::string(a) +
-                              "')");
-        if (a.empty()) return usageError("empty file name");
-        s.input = a;
+            return pnb::cli::Verdict::error("more than one scene ('" + s.input + "' and '" + arg + "')");
+        if (!*arg) return pnb::cli::Verdict::error("empty file name");
+        s.input = arg;
+        return pnb::cli::Verdict(true);
+    };
+    if (auto e = pnb::cli::parse(table, scene, argc, argv)) {
+        using Kind = pnb::cli::ParseError::Kind;
+        switch (e->kind) {
+        case Kind::UnknownOption: return usageError("unknown option '" + e->option + "'");
+        case Kind::MissingValue: return usageError(e->option + " needs an argument " + e->valueName);
+        case Kind::BadValue:
+            return usageError(e->option + ": malformed argument '" + e->value + "', expected " + e->valueName);
+        default: return usageError(pnb::cli::describe(*e));
+        }
+    }
+    if (help) {
+        printHelp(stdout, table);
+        return kExitOk;
     }
     if (!s.batch()) {
         if (s.json) return usageError("--json needs --list");
