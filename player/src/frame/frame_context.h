@@ -1,6 +1,8 @@
-// frame_context.h — what every pass of one frame reads: the scene, the view, the targets, the
-// visible draws sorted into lists, and the built-in programs. Passes are free functions over it
-// (pass_*.cpp), so each file holds one pass and its GL state.
+// frame_context.h — what every pass of one frame shares: the scene, the settings, the view, the
+// targets, the stream ring, the visible draws sorted into lists, the timer and the built-in
+// programs. Subsystem state (shadows, GI, lights, sky) is not here: a pass receives the
+// subsystems it uses as arguments from the frame list (renderer/frame.cpp), so what each pass
+// reads and writes shows in its signature. Passes are free functions (pass_*.cpp), one per file.
 #pragma once
 
 #include <algorithm>
@@ -10,13 +12,8 @@
 #include <vector>
 
 #include "frame/frame_targets.h"
-#include "gi/gi.h"
-#include "sky/ibl.h"
-#include "lights/light_clusters.h"
-#include "shadows/local_shadows.h"
-#include "shadows/shadow_maps.h"
-#include "pnb_player/renderer.h"
 #include "gl/stream_ring.h"
+#include "pnb_player/renderer.h"
 
 namespace pnb::player {
 
@@ -83,6 +80,7 @@ struct FrameBlock {
 
 struct BuiltinPrograms {
     GlHandle fxaa, debugView, flat, shadowDebug, background, depthOnly;
+    GlHandle emptyVao; // full-screen passes draw without attributes
 };
 
 struct FrameContext {
@@ -96,40 +94,10 @@ struct FrameContext {
     GpuTimer& timer;
     BuiltinPrograms& builtins;
     size_t objectBlockBytes = 0;
-    ShadowContext& shadows;
-    GiContext& gi;
-    IblContext& ibl;
     const LodState& lod;
-    LightContext& lights;
-    LocalShadowContext& localShadows;
     size_t frameBlockOffset = 0; // this frame's FrameBlock in the ring (binding 0)
     // Renderer::warmUp's frame: nothing culled, every draw cut to its first triangle.
     bool warmUp = false;
-};
-
-// The renderer's private state (renderer.cpp, frame_capture.cpp).
-struct Renderer::Impl {
-    const GpuScene* scene = nullptr;
-    FrameTargets targets;
-    StreamRing ring;
-    BuiltinPrograms builtins;
-    GlHandle emptyVao; // fullscreen passes draw without attributes
-    DrawLists lists;   // this frame's visible draws
-    ShadowContext shadows;
-    GiContext gi;
-    IblContext ibl;
-    LodState lod;
-    LightContext lights;
-    LocalShadowContext localShadows;
-    uint64_t shadowsForMaterials = ~0ull; // GpuScene::materialsVersion the casters were built for
-    CameraState lastCamera;               // re-rendered for CaptureBuffer::Shadow
-    GpuTimer captureTimer;                // times of capture renders (discarded)
-    bool capturing = false;
-    bool warming = false;                 // inside Renderer::warmUp
-    float appliedAnisotropy = 1.0f;       // textures' GL_TEXTURE_MAX_ANISOTROPY (1 at upload)
-    size_t alignment = 256;
-    uint64_t frame = 0;
-    std::string debugViewNote; // of the last frame (debugViewNote())
 };
 
 // Binds material state and draws `refs` with each material's own program (or the one
@@ -152,14 +120,5 @@ inline uint32_t warmUpCount(const FrameContext& ctx, uint32_t count) {
 
 // Full-screen triangle (fullscreen.vert: no vertex buffer).
 void drawFullscreenTriangle();
-
-// The passes, in frame order.
-void runDeferredLayers(FrameContext& ctx);
-void runForward(FrameContext& ctx);
-void runTonemap(FrameContext& ctx);
-void runDebugView(FrameContext& ctx);
-// Why the chosen debug view shows nothing this frame ("" when it shows something): a shadow
-// view without shadows, a GI view without GI, the LOD view without levels.
-std::string debugViewNote(const FrameContext& ctx);
 
 } // namespace pnb::player

@@ -31,6 +31,7 @@
 namespace pnb::player {
 
 struct FrameContext;
+struct ShadowContext;
 
 constexpr uint32_t kMaxGiCascades = 4;
 
@@ -87,7 +88,6 @@ struct GiResources {
 struct GiFrame {
     bool active = false;
     const char* off = nullptr; // why GI is off this frame (nullptr while active): debug-view notes
-    bool pending = false; // finishGi still to run this frame
     std::vector<LpvCascade> cascades;
     bool following = false;    // the outer cascade follows the camera (its border fades out)
     ShadowFit rsm;             // camera-relative world -> RSM clip
@@ -112,18 +112,19 @@ struct GiContext {
     bool diffuse = false;
 };
 
-void prepareGi(FrameContext& ctx);                 // gi_setup.cpp
-void runGiRsm(FrameContext& ctx);                  // pass_gi_rsm.cpp
-void runGiInject(FrameContext& ctx);               // pass_gi_inject.cpp: RSM texels
-void runGiCameraGeometry(FrameContext& ctx);       // pass_gi_inject.cpp: G-buffer surfels
-void runGiResolve(FrameContext& ctx, bool cameraGeometry); // pass_gi_inject.cpp: -> volumes
-void runGiPropagate(FrameContext& ctx);            // pass_gi_propagate.cpp
+void prepareGi(FrameContext& ctx, GiContext& gi, const ShadowContext& shadows);                 // gi_setup.cpp
+void runGiRsm(FrameContext& ctx, GiContext& gi);                  // pass_gi_rsm.cpp
+void runGiInject(FrameContext& ctx, GiContext& gi);               // pass_gi_inject.cpp: RSM texels
+void runGiCameraGeometry(FrameContext& ctx, GiContext& gi);       // pass_gi_inject.cpp: G-buffer surfels
+void runGiResolve(FrameContext& ctx, GiContext& gi, bool cameraGeometry); // pass_gi_inject.cpp: -> volumes
+void runGiPropagate(FrameContext& ctx, GiContext& gi);            // pass_gi_propagate.cpp
 // gi.technique = probes, after the RSM: occupancy grid when stale, VPLs, gather into `sum`.
-void runGiProbes(FrameContext& ctx);               // pass_gi_probes.cpp
+void runGiProbes(FrameContext& ctx, GiContext& gi);               // pass_gi_probes.cpp
 // The rest of the frame's GI once the camera's G-buffer is there (or will not be): camera
-// geometry, resolve, propagation. Runs once per frame (clears GiFrame::pending).
-void finishGi(FrameContext& ctx);
+// geometry, resolve, propagation (gi.technique = lpv). The frame list (renderer/frame.cpp) runs it
+// once, before the targets or after the first deferred layer's G-buffer.
+void finishGi(FrameContext& ctx, GiContext& gi);
 // Binds the GiBlock (binding 6) and the summed volumes (units 10-12) for lighting.
-void bindGiForLighting(FrameContext& ctx);
+void bindGiForLighting(FrameContext& ctx, const GiContext& gi);
 
 } // namespace pnb::player

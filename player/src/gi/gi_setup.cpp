@@ -9,6 +9,8 @@
 #include <glm/gtc/matrix_transform.hpp>
 
 #include "frame/frame_context.h"
+#include "gi/gi.h"
+#include "shadows/shadow_maps.h"
 #include "gl/gl_allocation.h"
 #include "pnb_lighting/scene_lights.h"
 
@@ -61,12 +63,11 @@ std::pair<glm::dvec3, glm::dvec3> lightBounds(const glm::dmat3& rotation, const 
 
 } // namespace
 
-void prepareGi(FrameContext& ctx) {
-    GiContext& gi = ctx.gi;
+void prepareGi(FrameContext& ctx, GiContext& gi, const ShadowContext& shadows) {
     GiFrame& f = gi.frame;
     const RenderSettings& s = ctx.settings;
     const GpuScene& scene = ctx.scene;
-    f.active = f.pending = f.following = false;
+    f.active = f.following = false;
     f.cascades.clear();
     f.rsmItems.clear();
     f.rsmObjectOffsets.clear();
@@ -92,7 +93,7 @@ void prepareGi(FrameContext& ctx) {
         // the axis point nearest the scene's centre (within the near and far planes) instead.
         glm::dvec3 anchor = ctx.view.position;
         if (ctx.view.orthographic) {
-            const glm::dvec3 centre = 0.5 * (ctx.shadows.sceneMin + ctx.shadows.sceneMax);
+            const glm::dvec3 centre = 0.5 * (shadows.sceneMin + shadows.sceneMax);
             const double along = std::clamp(glm::dot(centre - anchor, forward), double(ctx.view.znear),
                                             double(std::max(ctx.view.zfar, ctx.view.znear)));
             anchor += forward * along;
@@ -101,11 +102,11 @@ void prepareGi(FrameContext& ctx) {
         const bool probes = s.giTechnique == GiTechnique::Probes;
         double cellSize = s.giCellSize;
         if (probes && cellSize == 0)
-            cellSize = probeCellSize(s.giProbeCells, s.giProbeMaxSpacing, ctx.shadows.sceneMin, ctx.shadows.sceneMax);
+            cellSize = probeCellSize(s.giProbeCells, s.giProbeMaxSpacing, shadows.sceneMin, shadows.sceneMax);
         f.following = cellSize > 0;
         f.cascades = placeCascades(probes ? 1u : std::min(s.giCascades, kMaxGiCascades),
-                                   probes ? s.giProbeCells : s.giCells, cellSize, ctx.shadows.sceneMin,
-                                   ctx.shadows.sceneMax, anchor, forward);
+                                   probes ? s.giProbeCells : s.giCells, cellSize, shadows.sceneMin,
+                                   shadows.sceneMax, anchor, forward);
     }
     if (f.cascades.empty()) {
         gi.resources = GiResources{}; // GI off: nothing allocated, nothing compiled
@@ -130,7 +131,7 @@ void prepareGi(FrameContext& ctx) {
     // centre is snapped to whole texels in absolute light space (it does not swim while the
     // cascade stays put); toward the light it reaches the scene's top (occluders above).
     const LpvCascade& outer = f.cascades.back();
-    glm::dvec3 lo = glm::max(outer.origin, ctx.shadows.sceneMin), hi = glm::min(outer.max(), ctx.shadows.sceneMax);
+    glm::dvec3 lo = glm::max(outer.origin, shadows.sceneMin), hi = glm::min(outer.max(), shadows.sceneMax);
     lo = glm::min(lo, hi);
     glm::dmat3 rotation = lightRotation(-f.toward);
     auto [llo, lhi] = lightBounds(rotation, lo, hi, cam);
@@ -147,7 +148,7 @@ void prepareGi(FrameContext& ctx) {
     // as the sun turns changes every block's texels at once (a pop of 3-4x a frame's usual
     // change, measured), so their map slides with the sun instead.
     if (s.giTechnique == GiTechnique::Lpv) centre = glm::floor((centre + camLight) / texel + 0.5) * texel - camLight;
-    FitBox sceneBox{ctx.shadows.sceneMin - cam, ctx.shadows.sceneMax - cam};
+    FitBox sceneBox{shadows.sceneMin - cam, shadows.sceneMax - cam};
     f.rsm = fitLightRectangle(rotation, centre - 0.5 * side, centre + 0.5 * side, llo.z, sceneBox, res);
     f.rsmTexelArea = (side / res) * (side / res);
 
@@ -200,11 +201,11 @@ void prepareGi(FrameContext& ctx) {
     f.blockOffset = ctx.ring.push(&block, sizeof block);
 }
 
-void bindGiForLighting(FrameContext& ctx) {
-    const GiFrame& f = ctx.gi.frame;
+void bindGiForLighting(FrameContext& ctx, const GiContext& gi) {
+    const GiFrame& f = gi.frame;
     if (!f.active) return;
     glBindBufferRange(GL_UNIFORM_BUFFER, 6, ctx.ring.buffer(), GLintptr(f.blockOffset), sizeof(GiBlock));
-    for (GLuint ch = 0; ch < 3; ++ch) glBindTextureUnit(10 + ch, ctx.gi.resources.sum[ch].id());
+    for (GLuint ch = 0; ch < 3; ++ch) glBindTextureUnit(10 + ch, gi.resources.sum[ch].id());
 }
 
 } // namespace pnb::player

@@ -7,6 +7,7 @@
 #include <glm/gtc/type_ptr.hpp>
 
 #include "frame/frame_context.h"
+#include "gi/gi.h"
 
 namespace pnb::player {
 
@@ -25,15 +26,10 @@ void setCascades(GLuint program, const GiFrame& f, const glm::dvec3& camera) {
 
 } // namespace
 
-void runGiInject(FrameContext& ctx) {
-    GiFrame& f = ctx.gi.frame;
+void runGiInject(FrameContext& ctx, GiContext& gi) {
+    GiFrame& f = gi.frame;
     if (!f.active) return;
-    if (ctx.settings.giTechnique == GiTechnique::Probes) {
-        runGiProbes(ctx); // no camera surfels, no propagation: lighting can read it now
-        bindGiForLighting(ctx);
-        return;
-    }
-    const GiResources& r = ctx.gi.resources;
+    const GiResources& r = gi.resources;
     ctx.timer.mark("gi_inject");
     const uint32_t zero = 0;
     glClearNamedBufferData(r.lightAccumulation.id(), GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
@@ -55,12 +51,11 @@ void runGiInject(FrameContext& ctx) {
     GLuint groups = (r.rsmResolution + 7) / 8;
     glDispatchCompute(groups, groups, 1);
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
-    f.pending = true;
 }
 
-void runGiCameraGeometry(FrameContext& ctx) {
-    const GiFrame& f = ctx.gi.frame;
-    const GiResources& r = ctx.gi.resources;
+void runGiCameraGeometry(FrameContext& ctx, GiContext& gi) {
+    const GiFrame& f = gi.frame;
+    const GiResources& r = gi.resources;
     const FrameTargets& t = ctx.targets;
     ctx.timer.mark("gi_geometry");
     GLuint p = r.injectCamera.id();
@@ -85,9 +80,9 @@ void runGiCameraGeometry(FrameContext& ctx) {
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
 }
 
-void runGiResolve(FrameContext& ctx, bool cameraGeometry) {
-    const GiFrame& f = ctx.gi.frame;
-    const GiResources& r = ctx.gi.resources;
+void runGiResolve(FrameContext& ctx, GiContext& gi, bool cameraGeometry) {
+    const GiFrame& f = gi.frame;
+    const GiResources& r = gi.resources;
     const GLint cells = GLint(r.cells), cascades = GLint(f.cascades.size());
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, r.lightAccumulation.id());
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, r.geometryAccumulation.id());

@@ -14,6 +14,7 @@
 #include <glm/gtc/type_ptr.hpp>
 
 #include "frame/frame_context.h"
+#include "gi/gi.h"
 
 namespace pnb::player {
 
@@ -32,8 +33,8 @@ glm::dmat4 axisView(int axis, double extent) {
     return m;
 }
 
-void voxelizeScene(FrameContext& ctx, const LpvCascade& box) {
-    GiResources& r = ctx.gi.resources;
+void voxelizeScene(FrameContext& ctx, GiContext& gi, const LpvCascade& box) {
+    GiResources& r = gi.resources;
     const GpuScene& scene = ctx.scene;
     const double cell = box.cellSize * double(box.cells) / double(r.voxelSide);
     if (r.voxelVersion == scene.materialsVersion && r.voxelOrigin == box.origin && r.voxelCell == cell) return;
@@ -74,8 +75,8 @@ void voxelizeScene(FrameContext& ctx, const LpvCascade& box) {
 // One work group per probe tracing rays through the occupancy grid (gi_probe_gather.comp's
 // SKY_VISIBILITY and PROBE_DEPTH), its outputs bound by the caller. Returns whether what it traced
 // is kept: the warm-up frame's grid is not (voxelizeScene).
-bool traceThroughGrid(FrameContext& ctx, GLuint program, const glm::vec3& origin, float spacing) {
-    GiResources& r = ctx.gi.resources;
+bool traceThroughGrid(FrameContext& ctx, GiContext& gi, GLuint program, const glm::vec3& origin, float spacing) {
+    GiResources& r = gi.resources;
     glProgramUniform4f(program, 0, origin.x, origin.y, origin.z, spacing);
     glProgramUniform3i(program, 1, GLint(r.cells), 0, GLint(r.voxelSide));
     glBindTextureUnit(0, r.voxels.id());
@@ -89,36 +90,36 @@ bool traceThroughGrid(FrameContext& ctx, GLuint program, const glm::vec3& origin
 }
 
 // Every probe's view of the sky (ibl.visibility = probes).
-void traceSkyVisibility(FrameContext& ctx, const glm::vec3& origin, float spacing) {
-    GiResources& r = ctx.gi.resources;
+void traceSkyVisibility(FrameContext& ctx, GiContext& gi, const glm::vec3& origin, float spacing) {
+    GiResources& r = gi.resources;
     glBindImageTexture(0, r.skyVisibility.id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA16F);
-    r.skyCurrent = traceThroughGrid(ctx, r.traceSky.id(), origin, spacing);
+    r.skyCurrent = traceThroughGrid(ctx, gi, r.traceSky.id(), origin, spacing);
 }
 
 // Every needed probe's depth map, and which probes are needed (gi.probe_visibility = depth).
-void traceProbeDepths(FrameContext& ctx, const glm::vec3& origin, float spacing) {
-    GiResources& r = ctx.gi.resources;
+void traceProbeDepths(FrameContext& ctx, GiContext& gi, const glm::vec3& origin, float spacing) {
+    GiResources& r = gi.resources;
     glBindImageTexture(0, r.probeDepth.id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_R16F);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, r.probeNeeded.id());
-    r.depthCurrent = traceThroughGrid(ctx, r.traceDepth.id(), origin, spacing);
+    r.depthCurrent = traceThroughGrid(ctx, gi, r.traceDepth.id(), origin, spacing);
 }
 
 } // namespace
 
-void runGiProbes(FrameContext& ctx) {
-    const GiFrame& f = ctx.gi.frame;
-    GiResources& r = ctx.gi.resources;
+void runGiProbes(FrameContext& ctx, GiContext& gi) {
+    const GiFrame& f = gi.frame;
+    GiResources& r = gi.resources;
     const bool skyStale = r.skyVisibility && !r.skyCurrent;
     if (f.probesCurrent && !skyStale) return; // nothing they see changed (gi.probe_cache)
     // One timer pass for all of it: llvmpipe runs a dispatch when the next command needs it, so
     // finer marks would put the gather's time into whichever pass came next.
     ctx.timer.mark("gi_probes");
     const LpvCascade& box = f.cascades.front();
-    voxelizeScene(ctx, box);
+    voxelizeScene(ctx, gi, box);
     const glm::vec3 origin(box.origin - ctx.view.position);
-    if (r.skyVisibility && !r.skyCurrent) traceSkyVisibility(ctx, origin, float(box.cellSize));
+    if (r.skyVisibility && !r.skyCurrent) traceSkyVisibility(ctx, gi, origin, float(box.cellSize));
     if (f.probesCurrent) return;
-    if (r.probeDepth && !r.depthCurrent) traceProbeDepths(ctx, origin, float(box.cellSize));
+    if (r.probeDepth && !r.depthCurrent) traceProbeDepths(ctx, gi, origin, float(box.cellSize));
 
     const GLuint cluster = r.clusterVpls.id();
     const glm::mat4 inverse(glm::inverse(f.rsm.matrix));

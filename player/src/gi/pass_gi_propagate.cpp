@@ -5,12 +5,13 @@
 #include <utility>
 
 #include "frame/frame_context.h"
+#include "gi/gi.h"
 
 namespace pnb::player {
 
-void runGiPropagate(FrameContext& ctx) {
-    const GiFrame& f = ctx.gi.frame;
-    GiResources& r = ctx.gi.resources;
+void runGiPropagate(FrameContext& ctx, GiContext& gi) {
+    const GiFrame& f = gi.frame;
+    GiResources& r = gi.resources;
     ctx.timer.mark("gi_propagate");
     GLuint p = ctx.settings.giOcclusion ? r.propagateOccluded.id() : r.propagate.id();
     const GLint cells = GLint(r.cells), cascades = GLint(f.cascades.size());
@@ -39,18 +40,17 @@ void runGiPropagate(FrameContext& ctx) {
     for (GLuint unit = 0; unit < 5; ++unit) glBindTextureUnit(unit, 0);
 }
 
-void finishGi(FrameContext& ctx) {
-    GiFrame& f = ctx.gi.frame;
-    if (!f.active || !f.pending) return;
-    f.pending = false;
+void finishGi(FrameContext& ctx, GiContext& gi) {
+    GiFrame& f = gi.frame;
+    if (!f.active) return;
     bool camera = ctx.settings.giCameraOcclusion && ctx.settings.giOcclusion && ctx.targets.gbuffer[0] &&
                   ctx.stats.deferredLayersDrawn > 0;
-    if (camera) runGiCameraGeometry(ctx);
-    runGiResolve(ctx, camera);
-    runGiPropagate(ctx);
+    if (camera) runGiCameraGeometry(ctx, gi);
+    runGiResolve(ctx, gi, camera);
+    runGiPropagate(ctx, gi);
     // Lighting's state: its frame block, the volumes.
     glUseProgram(0);
-    bindGiForLighting(ctx);
+    bindGiForLighting(ctx, gi);
 }
 
 } // namespace pnb::player

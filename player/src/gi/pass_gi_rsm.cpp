@@ -6,13 +6,14 @@
 // stops the sun (the reference's casters and reflectors are two-sided too); its back face's normal
 // is turned towards the sun as the G-buffer shader turns every back face's.
 #include "frame/frame_context.h"
+#include "gi/gi.h"
 
 namespace pnb::player {
 
-void runGiRsm(FrameContext& ctx) {
-    const GiFrame& f = ctx.gi.frame;
+void runGiRsm(FrameContext& ctx, GiContext& gi) {
+    const GiFrame& f = gi.frame;
     if (!f.active || f.probesCurrent) return;
-    const GiResources& r = ctx.gi.resources;
+    const GiResources& r = gi.resources;
     ctx.timer.mark("gi_rsm");
     std::vector<DrawRef> refs;
     refs.reserve(f.rsmItems.size());

@@ -68,6 +68,6 @@ struct LightContext {
 
 // Writes this frame's light list into the ring (binding 3) and, if clustering, runs the cluster
 // pass (binding 8). After the view and the viewport are known, before any lighting.
-void prepareLights(FrameContext& ctx, uint32_t width, uint32_t height);
+void prepareLights(FrameContext& ctx, LightContext& lights);
 
 } // namespace pnb::player

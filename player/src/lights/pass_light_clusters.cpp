@@ -10,13 +10,14 @@
 
 #include "pnb/light_range.h"
 #include "frame/frame_context.h"
+#include "lights/light_clusters.h"
 #include "gl/program_compile.h"
 
 namespace pnb::player {
 
-void prepareLights(FrameContext& ctx, uint32_t width, uint32_t height) {
+void prepareLights(FrameContext& ctx, LightContext& lc) {
+    const uint32_t width = ctx.targets.width, height = ctx.targets.height;
     const GpuScene& scene = ctx.scene;
-    LightContext& lc = ctx.lights;
     const uint32_t count = uint32_t(scene.lights.size());
     lc.localLights = uint32_t(std::count_if(scene.lights.begin(), scene.lights.end(), [](const SceneLight& l) {
         return l.desc.type != LightType::Directional;

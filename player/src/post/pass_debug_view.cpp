@@ -7,16 +7,19 @@
 
 #include <glm/glm.hpp>
 
-#include "frame/frame_context.h"
+#include "gi/gi.h"
+#include "post/post.h"
+#include "shadows/shadow_maps.h"
 
 namespace pnb::player {
 
-std::string debugViewNote(const FrameContext& ctx) {
+std::string debugViewNote(const FrameContext& ctx, const ShadowContext& shadowContext,
+                          const GiContext& giContext) {
     const DebugView v = ctx.settings.debugView;
     if (v == DebugView::None) return {}; // every frame of a normal run: no string built
     const std::string view = "debug.view=" + std::string(toString(v));
-    const ShadowFrame& shadows = ctx.shadows.frame;
-    const GiFrame& gi = ctx.gi.frame;
+    const ShadowFrame& shadows = shadowContext.frame;
+    const GiFrame& gi = giContext.frame;
     switch (v) {
     case DebugView::Cascades:
     case DebugView::ShadowMap:
@@ -122,9 +125,9 @@ void renderOverdraw(FrameContext& ctx) {
 }
 
 // The shadow-map array viewer and the SDSM depth histogram (shadow_debug.frag).
-void renderShadowDebug(FrameContext& ctx, DebugView mode) {
-    const ShadowFrame& f = ctx.shadows.frame;
-    const ShadowResources& r = ctx.shadows.resources;
+void renderShadowDebug(FrameContext& ctx, const ShadowContext& shadows, DebugView mode) {
+    const ShadowFrame& f = shadows.frame;
+    const ShadowResources& r = shadows.resources;
     glBindFramebuffer(GL_FRAMEBUFFER, ctx.targets.outputFb.id());
     glDisable(GL_DEPTH_TEST);
     glDisable(GL_FRAMEBUFFER_SRGB);
@@ -147,14 +150,14 @@ void renderShadowDebug(FrameContext& ctx, DebugView mode) {
 
 } // namespace
 
-void runDebugView(FrameContext& ctx) {
+void runDebugView(FrameContext& ctx, const ShadowContext& shadows, const GiContext& giContext) {
     DebugView mode = ctx.settings.debugView;
     // The cascade tint is drawn by lighting itself (shadow_sampling.glsl).
     // GI's indirect light alone is written by lighting itself (gi_lookup.glsl).
     if (mode == DebugView::None || mode == DebugView::Cascades || mode == DebugView::GiIndirect) return;
     ctx.timer.mark("debug");
     if (mode == DebugView::ShadowMap || mode == DebugView::Histogram) {
-        renderShadowDebug(ctx, mode);
+        renderShadowDebug(ctx, shadows, mode);
         return;
     }
     if (mode == DebugView::Layer) renderLayerColors(ctx);
@@ -172,8 +175,8 @@ void runDebugView(FrameContext& ctx) {
     glBindTextureUnit(3, ctx.targets.depth.id());
     glBindTextureUnit(4, ctx.targets.debugColor ? ctx.targets.debugColor.id() : 0);
     // GI views: the RSM on unit 4, the summed volume on 5-7 (black while GI is off).
-    const GiResources& gi = ctx.gi.resources;
-    const bool giOn = ctx.gi.frame.active;
+    const GiResources& gi = giContext.resources;
+    const bool giOn = giContext.frame.active;
     if (mode == DebugView::GiRsm) glBindTextureUnit(4, giOn ? gi.rsmColor.id() : 0);
     for (GLuint ch = 0; ch < 3; ++ch) glBindTextureUnit(5 + ch, giOn ? gi.sum[ch].id() : 0);
     uint32_t slices = giOn ? gi.cells * gi.cascades : 1;

@@ -1,6 +1,6 @@
 // HDR -> sRGB output: the container's tonemap program (exposure + ACES fit), written through
 // GL_FRAMEBUFFER_SRGB (enabled for the whole frame) so the hardware encodes; then optional FXAA from a twin target.
-#include "frame/frame_context.h"
+#include "post/post.h"
 
 namespace pnb::player {
 

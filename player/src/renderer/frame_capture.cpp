@@ -3,7 +3,7 @@
 #include <cmath>
 #include <limits>
 
-#include "frame/frame_context.h"
+#include "renderer/renderer_impl.h"
 #include "pnb_player/renderer.h"
 
 namespace pnb::player {

@@ -1,4 +1,5 @@
-// The frame: per-frame data into the stream ring, culling and sorting, then the passes in order.
+// The renderer: its state between frames, and one frame as stages — the targets, culling and
+// sorting into draw lists, each subsystem's prepare step, then the pass list (frame.cpp).
 #include "pnb_player/renderer.h"
 
 #include <algorithm>
@@ -10,7 +11,10 @@
 
 #include <glm/gtc/type_ptr.hpp>
 
-#include "frame/frame_context.h"
+#include "post/post.h"
+#include "renderer/frame.h"
+#include "renderer/renderer_impl.h"
+#include "shading/shading.h"
 #include "gl/gl_allocation.h"
 #include "gl/program_compile.h"
 
@@ -38,7 +42,7 @@ PlayResult<std::unique_ptr<Renderer>> Renderer::create(const GpuScene& scene,
     glGetIntegerv(GL_UNIFORM_BUFFER_OFFSET_ALIGNMENT, &uboAlign);
     glGetIntegerv(GL_SHADER_STORAGE_BUFFER_OFFSET_ALIGNMENT, &ssboAlign);
     impl.alignment = size_t(std::max({uboAlign, ssboAlign, 16}));
-    impl.emptyVao = createVertexArray();
+    impl.builtins.emptyVao = createVertexArray();
     r->setSettings(settings);
     // Reversed-Z: depth in [0, 1] with 1 at the near plane.
     glClipControl(GL_LOWER_LEFT, GL_ZERO_TO_ONE);
@@ -138,6 +142,56 @@ const std::string& Renderer::debugViewNote() const { return mImpl->debugViewNote
 
 GLuint Renderer::outputTexture() const { return mImpl->targets.output.id(); }
 
+namespace {
+
+// Each subsystem's state for this frame (CPU fits, culling, the light list, GI's cascades, the
+// sky), the frame block, and the storage the passes draw into.
+PlayResult<Done> prepareFrame(Frame& f) {
+    FrameContext& ctx = f.ctx;
+    prepareLights(ctx, f.lights);
+    prepareShadows(ctx, f.shadows);
+    prepareGi(ctx, f.gi, f.shadows);
+    prepareIbl(ctx, f.ibl, f.gi);
+    const RenderSettings& s = ctx.settings;
+    FrameBlock fb;
+    fb.viewProjection = ctx.view.viewProjection;
+    fb.view = ctx.view.view;
+    fb.cameraPosition = glm::vec4(glm::vec3(ctx.view.position), 1);
+    const float w = float(ctx.targets.width), h = float(ctx.targets.height);
+    fb.viewport = {w, h, 1.0f / w, 1.0f / h};
+    // a: the GI cascades lighting reads (0: GI off, gi_lookup.glsl returns at once).
+    fb.ambient = glm::vec4(glm::vec3(s.ambient), float(f.gi.frame.cascades.size()));
+    ctx.frameBlockOffset = ctx.ring.push(&fb, sizeof fb);
+    glBindBufferRange(GL_UNIFORM_BUFFER, 0, ctx.ring.buffer(), GLintptr(ctx.frameBlockOffset), sizeof fb);
+    const ShadowFrame& shadowFrame = f.shadows.frame;
+    ShadowResources& maps = f.shadows.resources;
+    if (shadowFrame.active) {
+        const uint64_t shadowBytes = maps.mapBytes + maps.bufferBytes;
+        auto ok = maps.ensure(s.shadowResolution, shadowFrame.cascades, shadowFrame.gpuFit, f.shadows.casters,
+                              ctx.scene);
+        if (ok && maps.mapBytes + maps.bufferBytes != shadowBytes)
+            ok = checkGlAllocation("the shadow maps (shadows.resolution " + std::to_string(s.shadowResolution) + ")",
+                                   maps.mapBytes);
+        if (!ok) return ok.error();
+    } else if (maps.resolution) {
+        maps = ShadowResources{}; // nothing drawn: nothing allocated
+    }
+    return Done{};
+}
+
+FrameShape frameShape(const Frame& f) {
+    FrameShape shape;
+    shape.shadows = f.shadows.frame.active;
+    shape.sdsm = f.shadows.frame.gpuFit;
+    shape.deferred = !f.deferredLayers.empty();
+    shape.gi = f.gi.frame.active;
+    shape.giProbes = f.ctx.settings.giTechnique == GiTechnique::Probes;
+    shape.giCameraSurfels = f.ctx.settings.giCameraOcclusion;
+    return shape;
+}
+
+} // namespace
+
 PlayResult<Done> Renderer::render(const CameraState& camera, uint32_t width, uint32_t height) {
     auto cpuStart = std::chrono::steady_clock::now();
     const double threadStart = threadCpuMs();
@@ -184,73 +238,16 @@ PlayResult<Done> Renderer::render(const CameraState& camera, uint32_t width, uin
     mStats.culledItems = lists.culled;
 
     FrameContext ctx{scene, mSettings, mView, impl.targets, impl.ring, lists, mStats, timer,
-                     impl.builtins, kObjectBlockBytes, impl.shadows, impl.gi, impl.ibl, impl.lod,
-                     impl.lights, impl.localShadows};
+                     impl.builtins, kObjectBlockBytes, impl.lod};
     ctx.warmUp = impl.warming;
-    prepareLights(ctx, width, height);
     if (impl.shadowsForMaterials != scene.materialsVersion) {
         initShadowContext(scene, impl.shadows);
         impl.shadowsForMaterials = scene.materialsVersion;
     }
-    prepareShadows(ctx);
-    prepareGi(ctx);
-    prepareIbl(ctx);
-    impl.debugViewNote = player::debugViewNote(ctx);
-    FrameBlock fb;
-    fb.viewProjection = mView.viewProjection;
-    fb.view = mView.view;
-    fb.cameraPosition = glm::vec4(glm::vec3(mView.position), 1);
-    fb.viewport = {float(width), float(height), 1.0f / float(width), 1.0f / float(height)};
-    // a: the GI cascades lighting reads (0: GI off, gi_lookup.glsl returns at once).
-    fb.ambient = glm::vec4(glm::vec3(mSettings.ambient), float(impl.gi.frame.cascades.size()));
-    ctx.frameBlockOffset = impl.ring.push(&fb, sizeof fb);
-    glBindBufferRange(GL_UNIFORM_BUFFER, 0, impl.ring.buffer(), GLintptr(ctx.frameBlockOffset), sizeof fb);
-    ShadowFrame& shadowFrame = impl.shadows.frame;
-    if (shadowFrame.active) {
-        const uint64_t shadowBytes = impl.shadows.resources.mapBytes + impl.shadows.resources.bufferBytes;
-        auto ok = impl.shadows.resources.ensure(mSettings.shadowResolution, shadowFrame.cascades,
-                                                shadowFrame.gpuFit, impl.shadows.casters, scene);
-        if (ok && impl.shadows.resources.mapBytes + impl.shadows.resources.bufferBytes != shadowBytes)
-            ok = checkGlAllocation("the shadow maps (shadows.resolution " +
-                                       std::to_string(mSettings.shadowResolution) + ")",
-                                   impl.shadows.resources.mapBytes);
-        if (!ok) return ok.error();
-    } else if (impl.shadows.resources.resolution) {
-        impl.shadows.resources = ShadowResources{}; // nothing drawn: nothing allocated
-    }
-    // SDSM reduces this frame's depth after the first deferred layer has written it; a frame
-    // without deferred geometry reduces the previous frame's depth (before it is cleared).
-    bool deferredDepth = std::any_of(lists.layers.begin(), lists.layers.end(),
-                                     [](const auto& l) { return !l.empty(); });
-    shadowFrame.pending = shadowFrame.active && shadowFrame.gpuFit && deferredDepth;
-    if (shadowFrame.active && !shadowFrame.pending) {
-        runSdsmFit(ctx);
-        runShadowPass(ctx);
-    }
-    bindShadowsForLighting(ctx);
-    runLocalShadows(ctx);
-    runGiRsm(ctx);
-    runGiInject(ctx);
-    // The camera's blocking surfels come from the first deferred layer's G-buffer; without one
-    // the volumes are finished now.
-    if (!deferredDepth || !mSettings.giCameraOcclusion) finishGi(ctx);
-    glViewport(0, 0, GLsizei(width), GLsizei(height));
-    const float black[4] = {0, 0, 0, 0};
-    glClearNamedFramebufferfv(impl.targets.hdrFb.id(), GL_COLOR, 0, black);
-    glDepthMask(GL_TRUE);
-    glClearNamedFramebufferfi(impl.targets.hdrFb.id(), GL_DEPTH_STENCIL, 0, 0.0f, 0); // reversed-Z far
-    glBindVertexArray(impl.emptyVao.id());
-    // Writes to the sRGB attachments (G-buffer base colour, output) are encoded by the hardware;
-    // linear targets are unaffected.
-    glEnable(GL_FRAMEBUFFER_SRGB);
-
-    runDeferredLayers(ctx);
-    runBackground(ctx);
-    runForward(ctx);
-    glBindVertexArray(impl.emptyVao.id());
-    runTonemap(ctx);
-    runDebugView(ctx);
-    glBindVertexArray(impl.emptyVao.id());
+    Frame frame{ctx, impl.shadows, impl.gi, impl.ibl, impl.lights, impl.localShadows, deferredLayersToDraw(ctx)};
+    if (auto prepared = prepareFrame(frame); !prepared) return prepared.error();
+    impl.debugViewNote = player::debugViewNote(ctx, impl.shadows, impl.gi);
+    runFrame(frame, frameShape(frame));
 
     timer.endFrame();
     if (impl.capturing || impl.warming) timer.completed().clear();

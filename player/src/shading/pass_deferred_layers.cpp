@@ -5,51 +5,50 @@
 // leave it, so forward objects drawn afterwards are depth-correct. Layers without visible items
 // are skipped entirely (no clear, no compose) — unlike the baseline, which cleared and composed
 // up to the highest priority of any material.
+// The first layer's G-buffer and its lighting are two passes of the frame list
+// (renderer/frame.cpp) because SDSM fits to that layer's depth and GI takes the camera's surfels
+// from it between them.
 #include <glm/gtc/type_ptr.hpp>
 
-#include "frame/frame_context.h"
+#include "shading/shading.h"
 
 namespace pnb::player {
 
-void runDeferredLayers(FrameContext& ctx) {
-    const GpuScene& scene = ctx.scene;
-    if (scene.deferredLayers.empty() || !scene.deferredLightingProgram) return;
-    const GLuint lighting = scene.programs[*scene.deferredLightingProgram].id();
-    for (size_t layer = 0; layer < ctx.lists.layers.size(); ++layer) {
-        const std::vector<DrawRef>& refs = ctx.lists.layers[layer];
-        if (refs.empty()) continue;
-        ++ctx.stats.deferredLayersDrawn;
-        ctx.timer.mark("gbuffer");
-        glBindFramebuffer(GL_FRAMEBUFFER, ctx.targets.gbufferFb.id());
-        const float zero[4] = {0, 0, 0, 0};
-        for (GLint rt = 0; rt < 3; ++rt) glClearNamedFramebufferfv(ctx.targets.gbufferFb.id(), GL_COLOR, rt, zero);
-        glDisable(GL_BLEND);
-        glEnable(GL_DEPTH_TEST);
-        glDepthFunc(GL_GREATER);
-        glDepthMask(GL_TRUE);
-        drawItems(ctx, refs);
-        if (ctx.shadows.frame.pending) { // SDSM: fit to the depth just written, then draw the maps
-            ctx.shadows.frame.pending = false;
-            runSdsmFit(ctx);
-            runShadowPass(ctx);
-        }
-        if (ctx.gi.frame.pending) finishGi(ctx); // GI's camera surfels: this layer's G-buffer
+std::vector<size_t> deferredLayersToDraw(const FrameContext& ctx) {
+    std::vector<size_t> layers;
+    if (ctx.scene.deferredLayers.empty() || !ctx.scene.deferredLightingProgram) return layers;
+    for (size_t layer = 0; layer < ctx.lists.layers.size(); ++layer)
+        if (!ctx.lists.layers[layer].empty()) layers.push_back(layer);
+    return layers;
+}
 
-        ctx.timer.mark("lighting");
-        glBindFramebuffer(GL_FRAMEBUFFER, ctx.targets.composeFb.id());
-        glDisable(GL_DEPTH_TEST);
-        glDepthMask(GL_FALSE);
-        glEnable(GL_BLEND);
-        glBlendFuncSeparate(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA, GL_ONE, GL_ONE_MINUS_SRC_ALPHA);
-        glUseProgram(lighting);
-        glProgramUniformMatrix4fv(lighting, 0, 1, GL_FALSE,
-                                  glm::value_ptr(ctx.view.inverseViewProjection));
-        for (GLuint unit = 0; unit < 3; ++unit)
-            glBindTextureUnit(unit, ctx.targets.gbuffer[unit].id());
-        glBindTextureUnit(3, ctx.targets.depth.id());
-        drawFullscreenTriangle();
-        glDepthMask(GL_TRUE);
-    }
+void runGBuffer(FrameContext& ctx, size_t layer) {
+    ++ctx.stats.deferredLayersDrawn;
+    ctx.timer.mark("gbuffer");
+    glBindFramebuffer(GL_FRAMEBUFFER, ctx.targets.gbufferFb.id());
+    const float zero[4] = {0, 0, 0, 0};
+    for (GLint rt = 0; rt < 3; ++rt) glClearNamedFramebufferfv(ctx.targets.gbufferFb.id(), GL_COLOR, rt, zero);
+    glDisable(GL_BLEND);
+    glEnable(GL_DEPTH_TEST);
+    glDepthFunc(GL_GREATER);
+    glDepthMask(GL_TRUE);
+    drawItems(ctx, ctx.lists.layers[layer]);
+}
+
+void runDeferredLighting(FrameContext& ctx) {
+    const GLuint lighting = ctx.scene.programs[*ctx.scene.deferredLightingProgram].id();
+    ctx.timer.mark("lighting");
+    glBindFramebuffer(GL_FRAMEBUFFER, ctx.targets.composeFb.id());
+    glDisable(GL_DEPTH_TEST);
+    glDepthMask(GL_FALSE);
+    glEnable(GL_BLEND);
+    glBlendFuncSeparate(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA, GL_ONE, GL_ONE_MINUS_SRC_ALPHA);
+    glUseProgram(lighting);
+    glProgramUniformMatrix4fv(lighting, 0, 1, GL_FALSE, glm::value_ptr(ctx.view.inverseViewProjection));
+    for (GLuint unit = 0; unit < 3; ++unit) glBindTextureUnit(unit, ctx.targets.gbuffer[unit].id());
+    glBindTextureUnit(3, ctx.targets.depth.id());
+    drawFullscreenTriangle();
+    glDepthMask(GL_TRUE);
     glDisable(GL_BLEND);
 }
 

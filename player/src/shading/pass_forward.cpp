@@ -1,7 +1,7 @@
 // Forward materials against the depth the deferred layers left: opaque ones front to back with
 // depth writes, blended ones back to front with SRC_ALPHA / ONE_MINUS_SRC_ALPHA and depth writes
 // off (they must not hide each other), both tested against the shared depth.
-#include "frame/frame_context.h"
+#include "shading/shading.h"
 
 namespace pnb::player {
 

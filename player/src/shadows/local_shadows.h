@@ -24,6 +24,8 @@
 namespace pnb::player {
 
 struct FrameContext;
+struct ShadowContext;
+struct LightContext;
 
 // One light that wants a shadow this frame.
 struct LocalShadowRequest {
@@ -88,6 +90,7 @@ struct LocalShadowContext {
 
 // Ranks, places, writes the tiles' data (binding 9) and the lights' tile indices into the frame's
 // light list, and draws the tiles whose content changed. After prepareLights, before lighting.
-void runLocalShadows(FrameContext& ctx);
+void runLocalShadows(FrameContext& ctx, LocalShadowContext& localShadows, const ShadowContext& shadows,
+                     const LightContext& lights);
 
 } // namespace pnb::player

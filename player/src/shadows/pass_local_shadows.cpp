@@ -9,6 +9,9 @@
 
 #include "pnb/light_range.h"
 #include "frame/frame_context.h"
+#include "shadows/shadow_maps.h"
+#include "shadows/local_shadows.h"
+#include "lights/light_clusters.h"
 
 namespace pnb::player {
 
@@ -79,13 +82,13 @@ bool boxTouchesSphere(glm::dvec3 lo, glm::dvec3 hi, glm::dvec3 centre, double ra
 }
 
 // Draws every caster the light's sphere touches into one tile (`face` of the pushed block).
-void drawTile(FrameContext& ctx, const SceneLight& light, float range, uint32_t face,
+void drawTile(FrameContext& ctx, const ShadowContext& shadows, const SceneLight& light, float range, uint32_t face,
               const std::vector<size_t>& objectOffsets) {
     const GpuScene& scene = ctx.scene;
     GLuint boundProgram = ~0u, boundVao = ~0u;
     uint32_t boundMaterial = kNone;
-    for (size_t c = 0; c < ctx.shadows.casters.size(); ++c) {
-        const ShadowCaster& caster = ctx.shadows.casters[c];
+    for (size_t c = 0; c < shadows.casters.size(); ++c) {
+        const ShadowCaster& caster = shadows.casters[c];
         const DrawItem& item = scene.items[caster.item];
         if (!boxTouchesSphere(item.boundsMin, item.boundsMax, light.position, double(range))) continue;
         const GLuint program = scene.programs[caster.program].id();
@@ -114,15 +117,15 @@ void drawTile(FrameContext& ctx, const SceneLight& light, float range, uint32_t 
 
 } // namespace
 
-void runLocalShadows(FrameContext& ctx) {
-    LocalShadowContext& ls = ctx.localShadows;
+void runLocalShadows(FrameContext& ctx, LocalShadowContext& ls, const ShadowContext& shadows,
+                     const LightContext& lights) {
     const GpuScene& scene = ctx.scene;
     const RenderSettings& s = ctx.settings;
     ls.placements.clear();
     ls.tiles = ls.tilesDrawn = 0;
 
     std::vector<LocalShadowRequest> requests;
-    if (s.shadowLocal && ctx.shadows.frame.sceneHasShadows && !ctx.shadows.casters.empty()) {
+    if (s.shadowLocal && shadows.frame.sceneHasShadows && !shadows.casters.empty()) {
         for (uint32_t i = 0; i < scene.lights.size(); ++i) {
             const SceneLight& l = scene.lights[i];
             const float range = effectiveLightRange(l.desc);
@@ -147,8 +150,8 @@ void runLocalShadows(FrameContext& ctx) {
         dropAtlas(ls); // no local light casts a shadow in view: no atlas
         // local_shadows.glsl declares the tiles' block; no light points into it (cone.z = -1),
         // but a declared block wants a buffer: the light list stands in.
-        glBindBufferRange(GL_SHADER_STORAGE_BUFFER, 9, ctx.ring.buffer(), GLintptr(ctx.lights.listOffset),
-                          GLsizeiptr(ctx.lights.listBytes));
+        glBindBufferRange(GL_SHADER_STORAGE_BUFFER, 9, ctx.ring.buffer(), GLintptr(lights.listOffset),
+                          GLsizeiptr(lights.listBytes));
         return;
     }
     ensureAtlas(ls, s.shadowLocalAtlas);
@@ -167,7 +170,7 @@ void runLocalShadows(FrameContext& ctx) {
         const SceneLight& l = scene.lights[p.light];
         const TileShape shape = tileShape(l, p, s.shadowRadius);
         const float first = float(tile);
-        std::memcpy(ctx.lights.listData + 16 + size_t(p.light) * 64 + 56, &first, sizeof first);
+        std::memcpy(lights.listData + 16 + size_t(p.light) * 64 + 56, &first, sizeof first);
         for (uint32_t f = 0; f < p.faces; ++f, ++tile) {
             GpuShadowTile t;
             t.matrix = localShadowMatrix(glm::vec3(l.position - ctx.view.position), tileDirection(l, p, f),
@@ -195,8 +198,8 @@ void runLocalShadows(FrameContext& ctx) {
             ls.drawn[tile] = ctx.warmUp ? LocalShadowContext::TileKey{} : key;
             if (objectOffsets.empty()) {
                 const glm::dmat4 toCamera = glm::translate(glm::dmat4(1.0), -ctx.view.position);
-                for (size_t c = 0; c < ctx.shadows.casters.size(); ++c)
-                    objectOffsets.push_back(pushObjectBlock(scene, scene.items[ctx.shadows.casters[c].item], toCamera,
+                for (size_t c = 0; c < shadows.casters.size(); ++c)
+                    objectOffsets.push_back(pushObjectBlock(scene, scene.items[shadows.casters[c].item], toCamera,
                                                             ctx.ring, float(c)));
                 glBindFramebuffer(GL_FRAMEBUFFER, ls.framebuffer.id());
                 glBindTextureUnit(kLocalShadowUnit, 0); // not sampled while being written
@@ -219,7 +222,7 @@ void runLocalShadows(FrameContext& ctx) {
             glScissor(GLint(p.origins[f].x), GLint(p.origins[f].y), GLsizei(p.size), GLsizei(p.size));
             const float far = 0.0f; // reversed-Z
             glClearNamedFramebufferfv(ls.framebuffer.id(), GL_DEPTH, 0, &far);
-            drawTile(ctx, l, shape.range, f, objectOffsets);
+            drawTile(ctx, shadows, l, shape.range, f, objectOffsets);
             ++ls.tilesDrawn;
         }
     }
@@ -228,7 +231,7 @@ void runLocalShadows(FrameContext& ctx) {
         else glScissor(0, 0, 1, 1);
         glEnable(GL_CULL_FACE);
         glViewport(0, 0, GLsizei(ctx.targets.width), GLsizei(ctx.targets.height));
-        bindShadowsForLighting(ctx); // the sun's block again
+        bindShadowsForLighting(ctx, shadows); // the sun's block again
     }
     glBindTextureUnit(kLocalShadowUnit, ls.atlas.id());
     ctx.stats.localShadowTiles = ls.tiles;

@@ -13,6 +13,7 @@
 #include <cstdio>
 
 #include "frame/frame_context.h"
+#include "shadows/shadow_maps.h"
 #include "gl/program_compile.h"
 
 namespace pnb::player {
@@ -23,10 +24,10 @@ constexpr size_t kIndirectCommandBytes = 20;
 
 // The program drawing `caster`: the container's, or its geometry-shader variant (linked on first
 // use) when the layered pass takes gl_Layer from a geometry shader.
-GLuint casterProgram(FrameContext& ctx, const ShadowCaster& caster, bool geometryLayers) {
+GLuint casterProgram(FrameContext& ctx, ShadowContext& shadows, const ShadowCaster& caster, bool geometryLayers) {
     const GpuScene& scene = ctx.scene;
     if (!geometryLayers) return scene.programs[caster.program].id();
-    auto& cache = ctx.shadows.geometryLayerPrograms;
+    auto& cache = shadows.geometryLayerPrograms;
     for (const auto& [index, program] : cache)
         if (index == caster.program) return program.id();
     for (const auto& [index, kept] : scene.shadowSources) {
@@ -50,10 +51,10 @@ GLuint casterProgram(FrameContext& ctx, const ShadowCaster& caster, bool geometr
     return 0;
 }
 
-void drawCasters(FrameContext& ctx, int passCascade, bool geometryLayers) {
-    const ShadowFrame& f = ctx.shadows.frame;
+void drawCasters(FrameContext& ctx, ShadowContext& shadows, int passCascade, bool geometryLayers) {
+    const ShadowFrame& f = shadows.frame;
     const GpuScene& scene = ctx.scene;
-    const std::vector<ShadowCaster>& casters = ctx.shadows.casters;
+    const std::vector<ShadowCaster>& casters = shadows.casters;
     GLuint boundProgram = ~0u, boundVao = ~0u;
     uint32_t boundMaterial = kNone;
     for (size_t i = 0; i < f.casters.size(); ++i) {
@@ -70,7 +71,7 @@ void drawCasters(FrameContext& ctx, int passCascade, bool geometryLayers) {
         const GpuMesh& mesh = scene.meshes[item.mesh];
         const DrawLevel& level = scene.levels[f.levels[i]];
         const uint64_t firstIndex = mesh.indexOffset / mesh.indexSize + level.firstIndex;
-        GLuint program = casterProgram(ctx, caster, geometryLayers);
+        GLuint program = casterProgram(ctx, shadows, caster, geometryLayers);
         if (!program) continue;
         if (program != boundProgram) {
             glUseProgram(boundProgram = program);
@@ -94,7 +95,7 @@ void drawCasters(FrameContext& ctx, int passCascade, bool geometryLayers) {
             glDrawElementsInstanced(mesh.primitive, GLsizei(warmUpCount(ctx, level.indexCount)), mesh.indexType,
                                     reinterpret_cast<const void*>(firstIndex * mesh.indexSize), 1);
         } else if (f.gpuFit) {
-            size_t slot = passCascade < 0 ? i : (size_t(passCascade) + 1) * ctx.shadows.resources.sdsmCasterCapacity + i;
+            size_t slot = passCascade < 0 ? i : (size_t(passCascade) + 1) * shadows.resources.sdsmCasterCapacity + i;
             glDrawElementsIndirect(mesh.primitive, mesh.indexType,
                                    reinterpret_cast<const void*>(slot * kIndirectCommandBytes));
         } else {
@@ -109,13 +110,13 @@ void drawCasters(FrameContext& ctx, int passCascade, bool geometryLayers) {
 
 } // namespace
 
-void runShadowPass(FrameContext& ctx) {
-    const ShadowFrame& f = ctx.shadows.frame;
+void runShadowPass(FrameContext& ctx, ShadowContext& shadows) {
+    const ShadowFrame& f = shadows.frame;
     if (!f.active) return;
-    const ShadowResources& r = ctx.shadows.resources;
+    const ShadowResources& r = shadows.resources;
     ctx.timer.mark("shadow");
     ctx.stats.shadowCasters = uint32_t(f.casters.size());
-    bindShadowsForLighting(ctx); // the vertex shader reads the ShadowBlock too
+    bindShadowsForLighting(ctx, shadows); // the vertex shader reads the ShadowBlock too
     glBindTextureUnit(8, 0);     // not sampled while being written
     glBindTextureUnit(9, 0);
     if (f.gpuFit) {
@@ -140,19 +141,19 @@ void runShadowPass(FrameContext& ctx) {
         static const bool vertexLayers = epoxy_has_gl_extension("GL_ARB_shader_viewport_layer_array");
         LayerSource source = ctx.settings.shadowLayerSource;
         bool geometry = source == LayerSource::Geometry || !vertexLayers;
-        drawCasters(ctx, -1, geometry);
+        drawCasters(ctx, shadows, -1, geometry);
     } else {
         for (uint32_t c = 0; c < f.cascades; ++c) {
             glBindFramebuffer(GL_FRAMEBUFFER, r.layerFbs[c].id());
             glClearNamedFramebufferfv(r.layerFbs[c].id(), GL_DEPTH, 0, &far);
-            drawCasters(ctx, int(c), false);
+            drawCasters(ctx, shadows, int(c), false);
         }
     }
     glDisable(GL_DEPTH_CLAMP);
     glEnable(GL_CULL_FACE);
     glBindBuffer(GL_DRAW_INDIRECT_BUFFER, 0);
     glViewport(0, 0, GLsizei(ctx.targets.width), GLsizei(ctx.targets.height));
-    bindShadowsForLighting(ctx);
+    bindShadowsForLighting(ctx, shadows);
 }
 
 } // namespace pnb::player

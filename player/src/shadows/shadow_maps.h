@@ -83,7 +83,6 @@ struct ShadowFrame {
     bool active = false;          // maps are drawn and read this frame
     const char* off = nullptr;    // why they are not (nullptr while active): debug-view notes
     bool gpuFit = false;          // SDSM: block, masks and draws live in GPU buffers
-    bool pending = false;         // SDSM waits for the first deferred layer's depth
     uint32_t cascades = 0;
     size_t blockOffset = 0;       // CPU-written ShadowBlock in the ring (SDSM: its parameters)
     size_t maskOffset = 0, maskBytes = 0;
@@ -119,15 +118,16 @@ void initShadowContext(const GpuScene& scene, ShadowContext& shadows);
 
 // Fits and culls (CPU techniques) or prepares the GPU fit (SDSM); writes what the shadow pass
 // and lighting read into the ring.
-void prepareShadows(FrameContext& ctx);
+void prepareShadows(FrameContext& ctx, ShadowContext& shadows);
 
-// SDSM: the GPU fit from the depth buffer as it is now (shadow_sdsm.cpp).
-void runSdsmFit(FrameContext& ctx);
+// SDSM: the GPU fit from the depth buffer as it is now (shadow_sdsm.cpp): the previous frame's
+// before the clear, or the first deferred layer's (renderer/frame.cpp).
+void runSdsmFit(FrameContext& ctx, ShadowContext& shadows);
 
 // Draws the casters into the array (pass_shadow.cpp).
-void runShadowPass(FrameContext& ctx);
+void runShadowPass(FrameContext& ctx, ShadowContext& shadows);
 
 // Binds the ShadowBlock (binding 4) and the maps (units 8 and 9) for lighting.
-void bindShadowsForLighting(FrameContext& ctx);
+void bindShadowsForLighting(FrameContext& ctx, const ShadowContext& shadows);
 
 } // namespace pnb::player

@@ -5,13 +5,14 @@
 #include <glm/gtc/type_ptr.hpp>
 
 #include "frame/frame_context.h"
+#include "shadows/shadow_maps.h"
 
 namespace pnb::player {
 
-void runSdsmFit(FrameContext& ctx) {
-    ShadowFrame& f = ctx.shadows.frame;
+void runSdsmFit(FrameContext& ctx, ShadowContext& shadows) {
+    ShadowFrame& f = shadows.frame;
     if (!f.active || !f.gpuFit) return;
-    const ShadowResources& r = ctx.shadows.resources;
+    const ShadowResources& r = shadows.resources;
     const RenderSettings& s = ctx.settings;
     ctx.timer.mark("reduce");
 

@@ -9,6 +9,7 @@
 
 #include "cascade_splits.h"
 #include "frame/frame_context.h"
+#include "shadows/shadow_maps.h"
 
 namespace pnb::player {
 
@@ -70,8 +71,7 @@ void initShadowContext(const GpuScene& scene, ShadowContext& shadows) {
     }
 }
 
-void prepareShadows(FrameContext& ctx) {
-    ShadowContext& sc = ctx.shadows;
+void prepareShadows(FrameContext& ctx, ShadowContext& sc) {
     ShadowFrame& f = sc.frame;
     const RenderSettings& s = ctx.settings;
     const GpuScene& scene = ctx.scene;
@@ -241,10 +241,10 @@ void prepareShadows(FrameContext& ctx) {
     }
 }
 
-void bindShadowsForLighting(FrameContext& ctx) {
-    const ShadowFrame& f = ctx.shadows.frame;
+void bindShadowsForLighting(FrameContext& ctx, const ShadowContext& shadows) {
+    const ShadowFrame& f = shadows.frame;
     if (!f.sceneHasShadows) return;
-    const ShadowResources& r = ctx.shadows.resources;
+    const ShadowResources& r = shadows.resources;
     if (f.gpuFit)
         glBindBufferBase(GL_UNIFORM_BUFFER, 4, r.sdsmBlock.id());
     else

@@ -21,6 +21,7 @@
 namespace pnb::player {
 
 struct FrameContext;
+struct GiContext;
 
 // std140 IblBlock (shaders/include/ibl.glsl).
 struct IblBlock {
@@ -44,8 +45,8 @@ struct IblContext {
     glm::dvec3 heightMin{0.0}, heightMax{0.0};
 };
 
-void prepareIbl(FrameContext& ctx);    // ibl_setup.cpp
-void renderSkyHeightMap(FrameContext& ctx); // pass_sky_height.cpp
-void runBackground(FrameContext& ctx); // pass_background.cpp
+void prepareIbl(FrameContext& ctx, IblContext& ibl, const GiContext& gi);    // ibl_setup.cpp
+void renderSkyHeightMap(FrameContext& ctx, IblContext& ibl); // pass_sky_height.cpp
+void runBackground(FrameContext& ctx, const IblContext& ibl); // pass_background.cpp
 
 } // namespace pnb::player

@@ -5,14 +5,15 @@
 #include <cstdio>
 
 #include "frame/frame_context.h"
+#include "sky/ibl.h"
+#include "gi/gi.h"
 #include "pnb_lighting/sh9.h"
 
 namespace pnb::player {
 
 using namespace lighting; // SH9 (pnb_lighting/sh9.h)
 
-void prepareIbl(FrameContext& ctx) {
-    IblContext& ibl = ctx.ibl;
+void prepareIbl(FrameContext& ctx, IblContext& ibl, const GiContext& gi) {
     const GpuScene& scene = ctx.scene;
     const RenderSettings& s = ctx.settings;
     ibl.active = false;
@@ -50,7 +51,7 @@ void prepareIbl(FrameContext& ctx) {
         block.params = {1.0f, ibl.capture ? 1.0f : 0.0f, radius, s.iblIntensity};
         float mode = s.iblVisibility == SkyVisibility::Screen ? 1.0f : 0.0f;
         if (s.iblVisibility == SkyVisibility::Height) {
-            renderSkyHeightMap(ctx);
+            renderSkyHeightMap(ctx, ibl);
             if (ibl.heightMap) {
                 const glm::dvec3 lo = ibl.heightMin - ctx.view.position, size = ibl.heightMax - ibl.heightMin;
                 block.heightRect = {float(lo.x), float(lo.z), float(1.0 / size.x), float(1.0 / size.z)};
@@ -62,9 +63,9 @@ void prepareIbl(FrameContext& ctx) {
         }
         if (s.iblVisibility == SkyVisibility::Volume) {
             // The LPV's geometry: its face transmittances exist while GI runs with occlusion.
-            if (ctx.gi.frame.active && s.giOcclusion) {
-                glBindTextureUnit(16, ctx.gi.resources.transmittance[0].id());
-                glBindTextureUnit(17, ctx.gi.resources.transmittance[1].id());
+            if (gi.frame.active && s.giOcclusion) {
+                glBindTextureUnit(16, gi.resources.transmittance[0].id());
+                glBindTextureUnit(17, gi.resources.transmittance[1].id());
                 mode = 3.0f;
             } else if (!ibl.warnedVisibility) {
                 ibl.warnedVisibility = true;
@@ -74,8 +75,8 @@ void prepareIbl(FrameContext& ctx) {
         }
         if (s.iblVisibility == SkyVisibility::Probes) {
             // The probes' own: traced with their occupancy grid (pass_gi_probes.cpp).
-            if (ctx.gi.frame.active && ctx.gi.resources.skyVisibility) {
-                glBindTextureUnit(18, ctx.gi.resources.skyVisibility.id());
+            if (gi.frame.active && gi.resources.skyVisibility) {
+                glBindTextureUnit(18, gi.resources.skyVisibility.id());
                 mode = 4.0f;
             } else if (!ibl.warnedVisibility) {
                 ibl.warnedVisibility = true;

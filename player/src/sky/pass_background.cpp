@@ -8,14 +8,15 @@
 #include <glm/gtc/type_ptr.hpp>
 
 #include "frame/frame_context.h"
+#include "sky/ibl.h"
 
 namespace pnb::player {
 
-void runBackground(FrameContext& ctx) {
+void runBackground(FrameContext& ctx, const IblContext& ibl) {
     const GpuScene& scene = ctx.scene;
     const RenderSettings& s = ctx.settings;
-    if (!ctx.ibl.active || !s.iblBackground || !ctx.builtins.background || !scene.environment ||
-        !scene.environment->radiance || ctx.ibl.capture)
+    if (!ibl.active || !s.iblBackground || !ctx.builtins.background || !scene.environment ||
+        !scene.environment->radiance || ibl.capture)
         return;
     ctx.timer.mark("background");
     const GpuTexture& radiance = scene.textures[*scene.environment->radiance];

@@ -12,11 +12,11 @@
 #include <glm/gtc/matrix_transform.hpp>
 
 #include "frame/frame_context.h"
+#include "sky/ibl.h"
 
 namespace pnb::player {
 
-void renderSkyHeightMap(FrameContext& ctx) {
-    IblContext& ibl = ctx.ibl;
+void renderSkyHeightMap(FrameContext& ctx, IblContext& ibl) {
     const GpuScene& scene = ctx.scene;
     const uint32_t res = ctx.settings.iblHeightResolution;
     if (ibl.heightMap && ibl.heightVersion == scene.materialsVersion && ibl.heightResolution == res) return;
