@@ -160,10 +160,10 @@ namespace {
 // The city's grid: `blocks` × `blocks` blocks of 3 × 3 lots, streets between them, centred on
 // the origin, on a ground at least `groundSizeMeters` wide.
 struct CityGrid {
-    float pitch = 0;    // block plus street
+    float pitch = 0; // block plus street
     uint32_t blocks = 0;
-    float span = 0;     // edge of the built area
-    float start = 0;    // its west and north edge
+    float span = 0;  // edge of the built area
+    float start = 0; // its west and north edge
     float halfGround = 0;
     float lotSize = 0;
 };

@@ -388,6 +388,7 @@ Result<ConvertSummary, ConvertError> convertScene(const ConvertSettings& s,
     if (!imported) return imported.error();
     IrScene& scene = *imported;
     clock.stop();
+    // Overlaps materials and meshes; joins at return at the latest.
     const std::future<void> decoderLoad = startImageDecoderLoad(scene, inputs->env);
 
     clock.start("materials");

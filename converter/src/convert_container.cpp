@@ -33,8 +33,8 @@ void appendInfoAndSettings(const ConvertSettings& s, const Aabb& sceneBounds, Sc
         out.settings.entries.push_back({b.intern(key), b.intern(value)});
 }
 
-void appendTextures(const std::vector<ProcessedTexture>& textures, const ResolvedMaterials& materials,
-                    SceneBuilder& b, ConvertSummary& sum) {
+void appendTextures(const std::vector<ProcessedTexture>& textures,
+                    const ResolvedMaterials& materials, SceneBuilder& b, ConvertSummary& sum) {
     Scene& out = b.scene;
     for (size_t i = 0; i < textures.size(); ++i) {
         const ProcessedTexture& t = textures[i];
@@ -44,7 +44,8 @@ void appendTextures(const std::vector<ProcessedTexture>& textures, const Resolve
         for (uint32_t level = 0; level < t.levels.size(); ++level)
             out.textureMips.push_back({uint32_t(i), level, std::max(1u, desc.width >> level),
                                        std::max(1u, desc.height >> level), Blob(t.levels[level])});
-        for (const auto& l : t.levels) sum.textureBytes += l.size();
+        for (const auto& l : t.levels)
+            sum.textureBytes += l.size();
         if (t.psnrDb > 0)
             sum.minTexturePsnrDb =
                 sum.minTexturePsnrDb == 0 ? t.psnrDb : std::min(sum.minTexturePsnrDb, t.psnrDb);
@@ -83,9 +84,10 @@ void appendMeshes(const ConvertSettings& s, const std::vector<ProcessedMesh>& me
     Scene& out = b.scene;
     for (size_t i = 0; i < meshes.size(); ++i) {
         const ProcessedMesh& pm = meshes[i];
-        Mesh m = toContainerMesh(
-            pm, b.intern(pm.name.empty() ? "mesh" + std::to_string(i) : pm.name));
-        for (const OwnedStream& st : pm.streams) sum.meshBytes += st.bytes.size();
+        Mesh m =
+            toContainerMesh(pm, b.intern(pm.name.empty() ? "mesh" + std::to_string(i) : pm.name));
+        for (const OwnedStream& st : pm.streams)
+            sum.meshBytes += st.bytes.size();
         sum.meshBytes += pm.indices.size();
         for (Submesh& sm : m.submeshes)
             if (sm.material == kNone) sm.material = uint32_t(defaultMaterial);
@@ -173,7 +175,8 @@ Result<bool, ConvertError> writeContainer(const ConvertSettings& s, const Scene&
     wo.compressionMemo = memo;
     wo.lock = s.outputLock;
     std::vector<RoleFile> read;
-    for (const std::string& d : sum.dependencies) read.push_back({d, "a file the conversion read"});
+    for (const std::string& d : sum.dependencies)
+        read.push_back({d, "a file the conversion read"});
     if (Status st = checkOutputs(read, outputs); !isOk(st)) return outputError(st.message);
     auto writer = Writer::create(s.output, wo);
     if (!writer) return outputError(writer.error().message);

@@ -66,7 +66,8 @@ EnvironmentRadiance skyAtTheScenesSun(const EnvironmentSettings& env, const IrSc
     out.sky = p;
     out.radiance = bakePreethamSky(p, env.skyWidth);
     const float scale = float(double(out.sunIlluminance) / physicalSun);
-    for (float& v : out.radiance.rgb) v *= scale;
+    for (float& v : out.radiance.rgb)
+        v *= scale;
     out.name = "preetham";
     out.source = EnvironmentSource::AnalyticSky;
     return out;
@@ -80,18 +81,17 @@ Result<EnvironmentRadiance, ConvertError> loadEnvironmentImage(const ConvertSett
     if (!loaded) return loaded.error();
     EnvironmentRadiance out;
     out.radiance = std::move(*loaded);
-    for (std::string& w : out.radiance.warnings) sum.warnings.push_back(std::move(w));
+    for (std::string& w : out.radiance.warnings)
+        sum.warnings.push_back(std::move(w));
     out.name = fs::path(env.image).filename().string();
     sum.dependencies.push_back(env.image);
     return out;
 }
 
 // The environment the settings ask for, baked for this scene.
-Result<BakedEnvironment, ConvertError> bakeOwnEnvironment(const ConvertSettings& s,
-                                                          const EnvironmentSettings& env,
-                                                          const IrScene& scene,
-                                                          const NodePlacement& placement,
-                                                          ConvertSummary& sum) {
+Result<BakedEnvironment, ConvertError>
+bakeOwnEnvironment(const ConvertSettings& s, const EnvironmentSettings& env, const IrScene& scene,
+                   const NodePlacement& placement, ConvertSummary& sum) {
     const auto environmentStart = std::chrono::steady_clock::now();
     EnvironmentRadiance source;
     if (!env.image.empty()) {
@@ -115,9 +115,9 @@ Result<BakedEnvironment, ConvertError> bakeOwnEnvironment(const ConvertSettings&
 } // namespace
 
 Result<SceneEnvironment, ConvertError>
-bakeSceneEnvironment(const ConvertSettings& s, const EnvironmentSettings& env,
-                     const IrScene& scene, const SceneGraph& graph, StageClock& clock,
-                     const Progress& report, ConvertSummary& sum) {
+bakeSceneEnvironment(const ConvertSettings& s, const EnvironmentSettings& env, const IrScene& scene,
+                     const SceneGraph& graph, StageClock& clock, const Progress& report,
+                     ConvertSummary& sum) {
     SceneEnvironment out;
     if (!env.any() && s.defaultEnvironment && !graph.sourceHasLights) {
         // The neutral studio (environment.h "default-studio"), baked once per process.

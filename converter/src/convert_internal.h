@@ -52,9 +52,9 @@ struct Progress {
 
 // What the checks before the import settled.
 struct ConvertInputs {
-    std::string sidecar;          // the sidecar read; "" when none (or --no-sidecar)
-    MaterialOverrides overrides;  // the sidecar's
-    EnvironmentSettings env;      // the command line's, else the sidecar's
+    std::string sidecar;           // the sidecar read; "" when none (or --no-sidecar)
+    MaterialOverrides overrides;   // the sidecar's
+    EnvironmentSettings env;       // the command line's, else the sidecar's
     std::vector<RoleFile> outputs; // every file the conversion writes
 };
 
@@ -106,9 +106,9 @@ struct SceneEnvironment {
 // After the lights, since the sky follows the scene's sun (the default one if the converter
 // added it). Times itself as the stage "environment" when there is one.
 Result<SceneEnvironment, ConvertError>
-bakeSceneEnvironment(const ConvertSettings& s, const EnvironmentSettings& env,
-                     const IrScene& scene, const SceneGraph& graph, StageClock& clock,
-                     const Progress& report, ConvertSummary& sum);
+bakeSceneEnvironment(const ConvertSettings& s, const EnvironmentSettings& env, const IrScene& scene,
+                     const SceneGraph& graph, StageClock& clock, const Progress& report,
+                     ConvertSummary& sum);
 
 // [SECTION] container (convert_container.cpp)
 

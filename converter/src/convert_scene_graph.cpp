@@ -20,8 +20,10 @@ constexpr float kSunIntensityLux = 3.0f;
 Mat4d trs(const Vec3& t, const Vec4& q, const Vec3& s) {
     double x = q.x, y = q.y, z = q.z, w = q.w;
     double n = std::sqrt(x * x + y * y + z * z + w * w);
-    if (n > 0) x /= n, y /= n, z /= n, w /= n;
-    else x = y = z = 0, w = 1;
+    if (n > 0)
+        x /= n, y /= n, z /= n, w /= n;
+    else
+        x = y = z = 0, w = 1;
     Mat4d r{};
     r.m[0] = (1 - 2 * (y * y + z * z)) * s.x;
     r.m[1] = (2 * (x * y + z * w)) * s.x;
@@ -43,7 +45,8 @@ Mat4d multiply(const Mat4d& a, const Mat4d& b) {
     Mat4d r{};
     for (int c = 0; c < 4; ++c)
         for (int row = 0; row < 4; ++row)
-            for (int k = 0; k < 4; ++k) r.m[c * 4 + row] += a.m[k * 4 + row] * b.m[c * 4 + k];
+            for (int k = 0; k < 4; ++k)
+                r.m[c * 4 + row] += a.m[k * 4 + row] * b.m[c * 4 + k];
     return r;
 }
 
@@ -67,13 +70,13 @@ Sphere transformSphere(const Mat4d& m, const Sphere& s) {
     if (!(s.radius > 0)) return {};
     double c[3];
     for (int k = 0; k < 3; ++k)
-        c[k] = m.m[k] * s.center.x + m.m[4 + k] * s.center.y + m.m[8 + k] * s.center.z +
-               m.m[12 + k];
+        c[k] =
+            m.m[k] * s.center.x + m.m[4 + k] * s.center.y + m.m[8 + k] * s.center.z + m.m[12 + k];
     double maxScale = 0;
     for (int col = 0; col < 3; ++col)
         maxScale = std::max(maxScale, std::sqrt(m.m[col * 4] * m.m[col * 4] +
-                                                 m.m[col * 4 + 1] * m.m[col * 4 + 1] +
-                                                 m.m[col * 4 + 2] * m.m[col * 4 + 2]));
+                                                m.m[col * 4 + 1] * m.m[col * 4 + 1] +
+                                                m.m[col * 4 + 2] * m.m[col * 4 + 2]));
     return {{float(c[0]), float(c[1]), float(c[2])}, float(s.radius * maxScale)};
 }
 
@@ -83,7 +86,8 @@ Aabb instancedBounds(const Mat4d& node, const std::vector<InstanceTransform>& in
     if (instances.empty()) return transformBounds(node, mesh);
     Aabb out;
     for (const InstanceTransform& t : instances) {
-        const Aabb b = transformBounds(multiply(node, trs(t.translation, t.rotation, t.scale)), mesh);
+        const Aabb b =
+            transformBounds(multiply(node, trs(t.translation, t.rotation, t.scale)), mesh);
         if (b.min.x > b.max.x) continue;
         out.grow(b.min);
         out.grow(b.max);
@@ -98,7 +102,8 @@ Sphere instancedSphere(const Mat4d& node, const std::vector<InstanceTransform>& 
     std::vector<Sphere> copies;
     Aabb centres;
     for (const InstanceTransform& t : instances) {
-        const Sphere s = transformSphere(multiply(node, trs(t.translation, t.rotation, t.scale)), mesh);
+        const Sphere s =
+            transformSphere(multiply(node, trs(t.translation, t.rotation, t.scale)), mesh);
         if (!(s.radius > 0)) continue;
         copies.push_back(s);
         centres.grow(s.center);

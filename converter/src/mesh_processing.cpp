@@ -291,7 +291,7 @@ struct MergedMesh {
     std::vector<Range> ranges; // one per primitive
     std::vector<uint8_t> generateNormal;
     std::vector<TangentSource> tangentSource; // empty unless tangents are needed
-    std::vector<uint8_t> noUv0; // tangents arbitrary because the primitive has no uv0
+    std::vector<uint8_t> noUv0;               // tangents arbitrary because the primitive has no uv0
 };
 
 // 2. A primitive's triangles, less the non-finite and degenerate ones, appended to the merged
@@ -463,11 +463,10 @@ std::optional<float> appendLodLevel(uint32_t level, const VertexData& v, float s
         size_t target = size_t(double(previous[s] / 3) * settings.lodRatio) * 3;
         simplified.resize(r.count);
         float error = 0;
-        size_t count = meshopt_simplify(simplified.data(), &indices[r.first], r.count,
-                                        v.positions.data(), v.count, sizeof(float) * 3, target,
-                                        kLodTargetError,
-                                        settings.lodLockBorders ? meshopt_SimplifyLockBorder : 0,
-                                        &error);
+        size_t count =
+            meshopt_simplify(simplified.data(), &indices[r.first], r.count, v.positions.data(),
+                             v.count, sizeof(float) * 3, target, kLodTargetError,
+                             settings.lodLockBorders ? meshopt_SimplifyLockBorder : 0, &error);
         if (count == 0 || count >= previous[s]) {
             previous[s] = 0; // no further reduction: this submesh's chain ends
             continue;
@@ -498,9 +497,8 @@ std::optional<float> appendLodLevel(uint32_t level, const VertexData& v, float s
 
 // 8. LODs: up to settings.lodCount levels after the level-0 submeshes (`ranges`), each with its
 // worst error in stats.lodErrors.
-void appendLods(const VertexData& v, const std::vector<Range>& ranges,
-                const MeshSettings& settings, std::vector<uint32_t>& indices,
-                std::vector<Submesh>& submeshes, MeshStats& stats) {
+void appendLods(const VertexData& v, const std::vector<Range>& ranges, const MeshSettings& settings,
+                std::vector<uint32_t>& indices, std::vector<Submesh>& submeshes, MeshStats& stats) {
     const uint32_t levels = std::min(settings.lodCount, kMaxLodLevels);
     if (levels == 0 || indices.empty()) return;
     const float scale = meshopt_simplifyScale(v.positions.data(), v.count, sizeof(float) * 3);

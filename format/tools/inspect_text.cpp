@@ -297,14 +297,18 @@ void textNodesAndCameraPaths(std::string& o, const Scene& s) {
 // The environment (ENVM), when the file has one.
 void textEnvironment(std::string& o, const Scene& s) {
     if (const auto& e = s.environment) {
-        auto texture = [&](uint32_t t) { return t == kNone ? std::string("none") : "texture " + u64(t); };
-        o += "\nenvironment: " + nameText(s, e->name) + " (" + nameOf(e->source, kEnvironmentSourceNames) +
-             (e->generated ? ", generated" : "") + "), radiance " + texture(e->radiance) + ", specular " + texture(e->specular) + ", BRDF table " +
-             texture(e->brdfLut) + "\n";
+        auto texture = [&](uint32_t t) {
+            return t == kNone ? std::string("none") : "texture " + u64(t);
+        };
+        o += "\nenvironment: " + nameText(s, e->name) + " (" +
+             nameOf(e->source, kEnvironmentSourceNames) + (e->generated ? ", generated" : "") +
+             "), radiance " + texture(e->radiance) + ", specular " + texture(e->specular) +
+             ", BRDF table " + texture(e->brdfLut) + "\n";
         o += "  irradiance SH band 0 (lux): " + vecText(e->irradianceSh[0]) + "\n";
         if (e->source == EnvironmentSource::AnalyticSky)
-            o += "  sky: sun " + vecText(e->sunDirection) + ", turbidity " + num(e->turbidity) + ", ground " +
-                 vecText(e->groundAlbedo) + ", sun " + num(e->sunIlluminance) + " lux\n";
+            o += "  sky: sun " + vecText(e->sunDirection) + ", turbidity " + num(e->turbidity) +
+                 ", ground " + vecText(e->groundAlbedo) + ", sun " + num(e->sunIlluminance) +
+                 " lux\n";
     }
 }
 
