@@ -155,39 +155,61 @@ gltf::Document buildStreetCanyon(const StreetCanyonOptions& o) {
 
 // [SECTION] flat-city ---------------------------------------------------------------------------
 
-gltf::Document buildFlatCity(const FlatCityOptions& o) {
-    Document doc;
-    doc.sceneName = "flat-city";
-    const float pitch = o.blockMeters + o.streetMeters;
-    const auto blocks =
-        uint32_t(std::max(1.0f, std::floor((o.citySizeMeters + o.streetMeters) / pitch)));
-    const float span = float(blocks) * pitch - o.streetMeters;
-    const float start = -span / 2;
-    const float halfGround = std::max(o.groundSizeMeters, span) / 2;
-    const float lotSize = o.blockMeters / 3;
+namespace {
+
+// The city's grid: `blocks` × `blocks` blocks of 3 × 3 lots, streets between them, centred on
+// the origin, on a ground at least `groundSizeMeters` wide.
+struct CityGrid {
+    float pitch = 0; // block plus street
+    uint32_t blocks = 0;
+    float span = 0;  // edge of the built area
+    float start = 0; // its west and north edge
+    float halfGround = 0;
+    float lotSize = 0;
+};
+
+CityGrid cityGrid(const FlatCityOptions& o) {
+    CityGrid g;
+    g.pitch = o.blockMeters + o.streetMeters;
+    g.blocks = uint32_t(std::max(1.0f, std::floor((o.citySizeMeters + o.streetMeters) / g.pitch)));
+    g.span = float(g.blocks) * g.pitch - o.streetMeters;
+    g.start = -g.span / 2;
+    g.halfGround = std::max(o.groundSizeMeters, g.span) / 2;
+    g.lotSize = o.blockMeters / 3;
+    return g;
+}
+
+struct CityMaterials {
+    uint32_t asphalt, pavement, grass, roof;
+    uint32_t facades[5];
+};
+
+CityMaterials addCityMaterials(Document& doc) {
+    CityMaterials m;
+    m.asphalt = addMaterial(doc, makeMaterial("asphalt", {0.08f, 0.08f, 0.09f}, 0.9f));
+    m.pavement = addMaterial(doc, makeMaterial("pavement", {0.45f, 0.44f, 0.42f}, 0.85f));
+    m.grass = addMaterial(doc, makeMaterial("grass", {0.16f, 0.32f, 0.1f}, 0.95f));
+    m.roof = addMaterial(doc, makeMaterial("roof", {0.2f, 0.2f, 0.22f}, 0.8f));
+    m.facades[0] = addMaterial(doc, makeMaterial("brick", {0.5f, 0.22f, 0.15f}, 0.85f));
+    m.facades[1] = addMaterial(doc, makeMaterial("sandstone", {0.65f, 0.55f, 0.4f}, 0.8f));
+    m.facades[2] = addMaterial(doc, makeMaterial("concrete", {0.55f, 0.55f, 0.55f}, 0.9f));
+    m.facades[3] = addMaterial(doc, makeMaterial("stucco", {0.8f, 0.78f, 0.72f}, 0.75f));
+    m.facades[4] = addMaterial(doc, makeMaterial("blue-glass", {0.2f, 0.3f, 0.42f}, 0.25f, 0.5f));
+    return m;
+}
+
+struct Archetype {
+    std::vector<Box> boxes;
+    uint32_t wall;
+    uint64_t instances = 0;
+};
+
+// Archetypes: a third each low (8-20 m), mid (20-60 m) and high (60-180 m); styles plain box,
+// setback tower (upper third narrower) and box with a rooftop plant room.
+std::vector<Archetype> makeArchetypes(const FlatCityOptions& o, const CityGrid& g,
+                                      const CityMaterials& materials) {
     // Footprints up to 0.84 lot: rotated by any multiple of 90 degrees they still fit.
-    const float maxFootprint = 0.84f * lotSize;
-
-    const uint32_t asphalt = addMaterial(doc, makeMaterial("asphalt", {0.08f, 0.08f, 0.09f}, 0.9f));
-    const uint32_t pavement =
-        addMaterial(doc, makeMaterial("pavement", {0.45f, 0.44f, 0.42f}, 0.85f));
-    const uint32_t grass = addMaterial(doc, makeMaterial("grass", {0.16f, 0.32f, 0.1f}, 0.95f));
-    const uint32_t roof = addMaterial(doc, makeMaterial("roof", {0.2f, 0.2f, 0.22f}, 0.8f));
-    const uint32_t facades[5] = {
-        addMaterial(doc, makeMaterial("brick", {0.5f, 0.22f, 0.15f}, 0.85f)),
-        addMaterial(doc, makeMaterial("sandstone", {0.65f, 0.55f, 0.4f}, 0.8f)),
-        addMaterial(doc, makeMaterial("concrete", {0.55f, 0.55f, 0.55f}, 0.9f)),
-        addMaterial(doc, makeMaterial("stucco", {0.8f, 0.78f, 0.72f}, 0.75f)),
-        addMaterial(doc, makeMaterial("blue-glass", {0.2f, 0.3f, 0.42f}, 0.25f, 0.5f)),
-    };
-
-    // Archetypes: a third each low (8-20 m), mid (20-60 m) and high (60-180 m); styles plain box,
-    // setback tower (upper third narrower) and box with a rooftop plant room.
-    struct Archetype {
-        std::vector<Box> boxes;
-        uint32_t wall;
-        uint64_t instances = 0;
-    };
+    const float maxFootprint = 0.84f * g.lotSize;
     const uint32_t archetypeCount = std::max(3u, o.archetypes);
     std::vector<Archetype> archetypes(archetypeCount);
     Pcg32 arng(o.seed, kStreamCityArchetypes);
@@ -200,7 +222,7 @@ gltf::Document buildFlatCity(const FlatCityOptions& o) {
                                    : arng.uniform(60, 180);
         const uint32_t style = arng.below(3);
         Archetype& a = archetypes[k];
-        a.wall = facades[arng.below(5)];
+        a.wall = materials.facades[arng.below(5)];
         if (style == 1 && cls > 0) {
             const float split = 0.65f * h, iw = 0.65f * w, id = 0.65f * d;
             a.boxes.push_back({{-w / 2, 0, -d / 2}, {w / 2, split, d / 2}});
@@ -213,25 +235,33 @@ gltf::Document buildFlatCity(const FlatCityOptions& o) {
             }
         }
     }
+    return archetypes;
+}
+
+// A building on a lot: block (i, j), lot (a, b) in it, which archetype, turned how often.
+struct Placement {
+    uint32_t blockI, blockJ, lotA, lotB, archetype, quarterTurns;
+};
+
+// Lots: 3 x 3 per block; downtown (near the centre) favours the high class. Counts each
+// archetype's instances.
+std::vector<Placement> placeBuildings(const FlatCityOptions& o, const CityGrid& g,
+                                      std::vector<Archetype>& archetypes) {
+    const auto archetypeCount = uint32_t(archetypes.size());
     auto classRange = [&](uint32_t cls) {
         uint32_t first = (cls * archetypeCount + 2) / 3,
                  last = ((cls + 1) * archetypeCount + 2) / 3;
         return std::pair{first, std::max(first + 1, last)};
     };
-
-    // Lots: 3 x 3 per block; downtown (near the centre) favours the high class.
-    struct Placement {
-        uint32_t blockI, blockJ, lotA, lotB, archetype, quarterTurns;
-    };
     std::vector<Placement> placements;
     Pcg32 rng(o.seed, kStreamCityLayout);
-    const float downtownRadius = 0.3f * span;
-    for (uint32_t j = 0; j < blocks; ++j)
-        for (uint32_t i = 0; i < blocks; ++i)
+    const float downtownRadius = 0.3f * g.span;
+    for (uint32_t j = 0; j < g.blocks; ++j)
+        for (uint32_t i = 0; i < g.blocks; ++i)
             for (uint32_t b = 0; b < 3; ++b)
                 for (uint32_t a = 0; a < 3; ++a) {
-                    const float x = start + float(i) * pitch + (float(a) + 0.5f) * lotSize;
-                    const float z = start + float(j) * pitch + (float(b) + 0.5f) * lotSize;
+                    const float x = g.start + float(i) * g.pitch + (float(a) + 0.5f) * g.lotSize;
+                    const float z = g.start + float(j) * g.pitch + (float(b) + 0.5f) * g.lotSize;
                     const float r = std::sqrt(x * x + z * z) / downtownRadius;
                     const float f = std::exp(-r * r);
                     const bool empty = rng.chance(0.06f);
@@ -244,46 +274,115 @@ gltf::Document buildFlatCity(const FlatCityOptions& o) {
                     placements.push_back({i, j, a, b, archetype, turns});
                     ++archetypes[archetype].instances;
                 }
+    return placements;
+}
 
-    // Ground: block quads (pavement), street quads (asphalt) and a grass ring, none
-    // overlapping. Horizontal streets run the full span; vertical ones sit between blocks.
+// Ground: block quads (pavement), street quads (asphalt) and a grass ring, none
+// overlapping. Horizontal streets run the full span; vertical ones sit between blocks.
+Mesh cityGround(const FlatCityOptions& o, const CityGrid& g, const CityMaterials& materials) {
     Mesh ground;
     ground.name = "ground";
     ground.primitives.resize(3);
-    ground.primitives[0].material = pavement;
-    ground.primitives[1].material = asphalt;
-    ground.primitives[2].material = grass;
+    ground.primitives[0].material = materials.pavement;
+    ground.primitives[1].material = materials.asphalt;
+    ground.primitives[2].material = materials.grass;
     auto quad = [&](uint32_t prim, float x0, float z0, float x1, float z1) {
         addGrid(ground.primitives[prim], {x0, 0, z0}, {0, 0, z1 - z0}, {x1 - x0, 0, 0}, 1, 1,
                 false);
     };
-    for (uint32_t j = 0; j < blocks; ++j) {
-        const float z0 = start + float(j) * pitch, z1 = z0 + o.blockMeters;
-        for (uint32_t i = 0; i < blocks; ++i) {
-            const float x0 = start + float(i) * pitch, x1 = x0 + o.blockMeters;
+    const float start = g.start, span = g.span, halfGround = g.halfGround;
+    for (uint32_t j = 0; j < g.blocks; ++j) {
+        const float z0 = start + float(j) * g.pitch, z1 = z0 + o.blockMeters;
+        for (uint32_t i = 0; i < g.blocks; ++i) {
+            const float x0 = start + float(i) * g.pitch, x1 = x0 + o.blockMeters;
             quad(0, x0, z0, x1, z1);
-            if (i + 1 < blocks) quad(1, x1, z0, x1 + o.streetMeters, z1);
+            if (i + 1 < g.blocks) quad(1, x1, z0, x1 + o.streetMeters, z1);
         }
-        if (j + 1 < blocks) quad(1, start, z1, start + span, z1 + o.streetMeters);
+        if (j + 1 < g.blocks) quad(1, start, z1, start + span, z1 + o.streetMeters);
     }
     quad(2, -halfGround, -halfGround, start, halfGround);       // west
     quad(2, start + span, -halfGround, halfGround, halfGround); // east
     quad(2, start, -halfGround, start + span, start);           // north
     quad(2, start, start + span, start + span, halfGround);     // south
+    return ground;
+}
+
+// One cell size for every facade, chosen so the rendered total (ground included) meets the
+// target.
+float facadeCellSize(const FlatCityOptions& o, const Mesh& ground,
+                     const std::vector<Archetype>& archetypes) {
     uint64_t groundTriangles = 0;
     for (const Primitive& p : ground.primitives)
         groundTriangles += p.triangleCount();
-
-    // One cell size for every facade, chosen so the rendered total meets the target.
     const uint64_t budget =
         o.targetTriangles > groundTriangles ? o.targetTriangles - groundTriangles : 0;
-    const float cell = cellSizeForTarget(budget, [&](float c) {
+    return cellSizeForTarget(budget, [&](float c) {
         uint64_t n = 0;
         for (const Archetype& a : archetypes)
             n += a.instances * trianglesFor(a.boxes, c);
         return n;
     });
+}
 
+// A node per block under the city node, indexed j * blocks + i.
+std::vector<uint32_t> addBlockNodes(Document& doc, const FlatCityOptions& o, const CityGrid& g,
+                                    uint32_t cityNode) {
+    std::vector<uint32_t> blockNode(size_t(g.blocks) * g.blocks, 0);
+    for (uint32_t j = 0; j < g.blocks; ++j)
+        for (uint32_t i = 0; i < g.blocks; ++i) {
+            Node block;
+            block.name = "block-" + std::to_string(i) + "-" + std::to_string(j);
+            block.translation = {g.start + float(i) * g.pitch + o.blockMeters / 2, 0,
+                                 g.start + float(j) * g.pitch + o.blockMeters / 2};
+            blockNode[size_t(j) * g.blocks + i] = addNode(doc, std::move(block));
+            doc.nodes[cityNode].children.push_back(blockNode[size_t(j) * g.blocks + i]);
+        }
+    return blockNode;
+}
+
+// The buildings: with instancing one mesh per used archetype that every placement shares,
+// else a mesh of its own per placement; each a node under its block.
+void addBuildings(Document& doc, const FlatCityOptions& o, const CityGrid& g,
+                  const std::vector<Archetype>& archetypes,
+                  const std::vector<Placement>& placements, float cell, uint32_t roof,
+                  const std::vector<uint32_t>& blockNode) {
+    std::vector<int32_t> archetypeMesh(archetypes.size(), kNone);
+    if (o.instancing)
+        for (size_t k = 0; k < archetypes.size(); ++k)
+            if (archetypes[k].instances > 0)
+                archetypeMesh[k] =
+                    addMesh(doc, boxesMesh("building-archetype-" + std::to_string(k),
+                                           archetypes[k].boxes, cell, archetypes[k].wall, roof));
+    for (const Placement& p : placements) {
+        const std::string name = "building-" + std::to_string(p.blockI) + "-" +
+                                 std::to_string(p.blockJ) + "-" + std::to_string(p.lotA) +
+                                 std::to_string(p.lotB);
+        int32_t mesh = archetypeMesh[p.archetype];
+        if (!o.instancing) {
+            const Archetype& a = archetypes[p.archetype];
+            mesh = addMesh(doc, boxesMesh(name, a.boxes, cell, a.wall, roof));
+        }
+        const Float3 local{(float(p.lotA) - 1.0f) * g.lotSize, 0,
+                           (float(p.lotB) - 1.0f) * g.lotSize};
+        const uint32_t node = addNode(
+            doc, meshNode(name, mesh, local, gltf::rotationY(float(p.quarterTurns) * kPi / 2)));
+        doc.nodes[blockNode[size_t(p.blockJ) * g.blocks + p.blockI]].children.push_back(node);
+    }
+}
+
+} // namespace
+
+gltf::Document buildFlatCity(const FlatCityOptions& o) {
+    Document doc;
+    doc.sceneName = "flat-city";
+    const CityGrid grid = cityGrid(o);
+    const CityMaterials materials = addCityMaterials(doc);
+    std::vector<Archetype> archetypes = makeArchetypes(o, grid, materials);
+    const std::vector<Placement> placements = placeBuildings(o, grid, archetypes);
+    Mesh ground = cityGround(o, grid, materials);
+    const float cell = facadeCellSize(o, ground, archetypes);
+
+    const float halfGround = grid.halfGround;
     const float elevation = radians(o.sunElevationDegrees);
     addCamera(doc, "overview-camera",
               {-0.45f * halfGround * 2, 0.22f * halfGround * 2, 0.45f * halfGround * 2},
@@ -295,38 +394,8 @@ gltf::Document buildFlatCity(const FlatCityOptions& o) {
     const uint32_t cityNode = addNode(doc, std::move(city));
     doc.nodes[cityNode].children.push_back(
         addNode(doc, meshNode("ground", addMesh(doc, std::move(ground)))));
-
-    std::vector<int32_t> archetypeMesh(archetypeCount, kNone);
-    if (o.instancing)
-        for (uint32_t k = 0; k < archetypeCount; ++k)
-            if (archetypes[k].instances > 0)
-                archetypeMesh[k] =
-                    addMesh(doc, boxesMesh("building-archetype-" + std::to_string(k),
-                                           archetypes[k].boxes, cell, archetypes[k].wall, roof));
-    std::vector<uint32_t> blockNode(size_t(blocks) * blocks, 0);
-    for (uint32_t j = 0; j < blocks; ++j)
-        for (uint32_t i = 0; i < blocks; ++i) {
-            Node block;
-            block.name = "block-" + std::to_string(i) + "-" + std::to_string(j);
-            block.translation = {start + float(i) * pitch + o.blockMeters / 2, 0,
-                                 start + float(j) * pitch + o.blockMeters / 2};
-            blockNode[size_t(j) * blocks + i] = addNode(doc, std::move(block));
-            doc.nodes[cityNode].children.push_back(blockNode[size_t(j) * blocks + i]);
-        }
-    for (const Placement& p : placements) {
-        const std::string name = "building-" + std::to_string(p.blockI) + "-" +
-                                 std::to_string(p.blockJ) + "-" + std::to_string(p.lotA) +
-                                 std::to_string(p.lotB);
-        int32_t mesh = archetypeMesh[p.archetype];
-        if (!o.instancing) {
-            const Archetype& a = archetypes[p.archetype];
-            mesh = addMesh(doc, boxesMesh(name, a.boxes, cell, a.wall, roof));
-        }
-        const Float3 local{(float(p.lotA) - 1.0f) * lotSize, 0, (float(p.lotB) - 1.0f) * lotSize};
-        const uint32_t node = addNode(
-            doc, meshNode(name, mesh, local, gltf::rotationY(float(p.quarterTurns) * kPi / 2)));
-        doc.nodes[blockNode[size_t(p.blockJ) * blocks + p.blockI]].children.push_back(node);
-    }
+    const std::vector<uint32_t> blockNode = addBlockNodes(doc, o, grid, cityNode);
+    addBuildings(doc, o, grid, archetypes, placements, cell, materials.roof, blockNode);
     return doc;
 }
 

@@ -259,13 +259,13 @@ void remapAll(VertexData& v, size_t newCount, const std::vector<uint32_t>& remap
     v.count = newCount;
 }
 
-} // namespace
 
-Result<ProcessedMesh, ConvertError> processMesh(const IrMesh& mesh, const StreamNeeds& needs,
-                                                const MeshSettings& settings, MeshStats& stats) {
-    stats = MeshStats{};
+// [SECTION] the stages of processMesh, in its order
 
-    // 1. Validate.
+// 1. Validate: the mesh, the settings and every primitive, before any data is touched. Counts
+// the input into `stats`.
+std::optional<ConvertError> validateMesh(const IrMesh& mesh, const MeshSettings& settings,
+                                         MeshStats& stats) {
     if (mesh.primitives.empty()) return inputError(mesh, "no primitives");
     if (settings.lodCount > 0 && !(settings.lodRatio > 0 && settings.lodRatio < 1))
         return inputError(mesh, "LOD ratio " + std::to_string(settings.lodRatio) +
@@ -280,199 +280,250 @@ Result<ProcessedMesh, ConvertError> processMesh(const IrMesh& mesh, const Stream
     // Merged indices are u32 and ~0u is meshoptimizer's "unused" marker.
     if (totalVertices >= 0xFFFFFFFFull)
         return inputError(mesh, std::to_string(totalVertices) + " vertices, the limit is 2^32 - 2");
+    return std::nullopt;
+}
 
-    // 2 + 3. Filter triangles while merging indices; merge the vertex streams.
-    const double diagonal = finiteDiagonal(mesh);
-    const bool carryUv0 = needs.uv0 || needs.tangents; // tangents are derived from uv0
+// The primitives merged into one vertex/index buffer (steps 2 and 3), and per vertex where its
+// normal and tangent are to come from (steps 4 and 5).
+struct MergedMesh {
     VertexData v;
-    v.count = size_t(totalVertices);
     std::vector<uint32_t> indices;
-    std::vector<Range> ranges;
-    std::vector<uint8_t> generateNormal(v.count, 0);
-    std::vector<TangentSource> tangentSource(needs.tangents ? v.count : 0, TangentSource::Keep);
-    std::vector<uint8_t> noUv0(v.count, 0); // tangents arbitrary because the primitive has no uv0
-    v.positions.reserve(v.count * 3);
-    v.normals.resize(v.count * 3);
-    if (needs.tangents) v.tangents.resize(v.count * 4);
+    std::vector<Range> ranges; // one per primitive
+    std::vector<uint8_t> generateNormal;
+    std::vector<TangentSource> tangentSource; // empty unless tangents are needed
+    std::vector<uint8_t> noUv0;               // tangents arbitrary because the primitive has no uv0
+};
+
+// 2. A primitive's triangles, less the non-finite and degenerate ones, appended to the merged
+// indices (its vertices start at `base`).
+void appendKeptTriangles(const IrPrimitive& p, uint32_t base, double diagonal,
+                         std::vector<uint32_t>& indices, MeshStats& stats) {
+    for (size_t t = 0; t < p.indices.size(); t += 3) {
+        uint32_t a = p.indices[t], b = p.indices[t + 1], c = p.indices[t + 2];
+        if (!finiteTriangle(p, t)) {
+            ++stats.nonFiniteTriangles;
+            continue;
+        }
+        if (a == b || b == c || a == c ||
+            isDegenerate(&p.positions[size_t(a) * 3], &p.positions[size_t(b) * 3],
+                         &p.positions[size_t(c) * 3], diagonal)) {
+            ++stats.degenerateTriangles;
+            continue;
+        }
+        indices.insert(indices.end(), {base + a, base + b, base + c});
+    }
+}
+
+// 3. A primitive's vertices appended to the merged streams (they start at `base`): the source's
+// usable normals and tangents kept, the rest marked for generation.
+void appendPrimitiveVertices(const IrPrimitive& p, const StreamNeeds& needs, uint32_t base,
+                             MergedMesh& m) {
+    VertexData& v = m.v;
+    const size_t n = p.vertexCount();
+    // Non-finite positions are only in unreferenced vertices now; keep them out of the
+    // weld's equality anyway (0 is as good as anything for a vertex that will vanish).
+    for (float f : p.positions)
+        v.positions.push_back(std::isfinite(f) ? f + 0.0f : 0.0f);
+    for (size_t i = 0; i < n; ++i) {
+        bool ok = !p.normals.empty() && normalise3(&p.normals[i * 3], &v.normals[(base + i) * 3]);
+        m.generateNormal[base + i] = !ok;
+    }
+    if (needs.tangents) {
+        for (size_t i = 0; i < n; ++i) {
+            float* t = &v.tangents[(base + i) * 4];
+            if (!p.tangents.empty() && normalise3(&p.tangents[i * 4], t)) {
+                t[3] = p.tangents[i * 4 + 3] < 0 ? -1.0f : 1.0f; // NaN w: +1
+                m.tangentSource[base + i] = TangentSource::Keep;
+            } else if (!p.uv0.empty()) {
+                m.tangentSource[base + i] = TangentSource::FromUv;
+            } else {
+                m.tangentSource[base + i] = TangentSource::Arbitrary;
+                m.noUv0[base + i] = 1;
+            }
+        }
+    }
+    const bool carryUv0 = needs.uv0 || needs.tangents; // tangents are derived from uv0
+    if (carryUv0) appendSanitised(v.uv0, p.uv0, n * kUvComponents, 0.0f);
+    if (needs.uv1) appendSanitised(v.uv1, p.uv1, n * kUvComponents, 0.0f);
+    if (needs.colors) appendSanitised(v.colors, p.colors, n * kColorComponents, 1.0f);
+}
+
+// 2 + 3. Filter triangles while merging indices; merge the vertex streams.
+MergedMesh mergePrimitives(const IrMesh& mesh, const StreamNeeds& needs, size_t vertexCount,
+                           MeshStats& stats) {
+    const double diagonal = finiteDiagonal(mesh);
+    MergedMesh m;
+    m.v.count = vertexCount;
+    m.generateNormal.assign(vertexCount, 0);
+    m.tangentSource.assign(needs.tangents ? vertexCount : 0, TangentSource::Keep);
+    m.noUv0.assign(vertexCount, 0);
+    m.v.positions.reserve(vertexCount * 3);
+    m.v.normals.resize(vertexCount * 3);
+    if (needs.tangents) m.v.tangents.resize(vertexCount * 4);
     uint32_t base = 0;
     for (const IrPrimitive& p : mesh.primitives) {
-        const size_t n = p.vertexCount();
-        Range range{uint32_t(indices.size()), 0};
-        for (size_t t = 0; t < p.indices.size(); t += 3) {
-            uint32_t a = p.indices[t], b = p.indices[t + 1], c = p.indices[t + 2];
-            if (!finiteTriangle(p, t)) {
-                ++stats.nonFiniteTriangles;
-                continue;
-            }
-            if (a == b || b == c || a == c ||
-                isDegenerate(&p.positions[size_t(a) * 3], &p.positions[size_t(b) * 3],
-                             &p.positions[size_t(c) * 3], diagonal)) {
-                ++stats.degenerateTriangles;
-                continue;
-            }
-            indices.insert(indices.end(), {base + a, base + b, base + c});
-        }
-        range.count = uint32_t(indices.size() - range.first);
-        ranges.push_back(range);
-
-        // Non-finite positions are only in unreferenced vertices now; keep them out of the
-        // weld's equality anyway (0 is as good as anything for a vertex that will vanish).
-        for (float f : p.positions)
-            v.positions.push_back(std::isfinite(f) ? f + 0.0f : 0.0f);
-        for (size_t i = 0; i < n; ++i) {
-            bool ok =
-                !p.normals.empty() && normalise3(&p.normals[i * 3], &v.normals[(base + i) * 3]);
-            generateNormal[base + i] = !ok;
-        }
-        if (needs.tangents) {
-            for (size_t i = 0; i < n; ++i) {
-                float* t = &v.tangents[(base + i) * 4];
-                if (!p.tangents.empty() && normalise3(&p.tangents[i * 4], t)) {
-                    t[3] = p.tangents[i * 4 + 3] < 0 ? -1.0f : 1.0f; // NaN w: +1
-                    tangentSource[base + i] = TangentSource::Keep;
-                } else if (!p.uv0.empty()) {
-                    tangentSource[base + i] = TangentSource::FromUv;
-                } else {
-                    tangentSource[base + i] = TangentSource::Arbitrary;
-                    noUv0[base + i] = 1;
-                }
-            }
-        }
-        if (carryUv0) appendSanitised(v.uv0, p.uv0, n * kUvComponents, 0.0f);
-        if (needs.uv1) appendSanitised(v.uv1, p.uv1, n * kUvComponents, 0.0f);
-        if (needs.colors) appendSanitised(v.colors, p.colors, n * kColorComponents, 1.0f);
-        base += uint32_t(n);
+        Range range{uint32_t(m.indices.size()), 0};
+        appendKeptTriangles(p, base, diagonal, m.indices, stats);
+        range.count = uint32_t(m.indices.size() - range.first);
+        m.ranges.push_back(range);
+        appendPrimitiveVertices(p, needs, base, m);
+        base += uint32_t(p.vertexCount());
     }
-    stats.outputTriangles = indices.size() / 3;
+    stats.outputTriangles = m.indices.size() / 3;
+    return m;
+}
 
-    std::vector<uint8_t> referenced(v.count, 0);
-    for (uint32_t i : indices)
+// 4 + 5. Normals and tangents where the source had none usable, for the vertices a kept
+// triangle references; uv0 is dropped afterwards when only the tangents needed it.
+void completeNormalsAndTangents(MergedMesh& m, const StreamNeeds& needs, MeshStats& stats) {
+    std::vector<uint8_t> referenced(m.v.count, 0);
+    for (uint32_t i : m.indices)
         referenced[i] = 1;
-    for (size_t i = 0; i < v.count; ++i) {
+    for (size_t i = 0; i < m.v.count; ++i) {
         if (!referenced[i]) continue;
-        stats.normalsGenerated |= generateNormal[i] != 0;
-        if (needs.tangents) stats.tangentsGenerated |= tangentSource[i] != TangentSource::Keep;
-        stats.tangentsArbitrary |= noUv0[i] != 0;
+        stats.normalsGenerated |= m.generateNormal[i] != 0;
+        if (needs.tangents) stats.tangentsGenerated |= m.tangentSource[i] != TangentSource::Keep;
+        stats.tangentsArbitrary |= m.noUv0[i] != 0;
     }
+    if (stats.normalsGenerated) generateNormals(m.v, m.indices, m.generateNormal);
+    if (stats.tangentsGenerated) generateTangents(m.v, m.indices, m.tangentSource);
+    if (!needs.uv0) m.v.uv0.clear();
+}
 
-    // 4. Normals.
-    if (stats.normalsGenerated) generateNormals(v, indices, generateNormal);
-    // 5. Tangents.
-    if (stats.tangentsGenerated) generateTangents(v, indices, tangentSource);
-    if (!needs.uv0) v.uv0.clear();
-
-    // 6. Weld over the output streams.
-    {
-        std::vector<meshopt_Stream> keys;
-        auto key = [&](const std::vector<float>& s, size_t components) {
-            if (!s.empty())
-                keys.push_back({s.data(), sizeof(float) * components, sizeof(float) * components});
-        };
-        key(v.positions, kPositionComponents);
-        key(v.normals, kNormalComponents);
-        key(v.tangents, kTangentComponents);
-        key(v.uv0, kUvComponents);
-        key(v.uv1, kUvComponents);
-        key(v.colors, kColorComponents);
-        // meshoptimizer asserts on a null index pointer: no triangles means no vertices.
-        std::vector<uint32_t> remap(v.count, ~0u);
-        size_t unique = 0;
-        if (!indices.empty()) {
-            unique = meshopt_generateVertexRemapMulti(remap.data(), indices.data(), indices.size(),
-                                                      v.count, keys.data(), keys.size());
-            meshopt_remapIndexBuffer(indices.data(), indices.data(), indices.size(), remap.data());
-        }
-        remapAll(v, unique, remap);
-    }
-
-    // 7. Optimise.
-    if (settings.optimize && !indices.empty()) {
-        LocalRange local(v.count);
-        for (const Range& r : ranges) {
-            if (r.count == 0) continue;
-            local.run(std::span(indices).subspan(r.first, r.count), v.positions,
-                      [](std::vector<uint32_t>& ix, const std::vector<float>& pos, size_t count) {
-                          optimiseCacheAndOverdraw(ix, pos, count);
-                      });
-        }
-        std::vector<uint32_t> remap(v.count);
-        size_t unique =
-            meshopt_optimizeVertexFetchRemap(remap.data(), indices.data(), indices.size(), v.count);
+// 6. Weld over the output streams.
+void weldOutputStreams(VertexData& v, std::vector<uint32_t>& indices) {
+    std::vector<meshopt_Stream> keys;
+    auto key = [&](const std::vector<float>& s, size_t components) {
+        if (!s.empty())
+            keys.push_back({s.data(), sizeof(float) * components, sizeof(float) * components});
+    };
+    key(v.positions, kPositionComponents);
+    key(v.normals, kNormalComponents);
+    key(v.tangents, kTangentComponents);
+    key(v.uv0, kUvComponents);
+    key(v.uv1, kUvComponents);
+    key(v.colors, kColorComponents);
+    // meshoptimizer asserts on a null index pointer: no triangles means no vertices.
+    std::vector<uint32_t> remap(v.count, ~0u);
+    size_t unique = 0;
+    if (!indices.empty()) {
+        unique = meshopt_generateVertexRemapMulti(remap.data(), indices.data(), indices.size(),
+                                                  v.count, keys.data(), keys.size());
         meshopt_remapIndexBuffer(indices.data(), indices.data(), indices.size(), remap.data());
-        remapAll(v, unique, remap);
     }
+    remapAll(v, unique, remap);
+}
 
-    ProcessedMesh out;
-    out.name = mesh.name;
+// 7. Optimise: vertex cache and overdraw per submesh, then one vertex-fetch order for all.
+void optimiseForGpu(VertexData& v, std::vector<uint32_t>& indices,
+                    const std::vector<Range>& ranges) {
+    LocalRange local(v.count);
+    for (const Range& r : ranges) {
+        if (r.count == 0) continue;
+        local.run(std::span(indices).subspan(r.first, r.count), v.positions,
+                  [](std::vector<uint32_t>& ix, const std::vector<float>& pos, size_t count) {
+                      optimiseCacheAndOverdraw(ix, pos, count);
+                  });
+    }
+    std::vector<uint32_t> remap(v.count);
+    size_t unique =
+        meshopt_optimizeVertexFetchRemap(remap.data(), indices.data(), indices.size(), v.count);
+    meshopt_remapIndexBuffer(indices.data(), indices.data(), indices.size(), remap.data());
+    remapAll(v, unique, remap);
+}
+
+// The level-0 submeshes: one per primitive, its index range and material.
+std::vector<Submesh> level0Submeshes(const IrMesh& mesh, const std::vector<Range>& ranges) {
+    std::vector<Submesh> out;
     for (size_t i = 0; i < mesh.primitives.size(); ++i) {
         Submesh s;
         int material = mesh.primitives[i].material;
         s.material = material < 0 ? kNone : uint32_t(material);
         s.firstIndex = ranges[i].first;
         s.indexCount = ranges[i].count;
-        out.submeshes.push_back(s);
+        out.push_back(s);
     }
+    return out;
+}
 
-    // 8. LODs.
-    const uint32_t levels = std::min(settings.lodCount, kMaxLodLevels);
-    if (levels > 0 && !indices.empty()) {
-        const float scale = meshopt_simplifyScale(v.positions.data(), v.count, sizeof(float) * 3);
-        const size_t level0Submeshes = out.submeshes.size();
-        std::vector<size_t> previous(level0Submeshes);
-        for (size_t s = 0; s < level0Submeshes; ++s)
-            previous[s] = ranges[s].count;
-        std::vector<uint32_t> simplified;
-        LocalRange local(v.count);
-        for (uint32_t level = 1; level <= levels; ++level) {
-            bool produced = false;
-            float levelError = 0;
-            for (size_t s = 0; s < level0Submeshes; ++s) {
-                if (previous[s] < 6) continue; // one triangle cannot be reduced
-                const Range& r = ranges[s];
-                size_t target = size_t(double(previous[s] / 3) * settings.lodRatio) * 3;
-                simplified.resize(r.count);
-                float error = 0;
-                size_t count = meshopt_simplify(simplified.data(), &indices[r.first], r.count,
-                                                v.positions.data(), v.count, sizeof(float) * 3,
-                                                target, kLodTargetError,
-                                                settings.lodLockBorders ? meshopt_SimplifyLockBorder
-                                                                        : 0,
-                                                &error);
-                if (count == 0 || count >= previous[s]) {
-                    previous[s] = 0; // no further reduction: this submesh's chain ends
-                    continue;
-                }
-                simplified.resize(count);
-                if (settings.optimize) {
-                    local.run(simplified, v.positions,
-                              [](std::vector<uint32_t>& ix, const std::vector<float>& pos,
-                                 size_t n) { optimiseCache(ix, pos, n); });
-                }
-                Submesh lod = out.submeshes[s];
-                lod.firstIndex = uint32_t(indices.size());
-                lod.indexCount = uint32_t(count);
-                lod.lod = uint8_t(level);
-                // Coordinates near float's limit make the scale infinite: keep the error a
-                // finite float (0 × inf would be NaN).
-                lod.lodError = error > 0 ? std::min(error * scale, FLT_MAX) : 0.0f;
-                out.submeshes.push_back(lod);
-                indices.insert(indices.end(), simplified.begin(), simplified.end());
-                previous[s] = count;
-                levelError = std::max(levelError, lod.lodError);
-                produced = true;
-            }
-            if (!produced) break;
-            stats.lodErrors.push_back(levelError);
+// 8. LODs: per level, every level-0 submesh simplified to the previous level × lodRatio; the
+// simplified indices and their submeshes appended. Returns the level's worst error, or nothing
+// when no submesh could be reduced further (the chain ends).
+std::optional<float> appendLodLevel(uint32_t level, const VertexData& v, float scale,
+                                    const std::vector<Range>& ranges, const MeshSettings& settings,
+                                    std::vector<size_t>& previous, LocalRange& local,
+                                    std::vector<uint32_t>& indices,
+                                    std::vector<Submesh>& submeshes) {
+    bool produced = false;
+    float levelError = 0;
+    std::vector<uint32_t> simplified;
+    for (size_t s = 0; s < ranges.size(); ++s) {
+        if (previous[s] < 6) continue; // one triangle cannot be reduced
+        const Range& r = ranges[s];
+        size_t target = size_t(double(previous[s] / 3) * settings.lodRatio) * 3;
+        simplified.resize(r.count);
+        float error = 0;
+        size_t count =
+            meshopt_simplify(simplified.data(), &indices[r.first], r.count, v.positions.data(),
+                             v.count, sizeof(float) * 3, target, kLodTargetError,
+                             settings.lodLockBorders ? meshopt_SimplifyLockBorder : 0, &error);
+        if (count == 0 || count >= previous[s]) {
+            previous[s] = 0; // no further reduction: this submesh's chain ends
+            continue;
         }
+        simplified.resize(count);
+        if (settings.optimize) {
+            local.run(simplified, v.positions,
+                      [](std::vector<uint32_t>& ix, const std::vector<float>& pos, size_t n) {
+                          optimiseCache(ix, pos, n);
+                      });
+        }
+        Submesh lod = submeshes[s];
+        lod.firstIndex = uint32_t(indices.size());
+        lod.indexCount = uint32_t(count);
+        lod.lod = uint8_t(level);
+        // Coordinates near float's limit make the scale infinite: keep the error a
+        // finite float (0 × inf would be NaN).
+        lod.lodError = error > 0 ? std::min(error * scale, FLT_MAX) : 0.0f;
+        submeshes.push_back(lod);
+        indices.insert(indices.end(), simplified.begin(), simplified.end());
+        previous[s] = count;
+        levelError = std::max(levelError, lod.lodError);
+        produced = true;
     }
+    if (!produced) return std::nullopt;
+    return levelError;
+}
 
-    // 9. Encode. U16 indices stop at 65535 vertices so that no index is 0xFFFF, the primitive
-    // restart value a player may enable.
+// 8. LODs: up to settings.lodCount levels after the level-0 submeshes (`ranges`), each with its
+// worst error in stats.lodErrors.
+void appendLods(const VertexData& v, const std::vector<Range>& ranges, const MeshSettings& settings,
+                std::vector<uint32_t>& indices, std::vector<Submesh>& submeshes, MeshStats& stats) {
+    const uint32_t levels = std::min(settings.lodCount, kMaxLodLevels);
+    if (levels == 0 || indices.empty()) return;
+    const float scale = meshopt_simplifyScale(v.positions.data(), v.count, sizeof(float) * 3);
+    std::vector<size_t> previous(ranges.size());
+    for (size_t s = 0; s < ranges.size(); ++s)
+        previous[s] = ranges[s].count;
+    LocalRange local(v.count);
+    for (uint32_t level = 1; level <= levels; ++level) {
+        const std::optional<float> levelError =
+            appendLodLevel(level, v, scale, ranges, settings, previous, local, indices, submeshes);
+        if (!levelError) break;
+        stats.lodErrors.push_back(*levelError);
+    }
+}
+
+// 9 + 10. Streams and indices encoded into `out`, with the bounds of the positions as stored.
+// U16 indices stop at 65535 vertices so that no index is 0xFFFF, the primitive restart value a
+// player may enable.
+void encodeWithBounds(const VertexData& v, const std::vector<uint32_t>& indices,
+                      const StreamNeeds& needs, const MeshSettings& settings, ProcessedMesh& out,
+                      MeshStats& stats) {
     out.vertexCount = uint32_t(v.count);
     std::vector<float> stored;
     out.streams =
         encodeStreams(v, needs, boundsOfAll(v.positions), settings.quantize, stored, stats);
-    // 10. Bounds of the stored positions.
     out.bounds = boundsOfAll(stored);
     out.boundingSphere = boundingSphere(stored, out.bounds);
     for (Submesh& s : out.submeshes)
@@ -480,6 +531,26 @@ Result<ProcessedMesh, ConvertError> processMesh(const IrMesh& mesh, const Stream
     out.indexType = v.count <= 65535 ? IndexType::U16 : IndexType::U32;
     out.indices = encodeIndices(indices, out.indexType);
     stats.outputVertices = v.count;
+}
+
+} // namespace
+
+Result<ProcessedMesh, ConvertError> processMesh(const IrMesh& mesh, const StreamNeeds& needs,
+                                                const MeshSettings& settings, MeshStats& stats) {
+    stats = MeshStats{};
+    if (auto error = validateMesh(mesh, settings, stats)) return *error;
+    MergedMesh merged = mergePrimitives(mesh, needs, size_t(stats.inputVertices), stats);
+    completeNormalsAndTangents(merged, needs, stats);
+    VertexData& v = merged.v;
+    std::vector<uint32_t>& indices = merged.indices;
+    weldOutputStreams(v, indices);
+    if (settings.optimize && !indices.empty()) optimiseForGpu(v, indices, merged.ranges);
+
+    ProcessedMesh out;
+    out.name = mesh.name;
+    out.submeshes = level0Submeshes(mesh, merged.ranges);
+    appendLods(v, merged.ranges, settings, indices, out.submeshes, stats);
+    encodeWithBounds(v, indices, needs, settings, out, stats);
     return out;
 }
 

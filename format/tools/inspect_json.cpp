@@ -76,8 +76,10 @@ void jsonHeader(Json& j, const InspectOptions& opt, const Container& c, const Ch
     j.key("frame_overhead_bytes").uint(t.overheadBytes);
 }
 
-void jsonScene(Json& j, const Scene& s) {
-    j.key("scene").beginObject();
+namespace {
+
+// The scene's own facts: its INFO, and the counts of strings and skipped chunks.
+void jsonSceneInfo(Json& j, const Scene& s) {
     j.key("info").beginObject();
     j.key("name").name(s, s.info.name);
     j.key("generator").name(s, s.info.generator);
@@ -88,7 +90,9 @@ void jsonScene(Json& j, const Scene& s) {
     j.key("string_count").uint(s.strings.strings.size());
     j.key("unknown_chunks").uint(s.unknownChunks);
     j.key("newer_chunks").uint(s.newerChunks);
+}
 
+void jsonRenderSettings(Json& j, const Scene& s) {
     // An array, not an object: keys may repeat in a file and order is meaningful to readers.
     j.key("render_settings").beginArray();
     for (const Setting& e : s.settings.entries) {
@@ -98,7 +102,10 @@ void jsonScene(Json& j, const Scene& s) {
         j.endObject();
     }
     j.endArray();
+}
 
+// Shader sources, then the programs linking them.
+void jsonShadersAndPrograms(Json& j, const Scene& s) {
     j.key("shaders").beginArray();
     for (const ShaderSource& sh : s.shaders) {
         j.beginObject(true);
@@ -128,7 +135,9 @@ void jsonScene(Json& j, const Scene& s) {
         j.endObject();
     }
     j.endArray();
+}
 
+void jsonTextures(Json& j, const Scene& s) {
     j.key("textures").beginArray();
     for (size_t i = 0; i < s.textures.size(); ++i) {
         const TextureDesc& x = s.textures[i];
@@ -154,7 +163,9 @@ void jsonScene(Json& j, const Scene& s) {
     j.key("chunks").uint(s.textureMips.size());
     j.key("texel_bytes").uint(mipBytes(s));
     j.endObject();
+}
 
+void jsonMaterials(Json& j, const Scene& s) {
     j.key("materials").beginArray();
     for (const Material& m : s.materials) {
         j.beginObject();
@@ -188,7 +199,9 @@ void jsonScene(Json& j, const Scene& s) {
         j.endObject();
     }
     j.endArray();
+}
 
+void jsonMeshes(Json& j, const Scene& s) {
     j.key("meshes").beginArray();
     for (const Mesh& m : s.meshes) {
         j.beginObject();
@@ -228,7 +241,9 @@ void jsonScene(Json& j, const Scene& s) {
         j.endObject();
     }
     j.endArray();
+}
 
+void jsonLightsAndCameras(Json& j, const Scene& s) {
     j.key("lights").beginArray();
     for (const Light& l : s.lights.lights) {
         j.beginObject(true);
@@ -259,7 +274,10 @@ void jsonScene(Json& j, const Scene& s) {
         j.endObject();
     }
     j.endArray();
+}
 
+// Node counts (not each node: a scene may hold millions), then the camera paths.
+void jsonNodesAndCameraPaths(Json& j, const Scene& s) {
     NodeCounts n = countNodes(s.nodes);
     j.key("nodes").beginObject(true);
     j.key("count").uint(s.nodes.nodes.size());
@@ -280,6 +298,21 @@ void jsonScene(Json& j, const Scene& s) {
         j.endObject();
     }
     j.endArray();
+}
+
+} // namespace
+
+// The decoded scene as the object "scene": one member per kind of content, in a fixed order.
+void jsonScene(Json& j, const Scene& s) {
+    j.key("scene").beginObject();
+    jsonSceneInfo(j, s);
+    jsonRenderSettings(j, s);
+    jsonShadersAndPrograms(j, s);
+    jsonTextures(j, s);
+    jsonMaterials(j, s);
+    jsonMeshes(j, s);
+    jsonLightsAndCameras(j, s);
+    jsonNodesAndCameraPaths(j, s);
     j.endObject();
 }
 

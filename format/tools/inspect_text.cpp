@@ -115,7 +115,10 @@ void textHeader(std::string& o, const InspectOptions& opt, const Container& c,
          " bytes\n";
 }
 
-void textScene(std::string& o, const Scene& s) {
+namespace {
+
+// The scene's own facts: its INFO, and the counts of strings and skipped chunks.
+void textSceneInfo(std::string& o, const Scene& s) {
     o += "\nscene:\n";
     o += "  name: " + nameText(s, s.info.name) + "\n";
     o += "  generator: " + nameText(s, s.info.generator) + "\n";
@@ -127,11 +130,15 @@ void textScene(std::string& o, const Scene& s) {
     if (s.newerChunks > 0)
         o += "  newer chunk versions (read by the fields this reader knows, the rest ignored): " +
              u64(s.newerChunks) + "\n";
+}
 
+void textRenderSettings(std::string& o, const Scene& s) {
     o += "\nrender settings (" + u64(s.settings.entries.size()) + "):\n";
     for (const Setting& e : s.settings.entries)
         o += "  " + textEscape(s.str(e.key)) + "=" + textEscape(s.str(e.value)) + "\n";
+}
 
+void textShaders(std::string& o, const Scene& s) {
     o += "\nshaders (" + u64(s.shaders.size()) + "):\n";
     if (!s.shaders.empty()) {
         TextTable t({"#", "name", "stage", "source bytes"}, "rllr");
@@ -140,7 +147,9 @@ void textScene(std::string& o, const Scene& s) {
                    u64(s.shaders[i].source.size())});
         t.print(o);
     }
+}
 
+void textPrograms(std::string& o, const Scene& s) {
     o += "\nprograms (" + u64(s.programs.size()) + "):\n";
     if (!s.programs.empty()) {
         TextTable t({"#", "name", "stages", "defines"}, "rlll");
@@ -155,7 +164,9 @@ void textScene(std::string& o, const Scene& s) {
         }
         t.print(o);
     }
+}
 
+void textMaterials(std::string& o, const Scene& s) {
     o += "\nmaterials (" + u64(s.materials.size()) + "):\n";
     if (!s.materials.empty()) {
         TextTable t({"#", "name", "path", "layer", "alpha", "cutoff", "sided", "shadows",
@@ -184,7 +195,9 @@ void textScene(std::string& o, const Scene& s) {
         }
         t.print(o);
     }
+}
 
+void textMeshes(std::string& o, const Scene& s) {
     o += "\nmeshes (" + u64(s.meshes.size()) + "):\n";
     if (!s.meshes.empty()) {
         TextTable t({"#", "name", "primitive", "vertices", "triangles", "index", "streams",
@@ -201,7 +214,9 @@ void textScene(std::string& o, const Scene& s) {
         }
         t.print(o);
     }
+}
 
+void textTextures(std::string& o, const Scene& s) {
     o += "\ntextures (" + u64(s.textures.size()) + "):\n";
     if (!s.textures.empty()) {
         TextTable t({"#", "name", "dim", "format", "size", "layers", "mips", "stored mips",
@@ -221,7 +236,9 @@ void textScene(std::string& o, const Scene& s) {
     }
     o += "  texture mips: " + u64(s.textureMips.size()) + " chunks, " + u64(mipBytes(s)) +
          " texel bytes\n";
+}
 
+void textLights(std::string& o, const Scene& s) {
     o += "\nlights (" + u64(s.lights.lights.size()) + "):\n";
     if (!s.lights.lights.empty()) {
         TextTable t({"#", "name", "type", "colour", "intensity", "range", "cone (rad)", "shadows",
@@ -239,7 +256,9 @@ void textScene(std::string& o, const Scene& s) {
         }
         t.print(o);
     }
+}
 
+void textCameras(std::string& o, const Scene& s) {
     o += "\ncameras (" + u64(s.cameras.cameras.size()) + "):\n";
     if (!s.cameras.cameras.empty()) {
         TextTable t({"#", "name", "projection", "yfov (rad)", "aspect", "znear", "zfar"},
@@ -254,7 +273,10 @@ void textScene(std::string& o, const Scene& s) {
         }
         t.print(o);
     }
+}
 
+// Node counts (not each node: a scene may hold millions), then the camera paths.
+void textNodesAndCameraPaths(std::string& o, const Scene& s) {
     NodeCounts n = countNodes(s.nodes);
     o += "\nnodes: " + u64(s.nodes.nodes.size()) + " (roots " + u64(n.roots) + ", with mesh " +
          u64(n.withMesh) + ", with light " + u64(n.withLight) + ", with camera " +
@@ -270,17 +292,41 @@ void textScene(std::string& o, const Scene& s) {
         }
         t.print(o);
     }
+}
 
+// The environment (ENVM), when the file has one.
+void textEnvironment(std::string& o, const Scene& s) {
     if (const auto& e = s.environment) {
-        auto texture = [&](uint32_t t) { return t == kNone ? std::string("none") : "texture " + u64(t); };
-        o += "\nenvironment: " + nameText(s, e->name) + " (" + nameOf(e->source, kEnvironmentSourceNames) +
-             (e->generated ? ", generated" : "") + "), radiance " + texture(e->radiance) + ", specular " + texture(e->specular) + ", BRDF table " +
-             texture(e->brdfLut) + "\n";
+        auto texture = [&](uint32_t t) {
+            return t == kNone ? std::string("none") : "texture " + u64(t);
+        };
+        o += "\nenvironment: " + nameText(s, e->name) + " (" +
+             nameOf(e->source, kEnvironmentSourceNames) + (e->generated ? ", generated" : "") +
+             "), radiance " + texture(e->radiance) + ", specular " + texture(e->specular) +
+             ", BRDF table " + texture(e->brdfLut) + "\n";
         o += "  irradiance SH band 0 (lux): " + vecText(e->irradianceSh[0]) + "\n";
         if (e->source == EnvironmentSource::AnalyticSky)
-            o += "  sky: sun " + vecText(e->sunDirection) + ", turbidity " + num(e->turbidity) + ", ground " +
-                 vecText(e->groundAlbedo) + ", sun " + num(e->sunIlluminance) + " lux\n";
+            o += "  sky: sun " + vecText(e->sunDirection) + ", turbidity " + num(e->turbidity) +
+                 ", ground " + vecText(e->groundAlbedo) + ", sun " + num(e->sunIlluminance) +
+                 " lux\n";
     }
+}
+
+} // namespace
+
+// The decoded scene, one section per kind of content, in a fixed order.
+void textScene(std::string& o, const Scene& s) {
+    textSceneInfo(o, s);
+    textRenderSettings(o, s);
+    textShaders(o, s);
+    textPrograms(o, s);
+    textMaterials(o, s);
+    textMeshes(o, s);
+    textTextures(o, s);
+    textLights(o, s);
+    textCameras(o, s);
+    textNodesAndCameraPaths(o, s);
+    textEnvironment(o, s);
 }
 
 } // namespace pnb::inspect_detail
