@@ -83,6 +83,17 @@ struct BuiltinPrograms {
     GlHandle emptyVao; // full-screen passes draw without attributes
 };
 
+// The CPU side of a frame: what the subsystems' plan steps read. Holds no GL object, so a plan
+// step is tested without a context (tests/player/frame_plan_test.cpp).
+struct FrameView {
+    const GpuScene& scene;
+    const RenderSettings& settings;
+    const ViewMatrices& view;
+    const LodState& lod;
+    uint32_t width = 0, height = 0; // the render size
+    bool warmUp = false;
+};
+
 struct FrameContext {
     const GpuScene& scene;
     const RenderSettings& settings;
@@ -120,5 +131,9 @@ inline uint32_t warmUpCount(const FrameContext& ctx, uint32_t count) {
 
 // Full-screen triangle (fullscreen.vert: no vertex buffer).
 void drawFullscreenTriangle();
+
+inline FrameView frameView(const FrameContext& ctx) {
+    return {ctx.scene, ctx.settings, ctx.view, ctx.lod, ctx.targets.width, ctx.targets.height, ctx.warmUp};
+}
 
 } // namespace pnb::player

@@ -31,6 +31,7 @@
 namespace pnb::player {
 
 struct FrameContext;
+struct FrameView;
 struct ShadowContext;
 
 constexpr uint32_t kMaxGiCascades = 4;
@@ -112,6 +113,10 @@ struct GiContext {
     bool diffuse = false;
 };
 
+// The CPU step, without GL: GI's cascades (or the probes' grid) around the camera, or why GI is
+// off (gi.frame.off); the sun's RSM fit, what it draws, the probes' inputs and the GiBlock.
+void planGi(const FrameView& in, GiContext& gi, const ShadowContext& shadows, GiBlock& block);
+// planGi, then the volumes' storage, the RSM's object blocks and frame block, the GiBlock.
 void prepareGi(FrameContext& ctx, GiContext& gi, const ShadowContext& shadows);                 // gi_setup.cpp
 void runGiRsm(FrameContext& ctx, GiContext& gi);                  // pass_gi_rsm.cpp
 void runGiInject(FrameContext& ctx, GiContext& gi);               // pass_gi_inject.cpp: RSM texels

@@ -1,4 +1,5 @@
-// GI's per-frame set-up: the cascades, the RSM's fit, what it draws, the GiBlock (gi.h).
+// GI's per-frame set-up (gi.h): planned without GL (planGi): the cascades, the RSM's fit, what it
+// draws, the GiBlock; then the volumes' storage and the ring (prepareGi).
 #include <algorithm>
 #include <bit>
 #include <cmath>
@@ -63,15 +64,13 @@ std::pair<glm::dvec3, glm::dvec3> lightBounds(const glm::dmat3& rotation, const 
 
 } // namespace
 
-void prepareGi(FrameContext& ctx, GiContext& gi, const ShadowContext& shadows) {
+namespace {
+
+// The cascades (or the probes' one grid) around the camera, or none with the reason in f.off.
+void placeGiCascades(const FrameView& in, GiContext& gi, const ShadowContext& shadows, int sun) {
     GiFrame& f = gi.frame;
-    const RenderSettings& s = ctx.settings;
-    const GpuScene& scene = ctx.scene;
-    f.active = f.following = false;
-    f.cascades.clear();
-    f.rsmItems.clear();
-    f.rsmObjectOffsets.clear();
-    int sun = giLight(scene);
+    const RenderSettings& s = in.settings;
+    const GpuScene& scene = in.scene;
     if (s.giEnabled && gi.diffuseVersion != scene.materialsVersion) {
         gi.diffuse = anyDiffuseSurface(scene);
         gi.diffuseVersion = scene.materialsVersion;
@@ -86,47 +85,35 @@ void prepareGi(FrameContext& ctx, GiContext& gi, const ShadowContext& shadows) {
         gi.warned = true;
         std::fprintf(stderr, "pnb-play: gi.enabled, but %s: no indirect light\n", f.off);
     }
-    if (diffuse) {
-        glm::dvec3 forward = ctx.view.forward();
-        // The camera the following cascades centre on. An orthographic view shows everything on
-        // its axis at one size, wherever the camera stands on it (often far back): they centre on
-        // the axis point nearest the scene's centre (within the near and far planes) instead.
-        glm::dvec3 anchor = ctx.view.position;
-        if (ctx.view.orthographic) {
-            const glm::dvec3 centre = 0.5 * (shadows.sceneMin + shadows.sceneMax);
-            const double along = std::clamp(glm::dot(centre - anchor, forward), double(ctx.view.znear),
-                                            double(std::max(ctx.view.zfar, ctx.view.znear)));
-            anchor += forward * along;
-        }
-        // Probes: one grid (the outer cascade's box, or following the camera with gi.cell_size).
-        const bool probes = s.giTechnique == GiTechnique::Probes;
-        double cellSize = s.giCellSize;
-        if (probes && cellSize == 0)
-            cellSize = probeCellSize(s.giProbeCells, s.giProbeMaxSpacing, shadows.sceneMin, shadows.sceneMax);
-        f.following = cellSize > 0;
-        f.cascades = placeCascades(probes ? 1u : std::min(s.giCascades, kMaxGiCascades),
-                                   probes ? s.giProbeCells : s.giCells, cellSize, shadows.sceneMin,
-                                   shadows.sceneMax, anchor, forward);
+    if (!diffuse) return;
+    const ViewMatrices& view = in.view;
+    glm::dvec3 forward = view.forward();
+    // The camera the following cascades centre on. An orthographic view shows everything on
+    // its axis at one size, wherever the camera stands on it (often far back): they centre on
+    // the axis point nearest the scene's centre (within the near and far planes) instead.
+    glm::dvec3 anchor = view.position;
+    if (view.orthographic) {
+        const glm::dvec3 centre = 0.5 * (shadows.sceneMin + shadows.sceneMax);
+        const double along = std::clamp(glm::dot(centre - anchor, forward), double(view.znear),
+                                        double(std::max(view.zfar, view.znear)));
+        anchor += forward * along;
     }
-    if (f.cascades.empty()) {
-        gi.resources = GiResources{}; // GI off: nothing allocated, nothing compiled
-        return;
-    }
-    const uint64_t giBytes = gi.resources.bytes; // checked only when storage was made (renderer.cpp)
-    auto ok = gi.resources.ensure(s, uint32_t(f.cascades.size()));
-    if (ok && gi.resources.bytes != giBytes) ok = checkGlAllocation("GI's volumes", gi.resources.bytes);
-    if (!ok) {
-        std::fprintf(stderr, "pnb-play: GI off: %s\n", ok.error().message.c_str());
-        gi.resources = GiResources{};
-        f.cascades.clear();
-        f.off = "its volumes could not be allocated (see the message above)";
-        return;
-    }
-    f.active = true;
-    const SceneLight& light = scene.lights[size_t(sun)];
-    f.toward = -glm::normalize(glm::dvec3(lightDirection(light, s)));
-    const glm::dvec3 cam = ctx.view.position;
+    // Probes: one grid (the outer cascade's box, or following the camera with gi.cell_size).
+    const bool probes = s.giTechnique == GiTechnique::Probes;
+    double cellSize = s.giCellSize;
+    if (probes && cellSize == 0)
+        cellSize = probeCellSize(s.giProbeCells, s.giProbeMaxSpacing, shadows.sceneMin, shadows.sceneMax);
+    f.following = cellSize > 0;
+    f.cascades = placeCascades(probes ? 1u : std::min(s.giCascades, kMaxGiCascades),
+                               probes ? s.giProbeCells : s.giCells, cellSize, shadows.sceneMin,
+                               shadows.sceneMax, anchor, forward);
+}
 
+// The RSM: a square in light space over the outer cascade's part of the scene, and the items it
+// draws.
+void fitGiRsm(const FrameView& in, GiFrame& f, const ShadowContext& shadows) {
+    const RenderSettings& s = in.settings;
+    const glm::dvec3 cam = in.view.position;
     // The RSM covers the outer cascade's part of the scene, as a square in light space whose
     // centre is snapped to whole texels in absolute light space (it does not swim while the
     // cascade stays put); toward the light it reaches the scene's top (occluders above).
@@ -153,51 +140,101 @@ void prepareGi(FrameContext& ctx, GiContext& gi, const ShadowContext& shadows) {
     f.rsmTexelArea = (side / res) * (side / res);
 
     // What the RSM draws: opaque and masked items whose bounds reach its rectangle.
-    glm::dmat4 toCamera = glm::translate(glm::dmat4(1.0), -cam);
+    const GpuScene& scene = in.scene;
     for (uint32_t i = 0; i < scene.items.size(); ++i) {
         const DrawItem& item = scene.items[i];
         if (scene.materials[item.material].rsmProgram == kNone) continue;
         auto [ilo, ihi] = lightBounds(rotation, item.boundsMin, item.boundsMax, cam);
         glm::dvec2 rlo = centre - 0.5 * side, rhi = centre + 0.5 * side;
-        if (!ctx.warmUp && (ihi.x < rlo.x || ilo.x > rhi.x || ihi.y < rlo.y || ilo.y > rhi.y)) continue;
+        if (!in.warmUp && (ihi.x < rlo.x || ilo.x > rhi.x || ihi.y < rlo.y || ilo.y > rhi.y)) continue;
         f.rsmItems.push_back(i);
-        f.rsmObjectOffsets.push_back(pushObjectBlock(scene, item, toCamera, ctx.ring, 0.0f));
     }
-    // Probes: what the gather depends on. Not the camera: the volume holds world directions and
-    // the grid's place is in the list.
-    f.probeInputs.clear();
-    f.probesCurrent = false;
-    if (s.giTechnique == GiTechnique::Probes) {
-        auto put = [&](double v) { f.probeInputs.push_back(std::bit_cast<uint64_t>(v)); };
-        for (int k = 0; k < 3; ++k) put(f.toward[k]), put(outer.origin[k]);
-        put(outer.cellSize);
-        f.probeInputs.insert(f.probeInputs.end(), {outer.cells, res, s.giVpls, s.giVoxels,
-                                                   uint64_t(s.giProbeVisibility), scene.materialsVersion,
-                                                   scene.texelsVersion});
-        for (uint32_t i : f.rsmItems) f.probeInputs.push_back(drawLevel(scene, ctx.lod, i));
-        f.probesCurrent = s.giProbeCache && !ctx.warmUp && f.probeInputs == gi.resources.probeInputs;
-    }
-    FrameBlock rsmFrame{};
-    rsmFrame.viewProjection = glm::mat4(f.rsm.matrix);
-    rsmFrame.view = glm::mat4(1.0f);
-    rsmFrame.cameraPosition = glm::vec4(glm::vec3(cam), 1);
-    rsmFrame.viewport = {float(res), float(res), 1.0f / float(res), 1.0f / float(res)};
-    f.rsmFrameOffset = ctx.ring.push(&rsmFrame, sizeof rsmFrame);
+}
 
+// Probes: what the gather depends on. Not the camera: the volume holds world directions and the
+// grid's place is in the list.
+void listProbeInputs(const FrameView& in, GiFrame& f) {
+    const RenderSettings& s = in.settings;
+    f.probeInputs.clear();
+    if (s.giTechnique != GiTechnique::Probes) return;
+    const LpvCascade& outer = f.cascades.back();
+    auto put = [&](double v) { f.probeInputs.push_back(std::bit_cast<uint64_t>(v)); };
+    for (int k = 0; k < 3; ++k) put(f.toward[k]), put(outer.origin[k]);
+    put(outer.cellSize);
+    f.probeInputs.insert(f.probeInputs.end(), {outer.cells, s.giRsmResolution, s.giVpls, s.giVoxels,
+                                               uint64_t(s.giProbeVisibility), in.scene.materialsVersion,
+                                               in.scene.texelsVersion});
+    for (uint32_t i : f.rsmItems) f.probeInputs.push_back(drawLevel(in.scene, in.lod, i));
+}
+
+} // namespace
+
+void planGi(const FrameView& in, GiContext& gi, const ShadowContext& shadows, GiBlock& block) {
+    GiFrame& f = gi.frame;
+    const RenderSettings& s = in.settings;
+    const GpuScene& scene = in.scene;
+    f.active = f.following = false;
+    f.cascades.clear();
+    f.rsmItems.clear();
+    f.rsmObjectOffsets.clear();
+    f.probeInputs.clear();
+    block = GiBlock{};
+    const int sun = giLight(scene);
+    placeGiCascades(in, gi, shadows, sun);
+    if (f.cascades.empty()) return;
+    const SceneLight& light = scene.lights[size_t(sun)];
+    f.toward = -glm::normalize(glm::dvec3(lightDirection(light, s)));
+    fitGiRsm(in, f, shadows);
+    listProbeInputs(in, f);
     // Fixed point: the largest value one texel adds is its area over the finest cell's face
     // (times the lobe's 1/pi * c0 < 1), a cell sums a few of them.
     double finest = f.cascades.front().cellSize;
     f.lightScale = fixedScale(4.0 * std::max(1.0, f.rsmTexelArea / (finest * finest)));
     f.geometryScale = float(1 << 20); // a blocking surfel adds at most 4/3 x the lobe
 
-    GiBlock block{};
+    const glm::dvec3 cam = in.view.position;
     for (size_t c = 0; c < f.cascades.size(); ++c)
         block.cascade[c] = glm::vec4(glm::vec3(f.cascades[c].origin - cam), float(f.cascades[c].cellSize));
-    block.grid = {float(gi.resources.cells), float(f.cascades.size()), f.following ? 1.0f : 0.0f,
+    block.grid = {float(f.cascades.back().cells), float(f.cascades.size()), f.following ? 1.0f : 0.0f,
                   gi.capture || s.debugView == DebugView::GiIndirect ? 1.0f : 0.0f};
     glm::vec3 irradiance = glm::vec3(light.desc.color.x, light.desc.color.y, light.desc.color.z) *
                            (light.desc.intensity * s.giIntensity);
     block.irradiance = glm::vec4(irradiance, 0);
+}
+
+void prepareGi(FrameContext& ctx, GiContext& gi, const ShadowContext& shadows) {
+    GiBlock block;
+    planGi(frameView(ctx), gi, shadows, block);
+    GiFrame& f = gi.frame;
+    if (f.cascades.empty()) {
+        gi.resources = GiResources{}; // GI off: nothing allocated, nothing compiled
+        return;
+    }
+    const RenderSettings& s = ctx.settings;
+    const uint64_t giBytes = gi.resources.bytes; // checked only when storage was made
+    auto ok = gi.resources.ensure(s, uint32_t(f.cascades.size()));
+    if (ok && gi.resources.bytes != giBytes) ok = checkGlAllocation("GI's volumes", gi.resources.bytes);
+    if (!ok) {
+        std::fprintf(stderr, "pnb-play: GI off: %s\n", ok.error().message.c_str());
+        gi.resources = GiResources{};
+        f.cascades.clear();
+        f.off = "its volumes could not be allocated (see the message above)";
+        return;
+    }
+    f.active = true;
+    const GpuScene& scene = ctx.scene;
+    const glm::dvec3 cam = ctx.view.position;
+    const glm::dmat4 toCamera = glm::translate(glm::dmat4(1.0), -cam);
+    for (uint32_t i : f.rsmItems) f.rsmObjectOffsets.push_back(pushObjectBlock(scene, scene.items[i], toCamera, ctx.ring, 0.0f));
+    f.probesCurrent = s.giTechnique == GiTechnique::Probes && s.giProbeCache && !ctx.warmUp &&
+                      f.probeInputs == gi.resources.probeInputs;
+    const uint32_t res = s.giRsmResolution;
+    FrameBlock rsmFrame{};
+    rsmFrame.viewProjection = glm::mat4(f.rsm.matrix);
+    rsmFrame.view = glm::mat4(1.0f);
+    rsmFrame.cameraPosition = glm::vec4(glm::vec3(cam), 1);
+    rsmFrame.viewport = {float(res), float(res), 1.0f / float(res), 1.0f / float(res)};
+    f.rsmFrameOffset = ctx.ring.push(&rsmFrame, sizeof rsmFrame);
     f.blockOffset = ctx.ring.push(&block, sizeof block);
 }
 

@@ -11,6 +11,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <vector>
 
 #include <glm/glm.hpp>
 
@@ -21,6 +22,7 @@
 namespace pnb::player {
 
 struct FrameContext;
+struct FrameView;
 struct SceneLight;
 
 // std430 GpuLight (lights.glsl).
@@ -62,12 +64,23 @@ struct LightContext {
     bool clustered = false;  // this frame
     LightClusterGrid grid;   // this frame's, if clustered
     uint32_t localLights = 0;
+    std::vector<GpuLight> list;      // this frame's lights, camera-relative (planLights)
+    std::vector<glm::vec4> spheres;  // their view-space bounding spheres, if clustered
     std::byte* listData = nullptr; // this frame's light list in the mapped ring (GpuLight at 16 + 64 i)
     size_t listOffset = 0, listBytes = 0; // its place in the ring
+    size_t sphereOffset = 0;              // the spheres' place in the ring (clustered)
 };
 
 // Writes this frame's light list into the ring (binding 3) and, if clustering, runs the cluster
 // pass (binding 8). After the view and the viewport are known, before any lighting.
+// The CPU step, without GL: the light list, and where the frame clusters, the lights' spheres
+// and the cluster grid.
+void planLights(const FrameView& in, LightContext& lights);
+
+// planLights, then the list (and spheres) into the ring, bound for lighting (binding 3).
 void prepareLights(FrameContext& ctx, LightContext& lights);
+
+// The lights.clusters pass: one light mask per screen tile and per depth slice (binding 8).
+void runLightClusters(FrameContext& ctx, const LightContext& lights);
 
 } // namespace pnb::player

@@ -1,6 +1,7 @@
-// The frame's light list and light clusters (light_clusters.h): the lights go into the stream
-// ring camera-relative; where the frame clusters, their view-space bounding spheres follow, and
-// light_clusters.comp turns them into one mask per screen tile and one per depth slice.
+// The frame's light list and light clusters (light_clusters.h): planned without GL (planLights),
+// the lights go into the stream ring camera-relative; where the frame clusters, their view-space
+// bounding spheres follow, and light_clusters.comp (the lights.clusters pass) turns them into one
+// mask per screen tile and one per depth slice.
 #include <algorithm>
 #include <cstdio>
 #include <cstring>
@@ -15,14 +16,53 @@
 
 namespace pnb::player {
 
-void prepareLights(FrameContext& ctx, LightContext& lc) {
-    const uint32_t width = ctx.targets.width, height = ctx.targets.height;
-    const GpuScene& scene = ctx.scene;
+void planLights(const FrameView& in, LightContext& lc) {
+    const GpuScene& scene = in.scene;
+    const ViewMatrices& view = in.view;
     const uint32_t count = uint32_t(scene.lights.size());
     lc.localLights = uint32_t(std::count_if(scene.lights.begin(), scene.lights.end(), [](const SceneLight& l) {
         return l.desc.type != LightType::Directional;
     }));
-    lc.clustered = clustersWanted(ctx.settings, lc.localLights) && ctx.view.znear > 0.0f;
+    lc.clustered = clustersWanted(in.settings, lc.localLights) && view.znear > 0.0f;
+    lc.list.resize(count);
+    lc.spheres.resize(lc.clustered ? count : 0);
+    // View depths local lights reach: the slices span them and no more.
+    float nearest = std::numeric_limits<float>::max(), farthest = 0.0f;
+    for (uint32_t i = 0; i < count; ++i) {
+        const SceneLight& l = scene.lights[i];
+        GpuLight& g = lc.list[i];
+        // The range lighting uses, windowed to zero at its end: the light's own, or where its
+        // illuminance falls to the cut-off (pnb/light_range.h). The same with and without
+        // clusters, so culling by it changes no pixel.
+        g.positionRange = glm::vec4(glm::vec3(l.position - view.position), pnb::effectiveLightRange(l.desc));
+        g.directionType = glm::vec4(lightDirection(l, in.settings), float(int(l.desc.type)));
+        g.colorIntensity = glm::vec4(l.desc.color.x, l.desc.color.y, l.desc.color.z, l.desc.intensity);
+        const float cosOuter = std::cos(l.desc.outerConeRadians), cosInner = std::cos(l.desc.innerConeRadians);
+        g.cone = {cosOuter, 1.0f / std::max(cosInner - cosOuter, 1e-4f), -1, 0}; // z: no shadow tile yet
+        if (lc.clustered) {
+            const glm::vec4 sphere = lightBoundingSphere(g, view.view);
+            lc.spheres[i] = sphere;
+            if (sphere.w >= 0.0f) {
+                nearest = std::min(nearest, -sphere.z - sphere.w);
+                farthest = std::max(farthest, -sphere.z + sphere.w);
+            }
+        }
+    }
+    if (!lc.clustered) return;
+    // Slices span the view depths lights reach, from the near plane at the nearest: none is
+    // spent before the nearest light or beyond the farthest (the first and last slices stay
+    // open-ended in light_clusters.comp, so nothing is lost at either end).
+    float zNear = std::max(nearest, view.znear);
+    float zFar = farthest;
+    if (view.zfar > 0.0f) zFar = std::min(zFar, view.zfar);
+    // An orthographic near plane may be 0 (glTF allows it): the log slicing needs a start > 0.
+    if (!(zNear > 0.0f)) zNear = zFar > 0.0f ? 1e-6f * zFar : 1e-6f;
+    lc.grid = lightClusterGrid(in.width, in.height, in.settings.lightTilePx, in.settings.lightSlices, count,
+                               zNear, zFar);
+}
+
+void prepareLights(FrameContext& ctx, LightContext& lc) {
+    planLights(frameView(ctx), lc);
     if (lc.clustered && !lc.clusterProgram) {
         auto p = compileEmbeddedCompute("light_clusters.comp", {});
         if (p) lc.clusterProgram = std::move(*p);
@@ -34,63 +74,25 @@ void prepareLights(FrameContext& ctx, LightContext& lc) {
         lc.masks = {};
         lc.maskCapacity = 0;
     }
-
-    // The light list, written straight into the mapped ring (no per-frame allocation).
-    const size_t lightBytes = 16 + sizeof(GpuLight) * count;
-    std::byte* lightData = nullptr;
-    const size_t lightOffset = ctx.ring.allocate(lightBytes, lightData);
-    lc.listData = lightData;
-    lc.listOffset = lightOffset;
-    lc.listBytes = lightBytes;
+    // The light list, written straight into the mapped ring, and the spheres beside it.
+    const uint32_t count = uint32_t(lc.list.size());
+    lc.listBytes = 16 + sizeof(GpuLight) * count;
+    lc.listOffset = ctx.ring.allocate(lc.listBytes, lc.listData);
     const uint32_t header[4] = {count, lc.clustered ? 1u : 0u, 0, 0};
-    std::memcpy(lightData, header, sizeof header);
-    // Spheres for the cluster pass, written beside the list.
-    std::byte* sphereData = nullptr;
-    const size_t sphereOffset = lc.clustered ? ctx.ring.allocate(sizeof(glm::vec4) * count, sphereData) : 0;
-    // View depths local lights reach: the slices span them and no more.
-    float nearest = std::numeric_limits<float>::max(), farthest = 0.0f;
-    for (uint32_t i = 0; i < count; ++i) {
-        const SceneLight& l = scene.lights[i];
-        GpuLight g;
-        // The range lighting uses, windowed to zero at its end: the light's own, or where its
-        // illuminance falls to the cut-off (pnb/light_range.h). The same with and without
-        // clusters, so culling by it changes no pixel.
-        g.positionRange = glm::vec4(glm::vec3(l.position - ctx.view.position), pnb::effectiveLightRange(l.desc));
-        g.directionType = glm::vec4(lightDirection(l, ctx.settings), float(int(l.desc.type)));
-        g.colorIntensity = glm::vec4(l.desc.color.x, l.desc.color.y, l.desc.color.z, l.desc.intensity);
-        const float cosOuter = std::cos(l.desc.outerConeRadians), cosInner = std::cos(l.desc.innerConeRadians);
-        g.cone = {cosOuter, 1.0f / std::max(cosInner - cosOuter, 1e-4f), -1, 0}; // z: no shadow tile yet
-        std::memcpy(lightData + 16 + i * sizeof g, &g, sizeof g);
-        if (lc.clustered) {
-            const glm::vec4 sphere = lightBoundingSphere(g, ctx.view.view);
-            std::memcpy(sphereData + i * sizeof sphere, &sphere, sizeof sphere);
-            if (sphere.w >= 0.0f) {
-                nearest = std::min(nearest, -sphere.z - sphere.w);
-                farthest = std::max(farthest, -sphere.z + sphere.w);
-            }
-        }
-    }
-    glBindBufferRange(GL_SHADER_STORAGE_BUFFER, 3, ctx.ring.buffer(), GLintptr(lightOffset),
-                      GLsizeiptr(lightBytes));
+    std::memcpy(lc.listData, header, sizeof header);
+    if (count) std::memcpy(lc.listData + 16, lc.list.data(), sizeof(GpuLight) * count);
+    glBindBufferRange(GL_SHADER_STORAGE_BUFFER, 3, ctx.ring.buffer(), GLintptr(lc.listOffset),
+                      GLsizeiptr(lc.listBytes));
     if (!lc.clustered) {
         // lights.glsl declares the clusters' block; it is not read while uLightsClustered is 0,
         // but a declared block wants a buffer: the light list stands in (no buffer of its own).
-        glBindBufferRange(GL_SHADER_STORAGE_BUFFER, 8, ctx.ring.buffer(), GLintptr(lightOffset),
-                          GLsizeiptr(lightBytes));
+        glBindBufferRange(GL_SHADER_STORAGE_BUFFER, 8, ctx.ring.buffer(), GLintptr(lc.listOffset),
+                          GLsizeiptr(lc.listBytes));
         return;
     }
-
-    ctx.timer.mark("light_clusters");
-    // Slices span the view depths lights reach, from the near plane at the nearest: none is
-    // spent before the nearest light or beyond the farthest (the first and last slices stay
-    // open-ended in light_clusters.comp, so nothing is lost at either end).
-    float zNear = std::max(nearest, ctx.view.znear);
-    float zFar = farthest;
-    if (ctx.view.zfar > 0.0f) zFar = std::min(zFar, ctx.view.zfar);
-    // An orthographic near plane may be 0 (glTF allows it): the log slicing needs a start > 0.
-    if (!(zNear > 0.0f)) zNear = zFar > 0.0f ? 1e-6f * zFar : 1e-6f;
-    lc.grid = lightClusterGrid(width, height, ctx.settings.lightTilePx, ctx.settings.lightSlices, count,
-                               zNear, zFar);
+    std::byte* sphereData = nullptr;
+    lc.sphereOffset = ctx.ring.allocate(sizeof(glm::vec4) * count, sphereData);
+    std::memcpy(sphereData, lc.spheres.data(), sizeof(glm::vec4) * count);
     ctx.stats.lightClusters = lc.grid.tilesX * lc.grid.tilesY * lc.grid.slices;
     const uint64_t bytes = lc.grid.maskBytes();
     if (bytes > lc.maskCapacity) {
@@ -99,21 +101,27 @@ void prepareLights(FrameContext& ctx, LightContext& lc) {
         glObjectLabel(GL_BUFFER, lc.masks.id(), -1, "light cluster masks");
         lc.maskCapacity = bytes;
     }
+}
+
+void runLightClusters(FrameContext& ctx, const LightContext& lc) {
+    if (!lc.clustered) return;
+    ctx.timer.mark("light_clusters");
+    const uint32_t count = uint32_t(lc.list.size());
     const GLuint program = lc.clusterProgram.id();
     const LightClusterGrid& g = lc.grid;
     glProgramUniform4ui(program, 0, g.tilesX, g.tilesY, g.slices, g.words);
     glProgramUniform4f(program, 1, g.invTilePx, g.sliceScale, g.sliceBias, 0.0f);
     glProgramUniform1ui(program, 2, count);
     glProgramUniformMatrix4fv(program, 3, 1, GL_FALSE, glm::value_ptr(ctx.view.projection));
-    glProgramUniform2f(program, 4, float(width), float(height));
+    glProgramUniform2f(program, 4, float(ctx.targets.width), float(ctx.targets.height));
     glUseProgram(program);
-    glBindBufferRange(GL_SHADER_STORAGE_BUFFER, 0, ctx.ring.buffer(), GLintptr(sphereOffset),
+    glBindBufferRange(GL_SHADER_STORAGE_BUFFER, 0, ctx.ring.buffer(), GLintptr(lc.sphereOffset),
                       GLsizeiptr(sizeof(glm::vec4) * count));
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, lc.masks.id());
     const uint64_t invocations = uint64_t(g.tilesX * g.tilesY + g.slices) * g.words;
     glDispatchCompute(GLuint((invocations + 63) / 64), 1, 1);
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
-    glBindBufferRange(GL_SHADER_STORAGE_BUFFER, 8, lc.masks.id(), 0, GLsizeiptr(bytes));
+    glBindBufferRange(GL_SHADER_STORAGE_BUFFER, 8, lc.masks.id(), 0, GLsizeiptr(g.maskBytes()));
 }
 
 } // namespace pnb::player

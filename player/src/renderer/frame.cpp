@@ -3,6 +3,8 @@
 // checks its declared reads and writes against every other pass's.
 #include "renderer/frame.h"
 
+#include "gl/gl_allocation.h"
+
 #include "gi/gi.h"
 #include "lights/light_clusters.h"
 #include "post/post.h"
@@ -51,10 +53,13 @@ void otherDeferredLayers(Frame& f) {
 }
 
 // The surfaces lighting reads, besides the targets.
-constexpr uint32_t kLit = kLightList | kShadowMaps | kLocalShadowMaps | kGiVolumes;
+constexpr uint32_t kLit = kLightList | kLightClusters | kShadowMaps | kLocalShadowMaps | kGiVolumes;
 
 constexpr FramePass kPasses[] = {
     // name                        reads                           writes
+    // The clusters read the lights' bounding spheres, written beside the list by the prepare step.
+    {"lights.clusters",            0,                              kLightClusters,        always,
+     [](Frame& f) { runLightClusters(f.ctx, f.lights); }},
     {"shadows.sdsm_fit(previous)", kPreviousDepth,                 kShadowFit,            sdsmOnPreviousDepth,
      [](Frame& f) { runSdsmFit(f.ctx, f.shadows); }},
     {"shadows.maps",               kShadowFit,                     kShadowMaps,           sunMapsEarly,
@@ -106,7 +111,8 @@ constexpr FramePass kPasses[] = {
 std::string resourceNames(uint32_t bits) {
     static const char* const names[] = {"light list", "shadow fit", "shadow maps", "local shadow maps",
                                         "GI RSM", "GI injection", "GI volumes", "previous depth",
-                                        "depth", "G-buffer", "HDR target", "output"};
+                                        "depth", "G-buffer", "HDR target", "output", "light clusters",
+                                        "sky height map"};
     std::string text;
     for (uint32_t i = 0; i < std::size(names); ++i)
         if (bits & (1u << i)) text += (text.empty() ? "" : ", ") + std::string(names[i]);
@@ -114,6 +120,53 @@ std::string resourceNames(uint32_t bits) {
 }
 
 } // namespace
+
+// Each subsystem's state for this frame (CPU fits, culling, the light list, GI's cascades, the
+// sky), the frame block, and the storage the passes draw into.
+PlayResult<Done> prepareFrame(Frame& f) {
+    FrameContext& ctx = f.ctx;
+    prepareLights(ctx, f.lights);
+    prepareShadows(ctx, f.shadows);
+    prepareGi(ctx, f.gi, f.shadows);
+    if (wantsSkyHeightMap(frameView(ctx))) renderSkyHeightMap(ctx, f.ibl); // once, then on edits
+    prepareIbl(ctx, f.ibl, f.gi);
+    const RenderSettings& s = ctx.settings;
+    FrameBlock fb;
+    fb.viewProjection = ctx.view.viewProjection;
+    fb.view = ctx.view.view;
+    fb.cameraPosition = glm::vec4(glm::vec3(ctx.view.position), 1);
+    const float w = float(ctx.targets.width), h = float(ctx.targets.height);
+    fb.viewport = {w, h, 1.0f / w, 1.0f / h};
+    // a: the GI cascades lighting reads (0: GI off, gi_lookup.glsl returns at once).
+    fb.ambient = glm::vec4(glm::vec3(s.ambient), float(f.gi.frame.cascades.size()));
+    ctx.frameBlockOffset = ctx.ring.push(&fb, sizeof fb);
+    glBindBufferRange(GL_UNIFORM_BUFFER, 0, ctx.ring.buffer(), GLintptr(ctx.frameBlockOffset), sizeof fb);
+    const ShadowFrame& shadowFrame = f.shadows.frame;
+    ShadowResources& maps = f.shadows.resources;
+    if (shadowFrame.active) {
+        const uint64_t shadowBytes = maps.mapBytes + maps.bufferBytes;
+        auto ok = maps.ensure(s.shadowResolution, shadowFrame.cascades, shadowFrame.gpuFit, f.shadows.casters,
+                              ctx.scene);
+        if (ok && maps.mapBytes + maps.bufferBytes != shadowBytes)
+            ok = checkGlAllocation("the shadow maps (shadows.resolution " + std::to_string(s.shadowResolution) + ")",
+                                   maps.mapBytes);
+        if (!ok) return ok.error();
+    } else if (maps.resolution) {
+        maps = ShadowResources{}; // nothing drawn: nothing allocated
+    }
+    return Done{};
+}
+
+FrameShape frameShape(const Frame& f) {
+    FrameShape shape;
+    shape.shadows = f.shadows.frame.active;
+    shape.sdsm = f.shadows.frame.gpuFit;
+    shape.deferred = !f.deferredLayers.empty();
+    shape.gi = f.gi.frame.active;
+    shape.giProbes = f.ctx.settings.giTechnique == GiTechnique::Probes;
+    shape.giCameraSurfels = f.ctx.settings.giCameraOcclusion;
+    return shape;
+}
 
 std::span<const FramePass> framePasses() { return kPasses; }
 

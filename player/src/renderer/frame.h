@@ -15,6 +15,8 @@
 #include <string>
 #include <vector>
 
+#include "pnb_player/play_error.h"
+
 namespace pnb::player {
 
 struct FrameContext;
@@ -39,6 +41,8 @@ enum FrameResource : uint32_t {
     kGBuffer = 1u << 9,
     kHdr = 1u << 10,
     kOutput = 1u << 11,
+    kLightClusters = 1u << 12,   // per tile and slice light masks
+    kSkyHeightMap = 1u << 13,    // the scene's heights seen from above (ibl.visibility = height)
 };
 constexpr uint32_t kAccumulatedResources = kDepth | kGBuffer | kHdr | kOutput;
 // Written before the list runs (the prepare step), or by the previous frame.
@@ -73,7 +77,15 @@ struct FramePass {
     void (*run)(Frame&);
 };
 
-// The frame, in order.
+// The stage before the passes, in order: each subsystem's prepare step (its CPU plan, then what it
+// writes into the ring), the sky's height map when stale, the frame block, and the sun's maps'
+// storage. Fails only when the GL cannot allocate that storage.
+PlayResult<Done> prepareFrame(Frame& frame);
+
+// The facts of this frame that choose its passes (after prepareFrame).
+FrameShape frameShape(const Frame& frame);
+
+// The frame's passes, in order.
 std::span<const FramePass> framePasses();
 
 // The names of the passes a frame of `shape` runs, in order (tests, --print-frame).

@@ -142,56 +142,6 @@ const std::string& Renderer::debugViewNote() const { return mImpl->debugViewNote
 
 GLuint Renderer::outputTexture() const { return mImpl->targets.output.id(); }
 
-namespace {
-
-// Each subsystem's state for this frame (CPU fits, culling, the light list, GI's cascades, the
-// sky), the frame block, and the storage the passes draw into.
-PlayResult<Done> prepareFrame(Frame& f) {
-    FrameContext& ctx = f.ctx;
-    prepareLights(ctx, f.lights);
-    prepareShadows(ctx, f.shadows);
-    prepareGi(ctx, f.gi, f.shadows);
-    prepareIbl(ctx, f.ibl, f.gi);
-    const RenderSettings& s = ctx.settings;
-    FrameBlock fb;
-    fb.viewProjection = ctx.view.viewProjection;
-    fb.view = ctx.view.view;
-    fb.cameraPosition = glm::vec4(glm::vec3(ctx.view.position), 1);
-    const float w = float(ctx.targets.width), h = float(ctx.targets.height);
-    fb.viewport = {w, h, 1.0f / w, 1.0f / h};
-    // a: the GI cascades lighting reads (0: GI off, gi_lookup.glsl returns at once).
-    fb.ambient = glm::vec4(glm::vec3(s.ambient), float(f.gi.frame.cascades.size()));
-    ctx.frameBlockOffset = ctx.ring.push(&fb, sizeof fb);
-    glBindBufferRange(GL_UNIFORM_BUFFER, 0, ctx.ring.buffer(), GLintptr(ctx.frameBlockOffset), sizeof fb);
-    const ShadowFrame& shadowFrame = f.shadows.frame;
-    ShadowResources& maps = f.shadows.resources;
-    if (shadowFrame.active) {
-        const uint64_t shadowBytes = maps.mapBytes + maps.bufferBytes;
-        auto ok = maps.ensure(s.shadowResolution, shadowFrame.cascades, shadowFrame.gpuFit, f.shadows.casters,
-                              ctx.scene);
-        if (ok && maps.mapBytes + maps.bufferBytes != shadowBytes)
-            ok = checkGlAllocation("the shadow maps (shadows.resolution " + std::to_string(s.shadowResolution) + ")",
-                                   maps.mapBytes);
-        if (!ok) return ok.error();
-    } else if (maps.resolution) {
-        maps = ShadowResources{}; // nothing drawn: nothing allocated
-    }
-    return Done{};
-}
-
-FrameShape frameShape(const Frame& f) {
-    FrameShape shape;
-    shape.shadows = f.shadows.frame.active;
-    shape.sdsm = f.shadows.frame.gpuFit;
-    shape.deferred = !f.deferredLayers.empty();
-    shape.gi = f.gi.frame.active;
-    shape.giProbes = f.ctx.settings.giTechnique == GiTechnique::Probes;
-    shape.giCameraSurfels = f.ctx.settings.giCameraOcclusion;
-    return shape;
-}
-
-} // namespace
-
 PlayResult<Done> Renderer::render(const CameraState& camera, uint32_t width, uint32_t height) {
     auto cpuStart = std::chrono::steady_clock::now();
     const double threadStart = threadCpuMs();

@@ -27,11 +27,12 @@
 namespace pnb::player {
 
 struct FrameContext;
+struct FrameView;
 class StreamRing;
 
 constexpr uint32_t kMaxCascades = 8;
 
-// std140 ShadowBlock (shaders/include/shadow_block.glsl; mirrored by player/shaders/sdsm_*.comp).
+// std140 ShadowBlock (shaders/include/shadow_block.glsl; mirrored by player/shaders/sdsm.comp).
 struct ShadowBlock {
     glm::mat4 matrix[kMaxCascades];
     glm::vec4 cascade[kMaxCascades]; // view depth start, end; texel world size; 1 if perspective
@@ -89,7 +90,7 @@ struct ShadowFrame {
     size_t boundsOffset = 0;      // SDSM: casters' SdsmCasterData in the ring
     // Casters to draw: CPU fits list those touching some cascade (objectOffsets parallel);
     // SDSM lists every caster in the scene (the GPU zeroes the culled ones' instance counts).
-    std::vector<uint32_t> casters;       // indices into Renderer::Impl::casters
+    std::vector<uint32_t> casters;       // indices into ShadowContext::casters
     std::vector<size_t> objectOffsets;
     std::vector<uint32_t> levels;        // GpuScene::levels index each listed caster draws
     std::vector<uint32_t> masks;         // CPU fits: cascades each listed caster touches
@@ -116,8 +117,12 @@ struct ShadowContext {
 // bounds, from `scene`. Call again after materials change.
 void initShadowContext(const GpuScene& scene, ShadowContext& shadows);
 
-// Fits and culls (CPU techniques) or prepares the GPU fit (SDSM); writes what the shadow pass
-// and lighting read into the ring.
+// The CPU step, without GL: fits and culls (CPU techniques) or lists the casters' bounds for the
+// GPU fit (SDSM) into shadows.frame (all but its ring offsets), and fills `block`.
+void planShadows(const FrameView& in, ShadowContext& shadows, ShadowBlock& block);
+
+// planShadows, then the block, the listed casters' object blocks and their masks or bounds into
+// the ring, where the shadow pass and lighting read them.
 void prepareShadows(FrameContext& ctx, ShadowContext& shadows);
 
 // SDSM: the GPU fit from the depth buffer as it is now (shadow_sdsm.cpp): the previous frame's

@@ -17,10 +17,12 @@
 #include <glm/glm.hpp>
 
 #include "pnb_player/gl_handles.h"
+#include "pnb_player/settings.h"
 
 namespace pnb::player {
 
 struct FrameContext;
+struct FrameView;
 struct GiContext;
 
 // std140 IblBlock (shaders/include/ibl.glsl).
@@ -38,6 +40,8 @@ struct IblContext {
     bool capture = false;  // lighting writes the sky irradiance (CaptureBuffer::Sky)
     bool warned = false;   // "ibl.enabled, but ..." said once
     bool warnedVisibility = false; // "ibl.visibility=volume|probes needs GI ..." said once
+    SkyVisibility visibility = SkyVisibility::None; // this frame's term (what its inputs allow)
+    bool specular = false;         // this frame reads the prefiltered cube
     // The height map (pass_sky_height.cpp): world box it covers, for which scene version.
     GlHandle heightMap, heightFb;
     uint32_t heightResolution = 0;
@@ -45,6 +49,11 @@ struct IblContext {
     glm::dvec3 heightMin{0.0}, heightMax{0.0};
 };
 
+// Whether the frame draws the sky's height map (ibl.visibility = height with an environment).
+bool wantsSkyHeightMap(const FrameView& in);
+// The CPU step, without GL: whether the environment lights this frame, the IblBlock, the
+// visibility term the frame's inputs allow (after the height map, after GI's prepare step).
+void planIbl(const FrameView& in, IblContext& ibl, const GiContext& gi, IblBlock& block);
 void prepareIbl(FrameContext& ctx, IblContext& ibl, const GiContext& gi);    // ibl_setup.cpp
 void renderSkyHeightMap(FrameContext& ctx, IblContext& ibl); // pass_sky_height.cpp
 void runBackground(FrameContext& ctx, const IblContext& ibl); // pass_background.cpp
