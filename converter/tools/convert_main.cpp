@@ -72,7 +72,7 @@ bool parseFloat(const char* text, float lo, float hi, float& out) {
 
 static_assert(pnb::kDefaultLightCutoffLux == 0.01f, "--light-cutoff's help states the default");
 
-// Declarative option table (pnb_cli): it parses the command line and prints --help (STYLE.md §16).
+// Declarative option table (pnb_cli): it parses the command line and prints --help (docs/STYLE.md §7).
 std::vector<pnb::cli::Option> options(CliState& c, bool& help) {
     using pnb::cli::flag;
     using pnb::cli::valued;

@@ -64,7 +64,7 @@ bool parseImport(const char* text, Import& out) {
     return true;
 }
 
-// Declarative option table (pnb_cli): it parses the command line and prints --help (STYLE.md §16).
+// Declarative option table (pnb_cli): it parses the command line and prints --help (docs/STYLE.md §7).
 std::vector<pnb::cli::Option> options(Settings& s, bool& help) {
     using pnb::cli::flag;
     using pnb::cli::valued;

@@ -317,6 +317,12 @@ struct SceneStream::Impl {
         ++f.levelsCompleted;
         return true;
     }
+    // SceneStream::update's stages, in order.
+    void chooseWantedLevels(const CameraState& camera, uint32_t height, const StreamOptions& options);
+    PlayResult<Done> fitStorage(const StreamOptions& options, StreamStatus& st);
+    bool takeArrivals(StreamStatus& st);
+    PlayResult<Done> uploadWithinBudget(StreamOptions& options, StreamStatus& st);
+    void summarise(StreamStatus& st, bool readDone);
 };
 
 SceneStream::SceneStream() : mImpl(std::make_unique<Impl>()) {}
@@ -455,30 +461,22 @@ void StreamOptions::applySettings(const RenderSettings& settings) {
 
 void SceneStream::setLimits(const RenderSettings& settings) { mOptions.applySettings(settings); }
 
-PlayResult<Done> SceneStream::update(const CameraState& camera, uint32_t width, uint32_t height) {
-    (void)width;
-    Impl& im = *mImpl;
-    StreamStatus& st = mStatus;
-    st.frame = {};
-    if (auto r = im.loader->status(); !r) return r.error();
-    ++im.frame;
-    const Scene& sc = *im.scene;
-
-    // The levels this view needs; without a budget, storage for the levels that have arrived.
-    im.budgeted = mOptions.budgetBytes > 0;
+// The levels this view needs; without a budget, storage for the levels that have arrived.
+void SceneStream::Impl::chooseWantedLevels(const CameraState& camera, uint32_t height, const StreamOptions& options) {
+    budgeted = options.budgetBytes > 0;
     // Pixels per unit at distance 1 (perspective) or at any distance (orthographic: d = 1 below).
     const bool ortho = camera.projection == Projection::Orthographic;
     const double pixelScale = ortho ? lodPixelScaleOrthographic(std::abs(double(camera.ymag)), height)
                                     : lodPixelScale(camera.yfovRadians, height);
-    for (uint32_t t = 0; t < im.textureCount; ++t) {
-        TextureResidency& r = im.residency[t];
-        if (!im.budgeted) {
-            r.wanted = std::min(r.allocated, im.pending[t].nextLevel(r.valid));
+    for (uint32_t t = 0; t < textureCount; ++t) {
+        TextureResidency& r = residency[t];
+        if (!budgeted) {
+            r.wanted = std::min(r.allocated, pending[t].nextLevel(r.valid));
             continue;
         }
-        uint32_t want = im.everyLevel[t] ? 0 : r.mipCount() - 1;
-        for (const TextureUse& u : im.uses[t]) {
-            const DrawItem& item = im.gpu->items[u.item];
+        uint32_t want = everyLevel[t] ? 0 : r.mipCount() - 1;
+        for (const TextureUse& u : uses[t]) {
+            const DrawItem& item = gpu->items[u.item];
             const double d = lodDistance(ortho, camera.position, item.boundsMin, item.boundsMax);
             want = std::min(want, neededMipLevel(u.texelsPerUnit, d, pixelScale, r.mipCount()));
         }
@@ -486,56 +484,64 @@ PlayResult<Done> SceneStream::update(const CameraState& camera, uint32_t width, 
     }
     // Meshes: the detail while the LOD rule would draw an item finer than the proxy (without a
     // budget: once it has arrived).
-    const bool allDetail = mOptions.lodForce >= 0 || mOptions.lodBias < 0;
-    std::vector<bool> queued = im.detailsQueued();
-    for (uint32_t c = 0; c < im.meshChains.size(); ++c) {
-        const Impl::MeshChain& mc = im.meshChains[c];
-        TextureResidency& r = im.residency[im.textureCount + c];
+    const bool allDetail = options.lodForce >= 0 || options.lodBias < 0;
+    std::vector<bool> queued = detailsQueued();
+    for (uint32_t c = 0; c < meshChains.size(); ++c) {
+        const MeshChain& mc = meshChains[c];
+        TextureResidency& r = residency[textureCount + c];
         bool need = r.valid == 0 || queued[c];
-        if (im.budgeted) {
+        if (budgeted) {
             need = allDetail;
             for (uint32_t i = 0; i < mc.items.size() && !need; ++i) {
-                const DrawItem& item = im.gpu->items[mc.items[i]];
+                const DrawItem& item = gpu->items[mc.items[i]];
                 const double d = lodDistance(ortho, camera.position, item.boundsMin, item.boundsMax);
                 const double px = double(mc.coarsestError) * item.worldScale * pixelScale / d;
-                need = !(px <= double(mOptions.lodThresholdPx)); // NaN (d = 0): needed
+                need = !(px <= double(options.lodThresholdPx)); // NaN (d = 0): needed
             }
         }
         r.wanted = need ? 0 : 1;
     }
 
-    // Storage: cut back and grow chains within the budget.
+}
+
+// Storage: cut back and grow chains within the budget.
+PlayResult<Done> SceneStream::Impl::fitStorage(const StreamOptions& options, StreamStatus& st) {
     // New storage per frame: what two frames of uploads fill (creating it costs frame time).
-    const ResidencyPlan plan = planResidency(im.residency, mOptions.budgetBytes, im.frame,
-                                             2 * mOptions.uploadBytesPerFrame);
+    const ResidencyPlan plan = planResidency(residency, options.budgetBytes, frame,
+                                             2 * options.uploadBytesPerFrame);
     for (const ResidencyChange& c : plan.evictions) {
-        const uint64_t before = im.residency[c.texture].bytesFrom(im.residency[c.texture].allocated);
-        if (c.texture >= im.textureCount) im.evictDetail(c.texture - im.textureCount);
-        else if (auto r = im.reallocate(c.texture, c.allocated); !r) return r.error();
-        st.frame.evictedBytes += before - im.residency[c.texture].bytesFrom(c.allocated);
+        const uint64_t before = residency[c.texture].bytesFrom(residency[c.texture].allocated);
+        if (c.texture >= textureCount) evictDetail(c.texture - textureCount);
+        else if (auto r = reallocate(c.texture, c.allocated); !r) return r.error();
+        st.frame.evictedBytes += before - residency[c.texture].bytesFrom(c.allocated);
         ++st.frame.evictions;
     }
     for (const ResidencyChange& c : plan.growths) {
-        if (c.texture >= im.textureCount) im.residency[c.texture].allocated = 0; // buffer made at upload
-        else if (auto r = im.reallocate(c.texture, c.allocated); !r) return r.error();
+        if (c.texture >= textureCount) residency[c.texture].allocated = 0; // buffer made at upload
+        else if (auto r = reallocate(c.texture, c.allocated); !r) return r.error();
         ++st.frame.growths;
     }
     st.peakBytes = std::max(st.peakBytes, plan.peakBytes);
     // Mesh details that arrived but were given no storage: skipped (read again when needed).
-    std::erase_if(im.meshes, [&](const Impl::PendingMesh& pm) {
-        return im.meshResidency(pm.data.mesh->mesh).allocated != 0;
+    std::erase_if(meshes, [&](const PendingMesh& pm) {
+        return meshResidency(pm.data.mesh->mesh).allocated != 0;
     });
 
-    // Levels read since the last frame; re-reads of levels the chains now have room for.
-    for (Arrival& level : im.loader->take()) im.accept(std::move(level));
-    const bool readDone = im.loader->forwardDone();
-    for (uint32_t t = 0; t < im.textureCount; ++t) {
-        const TextureResidency& r = im.residency[t];
-        Impl::Pending& p = im.pending[t];
+    return Done{};
+}
+
+// Levels read since the last frame; re-reads of levels the chains now have room for. Returns
+// whether the loader has read the whole file.
+bool SceneStream::Impl::takeArrivals(StreamStatus& st) {
+    for (Arrival& level : loader->take()) accept(std::move(level));
+    const bool readDone = loader->forwardDone();
+    for (uint32_t t = 0; t < textureCount; ++t) {
+        const TextureResidency& r = residency[t];
+        Pending& p = pending[t];
         // The next level is wanted: storage waits for it (budget), or every level is (none).
-        const bool wantsNext = im.budgeted ? r.allocated < r.valid : r.valid > 0;
+        const bool wantsNext = budgeted ? r.allocated < r.valid : r.valid > 0;
         if (!wantsNext || !p.levels.empty() || p.requested || p.lost) continue;
-        if (im.loader->request(t, r.valid - 1)) {
+        if (loader->request(t, r.valid - 1)) {
             p.requested = true;
             ++st.frame.refetches;
         } else if (readDone) {
@@ -543,12 +549,12 @@ PlayResult<Done> SceneStream::update(const CameraState& camera, uint32_t width, 
             ++st.lostLevels;
         }
     }
-    queued = im.detailsQueued(); // after the drops and arrivals above (new chains too)
-    for (uint32_t c = 0; c < im.meshChains.size(); ++c) {
-        Impl::MeshChain& mc = im.meshChains[c];
-        const TextureResidency& r = im.residency[im.textureCount + c];
+    const std::vector<bool> queued = detailsQueued(); // after the drops and arrivals above (new chains too)
+    for (uint32_t c = 0; c < meshChains.size(); ++c) {
+        MeshChain& mc = meshChains[c];
+        const TextureResidency& r = residency[textureCount + c];
         if (r.allocated != 0 || r.valid == 0 || queued[c] || mc.requested || mc.lost) continue;
-        if (im.loader->requestMeshDetail(mc.mesh)) {
+        if (loader->requestMeshDetail(mc.mesh)) {
             mc.requested = true;
             ++st.frame.refetches;
         } else if (readDone) {
@@ -557,82 +563,106 @@ PlayResult<Done> SceneStream::update(const CameraState& camera, uint32_t width, 
         }
     }
 
-    // Uploads, the textures furthest from what they need first.
+    return readDone;
+}
+
+// Uploads, the textures furthest from what they need first, within the frame's upload bytes.
+PlayResult<Done> SceneStream::Impl::uploadWithinBudget(StreamOptions& options, StreamStatus& st) {
+    const Scene& sc = *scene;
     std::vector<uint32_t> order;
-    for (uint32_t t = 0; t < im.pending.size(); ++t)
-        if (!im.pending[t].levels.empty()) order.push_back(t);
+    for (uint32_t t = 0; t < pending.size(); ++t)
+        if (!pending[t].levels.empty()) order.push_back(t);
     std::stable_sort(order.begin(), order.end(), [&](uint32_t a, uint32_t b) {
-        return int64_t(im.residency[a].valid) - im.residency[a].wanted >
-               int64_t(im.residency[b].valid) - im.residency[b].wanted;
+        return int64_t(residency[a].valid) - residency[a].wanted >
+               int64_t(residency[b].valid) - residency[b].wanted;
     });
-    if (!order.empty() || !im.meshes.empty()) {
+    if (!order.empty() || !meshes.empty()) {
         uint64_t largestUnit = 0;
         for (uint32_t t : order) {
             const TextureDesc& d = sc.textures[t];
-            largestUnit = std::max(largestUnit, rowBytes(d, im.pending[t].levels.front().mip.level, rowUnit(d)));
+            largestUnit = std::max(largestUnit, rowBytes(d, pending[t].levels.front().mip.level, rowUnit(d)));
         }
         // The frame's bytes, and one unit more: a unit larger than them still goes alone. A
         // stream.upload_mib the GPU cannot hold three frames of (4096 MiB: GL_OUT_OF_MEMORY,
         // then a crash) is halved until it fits, once, with a message.
-        const uint64_t asked = mOptions.uploadBytesPerFrame;
-        while (!im.staging.reserve(mOptions.uploadBytesPerFrame + alignUp(largestUnit, kStagingAlignment),
+        const uint64_t asked = options.uploadBytesPerFrame;
+        while (!staging.reserve(options.uploadBytesPerFrame + alignUp(largestUnit, kStagingAlignment),
                                    kStagingAlignment)) {
-            if (mOptions.uploadBytesPerFrame <= (uint64_t(1) << 20))
+            if (options.uploadBytesPerFrame <= (uint64_t(1) << 20))
                 return PlayError{PlayErrorKind::Gl, "the GL cannot allocate even 1 MiB per frame of "
                                                     "texture upload staging: out of GPU memory"};
-            mOptions.uploadBytesPerFrame /= 2;
+            options.uploadBytesPerFrame /= 2;
         }
-        if (mOptions.uploadBytesPerFrame != asked)
+        if (options.uploadBytesPerFrame != asked)
             std::fprintf(stderr, "pnb-play: stream.upload_mib=%.0f: the GPU cannot hold %d frames of "
                                  "upload staging that large; uploading %.0f MiB per frame instead\n",
                          double(asked) / 1048576.0, StreamRing::kSections,
-                         double(mOptions.uploadBytesPerFrame) / 1048576.0);
-        im.staging.beginFrame();
-        glGetIntegerv(GL_UNPACK_ALIGNMENT, &im.unpackAlignment);
+                         double(options.uploadBytesPerFrame) / 1048576.0);
+        staging.beginFrame();
+        glGetIntegerv(GL_UNPACK_ALIGNMENT, &unpackAlignment);
         glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
-        glBindBuffer(GL_PIXEL_UNPACK_BUFFER, im.staging.buffer());
-        uint64_t budget = mOptions.uploadBytesPerFrame;
+        glBindBuffer(GL_PIXEL_UNPACK_BUFFER, staging.buffer());
+        uint64_t budget = options.uploadBytesPerFrame;
         // Meshes first: until its detail is in, a mesh is drawn as its coarse proxy.
         // (A detail that arrived after this frame's plan waits for the next one's.)
-        while (budget >= kStagingAlignment && !im.meshes.empty() &&
-               im.meshResidency(im.meshes.front().data.mesh->mesh).allocated == 0) {
-            auto done = im.uploadMeshBytes(budget, st.frame);
+        while (budget >= kStagingAlignment && !meshes.empty() &&
+               meshResidency(meshes.front().data.mesh->mesh).allocated == 0) {
+            auto done = uploadMeshBytes(budget, st.frame);
             if (!done) return done.error();
             if (!*done) break;
         }
         // (A level that arrived after this frame's plan has storage from the next frame on.)
         auto hasStorage = [&](uint32_t t) {
-            return im.pending[t].levels.front().mip.level >= im.residency[t].allocated;
+            return pending[t].levels.front().mip.level >= residency[t].allocated;
         };
         for (uint32_t t : order)
-            while (budget > 0 && !im.pending[t].levels.empty() && hasStorage(t))
-                if (!im.uploadRows(t, budget, st.frame)) break;
+            while (budget > 0 && !pending[t].levels.empty() && hasStorage(t))
+                if (!uploadRows(t, budget, st.frame)) break;
         glBindBuffer(GL_PIXEL_UNPACK_BUFFER, 0);
-        glPixelStorei(GL_UNPACK_ALIGNMENT, im.unpackAlignment);
-        im.staging.endFrame();
+        glPixelStorei(GL_UNPACK_ALIGNMENT, unpackAlignment);
+        staging.endFrame();
     }
 
+    return Done{};
+}
+
+// The frame's figures into the totals, and whether the view (or the file) is complete.
+void SceneStream::Impl::summarise(StreamStatus& st, bool readDone) {
     st.uploadedBytes += st.frame.uploadedBytes;
     st.evictedBytes += st.frame.evictedBytes;
     st.evictions += st.frame.evictions;
     st.refetches += st.frame.refetches;
-    st.bytesRead = im.loader->bytesRead();
+    st.bytesRead = loader->bytesRead();
     st.readDone = readDone;
-    st.residentBytes = residentBytes(im.residency);
-    st.residentMeshBytes = im.meshChainBytes();
-    st.fullBytes = im.textureFullBytes;
-    for (uint32_t c = 0; c < im.meshChains.size(); ++c) st.fullBytes += im.residency[im.textureCount + c].bytesFrom(0);
-    st.neededBytes = im.budgeted ? neededBytes(im.residency) : st.fullBytes;
+    st.residentBytes = residentBytes(residency);
+    st.residentMeshBytes = meshChainBytes();
+    st.fullBytes = textureFullBytes;
+    for (uint32_t c = 0; c < meshChains.size(); ++c) st.fullBytes += residency[textureCount + c].bytesFrom(0);
+    st.neededBytes = budgeted ? neededBytes(residency) : st.fullBytes;
     // Complete: with a budget, every level and detail the view needs is in (the rest of the file
     // may still be read); without one, every level of every texture and every detail, so the
     // whole file.
     st.meshesReplaced += st.frame.meshesCompleted;
-    bool complete = (im.budgeted || readDone) && im.meshes.empty() && im.loader->meshDetailsDone();
-    for (uint32_t t = 0; t < im.textureCount && complete; ++t)
-        complete = im.pending[t].lost || im.residency[t].valid <= (im.budgeted ? im.residency[t].wanted : 0);
-    for (uint32_t c = 0; c < im.meshChains.size() && complete; ++c)
-        complete = im.meshChains[c].lost || im.residency[im.textureCount + c].valid <= im.residency[im.textureCount + c].wanted;
+    bool complete = (budgeted || readDone) && meshes.empty() && loader->meshDetailsDone();
+    for (uint32_t t = 0; t < textureCount && complete; ++t)
+        complete = pending[t].lost || residency[t].valid <= (budgeted ? residency[t].wanted : 0);
+    for (uint32_t c = 0; c < meshChains.size() && complete; ++c)
+        complete = meshChains[c].lost || residency[textureCount + c].valid <= residency[textureCount + c].wanted;
     st.complete = complete;
+}
+
+PlayResult<Done> SceneStream::update(const CameraState& camera, uint32_t width, uint32_t height) {
+    (void)width;
+    Impl& im = *mImpl;
+    StreamStatus& st = mStatus;
+    st.frame = {};
+    if (auto r = im.loader->status(); !r) return r.error();
+    ++im.frame;
+    im.chooseWantedLevels(camera, height, mOptions);
+    if (auto r = im.fitStorage(mOptions, st); !r) return r.error();
+    const bool readDone = im.takeArrivals(st);
+    if (auto r = im.uploadWithinBudget(mOptions, st); !r) return r.error();
+    im.summarise(st, readDone);
     return Done{};
 }
 
