@@ -1,4 +1,4 @@
-// The light clusters' CPU math (player/src/light_clusters.h): bounding spheres that hold what a
+// The light clusters' CPU math (player/src/lights/light_clusters.h): bounding spheres that hold what a
 // light reaches, the slice mapping, and when the frame clusters.
 #include <cmath>
 

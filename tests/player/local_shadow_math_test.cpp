@@ -1,4 +1,4 @@
-// The local-light shadow atlas's CPU math (player/src/local_shadows.h): tile sizes that follow
+// The local-light shadow atlas's CPU math (player/src/shadows/local_shadows.h): tile sizes that follow
 // the screen, packing without overlap inside the budget, shrinking before dropping, and tile
 // matrices that put the light's near plane at depth 1 and its range at 0.
 #include <algorithm>
