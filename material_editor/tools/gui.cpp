@@ -18,7 +18,7 @@
 #include "editor_app.h"
 #include "pnb/material_fields.h"
 #include "pnb_editor/set_expression.h"
-#include "pnb_player/benchmark.h"
+#include "pnb_player/save_capture.h"
 
 namespace pnb::editor {
 
