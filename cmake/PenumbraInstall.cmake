@@ -26,6 +26,7 @@ set_target_properties(pnb_player_math PROPERTIES EXPORT_NAME player_math)
 set_target_properties(pnb_lighting PROPERTIES EXPORT_NAME lighting)
 set_target_properties(pnb_image_write PROPERTIES EXPORT_NAME image_write)
 set_target_properties(pnb_path_json PROPERTIES EXPORT_NAME path_json)
+set_target_properties(pnb_play_harness PROPERTIES EXPORT_NAME play_harness)
 
 # A sanitized build installs sanitized libraries: whoever links them needs the sanitizer
 # runtime, so the installed interface carries the flag (the build tree has add_link_options).
@@ -39,7 +40,7 @@ install(TARGETS pnb_format EXPORT PenumbraTargets
     ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR}
     LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR}
     INCLUDES DESTINATION ${CMAKE_INSTALL_INCLUDEDIR})
-install(TARGETS pnb_player pnb_player_math pnb_lighting pnb_image_write pnb_path_json
+install(TARGETS pnb_player pnb_player_math pnb_lighting pnb_image_write pnb_path_json pnb_play_harness
     EXPORT PenumbraPlayerTargets
     ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR}
     LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR}
@@ -50,6 +51,7 @@ install(EXPORT PenumbraPlayerTargets NAMESPACE pnb:: DESTINATION ${PNB_INSTALL_C
 # Public headers (player/math/ is internal to the renderer).
 install(DIRECTORY ${PROJECT_SOURCE_DIR}/format/include/pnb
                   ${PROJECT_SOURCE_DIR}/player/include/pnb_player
+                  ${PROJECT_SOURCE_DIR}/player/harness/include/pnb_player
     DESTINATION ${CMAKE_INSTALL_INCLUDEDIR})
 
 configure_package_config_file(${PROJECT_SOURCE_DIR}/cmake/PenumbraConfig.cmake.in

@@ -5,7 +5,7 @@
 
 #include "peer_gl.h"
 #include "pnb_player/gpu_scene.h"
-#include "pnb_player/program_cache.h"
+#include "pnb_player/program_cache_files.h"
 #include "probe.h"
 
 namespace pnb::bench {
@@ -17,7 +17,7 @@ ProbeResult loadPnb(const std::string& path) {
     // bench_load.py points at its own directory, filled by its untimed warm-up run).
     player::ProgramCacheOptions cache;
     cache.enabled = true;
-    player::configureProgramCache(cache);
+    player::configureProgramCacheOnDisk(cache);
     const auto start = Clock::now();
     auto scene = player::loadScene(path, {}, &stats);
     if (!scene) throw LoadFailure(scene.error().message);

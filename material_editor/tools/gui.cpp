@@ -20,7 +20,7 @@
 #include "pnb/material_fields.h"
 #include "pnb_cli/options.h"
 #include "pnb_editor/set_expression.h"
-#include "pnb_player/benchmark.h"
+#include "pnb_player/save_capture.h"
 
 namespace pnb::editor {
 

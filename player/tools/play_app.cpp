@@ -27,7 +27,7 @@
 #include "pnb_player/benchmark.h"
 #include "pnb_player/gl_context.h"
 #include "pnb_player/path_json.h"
-#include "pnb_player/program_cache.h"
+#include "pnb_player/program_cache_files.h"
 #include "pnb_player/renderer.h"
 #include "pnb_player/scene_stream.h"
 #include "pnb_player/startup_times.h"
@@ -128,7 +128,7 @@ struct PlayRun {
         cacheOptions.enabled = args.programCache;
         cacheOptions.directory = args.programCacheDir;
         cacheOptions.notes = !args.quiet;
-        configureProgramCache(cacheOptions);
+        configureProgramCacheOnDisk(cacheOptions);
         for (int i = 0; i < argc; ++i) commandLine += (i ? " " : "") + std::string(argv[i]);
     }
 

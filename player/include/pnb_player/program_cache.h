@@ -18,21 +18,46 @@
 //
 // The library's default is off: pnb-play turns it on (tests and embedders opt in). Single
 // thread, like the GL context it serves.
+//
+// The renderer keeps the in-memory part (keys, entry layout, checks, glProgramBinary) and touches
+// no file: reading and writing entries is the ProgramCacheStore the tool gives it
+// (pnb_play_harness: pnb_player/program_cache_files.h), so the renderer library writes nothing.
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <span>
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include <epoxy/gl.h>
 
 namespace pnb::player {
 
+// One entry as the store read it.
+struct ProgramCacheEntryRead {
+    int error = 0;          // 0, or the errno that stopped the read (ENOENT: no entry yet)
+    bool oversized = false; // larger than the limit asked for, so not read (judged damaged)
+    std::vector<uint8_t> bytes;
+};
+
+// Where entries live. Paths are "<directory>/<key>.bin", made by the cache.
+struct ProgramCacheStore {
+    // The whole file at `path`, unless it holds more than `maxBytes` bytes.
+    std::function<ProgramCacheEntryRead(const std::string& path, uint64_t maxBytes)> read;
+    // Creates `directory`, then writes `entry` to `path` whole or not at all (readers never see a
+    // part). Returns "" or why it failed (the text of the cache's note).
+    std::function<std::string(const std::string& directory, const std::string& path,
+                              std::span<const uint8_t> entry)>
+        write;
+};
+
 struct ProgramCacheOptions {
     bool enabled = false;
     std::string directory; // "" = defaultProgramCacheDirectory()
     bool notes = true;     // one-line notes on stderr (pnb-play -q turns them off)
+    ProgramCacheStore store; // without read and write the cache stays off (one note)
 };
 
 // $PNB_PROGRAM_CACHE_DIR, else $XDG_CACHE_HOME/penumbra/programs, else

@@ -1,9 +1,6 @@
-// The program binary cache (pnb_player/program_cache.h): entry layout, validation, atomic writes.
+// The program binary cache (pnb_player/program_cache.h): entry layout and validation. The
+// entries' files are the ProgramCacheStore's (the tool's), so nothing here opens a file.
 #include "pnb_player/program_cache.h"
-
-#include <fcntl.h>
-#include <sys/stat.h>
-#include <unistd.h>
 
 #include <algorithm>
 #include <cerrno>
@@ -11,12 +8,10 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
-#include <filesystem>
 #include <vector>
 
 #include <xxhash.h>
 
-#include "pnb/atomic_file.h"
 #include "pnb/user_cache_directory.h"
 
 namespace pnb::player {
@@ -96,36 +91,6 @@ bool driverOffersFormat(GLenum format) {
     std::vector<GLint> formats(static_cast<size_t>(count));
     glGetIntegerv(GL_PROGRAM_BINARY_FORMATS, formats.data());
     return std::find(formats.begin(), formats.end(), GLint(format)) != formats.end();
-}
-
-bool readWholeFile(const std::string& path, std::vector<uint8_t>& out, int& error) {
-    int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
-    if (fd < 0) {
-        error = errno;
-        return false;
-    }
-    struct stat st {};
-    if (::fstat(fd, &st) != 0 || !S_ISREG(st.st_mode)) {
-        error = S_ISREG(st.st_mode) || st.st_mode == 0 ? errno : EISDIR;
-        ::close(fd);
-        return false;
-    }
-    if (uint64_t(st.st_size) > kMaxEntryBytes) { // judged "damaged" by its size below
-        ::close(fd);
-        out.assign(kHeaderBytes - 1, 0);
-        return true;
-    }
-    out.resize(size_t(st.st_size));
-    size_t done = 0;
-    while (done < out.size()) {
-        ssize_t n = ::read(fd, out.data() + done, out.size() - done);
-        if (n < 0 && errno == EINTR) continue;
-        if (n <= 0) break; // shrank meanwhile: what was read is judged below
-        done += size_t(n);
-    }
-    out.resize(done);
-    ::close(fd);
-    return true;
 }
 
 // XXH3-64 of the header's first 64 bytes and the driver strings that follow the header.
@@ -212,6 +177,10 @@ void configureProgramCache(const ProgramCacheOptions& options) {
     while (s.directory.size() > 1 && s.directory.back() == '/') s.directory.pop_back();
     if (options.enabled && s.directory.empty())
         note("off: no directory (set PNB_PROGRAM_CACHE_DIR, XDG_CACHE_HOME or HOME)");
+    if (!s.directory.empty() && (!options.store.read || !options.store.write)) {
+        note("off: no entry store given (ProgramCacheOptions::store)");
+        s.directory.clear();
+    }
     s.stats.enabled = !s.directory.empty();
     s.stats.directory = s.directory;
 }
@@ -263,13 +232,14 @@ ProgramCacheLookup programCacheLookup(std::span<const ProgramStageText> stages) 
 GLuint loadCachedProgram(const ProgramCacheLookup& lookup, std::string_view label) {
     if (!lookup.active) return 0;
     State& s = state();
-    std::vector<uint8_t> entry;
-    int error = 0;
-    if (!readWholeFile(lookup.path, entry, error)) {
+    ProgramCacheEntryRead read = s.options.store.read(lookup.path, kMaxEntryBytes);
+    if (read.error != 0) {
         ++s.stats.misses;
-        if (error != ENOENT) directoryNote("cannot read " + lookup.path + ": " + std::strerror(error));
+        if (read.error != ENOENT) directoryNote("cannot read " + lookup.path + ": " + std::strerror(read.error));
         return 0;
     }
+    std::vector<uint8_t> entry = std::move(read.bytes);
+    if (read.oversized) entry.assign(kHeaderBytes - 1, 0); // judged "damaged" by its size below
     size_t binaryAt = 0;
     uint64_t binaryBytes = 0;
     GLenum format = 0;
@@ -328,32 +298,8 @@ void storeCachedProgram(const ProgramCacheLookup& lookup, GLuint program) {
     put<uint64_t>(entry, 56, XXH3_64bits(entry.data() + at, size_t(written)));
     put<uint64_t>(entry, 64, headerChecksum(entry, stringBytes));
 
-    std::error_code ec;
-    std::filesystem::create_directories(s.directory, ec);
-    if (ec) return writeFailed("cannot create " + s.directory + ": " + ec.message());
-    // Temporary + rename (the format library's protocol, without its fsyncs: a cache entry
-    // lost to a power cut is rebuilt, and a first launch should not wait for the disk).
-    auto temp = createTemporaryFor(lookup.path);
-    if (!temp) return writeFailed(temp.error().describe());
-    const uint8_t* p = entry.data();
-    size_t left = entry.size();
-    int failure = 0;
-    while (left > 0) {
-        ssize_t n = ::write(temp->fd, p, left);
-        if (n < 0 && errno == EINTR) continue;
-        if (n <= 0) {
-            failure = n < 0 ? errno : ENOSPC;
-            break;
-        }
-        p += n;
-        left -= size_t(n);
-    }
-    if (::close(temp->fd) != 0 && !failure) failure = errno;
-    if (!failure && ::rename(temp->path.c_str(), lookup.path.c_str()) != 0) failure = errno;
-    if (failure) {
-        ::unlink(temp->path.c_str());
-        return writeFailed("cannot write " + lookup.path + ": " + std::strerror(failure));
-    }
+    if (std::string failure = s.options.store.write(s.directory, lookup.path, entry); !failure.empty())
+        return writeFailed(failure);
     ++s.stats.written;
 }
 

@@ -1,5 +1,8 @@
 // pnb_player/benchmark.h — deterministic fly-throughs that write timings, plots and images.
 //
+// In pnb_play_harness (player/harness/), beside the tools: the renderer library pnb_player writes
+// no file and starts no process; this harness does both (tests/player/renderer_writes_test.py).
+//
 // The camera follows one of the container's camera paths. With a fixed time step, frame k is
 // always rendered at path time k*dt, so two configurations can be compared frame by frame and
 // image by image; without it, the path advances with the wall clock (what a viewer would see).
@@ -42,6 +45,8 @@
 #include "pnb_player/gl_context.h"
 #include "pnb_player/gpu_scene.h"
 #include "pnb_player/renderer.h"
+#include "pnb_player/save_capture.h"  // saveCapture, for the captures asked for
+#include "pnb_player/scene_cameras.h" // initialCamera, where a run starts
 #include "pnb_player/scene_stream.h"
 #include "pnb_player/startup_times.h"
 
@@ -107,15 +112,5 @@ PlayResult<BenchResult> runBenchmark(const GpuScene& scene, Renderer& renderer,
                                      const BenchOptions& options, const LoadStats& load,
                                      const GlInfo& gl,
                                      const std::function<bool()>& present = {});
-
-// Writes a captured buffer: PNG for 8-bit, EXR for float; rows flipped to top-down.
-PlayResult<Done> saveCapture(const std::string& path, const CapturedImage& image);
-
-// The container's camera `index` (precondition: index < scene.cameras.size()).
-CameraState sceneCamera(const GpuScene& scene, size_t index);
-
-// The camera a run starts from: the path's first key, else the container's first camera, else
-// one framing the scene bounds.
-CameraState initialCamera(const GpuScene& scene, const std::string& pathName);
 
 } // namespace pnb::player
