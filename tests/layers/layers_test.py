@@ -61,6 +61,36 @@ class Layers(unittest.TestCase):
         r = subprocess.run([sys.executable, CHECK, d], capture_output=True, text=True)
         self.assertEqual(r.returncode, 1)
 
+    def test_the_renderer_keeps_its_subsystem_floors(self):
+        graph, bad = check_layers.check_player(REPO)
+        self.assertEqual(bad, [])
+        # The frame's shared parts see no subsystem; only the renderer sees them all.
+        self.assertTrue(graph["frame"] <= {"gl", "camera"}, graph["frame"])
+        self.assertTrue(graph["renderer"] >= {"shadows", "gi", "sky", "lights", "shading", "post"}, graph["renderer"])
+        for low in ("gl", "camera"):
+            self.assertEqual(graph.get(low, set()), set(), low)
+
+    def test_it_finds_arrows_against_the_renderers_floors(self):
+        d = self.fake_repo({
+            "player/src/frame/frame_context.h": '#include "shadows/shadow_maps.h"\n',  # upward
+            "player/src/shadows/shadow_maps.h": '#include "frame/frame_context.h"\n',  # downward
+            "player/src/shading/pass_forward.cpp": '#include "post/post.h"\n',          # sideways
+            "player/src/post/post.h": "",
+            "player/src/gi/gi_setup.cpp": '#include "ibl.h"\n',                        # bare, upward
+            "player/src/sky/ibl.h": "",
+            "player/src/benchmark.cpp": "",                                            # no folder
+        })
+        _, bad = check_layers.check_player(d)
+        text = "\n".join(bad)
+        self.assertIn('player/src/frame -> shadows (floor 1 -> 3): player/src/frame/frame_context.h:1', text)
+        self.assertIn('player/src/shading -> post (floor 6 -> 6): player/src/shading/pass_forward.cpp:1', text)
+        self.assertIn('player/src/gi -> sky (floor 4 -> 5): player/src/gi/gi_setup.cpp:1 includes "ibl.h"', text)
+        self.assertIn("player/src/benchmark.cpp is in no subsystem folder", text)
+        self.assertEqual(len(bad), 4, text)
+        r = subprocess.run([sys.executable, CHECK, d], capture_output=True, text=True)
+        self.assertEqual(r.returncode, 1)
+        self.assertIn("4 arrow(s) against the renderer's floors", r.stdout)
+
 
 if __name__ == "__main__":
     unittest.main()
