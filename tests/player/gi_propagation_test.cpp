@@ -14,7 +14,7 @@
 #include <gtest/gtest.h>
 
 #include "lpv_math.h"
-#include "program_compile.h"
+#include "gl/program_compile.h"
 #include "render_fixture.h"
 
 namespace pnb::player::test {

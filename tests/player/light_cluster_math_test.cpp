@@ -5,7 +5,7 @@
 #include <gtest/gtest.h>
 #include <glm/gtc/matrix_transform.hpp>
 
-#include "light_clusters.h"
+#include "lights/light_clusters.h"
 
 namespace pnb::player {
 namespace {

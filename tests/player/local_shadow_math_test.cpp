@@ -6,7 +6,7 @@
 
 #include <gtest/gtest.h>
 
-#include "local_shadows.h"
+#include "shadows/local_shadows.h"
 
 namespace pnb::player {
 namespace {

@@ -14,7 +14,7 @@
 #include "pnb/writer.h"
 #include "pnb_player/benchmark.h"
 #include "pnb_player/gpu_scene.h"
-#include "gl_allocation.h"
+#include "gl/gl_allocation.h"
 #include "render_fixture.h"
 
 namespace pnb::player::test {

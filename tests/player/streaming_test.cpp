@@ -9,7 +9,7 @@
 #include <fstream>
 #include <thread>
 
-#include "gl_debug.h"
+#include "gl/gl_debug.h"
 #include "pnb/reader.h"
 #include "pnb_player/scene_stream.h"
 #include "render_fixture.h"

@@ -14,7 +14,7 @@
 #include <unistd.h>
 #endif
 
-#include "upload_heap.h"
+#include "gl/upload_heap.h"
 
 namespace pnb::player {
 namespace {
