@@ -9,16 +9,11 @@
 
 #include "pnb/light_range.h"
 #include "frame/frame_context.h"
+#include "shared/local_shadow_tile.h" // GpuShadowTile (GLSL and C++)
 
 namespace pnb::player {
 
 namespace {
-
-// std430 LocalShadowTile (local_shadows.glsl).
-struct GpuShadowTile {
-    glm::mat4 matrix;  // camera-relative world -> tile clip (reversed-Z)
-    glm::vec4 rect;    // atlas u0, v0, uv size, world size of a texel per unit of distance
-};
 
 // The atlas's texture unit (local_shadows.glsl): 0-4 materials, 8-9 the sun, 10-18 GI and sky.
 constexpr GLuint kLocalShadowUnit = 19;
