@@ -9,64 +9,54 @@ namespace pnb {
 
 namespace {
 
-constexpr MaterialField kFields[] = {
-    {"base_color", FieldType::Color4, 0, 1, nullptr, "linear RGBA multiplier of the base colour"},
-    {"emissive", FieldType::Color3, 0, 1, nullptr, "linear RGB emitted colour"},
-    {"emissive_strength", FieldType::Float, 0, 10000, nullptr, "scale of the emissive colour"},
-    {"metallic", FieldType::Float, 0, 1, nullptr, "0 = dielectric, 1 = metal"},
-    {"roughness", FieldType::Float, 0, 1, nullptr, "perceptual roughness"},
-    {"normal_scale", FieldType::Float, 0, 10, nullptr, "strength of the normal map"},
-    {"occlusion_strength", FieldType::Float, 0, 1, nullptr, "strength of the occlusion map"},
-    {"alpha_mode", FieldType::Choice, 0, 0, "opaque|mask|blend", "how alpha is used"},
-    {"alpha_cutoff", FieldType::Float, 0, 1, nullptr, "mask threshold (alpha_mode = mask)"},
-    {"shading_path", FieldType::Choice, 0, 0, "deferred|forward", "pipeline placement"},
-    {"layer_priority", FieldType::Integer, 0, 65535, nullptr, "deferred layer order, ascending"},
-    {"double_sided", FieldType::Bool, 0, 0, nullptr, "render back faces"},
-    {"casts_shadows", FieldType::Bool, 0, 0, nullptr, "drawn into shadow maps"},
-    {"receives_shadows", FieldType::Bool, 0, 0, nullptr, "shadowed when lit"},
-    {"unlit", FieldType::Bool, 0, 0, nullptr, "base colour as is, no lighting (KHR_materials_unlit)"},
-    {"base_color_texture", FieldType::TextureRef, 0, 0, nullptr, "texture index or none"},
-    {"metallic_roughness_texture", FieldType::TextureRef, 0, 0, nullptr, "texture index or none"},
-    {"normal_texture", FieldType::TextureRef, 0, 0, nullptr, "texture index or none"},
-    {"occlusion_texture", FieldType::TextureRef, 0, 0, nullptr, "texture index or none"},
-    {"emissive_texture", FieldType::TextureRef, 0, 0, nullptr, "texture index or none"},
-};
-
-// Storage of each field inside Material, in kFields order.
-struct Slot {
-    float* floats = nullptr; // Float, Color3, Color4: first component
-    bool* flag = nullptr;
-    uint8_t* choice = nullptr;
-    uint16_t* integer = nullptr;
-    uint32_t* texture = nullptr;
-};
-
-Slot slotOf(Material& m, size_t index) {
-    auto tex = [&](TextureSlotKind k) { return Slot{.texture = &m.textures[size_t(k)].texture}; };
-    switch (index) {
-    case 0: return {.floats = &m.baseColorFactor.x};
-    case 1: return {.floats = &m.emissiveFactor.x};
-    case 2: return {.floats = &m.emissiveStrength};
-    case 3: return {.floats = &m.metallicFactor};
-    case 4: return {.floats = &m.roughnessFactor};
-    case 5: return {.floats = &m.normalScale};
-    case 6: return {.floats = &m.occlusionStrength};
-    case 7: return {.choice = reinterpret_cast<uint8_t*>(&m.alphaMode)};
-    case 8: return {.floats = &m.alphaCutoff};
-    case 9: return {.choice = reinterpret_cast<uint8_t*>(&m.shadingPath)};
-    case 10: return {.integer = &m.layerPriority};
-    case 11: return {.flag = &m.doubleSided};
-    case 12: return {.flag = &m.castsShadows};
-    case 13: return {.flag = &m.receivesShadows};
-    case 14: return {.flag = &m.unlit};
-    case 15: return tex(TextureSlotKind::BaseColor);
-    case 16: return tex(TextureSlotKind::MetallicRoughness);
-    case 17: return tex(TextureSlotKind::Normal);
-    case 18: return tex(TextureSlotKind::Occlusion);
-    case 19: return tex(TextureSlotKind::Emissive);
-    }
-    return {};
+// Accessors of the rows below: where a field of each kind lives in a Material.
+template <auto member> MaterialFieldSlot number(Material& m) { return {.floats = &(m.*member)}; }
+template <auto member> MaterialFieldSlot color(Material& m) { return {.floats = &(m.*member).x}; }
+template <auto member> MaterialFieldSlot flag(Material& m) { return {.flag = &(m.*member)}; }
+template <auto member> MaterialFieldSlot choice(Material& m) {
+    static_assert(sizeof(m.*member) == 1, "a Choice field is a one-byte enum");
+    return {.choice = reinterpret_cast<uint8_t*>(&(m.*member))};
 }
+template <auto member> MaterialFieldSlot integer(Material& m) { return {.integer = &(m.*member)}; }
+template <TextureSlotKind kind> MaterialFieldSlot texture(Material& m) {
+    return {.texture = &m.textures[size_t(kind)].texture};
+}
+
+using M = Material;
+using T = TextureSlotKind;
+constexpr MaterialField kFields[] = {
+    {"base_color", FieldType::Color4, 0, 1, nullptr, "linear RGBA multiplier of the base colour",
+     color<&M::baseColorFactor>},
+    {"emissive", FieldType::Color3, 0, 1, nullptr, "linear RGB emitted colour", color<&M::emissiveFactor>},
+    {"emissive_strength", FieldType::Float, 0, 10000, nullptr, "scale of the emissive colour",
+     number<&M::emissiveStrength>},
+    {"metallic", FieldType::Float, 0, 1, nullptr, "0 = dielectric, 1 = metal", number<&M::metallicFactor>},
+    {"roughness", FieldType::Float, 0, 1, nullptr, "perceptual roughness", number<&M::roughnessFactor>},
+    {"normal_scale", FieldType::Float, 0, 10, nullptr, "strength of the normal map", number<&M::normalScale>},
+    {"occlusion_strength", FieldType::Float, 0, 1, nullptr, "strength of the occlusion map",
+     number<&M::occlusionStrength>},
+    {"alpha_mode", FieldType::Choice, 0, 0, "opaque|mask|blend", "how alpha is used", choice<&M::alphaMode>},
+    {"alpha_cutoff", FieldType::Float, 0, 1, nullptr, "mask threshold (alpha_mode = mask)",
+     number<&M::alphaCutoff>},
+    {"shading_path", FieldType::Choice, 0, 0, "deferred|forward", "pipeline placement",
+     choice<&M::shadingPath>},
+    {"layer_priority", FieldType::Integer, 0, 65535, nullptr, "deferred layer order, ascending",
+     integer<&M::layerPriority>},
+    {"double_sided", FieldType::Bool, 0, 0, nullptr, "render back faces", flag<&M::doubleSided>},
+    {"casts_shadows", FieldType::Bool, 0, 0, nullptr, "drawn into shadow maps", flag<&M::castsShadows>},
+    {"receives_shadows", FieldType::Bool, 0, 0, nullptr, "shadowed when lit", flag<&M::receivesShadows>},
+    {"unlit", FieldType::Bool, 0, 0, nullptr, "base colour as is, no lighting (KHR_materials_unlit)",
+     flag<&M::unlit>},
+    {"base_color_texture", FieldType::TextureRef, 0, 0, nullptr, "texture index or none",
+     texture<T::BaseColor>},
+    {"metallic_roughness_texture", FieldType::TextureRef, 0, 0, nullptr, "texture index or none",
+     texture<T::MetallicRoughness>},
+    {"normal_texture", FieldType::TextureRef, 0, 0, nullptr, "texture index or none", texture<T::Normal>},
+    {"occlusion_texture", FieldType::TextureRef, 0, 0, nullptr, "texture index or none",
+     texture<T::Occlusion>},
+    {"emissive_texture", FieldType::TextureRef, 0, 0, nullptr, "texture index or none",
+     texture<T::Emissive>},
+};
 
 std::vector<std::string_view> split(std::string_view s, char sep) {
     std::vector<std::string_view> parts;
@@ -110,7 +100,7 @@ Status setMaterialField(Material& material, std::string_view field, std::string_
     }
     const MaterialField& f = kFields[index];
     Material edited = material;
-    Slot slot = slotOf(edited, index);
+    MaterialFieldSlot slot = f.slot(edited);
     switch (f.type) {
     case FieldType::Float:
     case FieldType::Color3:
@@ -170,7 +160,7 @@ std::string getMaterialField(const Material& material, std::string_view field) {
     while (index < std::size(kFields) && field != kFields[index].name) ++index;
     if (index == std::size(kFields)) return {};
     const MaterialField& f = kFields[index];
-    Slot slot = slotOf(const_cast<Material&>(material), index);
+    MaterialFieldSlot slot = f.slot(const_cast<Material&>(material));
     char buf[128];
     switch (f.type) {
     case FieldType::Float: std::snprintf(buf, sizeof(buf), "%.9g", slot.floats[0]); return buf;

@@ -15,7 +15,9 @@
 //   SDSM_FINALIZE   per cascade: a square orthographic map around those bounds, depth from the
 //                   scene's top toward the light; writes the ShadowBlock lighting reads
 //   SDSM_CULL       per caster: which cascades it touches; masks and indirect draws
-#define MAX_CASCADES 8
+#include "shared/shadow_block.h"
+#include "shared/sdsm_caster.h"
+#define MAX_CASCADES PNB_MAX_CASCADES
 #define BINS 256
 
 layout(std430, binding = 0) buffer SdsmState {
@@ -25,11 +27,12 @@ layout(std430, binding = 0) buffer SdsmState {
     uint lightBounds[MAX_CASCADES * 8];       // per cascade: min x, y, z, max x, y, z (sortable), 2 pad
 };
 
-// The ShadowBlock (shaders/include/shadow_block.glsl) as std430 storage: same layout.
+// The ShadowBlock (shared/shadow_block.h) as std430 storage: the same members (the same offsets
+// under both rules, which the header checks), by the C++ names, which this file reads.
+#define SDSM_FIELD(type, cppName, glslName) type cppName;
+#define SDSM_ARRAY(type, cppName, glslName, count) type cppName[count];
 struct ShadowBlockData {
-    mat4 matrix[MAX_CASCADES];
-    vec4 cascade[MAX_CASCADES];
-    vec4 light, params, bias, mapInfo, view;
+    PNB_SHADOW_BLOCK_MEMBERS(SDSM_FIELD, SDSM_ARRAY)
 };
 
 layout(location = 0) uniform mat4 uInverseViewProjection; // camera-relative
@@ -274,14 +277,8 @@ void main() {
 
 #ifdef SDSM_CULL
 layout(local_size_x = 64) in;
-// Per caster (SdsmCasterData, shadow_maps.h): camera-relative bounds and the index range of the
-// level of detail it draws this frame.
-struct Caster {
-    vec3 lo;
-    uint indexCount;
-    vec3 hi;
-    uint firstIndex;
-};
+// Per caster: Caster (shared/sdsm_caster.h, SdsmCasterData in C++): camera-relative bounds and
+// the index range of the level of detail it draws this frame.
 layout(std430, binding = 6) readonly buffer CasterBounds { Caster casters[]; };
 layout(std430, binding = 5) writeonly buffer CasterMasks { uint casterMask[]; };
 struct DrawCommand {

@@ -4,12 +4,8 @@
 // cascade's matrix. Linked between the container's shadow.vert (compiled with
 // LAYER_FROM_GEOMETRY) and shadow.frag.
 
-// shaders/include/shadow_block.glsl's ShadowBlock (the same layout; only the matrices are read).
-layout(std140, binding = 4) uniform ShadowBlock {
-    mat4 uShadowMatrix[8];
-    vec4 uShadowCascade[8];
-    vec4 uShadowLight, uShadowParams, uShadowBias, uShadowMapInfo, uShadowView;
-};
+// The ShadowBlock lighting reads (only the matrices are used here).
+#include "shared/shadow_block.h"
 
 layout(triangles) in;
 layout(triangle_strip, max_vertices = 24) out;

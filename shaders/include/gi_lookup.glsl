@@ -8,12 +8,7 @@
 #ifndef PNB_GI_LOOKUP_GLSL
 #define PNB_GI_LOOKUP_GLSL
 
-layout(std140, binding = 6) uniform GiBlock {
-    vec4 uGiCascade[4];   // camera-relative minimum corner, cell size
-    vec4 uGiGrid;         // cells, cascades, 1 if the outer cascade fades out at its border,
-                          // 1 if lighting writes the indirect irradiance instead of radiance
-    vec4 uGiIrradiance;   // sun irradiance (rgb, lux or W/m^2) times gi.intensity
-};
+#include "../shared/gi_block.h"
 layout(binding = 10) uniform sampler3D uGiR;
 layout(binding = 11) uniform sampler3D uGiG;
 layout(binding = 12) uniform sampler3D uGiB;

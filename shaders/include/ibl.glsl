@@ -12,15 +12,7 @@
 
 #include "brdf.glsl"
 
-layout(std140, binding = 7) uniform IblBlock {
-    vec4 uIblSh[9];    // irradiance SH (rgb, lux): the ENVM's, rotated, times ibl.intensity
-    vec4 uIblRotation; // cos, sin of ibl.rotation_deg; specular cube's roughest level; 1 = specular on
-    vec4 uIblParams;   // 1 = IBL on; 1 = lighting writes the sky irradiance (capture);
-                       // sky-visibility radius (0 = none); specular radiance scale
-    vec4 uIblHeightRect;  // height map: camera-relative minimum x, z; 1 / size x, z
-    vec4 uIblHeightRange; // camera-relative bottom y; top - bottom; visibility (0 none,
-                          // 1 screen, 2 height, 3 volume, 4 probes); the height map's texel size
-};
+#include "../shared/ibl_block.h"
 layout(binding = 13) uniform samplerCube uIblSpecular;
 layout(binding = 14) uniform sampler2D uIblBrdf;
 

@@ -18,16 +18,8 @@
 #define PNB_TEX_OCCLUSION 3
 #define PNB_TEX_EMISSIVE 4
 
-// Per frame: camera-relative rendering. Positions reach the shader relative to the camera
-// (the player subtracts the camera position in double precision on the CPU), so a scene 10^6
-// units from the origin keeps full float precision near the viewer.
-layout(std140, binding = 0) uniform FrameBlock {
-    mat4 uViewProjection;   // camera-relative world -> clip (reversed-Z; perspective or orthographic)
-    mat4 uView;             // camera-relative world -> view
-    vec4 uCameraPosition;   // xyz world (for reference only; shading uses camera-relative)
-    vec4 uViewport;         // width, height, 1/width, 1/height
-    vec4 uAmbient;          // rgb: uniform ambient radiance; a: GI cascades this frame (0 = GI off)
-};
+// Per frame (binding 0): the camera. Declared once for GLSL and C++ in shared/.
+#include "../shared/frame_block.h"
 
 // The unit vector from camera-relative `p` toward the viewer (the V of the BRDF, the reverse of
 // the view ray through p): -p for a perspective camera, the constant -forward for an
@@ -38,26 +30,10 @@ vec3 viewVector(vec3 p) {
     return pnbOrthographic() ? vec3(uView[0][2], uView[1][2], uView[2][2]) : normalize(-p);
 }
 
-// Per draw.
-layout(std140, binding = 1) uniform ObjectBlock {
-    mat4 uModel;            // object -> camera-relative world
-    mat4 uNormalMatrix;     // inverse-transpose of uModel's upper 3x3 (in a mat4 for std140)
-    vec4 uDequantScale;     // position = stored * scale + offset (identity for float streams)
-    vec4 uDequantOffset;
-    vec4 uObjectParams;     // x: 1 if normals are octahedral-encoded (2 components), y: caster
-                            // index (shadow passes), z: -1 if the model matrix mirrors, else 1,
-                            // w: 1 for an instanced batch (surface.vert reads InstanceBlock)
-};
+// Per draw (binding 1).
+#include "../shared/object_block.h"
 
-// Per material: the MATL chunk's factors.
-layout(std140, binding = 2) uniform MaterialBlock {
-    vec4 uBaseColorFactor;
-    vec4 uEmissive;         // rgb * strength, a unused
-    vec4 uMaterialParams;   // metallic, roughness, normalScale, occlusionStrength
-    vec4 uAlphaParams;      // alphaCutoff, 1 if BLEND (else alpha is forced to 1),
-                            // 1 if the surface receives shadows (deferred: a G-buffer bit),
-                            // 1 if unlit (KHR_materials_unlit; deferred: a G-buffer bit)
-    vec4 uTexTransform[5 * 2]; // per slot: (offset.xy, scale.xy), (rotation, texCoord, 0, 0)
-};
+// Per material (binding 2): the MATL chunk's factors.
+#include "../shared/material_block.h"
 
 #endif

@@ -19,13 +19,7 @@
 #define PNB_LIGHT_POINT 1
 #define PNB_LIGHT_SPOT 2
 
-struct GpuLight {
-    vec4 positionRange;      // camera-relative position, range (0: directional, or no light)
-    vec4 directionType;      // direction the light travels (unit), type
-    vec4 colorIntensity;     // linear rgb, intensity (lux or candela)
-    vec4 cone;               // cos(outer), 1 / max(cos(inner) - cos(outer), 1e-4),
-                             // first shadow tile (-1: no shadow this frame), 0
-};
+#include "../shared/gpu_light.h"
 
 layout(std430, binding = 3) readonly buffer LightBuffer {
     uint uLightCount;

@@ -9,10 +9,7 @@
 #ifndef PNB_LOCAL_SHADOWS_GLSL
 #define PNB_LOCAL_SHADOWS_GLSL
 
-struct LocalShadowTile {
-    mat4 matrix; // camera-relative world -> tile clip (reversed-Z: the light's near plane at 1)
-    vec4 rect;   // atlas u0, v0, uv size, world size of one texel per unit of distance
-};
+#include "../shared/local_shadow_tile.h"
 
 layout(std430, binding = 9) readonly buffer LocalShadows {
     vec4 uLocalShadowAtlas; // 1 / atlas side, taps, radius (texels), 0

@@ -25,7 +25,9 @@ TEST(ShaderSources, IncludesAreInlinedOnceWithLineDirectives) {
     EXPECT_NE(r->text.find("\n#line 2 0\n"), std::string::npos);
     EXPECT_EQ(count(r->text, "#include"), 0u);
     // interface.glsl is reached through material.glsl and lights.glsl: inlined once.
-    EXPECT_EQ(count(r->text, "uniform FrameBlock"), 1u);
+    // (FrameBlock is declared by shared/frame_block.h, for GLSL and C++ alike.)
+    EXPECT_EQ(count(r->text, "PNB_UNIFORM_BLOCK(FrameBlock,"), 1u);
+    EXPECT_TRUE(std::find(r->files.begin(), r->files.end(), "shared/frame_block.h") != r->files.end());
     EXPECT_TRUE(std::find(r->files.begin(), r->files.end(), "include/brdf.glsl") != r->files.end());
     EXPECT_EQ(r->files[0], "forward.frag");
 }

@@ -1,5 +1,6 @@
 #include <gtest/gtest.h>
 
+#include <cstddef>
 #include <string>
 
 #include "pnb/material_fields.h"
@@ -83,6 +84,35 @@ TEST(MaterialFields, GlobMatch) {
     // Pathological backtracking stays fast.
     std::string text(2000, 'a');
     EXPECT_FALSE(globMatch("*a*a*a*a*a*a*b", text));
+}
+
+} // namespace
+
+namespace {
+
+// The one table: each row's accessor gives exactly the pointer its type uses, into the Material
+// it was given.
+TEST(MaterialFields, EveryRowsAccessorMatchesItsType) {
+    for (const pnb::MaterialField& f : pnb::materialFields()) {
+        SCOPED_TRACE(f.name);
+        pnb::Material m;
+        ASSERT_NE(f.slot, nullptr);
+        const pnb::MaterialFieldSlot s = f.slot(m);
+        const bool number = f.type == pnb::FieldType::Float || f.type == pnb::FieldType::Color3 ||
+                            f.type == pnb::FieldType::Color4;
+        EXPECT_EQ(s.floats != nullptr, number);
+        EXPECT_EQ(s.flag != nullptr, f.type == pnb::FieldType::Bool);
+        EXPECT_EQ(s.choice != nullptr, f.type == pnb::FieldType::Choice);
+        EXPECT_EQ(s.integer != nullptr, f.type == pnb::FieldType::Integer);
+        EXPECT_EQ(s.texture != nullptr, f.type == pnb::FieldType::TextureRef);
+        const void* ptrs[] = {s.floats, s.flag, s.choice, s.integer, s.texture};
+        for (const void* p : ptrs) {
+            if (!p) continue;
+            auto at = reinterpret_cast<const std::byte*>(p);
+            auto begin = reinterpret_cast<const std::byte*>(&m);
+            EXPECT_TRUE(at >= begin && at < begin + sizeof m) << "outside the Material given";
+        }
+    }
 }
 
 } // namespace

@@ -25,12 +25,24 @@ enum class FieldType : uint8_t {
     TextureRef, // TEXR index or "none"
 };
 
+// Where a field lives in one Material: the pointer its type uses, the others null.
+struct MaterialFieldSlot {
+    float* floats = nullptr; // Float, Color3, Color4: the first component (the rest follow it)
+    bool* flag = nullptr;    // Bool
+    uint8_t* choice = nullptr;    // Choice: the enum's byte
+    uint16_t* integer = nullptr;  // Integer
+    uint32_t* texture = nullptr;  // TextureRef
+};
+
 struct MaterialField {
     const char* name;
     FieldType type;
     float min, max;
     const char* choices; // Choice only: "|"-separated, in enum order
     const char* help;
+    // The field's storage in `material`: each row carries its own, so the table is the one list
+    // of fields (no second, positional list to keep in step).
+    MaterialFieldSlot (*slot)(Material& material);
 };
 
 // All fields, in display order.

@@ -7,18 +7,11 @@
 #include <glm/gtc/matrix_transform.hpp>
 
 #include "frame/frame_context.h"
+#include "shared/object_block.h" // ObjectBlock (GLSL and C++)
 
 namespace pnb::player {
 
 namespace {
-
-// std140 ObjectBlock (interface.glsl).
-struct ObjectBlock {
-    glm::mat4 model;
-    glm::mat4 normalMatrix;
-    glm::vec4 dequantScale, dequantOffset, params;
-};
-static_assert(sizeof(ObjectBlock) == 176);
 
 // std430 element of surface.vert's InstanceBlock: one copy of an instanced batch.
 struct InstanceData {

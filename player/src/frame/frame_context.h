@@ -14,6 +14,7 @@
 #include "frame/frame_targets.h"
 #include "gl/stream_ring.h"
 #include "pnb_player/renderer.h"
+#include "shared/frame_block.h"   // FrameBlock (GLSL and C++)
 
 namespace pnb::player {
 
@@ -71,12 +72,6 @@ void buildDrawLists(const GpuScene& scene, const ViewMatrices& view, const LodSt
 // index into the caster masks (uObjectParams.y). Returns its ring offset.
 size_t pushObjectBlock(const GpuScene& scene, const DrawItem& item, const glm::dmat4& toCamera,
                        StreamRing& ring, float casterIndex);
-
-// std140 FrameBlock (interface.glsl).
-struct FrameBlock {
-    glm::mat4 viewProjection, view;
-    glm::vec4 cameraPosition, viewport, ambient;
-};
 
 struct BuiltinPrograms {
     GlHandle fxaa, debugView, flat, shadowDebug, background, depthOnly;

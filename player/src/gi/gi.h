@@ -27,21 +27,13 @@
 #include "pnb_player/gl_handles.h"
 #include "pnb_player/renderer.h"
 #include "shadow_fit.h"
+#include "shared/gi_block.h" // kMaxGiCascades, GiBlock (GLSL and C++)
 
 namespace pnb::player {
 
 struct FrameContext;
 struct FrameView;
 struct ShadowContext;
-
-constexpr uint32_t kMaxGiCascades = 4;
-
-// std140 GiBlock (shaders/include/gi_lookup.glsl).
-struct GiBlock {
-    glm::vec4 cascade[kMaxGiCascades]; // camera-relative minimum corner, cell size
-    glm::vec4 grid;                    // cells, cascades, outer cascade fades, 0
-    glm::vec4 irradiance;              // sun irradiance rgb x gi.intensity
-};
 
 // What each technique allocates (gi.technique): only its own. Both: the RSM and the `sum`
 // volumes lighting reads (L1 SH per colour, cascades stacked along z).

@@ -18,17 +18,13 @@
 #include "pnb/chunks.h"
 #include "pnb_player/gl_handles.h"
 #include "pnb_player/settings.h"
+#include "shared/gpu_light.h" // GpuLight (GLSL and C++)
 
 namespace pnb::player {
 
 struct FrameContext;
 struct FrameView;
 struct SceneLight;
-
-// std430 GpuLight (lights.glsl).
-struct GpuLight {
-    glm::vec4 positionRange, directionType, colorIntensity, cone;
-};
 
 // A light as the cluster pass sees it: a view-space bounding sphere (xyz centre, w radius);
 // w < 0 for a directional light (it reaches every cluster).

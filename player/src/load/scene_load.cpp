@@ -20,6 +20,7 @@
 #include "load/scene_upload.h"
 #include "load/upload.h"
 #include "gl/upload_heap.h"
+#include "shared/material_block.h" // MaterialBlock (GLSL and C++)
 
 namespace pnb::player {
 
@@ -29,13 +30,6 @@ using Clock = std::chrono::steady_clock;
 double msSince(Clock::time_point t) {
     return std::chrono::duration<double, std::milli>(Clock::now() - t).count();
 }
-
-// std140 MaterialBlock (interface.glsl): 14 vec4.
-struct MaterialBlock {
-    glm::vec4 baseColorFactor, emissive, params, alphaParams;
-    glm::vec4 texTransform[5 * 2];
-};
-static_assert(sizeof(MaterialBlock) == 14 * 16);
 
 MaterialBlock materialBlock(const Material& m) {
     MaterialBlock b{};

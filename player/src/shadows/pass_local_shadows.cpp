@@ -12,16 +12,11 @@
 #include "shadows/shadow_maps.h"
 #include "shadows/local_shadows.h"
 #include "lights/light_clusters.h"
+#include "shared/local_shadow_tile.h" // GpuShadowTile (GLSL and C++)
 
 namespace pnb::player {
 
 namespace {
-
-// std430 LocalShadowTile (local_shadows.glsl).
-struct GpuShadowTile {
-    glm::mat4 matrix;  // camera-relative world -> tile clip (reversed-Z)
-    glm::vec4 rect;    // atlas u0, v0, uv size, world size of a texel per unit of distance
-};
 
 // The atlas's texture unit (local_shadows.glsl): 0-4 materials, 8-9 the sun, 10-18 GI and sky.
 constexpr GLuint kLocalShadowUnit = 19;

@@ -23,6 +23,8 @@
 #include "pnb_player/gl_handles.h"
 #include "pnb_player/renderer.h"
 #include "shadow_fit.h"
+#include "shared/sdsm_caster.h"  // SdsmCasterData (GLSL and C++)
+#include "shared/shadow_block.h" // kMaxCascades, ShadowBlock (GLSL and C++)
 
 namespace pnb::player {
 
@@ -30,36 +32,12 @@ struct FrameContext;
 struct FrameView;
 class StreamRing;
 
-constexpr uint32_t kMaxCascades = 8;
-
-// std140 ShadowBlock (shaders/include/shadow_block.glsl; mirrored by player/shaders/sdsm.comp).
-struct ShadowBlock {
-    glm::mat4 matrix[kMaxCascades];
-    glm::vec4 cascade[kMaxCascades]; // view depth start, end; texel world size; 1 if perspective
-    glm::vec4 light;    // toward the light, light index
-    glm::vec4 params;   // cascade count, filter, taps, radius
-    glm::vec4 bias;     // normal offset, slope bias, blend band, selection
-    glm::vec4 mapInfo;  // resolution, 1/resolution, PCSS tan(angular radius), output mode
-    glm::vec4 view;     // tan(fov/2) (0 if orthographic), viewport height, judged light, ymag (orthographic)
-};
-static_assert(sizeof(ShadowBlock) == 8 * 64 + 8 * 16 + 5 * 16);
-
 // A shadow caster: a draw item drawn into the maps with the scene's `shadow` program, at the
 // level of detail the main view chose for it this frame (LodState, frame_context.h).
 struct ShadowCaster {
     uint32_t item = 0;
     uint32_t program = 0;     // GpuScene::programs index (shadow[] or shadow[ALPHA_MASK])
 };
-
-// SDSM: what the GPU cull reads per caster (std430, sdsm.comp CasterBounds): camera-relative
-// bounds and the index range of the level drawn this frame, which it writes into the draws.
-struct SdsmCasterData {
-    glm::vec3 lo{0.0f};
-    uint32_t indexCount = 0;
-    glm::vec3 hi{0.0f};
-    uint32_t firstIndex = 0; // in indices from the start of the mesh buffer
-};
-static_assert(sizeof(SdsmCasterData) == 32);
 
 struct ShadowResources {
     uint32_t resolution = 0, layers = 0;

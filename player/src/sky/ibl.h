@@ -18,22 +18,13 @@
 
 #include "pnb_player/gl_handles.h"
 #include "pnb_player/settings.h"
+#include "shared/ibl_block.h" // IblBlock (GLSL and C++)
 
 namespace pnb::player {
 
 struct FrameContext;
 struct FrameView;
 struct GiContext;
-
-// std140 IblBlock (shaders/include/ibl.glsl).
-struct IblBlock {
-    glm::vec4 sh[9];
-    glm::vec4 rotation; // cos, sin, roughest specular level, specular on
-    glm::vec4 params;   // on, capture sky irradiance, visibility radius, specular scale
-    glm::vec4 heightRect;  // height map: camera-relative minimum x, z; 1 / size x, z
-    glm::vec4 heightRange; // camera-relative bottom y, top - bottom, visibility (0 none, 1
-                           // screen, 2 height, 3 volume, 4 probes), the height map's texel size
-};
 
 struct IblContext {
     bool active = false;   // this frame lights with the environment
