@@ -31,9 +31,11 @@ std::vector<pnb::cli::Option> options(pnb::assets::BoxRoomOptions& o, bool& help
     return {
         pnb::cli::valued("", "--subdivisions", "N", "quads per box face edge, 1..4096 (default 1)",
                          oneTo4096(o.boxSubdivisions)),
-        pnb::cli::valued("", "--texture-size", "N", "checker texture texels a side, 1..4096 (default 64)",
+        pnb::cli::valued("", "--texture-size", "N",
+                         "checker texture texels a side, 1..4096 (default 64)",
                          oneTo4096(o.textureSize)),
-        pnb::cli::flag("", "--environment", "add a tiny constant environment (ENVM chunk): a format sample",
+        pnb::cli::flag("", "--environment",
+                       "add a tiny constant environment (ENVM chunk): a format sample",
                        [&o](const char*) { return o.environment = true; }),
         pnb::cli::flag("", "-h, --help", "print this help and exit",
                        [&help](const char*) {
@@ -75,7 +77,8 @@ int main(int argc, char** argv) {
         return 2;
     }
     if (help) {
-        std::printf("usage: pnb-make-sample OUT.pnb [--subdivisions N] [--texture-size N] [--environment]\n\n%s",
+        std::printf("usage: pnb-make-sample OUT.pnb [--subdivisions N] [--texture-size N] "
+                    "[--environment]\n\n%s",
                     pnb::cli::helpText(table, {.column = 20}).c_str());
         return 0;
     }

@@ -67,8 +67,7 @@ bool parseTriple(const char* text, pnb::assets::gltf::Float3& out) {
 }
 
 // A handler storing a whole number from lo to hi (the field's own type) into `field`.
-template <typename Field>
-pnb::cli::Handler count(Field& field, uint64_t lo, uint64_t hi) {
+template <typename Field> pnb::cli::Handler count(Field& field, uint64_t lo, uint64_t hi) {
     return [&field, lo, hi](const char* text) {
         uint64_t v = 0;
         if (!parseU64(text, v) || v < lo || v > hi) return false;
@@ -127,28 +126,32 @@ std::vector<pnb::cli::Option> options(Request& r) {
                [&t](const char* text) { return parseTriple(text, t.origin); }),
         valued("", "--sun-elevation", "D", "turn the sun to D degrees above the horizon (0..90)",
                number(t.sunElevationDegrees)),
-        valued("", "--sun-azimuth", "D", "turn the sun to azimuth D degrees about +Y (from +X to -Z)",
+        valued("", "--sun-azimuth", "D",
+               "turn the sun to azimuth D degrees about +Y (from +X to -Z)",
                number(t.sunAzimuthDegrees)),
         valued("", "--camera-near", "M", "every camera's near plane, in the scene's own unit",
                number(t.cameraNear)),
-        flag("", "--list", "print the scene names with a one-line description", [&r](const char*) {
-            r.list = true;
-            return Verdict::stopHere();
-        }),
-        flag("", "-h, --help", "print this help and exit", [&r](const char*) {
-            r.help = true;
-            return Verdict::stopHere();
-        }),
+        flag("", "--list", "print the scene names with a one-line description",
+             [&r](const char*) {
+                 r.list = true;
+                 return Verdict::stopHere();
+             }),
+        flag("", "-h, --help", "print this help and exit",
+             [&r](const char*) {
+                 r.help = true;
+                 return Verdict::stopHere();
+             }),
     };
     table.back().hidden = true;
     return table;
 }
 
 void printUsage(std::FILE* out, const std::vector<pnb::cli::Option>& table) {
-    std::fprintf(out, "usage: pnb-make-scene NAME OUT.glb [--triangles N] [--seed N] [--lights N]\n"
-                      "                      [--texture-size N] [--unit-scale S] [--origin X,Y,Z]\n"
-                      "                      [--sun-elevation DEG] [--sun-azimuth DEG] [--camera-near M]\n"
-                      "       pnb-make-scene --list\n\n");
+    std::fprintf(
+        out, "usage: pnb-make-scene NAME OUT.glb [--triangles N] [--seed N] [--lights N]\n"
+             "                      [--texture-size N] [--unit-scale S] [--origin X,Y,Z]\n"
+             "                      [--sun-elevation DEG] [--sun-azimuth DEG] [--camera-near M]\n"
+             "       pnb-make-scene --list\n\n");
     std::fputs(pnb::cli::helpText(table, {.column = 21}).c_str(), out);
 }
 
@@ -167,12 +170,18 @@ void reportParseError(const pnb::cli::ParseError& e) {
     std::string sentence;
     switch (e.kind) {
     case Kind::MissingValue:
-    case Kind::BadValue: sentence = valueWanted(e.option); break;
+    case Kind::BadValue:
+        sentence = valueWanted(e.option);
+        break;
     case Kind::FlagWithValue:
         sentence = "unexpected argument '" + e.option + "=" + e.value + "' (see --help)";
         break;
-    case Kind::UnknownOption: sentence = "unexpected argument '" + e.option + "' (see --help)"; break;
-    case Kind::Positional: sentence = "unexpected argument '" + e.value + "' (see --help)"; break;
+    case Kind::UnknownOption:
+        sentence = "unexpected argument '" + e.option + "' (see --help)";
+        break;
+    case Kind::Positional:
+        sentence = "unexpected argument '" + e.value + "' (see --help)";
+        break;
     }
     std::fprintf(stderr, "Error: %s\n", sentence.c_str());
 }

@@ -103,12 +103,16 @@ std::vector<pnb::cli::Option> options(Request& r) {
 std::string wording(const pnb::cli::ParseError& e, int argc) {
     using Kind = pnb::cli::ParseError::Kind;
     switch (e.kind) {
-    case Kind::MissingValue: return "missing arguments";
-    case Kind::BadValue: return "give one of --loader and --evict, once, before FILE";
-    case Kind::FlagWithValue: return "unknown option " + e.option + "=" + e.value;
+    case Kind::MissingValue:
+        return "missing arguments";
+    case Kind::BadValue:
+        return "give one of --loader and --evict, once, before FILE";
+    case Kind::FlagWithValue:
+        return "unknown option " + e.option + "=" + e.value;
     case Kind::Positional: // FILE before the mode
         return argc < 3 ? "missing arguments" : "unknown option " + e.value;
-    case Kind::UnknownOption: break;
+    case Kind::UnknownOption:
+        break;
     }
     return "unknown option " + e.option;
 }
@@ -124,14 +128,18 @@ Request parseOrExit(int argc, char** argv) {
     };
     if (auto e = pnb::cli::parse(table, file, argc, argv)) usage(wording(*e, argc));
     if (r.help) {
-        std::printf("%s\n%s", kUsage, pnb::cli::helpText(table, {.column = 18, .wrapAt = 100}).c_str());
+        std::printf("%s\n%s", kUsage,
+                    pnb::cli::helpText(table, {.column = 18, .wrapAt = 100}).c_str());
         std::exit(0);
     }
-    if (r.mode == Mode::None || (r.mode == Mode::Evict && r.files.empty())) usage("missing arguments");
+    if (r.mode == Mode::None || (r.mode == Mode::Evict && r.files.empty()))
+        usage("missing arguments");
     if (r.mode == Mode::Loader) {
         if (r.files.empty()) usage("no input file");
-        if (r.loader != "floor" && r.files.size() != 1) usage("--loader " + r.loader + " takes one FILE");
-        if (r.loader != "floor" && r.loader != "pnb" && r.loader != "assimp" && r.loader != "tinygltf")
+        if (r.loader != "floor" && r.files.size() != 1)
+            usage("--loader " + r.loader + " takes one FILE");
+        if (r.loader != "floor" && r.loader != "pnb" && r.loader != "assimp" &&
+            r.loader != "tinygltf")
             usage("unknown loader " + r.loader);
     }
     return r;

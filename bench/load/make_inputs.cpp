@@ -185,14 +185,18 @@ pnb::cli::Handler choose(Request& r, Mode mode) {
 
 std::vector<pnb::cli::Option> options(Request& r) {
     // A mode's row names its arguments in --help; the parser takes them as positional ones.
-    auto mode = [&r](std::string_view names, std::string_view arguments, std::string_view help, Mode m) {
-        return pnb::cli::Option{"", names, arguments, help, choose(r, m), pnb::cli::ValueKind::None};
+    auto mode = [&r](std::string_view names, std::string_view arguments, std::string_view help,
+                     Mode m) {
+        return pnb::cli::Option{"",   names,        arguments,
+                                help, choose(r, m), pnb::cli::ValueKind::None};
     };
     return {
-        mode("--reencode-glb", "IN.glb OUT.glb png|jpeg",
-             "every embedded image decoded and re-encoded by stb_image_write: \"png\" at deflate level "
-             "8, \"jpeg\" at quality 90 (and image/jpeg as its mimeType); everything else unchanged",
-             Mode::ReencodeGlb),
+        mode(
+            "--reencode-glb", "IN.glb OUT.glb png|jpeg",
+            "every embedded image decoded and re-encoded by stb_image_write: \"png\" at deflate "
+            "level "
+            "8, \"jpeg\" at quality 90 (and image/jpeg as its mimeType); everything else unchanged",
+            Mode::ReencodeGlb),
         mode("--export-obj", "IN.glb OUT.obj",
              "IN as OBJ + MTL through assimp's exporter, its embedded images written unchanged as "
              "files next to OUT and named in the MTL",
@@ -220,13 +224,16 @@ int main(int argc, char** argv) {
     };
     const bool parsed = !pnb::cli::parse(table, file, argc, argv);
     if (parsed && r.help) {
-        std::printf("%s\n%s", kUsage,
-                    pnb::cli::helpText(table, {.column = 16, .wrapAt = 100, .longNameOwnLine = true}).c_str());
+        std::printf(
+            "%s\n%s", kUsage,
+            pnb::cli::helpText(table, {.column = 16, .wrapAt = 100, .longNameOwnLine = true})
+                .c_str());
         return 0;
     }
     if (parsed && r.mode == Mode::ReencodeGlb && r.files.size() == 3)
         return reencodeGlb(r.files[0], r.files[1], r.files[2]);
-    if (parsed && r.mode == Mode::ExportObj && r.files.size() == 2) return exportObj(r.files[0], r.files[1]);
+    if (parsed && r.mode == Mode::ExportObj && r.files.size() == 2)
+        return exportObj(r.files[0], r.files[1]);
     // Every usage error gets the same two lines, as it always has.
     std::fputs(kUsage, stderr);
     return 1;

@@ -126,8 +126,8 @@ Verdict bad(const char* option, const char* value, const char* range) {
 
 // A handler storing a whole number lo..hi into `field` (`powerOfTwo`: only powers of two).
 template <typename Field>
-pnb::cli::Handler count(const char* option, Field& field, uint64_t lo, uint64_t hi, const char* range,
-                        bool powerOfTwo = false) {
+pnb::cli::Handler count(const char* option, Field& field, uint64_t lo, uint64_t hi,
+                        const char* range, bool powerOfTwo = false) {
     return [=, &field](const char* text) {
         uint64_t n = 0;
         if (!parseU64(text, n) || n < lo || n > hi || (powerOfTwo && (n & (n - 1)) != 0))
@@ -158,7 +158,8 @@ std::vector<pnb::cli::Option> options(Options& o, bool& help) {
     std::vector<pnb::cli::Option> table = {
         valued("", "--size", "SIZE", "file of at least SIZE bytes (K, M, G suffix = KiB, MiB, GiB)",
                [&o](const char* text) {
-                   return parseSize(text, o.sizeBytes) ? Verdict(true) : bad("--size", text, "e.g. 64M, 1G, 5G");
+                   return parseSize(text, o.sizeBytes) ? Verdict(true)
+                                                       : bad("--size", text, "e.g. 64M, 1G, 5G");
                }),
         valued("", "--textures", "N", "exactly N textured panels (1..100000)",
                count("--textures", o.textures, 1, 100000, "1..100000")),
@@ -166,11 +167,13 @@ std::vector<pnb::cli::Option> options(Options& o, bool& help) {
                count("--texture-size", o.textureSize, 8, 4096, "a power of two 8..4096", true)),
         valued("", "--spacing", "M", "metres between panels on one side, 1..1000 (default 6)",
                [&o](const char* text) {
-                   return parseFloat(text, 1, 1000, o.spacing) ? Verdict(true) : bad("--spacing", text, "1..1000");
+                   return parseFloat(text, 1, 1000, o.spacing) ? Verdict(true)
+                                                               : bad("--spacing", text, "1..1000");
                }),
         valued("", "--speed", "M/S", "camera path speed, 0.1..1000 (default 5)",
                [&o](const char* text) {
-                   return parseFloat(text, 0.1f, 1000, o.speed) ? Verdict(true) : bad("--speed", text, "0.1..1000");
+                   return parseFloat(text, 0.1f, 1000, o.speed) ? Verdict(true)
+                                                                : bad("--speed", text, "0.1..1000");
                }),
         flag("", "--no-shadows", "the sun casts no shadows", set(o.shadows, false)),
         flag("", "--no-checksums", "write no payload checksums", set(o.checksums, false)),
@@ -181,27 +184,30 @@ std::vector<pnb::cli::Option> options(Options& o, bool& help) {
              "a rock beside every panel: its own mesh with 4 levels of\n"
              "detail: a coarse proxy (MESH) + its full detail (MDET)",
              set(o.lodRocks, true)),
-        valued("", "--rock-triangles", "N", "about N triangles a rock, 100..1000000 (default 20000)",
-               [&o, rocks = count("--rock-triangles", o.rockTriangles, 100, 1000000, "100..1000000")](
-                   const char* text) {
+        valued("", "--rock-triangles", "N",
+               "about N triangles a rock, 100..1000000 (default 20000)",
+               [&o, rocks = count("--rock-triangles", o.rockTriangles, 100, 1000000,
+                                  "100..1000000")](const char* text) {
                    o.rockTrianglesGiven = true;
                    return rocks(text);
                }),
-        flag("", "-h, --help", "print this help and exit", [&help](const char*) {
-            help = true;
-            return Verdict::stopHere();
-        }),
+        flag("", "-h, --help", "print this help and exit",
+             [&help](const char*) {
+                 help = true;
+                 return Verdict::stopHere();
+             }),
     };
     table.back().hidden = true;
     return table;
 }
 
 void printUsage(std::FILE* out, const std::vector<pnb::cli::Option>& table) {
-    std::fprintf(out, "usage: pnb-make-stream-scene OUT.pnb (--size SIZE | --textures N)\n"
-                      "                             [--texture-size N] [--spacing M] [--speed M/S]\n"
-                      "                             [--no-shadows] [--no-checksums] [--threads 1|2] [-q]\n"
-                      "                             [--lod-rocks [--rock-triangles N]]\n"
-                      "\n");
+    std::fprintf(
+        out, "usage: pnb-make-stream-scene OUT.pnb (--size SIZE | --textures N)\n"
+             "                             [--texture-size N] [--spacing M] [--speed M/S]\n"
+             "                             [--no-shadows] [--no-checksums] [--threads 1|2] [-q]\n"
+             "                             [--lod-rocks [--rock-triangles N]]\n"
+             "\n");
     std::fputs(pnb::cli::helpText(table, {.column = 20}).c_str(), out);
 }
 
@@ -215,11 +221,15 @@ int usageError(const std::string& message, const std::vector<pnb::cli::Option>& 
 std::string wording(const pnb::cli::ParseError& e) {
     using Kind = pnb::cli::ParseError::Kind;
     switch (e.kind) {
-    case Kind::MissingValue: return e.option + " needs " + needs(e.option);
+    case Kind::MissingValue:
+        return e.option + " needs " + needs(e.option);
     case Kind::BadValue:
-    case Kind::Positional: return e.why;
-    case Kind::FlagWithValue: return "unknown option '" + e.option + "=" + e.value + "'";
-    case Kind::UnknownOption: break;
+    case Kind::Positional:
+        return e.why;
+    case Kind::FlagWithValue:
+        return "unknown option '" + e.option + "=" + e.value + "'";
+    case Kind::UnknownOption:
+        break;
     }
     return "unknown option '" + e.option + "'";
 }
