@@ -19,7 +19,8 @@
 // to report how many bytes are still resident (pages another process maps stay; the line says
 // so rather than pretending).
 //
-// Exit codes: 0 ok, 1 usage, 2 the load failed (the JSON line has "ok": false and "error").
+// Exit codes: 0 ok, 1 usage, 2 the load failed (the JSON line has "ok": false and "error"). The
+// command line is one pnb_cli option table, which also prints --help.
 #include <fcntl.h>
 #include <sys/mman.h>
 #include <sys/stat.h>
@@ -35,6 +36,7 @@
 #include <nlohmann/json.hpp>
 
 #include "peer_gl.h"
+#include "pnb_cli/options.h"
 #include "pnb_player/gl_context.h"
 #include "probe.h"
 
@@ -49,14 +51,98 @@ void printLine(const json& j) {
     std::fflush(stdout);
 }
 
+constexpr const char* kUsage = "usage: pnb_load_probe --loader pnb|assimp|tinygltf FILE\n"
+                               "       pnb_load_probe --loader floor FILE...\n"
+                               "       pnb_load_probe --evict FILE...\n";
+
 [[noreturn]] void usage(const std::string& what) {
-    std::fprintf(stderr,
-                 "pnb_load_probe: %s\n"
-                 "usage: pnb_load_probe --loader pnb|assimp|tinygltf FILE\n"
-                 "       pnb_load_probe --loader floor FILE...\n"
-                 "       pnb_load_probe --evict FILE...\n",
-                 what.c_str());
+    std::fprintf(stderr, "pnb_load_probe: %s\n%s", what.c_str(), kUsage);
     std::exit(1);
+}
+
+// [SECTION] command line
+
+enum class Mode { None, Loader, Evict };
+
+struct Request {
+    Mode mode = Mode::None;
+    std::string loader;
+    std::vector<std::string> files; // the mode's FILE arguments, in order
+    bool help = false;
+};
+
+// The mode comes first, once, its files after it, as this tool has always read its command line.
+bool choose(Request& r, Mode mode) {
+    if (r.mode != Mode::None || !r.files.empty()) return false;
+    r.mode = mode;
+    return true;
+}
+
+std::vector<pnb::cli::Option> options(Request& r) {
+    return {
+        pnb::cli::valued("", "--loader", "NAME",
+                         "load FILE to GPU-ready with pnb, assimp or tinygltf (and stb_image); or "
+                         "\"floor\": mmap + copy FILE... into fresh memory",
+                         [&r](const char* name) {
+                             r.loader = name;
+                             return choose(r, Mode::Loader);
+                         }),
+        pnb::cli::flag("", "--evict",
+                       "drop FILE... from the page cache (fdatasync + posix_fadvise), then report "
+                       "the bytes still resident",
+                       [&r](const char*) { return choose(r, Mode::Evict); }),
+        pnb::cli::flag("", "-h, --help", "print this help and exit",
+                       [&r](const char*) {
+                           r.help = true;
+                           return pnb::cli::Verdict::stopHere();
+                       }),
+    };
+}
+
+// This tool's wording of a parse error (argc: a lone FILE is "missing arguments", as it was).
+std::string wording(const pnb::cli::ParseError& e, int argc) {
+    using Kind = pnb::cli::ParseError::Kind;
+    switch (e.kind) {
+    case Kind::MissingValue:
+        return "missing arguments";
+    case Kind::BadValue:
+        return "give one of --loader and --evict, once, before FILE";
+    case Kind::FlagWithValue:
+        return "unknown option " + e.option + "=" + e.value;
+    case Kind::Positional: // FILE before the mode
+        return argc < 3 ? "missing arguments" : "unknown option " + e.value;
+    case Kind::UnknownOption:
+        break;
+    }
+    return "unknown option " + e.option;
+}
+
+// Parses the command line, or exits: with the help (0) or a usage error (1).
+Request parseOrExit(int argc, char** argv) {
+    Request r;
+    const std::vector<pnb::cli::Option> table = options(r);
+    auto file = [&r](const char* arg) {
+        if (r.mode == Mode::None) return false;
+        r.files.emplace_back(arg);
+        return true;
+    };
+    if (auto e = pnb::cli::parse(table, file, argc, argv)) usage(wording(*e, argc));
+    if (r.help) {
+        std::printf("%s\n%s", kUsage,
+                    pnb::cli::helpText(table, {.column = 18, .wrapAt = 100}).c_str());
+        std::exit(0);
+    }
+    if (r.mode == Mode::None || (r.mode == Mode::Evict && r.files.empty()))
+        usage("missing arguments");
+    if (r.mode == Mode::Loader) {
+        if (r.files.empty()) usage("no input file");
+        if (r.loader != "floor" && r.files.size() != 1)
+            usage("--loader " + r.loader + " takes one FILE");
+        if (r.loader != "floor" && r.loader != "pnb" && r.loader != "assimp" &&
+            r.loader != "tinygltf")
+            usage("unknown loader " + r.loader);
+    }
+    return r;
 }
 
 json evict(const std::vector<std::string>& paths) {
@@ -116,17 +202,13 @@ int main(int argc, char** argv) {
                 .count();
         line["exec_to_main_ms"] = double(now - std::strtoll(spawn, nullptr, 10)) / 1e6;
     }
-    if (argc < 3) usage("missing arguments");
-    const std::string mode = argv[1];
-    if (mode == "--evict") {
-        printLine(evict({argv + 2, argv + argc}));
+    const Request request = parseOrExit(argc, argv);
+    if (request.mode == Mode::Evict) {
+        printLine(evict(request.files));
         return 0;
     }
-    if (mode != "--loader") usage("unknown option " + mode);
-    const std::string loader = argv[2];
-    const std::vector<std::string> inputs(argv + 3, argv + argc);
-    if (inputs.empty()) usage("no input file");
-    if (loader != "floor" && inputs.size() != 1) usage("--loader " + loader + " takes one FILE");
+    const std::string& loader = request.loader;
+    const std::vector<std::string>& inputs = request.files;
     line["loader"] = loader;
     line["inputs"] = inputs;
 
@@ -135,8 +217,6 @@ int main(int argc, char** argv) {
         if (loader == "floor") {
             r = pnb::bench::loadFloor(inputs);
         } else {
-            if (loader != "pnb" && loader != "assimp" && loader != "tinygltf")
-                usage("unknown loader " + loader);
             const auto start = Clock::now();
             auto context = pnb::player::createHeadlessContext();
             if (!context) throw pnb::bench::LoadFailure(context.error().message);

@@ -10,7 +10,8 @@
 //       IN as OBJ + MTL through assimp's exporter, its embedded images written unchanged as
 //       files next to OUT and named in the MTL.
 //
-// Exit codes: 0 ok, 1 usage, 2 input or output error (the message names the file).
+// Exit codes: 0 ok, 1 usage, 2 input or output error (the message names the file). The command
+// line is one pnb_cli option table, which also prints --help.
 #define TINYGLTF_IMPLEMENTATION
 #define TINYGLTF_NO_STB_IMAGE_WRITE
 #define TINYGLTF_NO_EXTERNAL_IMAGE
@@ -30,7 +31,10 @@
 #include <fstream>
 #include <memory>
 #include <string>
+#include <string_view>
 #include <vector>
+
+#include "pnb_cli/options.h"
 
 namespace {
 
@@ -159,13 +163,78 @@ int exportObj(const std::string& input, const std::string& output) {
     return 0;
 }
 
+// [SECTION] command line
+
+enum class Mode { None, ReencodeGlb, ExportObj };
+
+struct Request {
+    Mode mode = Mode::None;
+    std::vector<std::string> files; // the mode's arguments, in order
+    bool help = false;
+};
+
+// The mode must come first (its arguments follow it), as this tool has always read its command
+// line: a second mode or a mode after an argument is a usage error.
+pnb::cli::Handler choose(Request& r, Mode mode) {
+    return [&r, mode](const char*) {
+        if (r.mode != Mode::None || !r.files.empty()) return false;
+        r.mode = mode;
+        return true;
+    };
+}
+
+std::vector<pnb::cli::Option> options(Request& r) {
+    // A mode's row names its arguments in --help; the parser takes them as positional ones.
+    auto mode = [&r](std::string_view names, std::string_view arguments, std::string_view help,
+                     Mode m) {
+        return pnb::cli::Option{"",   names,        arguments,
+                                help, choose(r, m), pnb::cli::ValueKind::None};
+    };
+    return {
+        mode(
+            "--reencode-glb", "IN.glb OUT.glb png|jpeg",
+            "every embedded image decoded and re-encoded by stb_image_write: \"png\" at deflate "
+            "level "
+            "8, \"jpeg\" at quality 90 (and image/jpeg as its mimeType); everything else unchanged",
+            Mode::ReencodeGlb),
+        mode("--export-obj", "IN.glb OUT.obj",
+             "IN as OBJ + MTL through assimp's exporter, its embedded images written unchanged as "
+             "files next to OUT and named in the MTL",
+             Mode::ExportObj),
+        pnb::cli::flag("", "-h, --help", "print this help and exit",
+                       [&r](const char*) {
+                           r.help = true;
+                           return pnb::cli::Verdict::stopHere();
+                       }),
+    };
+}
+
+constexpr const char* kUsage = "usage: pnb_load_inputs --reencode-glb IN.glb OUT.glb png|jpeg\n"
+                               "       pnb_load_inputs --export-obj IN.glb OUT.obj\n";
+
 } // namespace
 
 int main(int argc, char** argv) {
-    const std::string mode = argc > 1 ? argv[1] : "";
-    if (mode == "--reencode-glb" && argc == 5) return reencodeGlb(argv[2], argv[3], argv[4]);
-    if (mode == "--export-obj" && argc == 4) return exportObj(argv[2], argv[3]);
-    std::fprintf(stderr, "usage: pnb_load_inputs --reencode-glb IN.glb OUT.glb png|jpeg\n"
-                         "       pnb_load_inputs --export-obj IN.glb OUT.obj\n");
+    Request r;
+    const std::vector<pnb::cli::Option> table = options(r);
+    auto file = [&r](const char* arg) {
+        if (r.mode == Mode::None) return false;
+        r.files.emplace_back(arg);
+        return true;
+    };
+    const bool parsed = !pnb::cli::parse(table, file, argc, argv);
+    if (parsed && r.help) {
+        std::printf(
+            "%s\n%s", kUsage,
+            pnb::cli::helpText(table, {.column = 16, .wrapAt = 100, .longNameOwnLine = true})
+                .c_str());
+        return 0;
+    }
+    if (parsed && r.mode == Mode::ReencodeGlb && r.files.size() == 3)
+        return reencodeGlb(r.files[0], r.files[1], r.files[2]);
+    if (parsed && r.mode == Mode::ExportObj && r.files.size() == 2)
+        return exportObj(r.files[0], r.files[1]);
+    // Every usage error gets the same two lines, as it always has.
+    std::fputs(kUsage, stderr);
     return 1;
 }

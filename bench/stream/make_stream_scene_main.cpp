@@ -57,9 +57,9 @@
 // name and renamed into place on success (pnb::Writer), so a failed run leaves no partial file.
 // Exit codes: 0 ok, 1 usage error, 2 write error (e.g. disk full), 3 internal error.
 //
-// Files: make_stream_scene_main.cpp (this: the command line), make_stream_scene_layout.cpp (the
-// scene and its writing), make_stream_scene_textures.cpp (texels), make_stream_scene_geometry.cpp
-// (meshes and rocks); make_stream_scene.h between them.
+// Files: make_stream_scene_main.cpp (this: the command line, one pnb_cli option table),
+// make_stream_scene_layout.cpp (the scene and its writing), make_stream_scene_textures.cpp
+// (texels), make_stream_scene_geometry.cpp (meshes and rocks); make_stream_scene.h between them.
 
 #include <cerrno>
 #include <cmath>
@@ -68,8 +68,10 @@
 #include <cstdlib>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "make_stream_scene.h"
+#include "pnb_cli/options.h"
 
 namespace stream_scene {
 
@@ -77,32 +79,9 @@ namespace {
 
 // [SECTION] command line
 
-void printUsage(std::FILE* out) {
-    std::fprintf(out,
-                 "usage: pnb-make-stream-scene OUT.pnb (--size SIZE | --textures N)\n"
-                 "                             [--texture-size N] [--spacing M] [--speed M/S]\n"
-                 "                             [--no-shadows] [--no-checksums] [--threads 1|2] [-q]\n"
-                 "                             [--lod-rocks [--rock-triangles N]]\n"
-                 "\n"
-                 "  --size SIZE       file of at least SIZE bytes (K, M, G suffix = KiB, MiB, GiB)\n"
-                 "  --textures N      exactly N textured panels (1..100000)\n"
-                 "  --texture-size N  texels a side, power of two 8..4096 (default 2048)\n"
-                 "  --spacing M       metres between panels on one side, 1..1000 (default 6)\n"
-                 "  --speed M/S       camera path speed, 0.1..1000 (default 5)\n"
-                 "  --no-shadows      the sun casts no shadows\n"
-                 "  --no-checksums    write no payload checksums\n"
-                 "  --threads 1|2     generate texels on a second thread (default 2)\n"
-                 "  -q                print nothing on success\n"
-                 "  --lod-rocks       a rock beside every panel: its own mesh with 4 levels of\n"
-                 "                    detail: a coarse proxy (MESH) + its full detail (MDET)\n"
-                 "  --rock-triangles N  about N triangles a rock, 100..1000000 (default 20000)\n");
-}
-
-int usageError(const std::string& message) {
-    std::fprintf(stderr, "pnb-make-stream-scene: %s\n\n", message.c_str());
-    printUsage(stderr);
-    return kExitUsage;
-}
+using pnb::cli::flag;
+using pnb::cli::valued;
+using pnb::cli::Verdict;
 
 bool parseU64(const char* text, uint64_t& out) {
     if (!text || *text < '0' || *text > '9') return false;
@@ -140,79 +119,143 @@ bool parseFloat(const char* text, float lo, float hi, float& out) {
     return true;
 }
 
+// "bad --OPTION 'VALUE' (range)": how this tool has always refused a value.
+Verdict bad(const char* option, const char* value, const char* range) {
+    return Verdict::error(std::string("bad ") + option + " '" + value + "' (" + range + ")");
+}
+
+// A handler storing a whole number lo..hi into `field` (`powerOfTwo`: only powers of two).
+template <typename Field>
+pnb::cli::Handler count(const char* option, Field& field, uint64_t lo, uint64_t hi,
+                        const char* range, bool powerOfTwo = false) {
+    return [=, &field](const char* text) {
+        uint64_t n = 0;
+        if (!parseU64(text, n) || n < lo || n > hi || (powerOfTwo && (n & (n - 1)) != 0))
+            return bad(option, text, range);
+        field = Field(n);
+        return Verdict(true);
+    };
+}
+
+// What a valued option at the end of the command line is missing, in this tool's words.
+const char* needs(const std::string& option) {
+    if (option == "--size" || option == "--texture-size") return "a size";
+    if (option == "--spacing") return "metres";
+    if (option == "--speed") return "metres per second";
+    if (option == "--threads") return "1 or 2";
+    return "a count"; // --textures, --rock-triangles
+}
+
+// The options, laid out in --help as this tool always has (column 20); -h/--help is not listed.
+std::vector<pnb::cli::Option> options(Options& o, bool& help) {
+    // A flag's handler: sets `field` to `value`.
+    auto set = [](bool& field, bool value) {
+        return [&field, value](const char*) {
+            field = value;
+            return true;
+        };
+    };
+    std::vector<pnb::cli::Option> table = {
+        valued("", "--size", "SIZE", "file of at least SIZE bytes (K, M, G suffix = KiB, MiB, GiB)",
+               [&o](const char* text) {
+                   return parseSize(text, o.sizeBytes) ? Verdict(true)
+                                                       : bad("--size", text, "e.g. 64M, 1G, 5G");
+               }),
+        valued("", "--textures", "N", "exactly N textured panels (1..100000)",
+               count("--textures", o.textures, 1, 100000, "1..100000")),
+        valued("", "--texture-size", "N", "texels a side, power of two 8..4096 (default 2048)",
+               count("--texture-size", o.textureSize, 8, 4096, "a power of two 8..4096", true)),
+        valued("", "--spacing", "M", "metres between panels on one side, 1..1000 (default 6)",
+               [&o](const char* text) {
+                   return parseFloat(text, 1, 1000, o.spacing) ? Verdict(true)
+                                                               : bad("--spacing", text, "1..1000");
+               }),
+        valued("", "--speed", "M/S", "camera path speed, 0.1..1000 (default 5)",
+               [&o](const char* text) {
+                   return parseFloat(text, 0.1f, 1000, o.speed) ? Verdict(true)
+                                                                : bad("--speed", text, "0.1..1000");
+               }),
+        flag("", "--no-shadows", "the sun casts no shadows", set(o.shadows, false)),
+        flag("", "--no-checksums", "write no payload checksums", set(o.checksums, false)),
+        valued("", "--threads", "1|2", "generate texels on a second thread (default 2)",
+               count("--threads", o.threads, 1, 2, "1 or 2")),
+        flag("", "-q", "print nothing on success", set(o.quiet, true)),
+        flag("", "--lod-rocks",
+             "a rock beside every panel: its own mesh with 4 levels of\n"
+             "detail: a coarse proxy (MESH) + its full detail (MDET)",
+             set(o.lodRocks, true)),
+        valued("", "--rock-triangles", "N",
+               "about N triangles a rock, 100..1000000 (default 20000)",
+               [&o, rocks = count("--rock-triangles", o.rockTriangles, 100, 1000000,
+                                  "100..1000000")](const char* text) {
+                   o.rockTrianglesGiven = true;
+                   return rocks(text);
+               }),
+        flag("", "-h, --help", "print this help and exit",
+             [&help](const char*) {
+                 help = true;
+                 return Verdict::stopHere();
+             }),
+    };
+    table.back().hidden = true;
+    return table;
+}
+
+void printUsage(std::FILE* out, const std::vector<pnb::cli::Option>& table) {
+    std::fprintf(
+        out, "usage: pnb-make-stream-scene OUT.pnb (--size SIZE | --textures N)\n"
+             "                             [--texture-size N] [--spacing M] [--speed M/S]\n"
+             "                             [--no-shadows] [--no-checksums] [--threads 1|2] [-q]\n"
+             "                             [--lod-rocks [--rock-triangles N]]\n"
+             "\n");
+    std::fputs(pnb::cli::helpText(table, {.column = 20}).c_str(), out);
+}
+
+int usageError(const std::string& message, const std::vector<pnb::cli::Option>& table) {
+    std::fprintf(stderr, "pnb-make-stream-scene: %s\n\n", message.c_str());
+    printUsage(stderr, table);
+    return kExitUsage;
+}
+
+// This tool's wording of a parse error.
+std::string wording(const pnb::cli::ParseError& e) {
+    using Kind = pnb::cli::ParseError::Kind;
+    switch (e.kind) {
+    case Kind::MissingValue:
+        return e.option + " needs " + needs(e.option);
+    case Kind::BadValue:
+    case Kind::Positional:
+        return e.why;
+    case Kind::FlagWithValue:
+        return "unknown option '" + e.option + "=" + e.value + "'";
+    case Kind::UnknownOption:
+        break;
+    }
+    return "unknown option '" + e.option + "'";
+}
+
 // Returns an exit code if the program should stop (usage error or --help).
 std::optional<int> parseArgs(int argc, char** argv, Options& o) {
-    for (int i = 1; i < argc; ++i) {
-        std::string a = argv[i];
-        const char* value = i + 1 < argc ? argv[i + 1] : nullptr;
-        auto needs = [&](const char* what) -> std::optional<int> {
-            if (!value) return usageError(a + " needs " + what);
-            ++i;
-            return std::nullopt;
-        };
-        if (a == "-h" || a == "--help") {
-            printUsage(stdout);
-            return 0;
-        } else if (a == "--size") {
-            if (auto e = needs("a size")) return e;
-            if (!parseSize(value, o.sizeBytes))
-                return usageError(std::string("bad --size '") + value + "' (e.g. 64M, 1G, 5G)");
-        } else if (a == "--textures") {
-            if (auto e = needs("a count")) return e;
-            uint64_t n = 0;
-            if (!parseU64(value, n) || n < 1 || n > 100000)
-                return usageError(std::string("bad --textures '") + value + "' (1..100000)");
-            o.textures = uint32_t(n);
-        } else if (a == "--texture-size") {
-            if (auto e = needs("a size")) return e;
-            uint64_t n = 0;
-            if (!parseU64(value, n) || n < 8 || n > 4096 || (n & (n - 1)) != 0)
-                return usageError(std::string("bad --texture-size '") + value +
-                                  "' (a power of two 8..4096)");
-            o.textureSize = uint32_t(n);
-        } else if (a == "--spacing") {
-            if (auto e = needs("metres")) return e;
-            if (!parseFloat(value, 1, 1000, o.spacing))
-                return usageError(std::string("bad --spacing '") + value + "' (1..1000)");
-        } else if (a == "--speed") {
-            if (auto e = needs("metres per second")) return e;
-            if (!parseFloat(value, 0.1f, 1000, o.speed))
-                return usageError(std::string("bad --speed '") + value + "' (0.1..1000)");
-        } else if (a == "--threads") {
-            if (auto e = needs("1 or 2")) return e;
-            uint64_t n = 0;
-            if (!parseU64(value, n) || n < 1 || n > 2)
-                return usageError(std::string("bad --threads '") + value + "' (1 or 2)");
-            o.threads = unsigned(n);
-        } else if (a == "--lod-rocks") {
-            o.lodRocks = true;
-        } else if (a == "--rock-triangles") {
-            if (auto e = needs("a count")) return e;
-            uint64_t n = 0;
-            if (!parseU64(value, n) || n < 100 || n > 1000000)
-                return usageError(std::string("bad --rock-triangles '") + value +
-                                  "' (100..1000000)");
-            o.rockTriangles = uint32_t(n);
-            o.rockTrianglesGiven = true;
-        } else if (a == "--no-shadows") {
-            o.shadows = false;
-        } else if (a == "--no-checksums") {
-            o.checksums = false;
-        } else if (a == "-q") {
-            o.quiet = true;
-        } else if (!a.empty() && a[0] == '-') {
-            return usageError("unknown option '" + a + "'");
-        } else if (o.output.empty()) {
-            o.output = a;
-        } else {
-            return usageError("more than one output file ('" + o.output + "', '" + a + "')");
-        }
+    bool help = false;
+    const std::vector<pnb::cli::Option> table = options(o, help);
+    // The output file; "-" is an unknown option, as every other argument starting with '-'.
+    auto output = [&o](const char* arg) {
+        if (*arg == '-') return Verdict::error("unknown option '" + std::string(arg) + "'");
+        if (!o.output.empty())
+            return Verdict::error("more than one output file ('" + o.output + "', '" + arg + "')");
+        o.output = arg;
+        return Verdict(true);
+    };
+    if (auto e = pnb::cli::parse(table, output, argc, argv)) return usageError(wording(*e), table);
+    if (help) {
+        printUsage(stdout, table);
+        return 0;
     }
-    if (o.output.empty()) return usageError("no output file");
+    if (o.output.empty()) return usageError("no output file", table);
     if ((o.sizeBytes == 0) == (o.textures == 0))
-        return usageError("give exactly one of --size and --textures");
+        return usageError("give exactly one of --size and --textures", table);
     if (o.rockTrianglesGiven && !o.lodRocks)
-        return usageError("--rock-triangles needs --lod-rocks");
+        return usageError("--rock-triangles needs --lod-rocks", table);
     return std::nullopt;
 }
 
