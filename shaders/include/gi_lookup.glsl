@@ -1,5 +1,7 @@
-// gi_lookup.glsl — indirect irradiance from the cascaded light propagation volumes (GI
-// permutation; the player's lpv_*.comp passes fill them). The volumes hold radiance over the
+// gi_lookup.glsl — indirect irradiance from GI's summed volumes (GI permutation), whichever
+// technique filled them (gi.technique): the cascaded light propagation volumes (the player's
+// lpv_*.comp passes) or the probes' one grid (gi_vpls.comp + gi_probe_gather.comp gather into the
+// same volume, one cascade). The volumes hold radiance over the
 // sun's irradiance as L1 SH per colour; irradiance at a surface with normal n is the radiance
 // integrated against max(0, -n.w) (light travelling towards the surface), i.e. the dot product
 // with the clamped-cosine lobe along -n, times the sun's irradiance.
