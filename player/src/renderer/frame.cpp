@@ -111,8 +111,7 @@ constexpr FramePass kPasses[] = {
 std::string resourceNames(uint32_t bits) {
     static const char* const names[] = {"light list", "shadow fit", "shadow maps", "local shadow maps",
                                         "GI RSM", "GI injection", "GI volumes", "previous depth",
-                                        "depth", "G-buffer", "HDR target", "output", "light clusters",
-                                        "sky height map"};
+                                        "depth", "G-buffer", "HDR target", "output", "light clusters"};
     std::string text;
     for (uint32_t i = 0; i < std::size(names); ++i)
         if (bits & (1u << i)) text += (text.empty() ? "" : ", ") + std::string(names[i]);

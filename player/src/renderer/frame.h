@@ -42,7 +42,6 @@ enum FrameResource : uint32_t {
     kHdr = 1u << 10,
     kOutput = 1u << 11,
     kLightClusters = 1u << 12,   // per tile and slice light masks
-    kSkyHeightMap = 1u << 13,    // the scene's heights seen from above (ibl.visibility = height)
 };
 constexpr uint32_t kAccumulatedResources = kDepth | kGBuffer | kHdr | kOutput;
 // Written before the list runs (the prepare step), or by the previous frame.
@@ -67,7 +66,7 @@ struct Frame {
     IblContext& ibl;
     LightContext& lights;
     LocalShadowContext& localShadows;
-    std::vector<size_t> deferredLayers; // with visible items, ascending priority
+    const std::vector<size_t>& deferredLayers; // with visible items, ascending priority
 };
 
 struct FramePass {

@@ -194,7 +194,8 @@ PlayResult<Done> Renderer::render(const CameraState& camera, uint32_t width, uin
         initShadowContext(scene, impl.shadows);
         impl.shadowsForMaterials = scene.materialsVersion;
     }
-    Frame frame{ctx, impl.shadows, impl.gi, impl.ibl, impl.lights, impl.localShadows, deferredLayersToDraw(ctx)};
+    deferredLayersToDraw(ctx, impl.deferredLayers);
+    Frame frame{ctx, impl.shadows, impl.gi, impl.ibl, impl.lights, impl.localShadows, impl.deferredLayers};
     if (auto prepared = prepareFrame(frame); !prepared) return prepared.error();
     impl.debugViewNote = player::debugViewNote(ctx, impl.shadows, impl.gi);
     runFrame(frame, frameShape(frame));

@@ -21,8 +21,8 @@ struct Renderer::Impl {
     FrameTargets targets;
     StreamRing ring;
     BuiltinPrograms builtins;
-    GlHandle emptyVao; // fullscreen passes draw without attributes
     DrawLists lists;   // this frame's visible draws
+    std::vector<size_t> deferredLayers; // this frame's deferred layers with visible items
     ShadowContext shadows;
     GiContext gi;
     IblContext ibl;

@@ -14,12 +14,11 @@
 
 namespace pnb::player {
 
-std::vector<size_t> deferredLayersToDraw(const FrameContext& ctx) {
-    std::vector<size_t> layers;
-    if (ctx.scene.deferredLayers.empty() || !ctx.scene.deferredLightingProgram) return layers;
+void deferredLayersToDraw(const FrameContext& ctx, std::vector<size_t>& layers) {
+    layers.clear();
+    if (ctx.scene.deferredLayers.empty() || !ctx.scene.deferredLightingProgram) return;
     for (size_t layer = 0; layer < ctx.lists.layers.size(); ++layer)
         if (!ctx.lists.layers[layer].empty()) layers.push_back(layer);
-    return layers;
 }
 
 void runGBuffer(FrameContext& ctx, size_t layer) {

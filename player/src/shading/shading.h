@@ -10,8 +10,9 @@
 namespace pnb::player {
 
 // The deferred layers with visible items this frame, in ascending priority (indices into
-// DrawLists::layers); empty when the container has no deferred lighting program.
-std::vector<size_t> deferredLayersToDraw(const FrameContext& ctx);
+// DrawLists::layers), into `layers` (reused frame to frame); none when the container has no
+// deferred lighting program.
+void deferredLayersToDraw(const FrameContext& ctx, std::vector<size_t>& layers);
 
 // One layer's G-buffer: clears its colours, keeps the shared depth, draws the layer's items
 // (pass_deferred_layers.cpp).
