@@ -7,7 +7,8 @@
 #   2. format/CMakeLists.txt links pnb_format to anything but zstd, xxhash and pnb_warnings, links
 #      another format/ target to anything outside that set plus format's own libraries and the
 #      header-only nlohmann-json (pnb_path_json: the camera-path keyframe file; build-only, so
-#      nothing links it at run time), or adds directory-wide link libraries;
+#      nothing links it at run time) and pnb_cli (pnb-inspect's option table: the standard library
+#      only, the floor below format/), or adds directory-wide link libraries;
 #   3. PNB_FORMAT_LINK_LIBRARIES, the final LINK_LIBRARIES property of pnb_format as the build
 #      generated it (';'-separated), names anything else. This catches a target_link_libraries
 #      on pnb_format from outside format/CMakeLists.txt. Optional, so the script also runs on a
@@ -26,7 +27,7 @@ fail() {
 
 # pnb_warnings may be wrapped in $<BUILD_INTERFACE:...> (kept out of the installed export).
 allowed_format="PkgConfig::ZSTD PkgConfig::XXHASH pnb_warnings \$<BUILD_INTERFACE:pnb_warnings>"
-allowed_other="$allowed_format pnb_format pnb::format pnb_inspect_lib \$<BUILD_INTERFACE:nlohmann_json::nlohmann_json>"
+allowed_other="$allowed_format pnb_format pnb::format pnb_inspect_lib pnb_cli \$<BUILD_INTERFACE:nlohmann_json::nlohmann_json>"
 
 # 1. No mention of a forbidden library anywhere in format/.
 hits=$(grep -rnE "epoxy|GL/|GLFW|assimp|tinygltf|draco|OpenImageIO" "$src/format/")

@@ -154,10 +154,23 @@ struct Expander {
         programs.push_back(std::move(p));
     }
 
+    // The block headers (shaders/shared/) reach the player's built-in programs inlined at build
+    // time (cmake/embed_text.cmake), #include lines gone: one is in a player program when its
+    // include guard (PNB_SHARED_<NAME>_H) is in the program's text.
+    bool inlinedInPlayerProgram(std::string_view file) const {
+        if (!file.starts_with("shared/") || !file.ends_with(".h")) return false;
+        std::string guard = "PNB_SHARED_" + std::string(file.substr(7, file.size() - 9)) + "_H";
+        for (char& c : guard) c = char(std::toupper(static_cast<unsigned char>(c)));
+        for (const ExpandedProgram& p : programs)
+            for (const std::string& text : p.texts)
+                if (text.find("#define " + guard) != std::string::npos) return true;
+        return false;
+    }
+
     // Files of either library that no program reads: they would pass unvalidated.
     void checkCoverage() {
         for (const ShaderFile& f : builtinShaderFiles())
-            if (!usedScene.count(std::string(f.name)))
+            if (!usedScene.count(std::string(f.name)) && !inlinedInPlayerProgram(f.name))
                 errors.push_back("shaders/" + std::string(f.name) +
                                  " is in no program the converter can pack: validate it or remove it");
         for (const EmbeddedFile& f : kPlayerShaders)
