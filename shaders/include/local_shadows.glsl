@@ -13,7 +13,7 @@
 #include "../shared/local_shadow_tile.h"
 
 layout(std430, binding = PNB_BINDING_LOCAL_SHADOWS) readonly buffer LocalShadows {
-    vec4 uLocalShadowAtlas; // 1 / atlas side, taps, radius (texels), 0
+    PNB_LOCAL_SHADOWS_HEADER_MEMBERS(PNB_DECLARE_FIELD, PNB_DECLARE_ARRAY) // uLocalShadowAtlas
     LocalShadowTile uLocalShadowTiles[];
 };
 

@@ -7,8 +7,8 @@
 //
 // The programs: the converter's forward surface program with every lighting feature (surface.vert
 // + forward.frag with SHADOWS, GI, IBL: frame, object, material, shadow, GI and IBL blocks, the
-// light list's and the light clusters' headers, the light, local-shadow-tile and instance
-// arrays), resolved through the converter's own #include resolution; and the player's embedded
+// light list's, the light clusters' and the local shadow tiles' headers, the light,
+// local-shadow-tile and instance arrays), resolved through the converter's own #include resolution; and the player's embedded
 // flat.vert (frame and object blocks), sdsm.comp (its state, the shadow block as std430 storage,
 // the casters), shadow_debug.frag (SDSM's state), light_clusters.comp and debug_view.frag (the
 // light clusters' and the light list's headers), through the build's include inlining.
@@ -192,6 +192,9 @@ TEST(GpuLayout, SurfaceProgramBlocksMatchTheCppStructs) {
     expectHeaderBlock(p, "LightClusters",
                       PNB_ROWS(LightClustersHeader, PNB_LIGHT_CLUSTERS_HEADER_MEMBERS),
                       "uClusterMasks[0]");
+    expectHeaderBlock(p, "LocalShadows",
+                      PNB_ROWS(LocalShadowsHeader, PNB_LOCAL_SHADOWS_HEADER_MEMBERS),
+                      "uLocalShadowTiles[0].matrix");
     expectArrayElement(p, "uInstances", PNB_ROWS(InstanceData, PNB_INSTANCE_DATA_MEMBERS));
 }
 

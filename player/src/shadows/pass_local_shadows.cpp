@@ -15,7 +15,7 @@
 #include "lights/light_clusters.h"
 #include "shared/bindings.h" // PNB_BINDING_* (GLSL and C++)
 #include "shared/light_list.h" // LightListHeader, GpuLight (GLSL and C++)
-#include "shared/local_shadow_tile.h" // GpuShadowTile (GLSL and C++)
+#include "shared/local_shadow_tile.h" // LocalShadowsHeader, GpuShadowTile (GLSL and C++)
 #include "shared/material_block.h" // MaterialBlock (GLSL and C++)
 
 namespace pnb::player {
@@ -160,10 +160,11 @@ void runLocalShadows(FrameContext& ctx, LocalShadowContext& ls, const ShadowCont
     // The tiles' data for lighting, and each light's first tile in the light list (cone.z).
     for (const LocalShadowPlacement& p : ls.placements) ls.tiles += p.faces;
     std::byte* data = nullptr;
-    const size_t tileBytes = 16 + sizeof(GpuShadowTile) * ls.tiles;
+    const size_t tileBytes = sizeof(LocalShadowsHeader) + sizeof(GpuShadowTile) * ls.tiles;
     const size_t tileOffset = ctx.ring.allocate(tileBytes, data);
     const float atlas = float(ls.atlasSize);
-    const glm::vec4 header(1.0f / atlas, float(s.shadowLocalTaps), s.shadowRadius, 0);
+    LocalShadowsHeader header;
+    header.atlas = {1.0f / atlas, float(s.shadowLocalTaps), s.shadowRadius, 0};
     std::memcpy(data, &header, sizeof header);
     uint32_t tile = 0;
     for (const LocalShadowPlacement& p : ls.placements) {
@@ -179,7 +180,7 @@ void runLocalShadows(FrameContext& ctx, LocalShadowContext& ls, const ShadowCont
                                          shape.tanHalf, shape.range);
             t.rect = {float(p.origins[f].x) / atlas, float(p.origins[f].y) / atlas, float(p.size) / atlas,
                       2.0f * shape.tanHalf / float(p.size)};
-            std::memcpy(data + 16 + size_t(tile) * sizeof t, &t, sizeof t);
+            std::memcpy(data + sizeof header + size_t(tile) * sizeof t, &t, sizeof t);
         }
     }
     glBindBufferRange(GL_SHADER_STORAGE_BUFFER, PNB_BINDING_LOCAL_SHADOWS, ctx.ring.buffer(), GLintptr(tileOffset),
