@@ -9,6 +9,7 @@
 #extension GL_ARB_shader_viewport_layer_array : enable
 #include "include/interface.glsl"
 #include "include/shadow_block.glsl"
+#include "shared/bindings.h"
 
 #if defined(LAYER_FROM_GEOMETRY) || !defined(GL_ARB_shader_viewport_layer_array)
 #define PNB_LAYERS_IN_GEOMETRY_SHADER
@@ -23,7 +24,7 @@ layout(location = 3) out vec2 vUv0;
 layout(location = 0) uniform int uPassCascade; // >= 0: multi-pass, this cascade; < 0: layered
 
 // Per caster (uObjectParams.y), the cascades whose light volume it touches (bit c = cascade c).
-layout(std430, binding = 5) readonly buffer CasterMasks {
+layout(std430, binding = PNB_BINDING_CASTER_MASKS) readonly buffer CasterMasks {
     uint uCasterMask[];
 };
 

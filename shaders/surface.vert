@@ -3,6 +3,8 @@
 // HAS_UV0/HAS_UV1/HAS_TANGENT/HAS_VERTEX_COLOR are defined only when a material reads them.
 #include "include/interface.glsl"
 #include "include/octahedral.glsl"
+#include "shared/bindings.h"
+#include "shared/instance_data.h"
 
 layout(location = PNB_ATTR_POSITION) in vec3 inPosition;
 layout(location = PNB_ATTR_NORMAL) in vec3 inNormal;
@@ -20,13 +22,9 @@ layout(location = PNB_ATTR_COLOR) in vec4 inColor;
 #endif
 
 // The copies of an instanced batch (EXT_mesh_gpu_instancing; the player's draw_lists.cpp packs
-// them), read when uObjectParams.w is 1: each copy's own model and normal matrices and params.
-struct InstanceData {
-    mat4 model;
-    mat4 normalMatrix;
-    vec4 params;
-};
-layout(std430, binding = 10) readonly buffer InstanceBlock {
+// them), read when uObjectParams.w is 1: each copy's own model and normal matrices and params
+// (InstanceData, shared/instance_data.h).
+layout(std430, binding = PNB_BINDING_INSTANCES) readonly buffer InstanceBlock {
     InstanceData uInstances[];
 };
 

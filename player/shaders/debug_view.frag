@@ -12,11 +12,16 @@ layout(location = 0) uniform int uMode;
 layout(location = 1) uniform vec3 uNearFar; // near, far (0 = infinite), 1 if orthographic
 layout(location = 2) uniform vec2 uGiSlice; // normalised z of the slice, 1 if GI is on
 
-// The frame's light list header and light clusters (shaders/include/lights.glsl).
-layout(std430, binding = 3) readonly buffer LightBuffer { uint uLightCount; uint uLightsClustered; };
-layout(std430, binding = 8) readonly buffer LightClusters {
-    uvec4 uClusterGrid;   // tiles across, tiles down, slices, words per mask
-    vec4 uClusterDepth;   // 1 / tile size (px), slice scale, slice bias
+// The frame's light list header and light clusters, as shaders/include/lights.glsl reads them
+// (shared/light_list.h, shared/light_cluster_masks.h); the lights themselves are not read here.
+#include "shared/bindings.h"
+#include "shared/light_list.h"
+#include "shared/light_cluster_masks.h"
+layout(std430, binding = PNB_BINDING_LIGHT_LIST) readonly buffer LightBuffer {
+    PNB_LIGHT_LIST_HEADER_MEMBERS(PNB_DECLARE_FIELD, PNB_DECLARE_ARRAY)
+};
+layout(std430, binding = PNB_BINDING_LIGHT_CLUSTERS) readonly buffer LightClusters {
+    PNB_LIGHT_CLUSTERS_HEADER_MEMBERS(PNB_DECLARE_FIELD, PNB_DECLARE_ARRAY)
     uint uClusterMasks[];
 };
 

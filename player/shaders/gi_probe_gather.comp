@@ -31,6 +31,7 @@
 // lighting turns that into the cosine-weighted visible fraction around a normal
 // (shaders/include/sky_visibility.glsl). A probe whose own voxel is solid stores c0 = -1: the
 // look-up leaves it out (it sees through a wall both ways and would let the outside's sky in).
+#include "shared/bindings.h"
 #if defined(SKY_VISIBILITY) || defined(PROBE_DEPTH)
 layout(local_size_x = 64) in; // a work group per probe, its threads sharing the rays
 #else
@@ -52,7 +53,7 @@ const int kSkyRays = 256;
 // gather's hardware bilinear fetch is right across the map's edges (DDGI's layout). R16F, voxels.
 layout(r16f, binding = 0) writeonly uniform image2DArray uDepthMaps;
 // Per probe (x + n (y + n z)): 1 if lighting's look-up can read it (kReach).
-layout(std430, binding = 1) writeonly buffer ProbeNeeded { uint uNeeded[]; };
+layout(std430, binding = PNB_BINDING_GI_PROBE_NEEDED) writeonly buffer ProbeNeeded { uint uNeeded[]; };
 shared uint sNeeded;
 #else
 struct Vpl {
@@ -60,14 +61,14 @@ struct Vpl {
     vec4 normal;
     vec4 flux;     // rgb over the sun's irradiance
 };
-layout(std430, binding = 0) readonly buffer Vpls { Vpl uVpls[]; };
+layout(std430, binding = PNB_BINDING_GI_VPLS) readonly buffer Vpls { Vpl uVpls[]; };
 
 layout(rgba16f, binding = 0) writeonly uniform image3D uSumR;
 layout(rgba16f, binding = 1) writeonly uniform image3D uSumG;
 layout(rgba16f, binding = 2) writeonly uniform image3D uSumB;
 #ifndef EXACT_VISIBILITY
 layout(binding = 1) uniform sampler2DArray uDepthMaps; // PROBE_DEPTH's, filtered bilinearly
-layout(std430, binding = 1) readonly buffer ProbeNeeded { uint uNeeded[]; };
+layout(std430, binding = PNB_BINDING_GI_PROBE_NEEDED) readonly buffer ProbeNeeded { uint uNeeded[]; };
 #endif
 #endif
 

@@ -6,6 +6,7 @@
 // their summed flux per colour at their luminance-weighted mean position and normal, so the gather
 // costs VPLs x probes, not texels x probes; its disc-like area (texels / cos) is kept for the
 // near-field clamp. Empty blocks write zero flux.
+#include "shared/bindings.h"
 layout(local_size_x = 8, local_size_y = 8) in;
 
 layout(binding = 0) uniform sampler2D uBaseColor;      // sRGB: decoded on fetch
@@ -17,7 +18,7 @@ struct Vpl {
     vec4 normal;   // xyz unit normal
     vec4 flux;     // rgb: flux over the sun's irradiance (world units^2)
 };
-layout(std430, binding = 0) writeonly buffer Vpls { Vpl uVpls[]; };
+layout(std430, binding = PNB_BINDING_GI_VPLS) writeonly buffer Vpls { Vpl uVpls[]; };
 
 layout(location = 0) uniform mat4 uInverseMatrix; // map clip -> camera-relative world
 layout(location = 1) uniform vec3 uToward;        // toward the sun

@@ -10,14 +10,20 @@
 // range, a spot light's sector, radius < 0 for directional lights, which reach everything).
 // The tests are conservative (a sphere near a tile's corner can pass all four planes): a light
 // kept where it does not reach is shaded there and its range window makes it add nothing.
+#include "shared/bindings.h"
+#include "shared/light_cluster_masks.h"
+
 layout(local_size_x = 64) in;
 
-layout(std430, binding = 0) readonly buffer LightSpheres { vec4 uSpheres[]; }; // view xyz, radius
+layout(std430, binding = PNB_BINDING_CLUSTER_SPHERES) readonly buffer LightSpheres {
+    vec4 uSpheres[]; // view xyz, radius
+};
 
-layout(std430, binding = 1) writeonly buffer LightClusters {
-    uvec4 outGrid;   // tiles across, tiles down, slices, words per mask (lights.glsl)
-    vec4 outDepth;   // 1 / tile size (px), slice scale, slice bias, 0
-    uint outMasks[]; // tile masks, then slice masks
+// What lighting reads (shared/light_cluster_masks.h), by the names it reads them with: the
+// header (uClusterGrid, uClusterDepth: this frame's uGrid and uDepth), then the masks.
+layout(std430, binding = PNB_BINDING_CLUSTER_MASKS_OUT) writeonly buffer LightClusters {
+    PNB_LIGHT_CLUSTERS_HEADER_MEMBERS(PNB_DECLARE_FIELD, PNB_DECLARE_ARRAY)
+    uint uClusterMasks[]; // tile masks, then slice masks
 };
 
 layout(location = 0) uniform uvec4 uGrid;
@@ -42,8 +48,8 @@ void main() {
     uint tiles = uGrid.x * uGrid.y, words = uGrid.w;
     uint index = gl_GlobalInvocationID.x;
     if (index == 0u) {
-        outGrid = uGrid;
-        outDepth = uDepth;
+        uClusterGrid = uGrid;
+        uClusterDepth = uDepth;
     }
     if (index >= (tiles + uGrid.z) * words) return;
     uint row = index / words, word = index % words;
@@ -85,5 +91,5 @@ void main() {
         }
         if (in_) bits |= 1u << b;
     }
-    outMasks[index] = bits;
+    uClusterMasks[index] = bits;
 }

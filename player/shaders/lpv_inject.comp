@@ -15,14 +15,16 @@
 #else
 #define ACC int
 #endif
+#include "shared/bindings.h"
 layout(local_size_x = 8, local_size_y = 8) in;
 
 layout(binding = 0) uniform sampler2D uBaseColor;     // sRGB: decoded on fetch
 layout(binding = 1) uniform sampler2D uNormalMaterial; // octahedral normal, roughness, metallic|occlusion
 layout(binding = 2) uniform sampler2D uDepth;
 
-layout(std430, binding = 0) buffer LightAccumulation { ACC uLight[]; };    // cascade, cell, rgb x 4
-layout(std430, binding = 1) buffer GeometryAccumulation { ACC uGeometry[]; }; // slot, cascade, corner, 4
+// Light: cascade, cell, rgb x 4. Geometry: slot, cascade, corner, 4.
+layout(std430, binding = PNB_BINDING_LPV_LIGHT) buffer LightAccumulation { ACC uLight[]; };
+layout(std430, binding = PNB_BINDING_LPV_GEOMETRY) buffer GeometryAccumulation { ACC uGeometry[]; };
 
 layout(location = 0) uniform mat4 uInverseMatrix; // map clip -> camera-relative world
 layout(location = 1) uniform vec4 uCascade[4];    // camera-relative origin, cell size

@@ -17,10 +17,11 @@
 #define ACC int
 #define VALUE(x) (float(x) * uInverseScale)
 #endif
+#include "shared/bindings.h"
 layout(local_size_x = 4, local_size_y = 4, local_size_z = 4) in;
 
-layout(std430, binding = 0) readonly buffer LightAccumulation { ACC uLight[]; };
-layout(std430, binding = 1) readonly buffer GeometryAccumulation { ACC uGeometry[]; };
+layout(std430, binding = PNB_BINDING_LPV_LIGHT) readonly buffer LightAccumulation { ACC uLight[]; };
+layout(std430, binding = PNB_BINDING_LPV_GEOMETRY) readonly buffer GeometryAccumulation { ACC uGeometry[]; };
 
 layout(location = 0) uniform ivec3 uVolume; // side (cells or corners), stacked depth, geometry slots
 layout(location = 1) uniform float uInverseScale;

@@ -15,16 +15,17 @@
 //   SDSM_FINALIZE   per cascade: a square orthographic map around those bounds, depth from the
 //                   scene's top toward the light; writes the ShadowBlock lighting reads
 //   SDSM_CULL       per caster: which cascades it touches; masks and indirect draws
+#include "shared/bindings.h"
 #include "shared/shadow_block.h"
 #include "shared/sdsm_caster.h"
+#include "shared/sdsm_state.h"
 #define MAX_CASCADES PNB_MAX_CASCADES
-#define BINS 256
+#define BINS PNB_SDSM_BINS
 
-layout(std430, binding = 0) buffer SdsmState {
-    uint depthMinBits, depthMaxBits, sampleCount, pad0;
-    uint histogram[BINS];
-    vec4 cascadeRange[MAX_CASCADES];          // start, end, 0, 0
-    uint lightBounds[MAX_CASCADES * 8];       // per cascade: min x, y, z, max x, y, z (sortable), 2 pad
+// The stages' working state (shared/sdsm_state.h): depth range, histogram, cascade ranges and
+// light-space bounds.
+layout(std430, binding = PNB_BINDING_SDSM_STATE) buffer SdsmState {
+    PNB_SDSM_STATE_MEMBERS(PNB_DECLARE_FIELD, PNB_DECLARE_ARRAY)
 };
 
 // The ShadowBlock (shared/shadow_block.h) as std430 storage: the same members (the same offsets
@@ -220,12 +221,13 @@ void main() {
 #endif
 
 #if defined(SDSM_FINALIZE) || defined(SDSM_CULL)
-layout(std430, binding = 1) buffer ShadowOut { ShadowBlockData outBlock; };
+layout(std430, binding = PNB_BINDING_SDSM_SHADOW_OUT) buffer ShadowOut { ShadowBlockData outBlock; };
 #endif
 
 #ifdef SDSM_FINALIZE
 layout(local_size_x = MAX_CASCADES) in;
-layout(std430, binding = 2) readonly buffer ShadowIn { ShadowBlockData cpuBlock; }; // parameters
+// The CPU's ShadowBlock: the parameters.
+layout(std430, binding = PNB_BINDING_SDSM_SHADOW_IN) readonly buffer ShadowIn { ShadowBlockData cpuBlock; };
 
 void main() {
     int c = int(gl_LocalInvocationIndex);
@@ -279,14 +281,14 @@ void main() {
 layout(local_size_x = 64) in;
 // Per caster: Caster (shared/sdsm_caster.h, SdsmCasterData in C++): camera-relative bounds and
 // the index range of the level of detail it draws this frame.
-layout(std430, binding = 6) readonly buffer CasterBounds { Caster casters[]; };
-layout(std430, binding = 5) writeonly buffer CasterMasks { uint casterMask[]; };
+layout(std430, binding = PNB_BINDING_SDSM_CASTERS) readonly buffer CasterBounds { Caster casters[]; };
+layout(std430, binding = PNB_BINDING_CASTER_MASKS) writeonly buffer CasterMasks { uint casterMask[]; };
 struct DrawCommand {
     uint count, instanceCount, firstIndex;
     int baseVertex;
     uint baseInstance;
 };
-layout(std430, binding = 4) writeonly buffer Commands { DrawCommand commands[]; };
+layout(std430, binding = PNB_BINDING_SDSM_COMMANDS) writeonly buffer Commands { DrawCommand commands[]; };
 
 void main() {
     uint i = gl_GlobalInvocationID.x;

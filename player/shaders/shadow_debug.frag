@@ -3,11 +3,13 @@
 // (near the light dark); debug.view=histogram: the view-depth histogram SDSM reduced this frame
 // (logarithmic bins over the shadowed range, bar height relative to the fullest bin) with each
 // cascade's range underneath in seed 000's colours and its end marked by a white line.
+#include "shared/bindings.h"
+#include "shared/sdsm_state.h"
+
 layout(binding = 0) uniform sampler2DArray uShadowDepth;
-layout(std430, binding = 0) readonly buffer SdsmState {
-    uint depthMinBits, depthMaxBits, sampleCount, pad0;
-    uint histogram[256];
-    vec4 cascadeRange[8];
+// SDSM's state this frame (shared/sdsm_state.h): the histogram and the cascades' ranges.
+layout(std430, binding = PNB_BINDING_SDSM_STATE) readonly buffer SdsmState {
+    PNB_SDSM_STATE_MEMBERS(PNB_DECLARE_FIELD, PNB_DECLARE_ARRAY)
 };
 layout(location = 0) uniform int uMode;         // 0 map layer, 1 histogram
 layout(location = 1) uniform int uLayer;
@@ -45,8 +47,8 @@ void main() {
     }
     if (uHasHistogram != 0) {
         uint fullest = 1u;
-        for (int b = 0; b < 256; ++b) fullest = max(fullest, histogram[b]);
-        int bin = clamp(int(vUv.x * 256.0), 0, 255);
+        for (int b = 0; b < PNB_SDSM_BINS; ++b) fullest = max(fullest, histogram[b]);
+        int bin = clamp(int(vUv.x * float(PNB_SDSM_BINS)), 0, PNB_SDSM_BINS - 1);
         float h = float(histogram[bin]) / float(fullest);
         if ((vUv.y - 0.1) / 0.9 < h) c = cascade >= 0 ? kCascade[cascade] * 0.8 + 0.2 : vec3(0.6);
     }

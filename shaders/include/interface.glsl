@@ -1,7 +1,7 @@
 // interface.glsl — the binding contract between the player and every surface shader.
-// Attribute locations, uniform-block bindings and sampler units are fixed here so the player can
-// bind once per draw without querying programs. Changing a number breaks existing containers'
-// shaders: bump the PROG chunk version if you do.
+// Attribute locations and sampler units are fixed here, the blocks' bindings in shared/bindings.h,
+// so the player can bind once per draw without querying programs. Changing a number breaks
+// existing containers' shaders: bump the PROG chunk version if you do.
 #ifndef PNB_INTERFACE_GLSL
 #define PNB_INTERFACE_GLSL
 
@@ -18,7 +18,7 @@
 #define PNB_TEX_OCCLUSION 3
 #define PNB_TEX_EMISSIVE 4
 
-// Per frame (binding 0): the camera. Declared once for GLSL and C++ in shared/.
+// Per frame (PNB_BINDING_FRAME_BLOCK): the camera. Declared once for GLSL and C++ in shared/.
 #include "../shared/frame_block.h"
 
 // The unit vector from camera-relative `p` toward the viewer (the V of the BRDF, the reverse of
@@ -30,10 +30,10 @@ vec3 viewVector(vec3 p) {
     return pnbOrthographic() ? vec3(uView[0][2], uView[1][2], uView[2][2]) : normalize(-p);
 }
 
-// Per draw (binding 1).
+// Per draw (PNB_BINDING_OBJECT_BLOCK).
 #include "../shared/object_block.h"
 
-// Per material (binding 2): the MATL chunk's factors.
+// Per material (PNB_BINDING_MATERIAL_BLOCK): the MATL chunk's factors.
 #include "../shared/material_block.h"
 
 #endif

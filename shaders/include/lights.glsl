@@ -19,12 +19,13 @@
 #define PNB_LIGHT_POINT 1
 #define PNB_LIGHT_SPOT 2
 
-#include "../shared/gpu_light.h"
+#include "../shared/bindings.h"
+#include "../shared/light_list.h"
+#include "../shared/light_cluster_masks.h"
 
-layout(std430, binding = 3) readonly buffer LightBuffer {
-    uint uLightCount;
-    uint uLightsClustered; // 1: shade the cluster's lights (LightClusters below); 0: all lights
-    uint pad1, pad2;
+// The light list: its header (uLightCount, uLightsClustered), then the lights.
+layout(std430, binding = PNB_BINDING_LIGHT_LIST) readonly buffer LightBuffer {
+    PNB_LIGHT_LIST_HEADER_MEMBERS(PNB_DECLARE_FIELD, PNB_DECLARE_ARRAY)
     GpuLight uLights[];
 };
 
@@ -33,9 +34,9 @@ layout(std430, binding = 3) readonly buffer LightBuffer {
 // are its screen tile's mask AND its depth slice's mask: two lists of (tiles + slices) masks
 // instead of one per froxel, at the cost of lights that touch the tile and the slice but not
 // their intersection (they are shaded, and their range window makes them add nothing).
-layout(std430, binding = 8) readonly buffer LightClusters {
-    uvec4 uClusterGrid;   // tiles across, tiles down, depth slices, 32-bit words per mask
-    vec4 uClusterDepth;   // 1 / tile size (px), slice scale, slice bias, 0
+layout(std430, binding = PNB_BINDING_LIGHT_CLUSTERS) readonly buffer LightClusters {
+    // uClusterGrid (the grid), uClusterDepth (its slicing)
+    PNB_LIGHT_CLUSTERS_HEADER_MEMBERS(PNB_DECLARE_FIELD, PNB_DECLARE_ARRAY)
     uint uClusterMasks[]; // tile masks (row by row), then slice masks (near to far)
 };
 

@@ -9,10 +9,11 @@
 #ifndef PNB_LOCAL_SHADOWS_GLSL
 #define PNB_LOCAL_SHADOWS_GLSL
 
+#include "../shared/bindings.h"
 #include "../shared/local_shadow_tile.h"
 
-layout(std430, binding = 9) readonly buffer LocalShadows {
-    vec4 uLocalShadowAtlas; // 1 / atlas side, taps, radius (texels), 0
+layout(std430, binding = PNB_BINDING_LOCAL_SHADOWS) readonly buffer LocalShadows {
+    PNB_LOCAL_SHADOWS_HEADER_MEMBERS(PNB_DECLARE_FIELD, PNB_DECLARE_ARRAY) // uLocalShadowAtlas
     LocalShadowTile uLocalShadowTiles[];
 };
 

@@ -1,6 +1,6 @@
-// frame_block.h — the per-frame uniform block (binding 0), for GLSL (interface.glsl,
-// player/shaders/flat.vert) and C++ (pnb::player::FrameBlock, frame_context.h). gpu_layout.h
-// says how one list serves both.
+// frame_block.h — the per-frame uniform block (binding PNB_BINDING_FRAME_BLOCK, bindings.h), for
+// GLSL (interface.glsl, player/shaders/flat.vert) and C++ (pnb::player::FrameBlock,
+// frame_context.h). gpu_layout.h says how one list serves both.
 //
 // Camera-relative rendering: positions reach the shader relative to the camera (the player
 // subtracts the camera position in double precision on the CPU), so a scene 10^6 units from the
@@ -8,6 +8,7 @@
 #ifndef PNB_SHARED_FRAME_BLOCK_H
 #define PNB_SHARED_FRAME_BLOCK_H
 
+#include "bindings.h"
 #include "gpu_layout.h"
 
 #define PNB_FRAME_BLOCK_MEMBERS(FIELD, ARRAY)                                                      \
@@ -21,7 +22,7 @@
                                       (0 = GI off) */
 
 PNB_NAMESPACE_BEGIN
-PNB_UNIFORM_BLOCK(FrameBlock, FrameBlock, 0) {
+PNB_UNIFORM_BLOCK(FrameBlock, FrameBlock, PNB_BINDING_FRAME_BLOCK) {
     PNB_FRAME_BLOCK_MEMBERS(PNB_DECLARE_FIELD, PNB_DECLARE_ARRAY)
 };
 PNB_CHECK_LAYOUT(Std140, FrameBlock, PNB_FRAME_BLOCK_MEMBERS)

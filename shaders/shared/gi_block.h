@@ -1,9 +1,10 @@
-// gi_block.h — where the cascaded light propagation volumes are this frame (binding 6), for GLSL
-// (shaders/include/gi_lookup.glsl) and C++ (pnb::player::GiBlock, gi/gi.h). gpu_layout.h says
-// how one list serves both.
+// gi_block.h — where the cascaded light propagation volumes are this frame (binding
+// PNB_BINDING_GI_BLOCK, bindings.h), for GLSL (shaders/include/gi_lookup.glsl) and C++
+// (pnb::player::GiBlock, gi/gi.h). gpu_layout.h says how one list serves both.
 #ifndef PNB_SHARED_GI_BLOCK_H
 #define PNB_SHARED_GI_BLOCK_H
 
+#include "bindings.h"
 #include "gpu_layout.h"
 
 #define PNB_MAX_GI_CASCADES 4
@@ -22,7 +23,7 @@ PNB_NAMESPACE_BEGIN
 inline constexpr std::uint32_t kMaxGiCascades = PNB_MAX_GI_CASCADES;
 #endif
 
-PNB_UNIFORM_BLOCK(GiBlock, GiBlock, 6) {
+PNB_UNIFORM_BLOCK(GiBlock, GiBlock, PNB_BINDING_GI_BLOCK) {
     PNB_GI_BLOCK_MEMBERS(PNB_DECLARE_FIELD, PNB_DECLARE_ARRAY)
 };
 PNB_CHECK_LAYOUT(Std140, GiBlock, PNB_GI_BLOCK_MEMBERS)

@@ -1,8 +1,10 @@
-// ibl_block.h — the environment light this frame (binding 7), for GLSL (shaders/include/ibl.glsl)
-// and C++ (pnb::player::IblBlock, sky/ibl.h). gpu_layout.h says how one list serves both.
+// ibl_block.h — the environment light this frame (binding PNB_BINDING_IBL_BLOCK, bindings.h), for
+// GLSL (shaders/include/ibl.glsl) and C++ (pnb::player::IblBlock, sky/ibl.h). gpu_layout.h says
+// how one list serves both.
 #ifndef PNB_SHARED_IBL_BLOCK_H
 #define PNB_SHARED_IBL_BLOCK_H
 
+#include "bindings.h"
 #include "gpu_layout.h"
 
 #define PNB_IBL_BLOCK_MEMBERS(FIELD, ARRAY)                                                        \
@@ -20,7 +22,7 @@
                                                  4 probes); the height map's texel size */
 
 PNB_NAMESPACE_BEGIN
-PNB_UNIFORM_BLOCK(IblBlock, IblBlock, 7) {
+PNB_UNIFORM_BLOCK(IblBlock, IblBlock, PNB_BINDING_IBL_BLOCK) {
     PNB_IBL_BLOCK_MEMBERS(PNB_DECLARE_FIELD, PNB_DECLARE_ARRAY)
 };
 PNB_CHECK_LAYOUT(Std140, IblBlock, PNB_IBL_BLOCK_MEMBERS)

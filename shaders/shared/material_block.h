@@ -1,9 +1,11 @@
-// material_block.h — the per-material uniform block (binding 2): the MATL chunk's factors as
-// scene_load.cpp packs them (materialBlock()), for GLSL (interface.glsl, read by material.glsl)
-// and C++ (pnb::player::MaterialBlock). gpu_layout.h says how one list serves both.
+// material_block.h — the per-material uniform block (binding PNB_BINDING_MATERIAL_BLOCK,
+// bindings.h): the MATL chunk's factors as scene_load.cpp packs them (materialBlock()), for GLSL
+// (interface.glsl, read by material.glsl) and C++ (pnb::player::MaterialBlock). gpu_layout.h
+// says how one list serves both.
 #ifndef PNB_SHARED_MATERIAL_BLOCK_H
 #define PNB_SHARED_MATERIAL_BLOCK_H
 
+#include "bindings.h"
 #include "gpu_layout.h"
 
 // Texture slots with a transform: base colour, metallic-roughness, normal, occlusion, emissive
@@ -22,7 +24,7 @@
                                    (offset.xy, scale.xy), (rotation, texCoord, 0, 0) */
 
 PNB_NAMESPACE_BEGIN
-PNB_UNIFORM_BLOCK(MaterialBlock, MaterialBlock, 2) {
+PNB_UNIFORM_BLOCK(MaterialBlock, MaterialBlock, PNB_BINDING_MATERIAL_BLOCK) {
     PNB_MATERIAL_BLOCK_MEMBERS(PNB_DECLARE_FIELD, PNB_DECLARE_ARRAY)
 };
 PNB_CHECK_LAYOUT(Std140, MaterialBlock, PNB_MATERIAL_BLOCK_MEMBERS)

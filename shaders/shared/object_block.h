@@ -1,9 +1,10 @@
-// object_block.h — the per-draw uniform block (binding 1), for GLSL (interface.glsl,
-// player/shaders/flat.vert) and C++ (pnb::player::ObjectBlock, draw_lists.cpp). gpu_layout.h says
-// how one list serves both.
+// object_block.h — the per-draw uniform block (binding PNB_BINDING_OBJECT_BLOCK, bindings.h), for
+// GLSL (interface.glsl, player/shaders/flat.vert) and C++ (pnb::player::ObjectBlock,
+// draw_lists.cpp). gpu_layout.h says how one list serves both.
 #ifndef PNB_SHARED_OBJECT_BLOCK_H
 #define PNB_SHARED_OBJECT_BLOCK_H
 
+#include "bindings.h"
 #include "gpu_layout.h"
 
 #define PNB_OBJECT_BLOCK_MEMBERS(FIELD, ARRAY)                                                     \
@@ -19,7 +20,7 @@
                                           (surface.vert reads InstanceBlock) */
 
 PNB_NAMESPACE_BEGIN
-PNB_UNIFORM_BLOCK(ObjectBlock, ObjectBlock, 1) {
+PNB_UNIFORM_BLOCK(ObjectBlock, ObjectBlock, PNB_BINDING_OBJECT_BLOCK) {
     PNB_OBJECT_BLOCK_MEMBERS(PNB_DECLARE_FIELD, PNB_DECLARE_ARRAY)
 };
 PNB_CHECK_LAYOUT(Std140, ObjectBlock, PNB_OBJECT_BLOCK_MEMBERS)

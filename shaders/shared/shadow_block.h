@@ -1,4 +1,5 @@
-// shadow_block.h — the sun's shadow maps as the player fitted them this frame (binding 4).
+// shadow_block.h — the sun's shadow maps as the player fitted them this frame (binding
+// PNB_BINDING_SHADOW_BLOCK, bindings.h).
 // Written by the CPU (single, LiSPSM, PSSM: pnb::player::ShadowBlock, shadow_maps.h) or by the
 // SDSM compute passes (player/shaders/sdsm.comp, which declares a std430 struct from the same
 // list: with only vec4 and mat4 members both rules place them alike), and read by the shadow pass
@@ -7,6 +8,7 @@
 #ifndef PNB_SHARED_SHADOW_BLOCK_H
 #define PNB_SHARED_SHADOW_BLOCK_H
 
+#include "bindings.h"
 #include "gpu_layout.h"
 
 #define PNB_MAX_CASCADES 8
@@ -33,7 +35,7 @@ PNB_NAMESPACE_BEGIN
 inline constexpr std::uint32_t kMaxCascades = PNB_MAX_CASCADES;
 #endif
 
-PNB_UNIFORM_BLOCK(ShadowBlock, ShadowBlock, 4) {
+PNB_UNIFORM_BLOCK(ShadowBlock, ShadowBlock, PNB_BINDING_SHADOW_BLOCK) {
     PNB_SHADOW_BLOCK_MEMBERS(PNB_DECLARE_FIELD, PNB_DECLARE_ARRAY)
 };
 PNB_CHECK_LAYOUT(Std140, ShadowBlock, PNB_SHADOW_BLOCK_MEMBERS)

@@ -7,9 +7,11 @@
 //
 // The programs: the converter's forward surface program with every lighting feature (surface.vert
 // + forward.frag with SHADOWS, GI, IBL: frame, object, material, shadow, GI and IBL blocks, the
-// light and local-shadow-tile arrays), resolved through the converter's own #include resolution;
-// and the player's embedded flat.vert (frame and object blocks) and sdsm.comp (the shadow block
-// as std430 storage, the casters), through the build's include inlining.
+// light list's, the light clusters' and the local shadow tiles' headers, the light,
+// local-shadow-tile and instance arrays), resolved through the converter's own #include resolution; and the player's embedded
+// flat.vert (frame and object blocks), sdsm.comp (its state, the shadow block as std430 storage,
+// the casters), shadow_debug.frag (SDSM's state), light_clusters.comp and debug_view.frag (the
+// light clusters' and the light list's headers), through the build's include inlining.
 #include <cstddef>
 #include <string>
 #include <string_view>
@@ -25,10 +27,14 @@
 #include "shared/gi_block.h"
 #include "shared/gpu_light.h"
 #include "shared/ibl_block.h"
+#include "shared/instance_data.h"
+#include "shared/light_cluster_masks.h"
+#include "shared/light_list.h"
 #include "shared/local_shadow_tile.h"
 #include "shared/material_block.h"
 #include "shared/object_block.h"
 #include "shared/sdsm_caster.h"
+#include "shared/sdsm_state.h"
 #include "shared/shadow_block.h"
 
 namespace pnb::player::test {
@@ -124,6 +130,29 @@ void expectArrayElement(GLuint program, const std::string& arrayName, const Stru
         << arrayName << ": GL array stride against the C++ sizeof";
 }
 
+// A storage block that starts with a header struct's members: at their C++ offsets, and then
+// either the block's unsized array, whose first resource `arrayResource` C++ writes right after
+// the header (at sizeof), or (no array: "") nothing, the block's data size being the sizeof.
+void expectHeaderBlock(GLuint program, const std::string& blockName, const StructRows& rows,
+                       const std::string& arrayResource) {
+    SCOPED_TRACE(blockName);
+    GLuint block = glGetProgramResourceIndex(program, GL_SHADER_STORAGE_BLOCK, blockName.c_str());
+    ASSERT_NE(block, GL_INVALID_INDEX) << blockName << " is not an active block";
+    GLuint first = expectMembers(program, GL_BUFFER_VARIABLE, "", rows, Names::Glsl);
+    ASSERT_NE(first, GL_INVALID_INDEX);
+    EXPECT_EQ(resourceInt(program, GL_BUFFER_VARIABLE, first, GL_OFFSET), 0);
+    if (arrayResource.empty()) {
+        EXPECT_EQ(size_t(resourceInt(program, GL_SHADER_STORAGE_BLOCK, block, GL_BUFFER_DATA_SIZE)),
+                  rows.size)
+            << blockName << ": GL_BUFFER_DATA_SIZE against the C++ sizeof";
+        return;
+    }
+    GLuint array = glGetProgramResourceIndex(program, GL_BUFFER_VARIABLE, arrayResource.c_str());
+    ASSERT_NE(array, GL_INVALID_INDEX) << arrayResource << " is not an active resource";
+    EXPECT_EQ(size_t(resourceInt(program, GL_BUFFER_VARIABLE, array, GL_OFFSET)), rows.size)
+        << arrayResource << ": GL offset against the C++ header's sizeof";
+}
+
 // The converter's program `vertex` + `fragment` as it packs them (its #include resolution over
 // the embedded shaders/), compiled by the player with `defines`.
 GlHandle converterProgram(std::string_view vertex, std::string_view fragment,
@@ -158,6 +187,15 @@ TEST(GpuLayout, SurfaceProgramBlocksMatchTheCppStructs) {
     expectArrayElement(p, "uLights", PNB_ROWS(GpuLight, PNB_GPU_LIGHT_MEMBERS));
     expectArrayElement(p, "uLocalShadowTiles",
                        PNB_ROWS(GpuShadowTile, PNB_LOCAL_SHADOW_TILE_MEMBERS));
+    expectHeaderBlock(p, "LightBuffer", PNB_ROWS(LightListHeader, PNB_LIGHT_LIST_HEADER_MEMBERS),
+                      "uLights[0].positionRange");
+    expectHeaderBlock(p, "LightClusters",
+                      PNB_ROWS(LightClustersHeader, PNB_LIGHT_CLUSTERS_HEADER_MEMBERS),
+                      "uClusterMasks[0]");
+    expectHeaderBlock(p, "LocalShadows",
+                      PNB_ROWS(LocalShadowsHeader, PNB_LOCAL_SHADOWS_HEADER_MEMBERS),
+                      "uLocalShadowTiles[0].matrix");
+    expectArrayElement(p, "uInstances", PNB_ROWS(InstanceData, PNB_INSTANCE_DATA_MEMBERS));
 }
 
 TEST(GpuLayout, PlayerFlatProgramBlocksMatchTheCppStructs) {
@@ -182,6 +220,32 @@ TEST(GpuLayout, SdsmStorageMatchesTheCppStructs) {
     auto culling = compileEmbeddedCompute("sdsm.comp", cull);
     ASSERT_TRUE(culling.ok()) << culling.error().message;
     expectArrayElement(culling->id(), "casters", PNB_ROWS(SdsmCasterData, PNB_SDSM_CASTER_MEMBERS));
+
+    // The stages' working state, which the player sizes and clears.
+    expectBlock(fit->id(), GL_SHADER_STORAGE_BLOCK, GL_BUFFER_VARIABLE, "SdsmState", "",
+                PNB_ROWS(SdsmState, PNB_SDSM_STATE_MEMBERS));
+    // The histogram view reads the same state.
+    auto histogram = compileEmbeddedProgram("fullscreen.vert", "shadow_debug.frag");
+    ASSERT_TRUE(histogram.ok()) << histogram.error().message;
+    expectBlock(histogram->id(), GL_SHADER_STORAGE_BLOCK, GL_BUFFER_VARIABLE, "SdsmState", "",
+                PNB_ROWS(SdsmState, PNB_SDSM_STATE_MEMBERS));
+}
+
+TEST(GpuLayout, LightClusterProgramsMatchTheCppStructs) {
+    // The pass that writes the clusters (the player sizes their buffer from the header)...
+    auto clusters = compileEmbeddedCompute("light_clusters.comp", {});
+    ASSERT_TRUE(clusters.ok()) << clusters.error().message;
+    expectHeaderBlock(clusters->id(), "LightClusters",
+                      PNB_ROWS(LightClustersHeader, PNB_LIGHT_CLUSTERS_HEADER_MEMBERS),
+                      "uClusterMasks[0]");
+    // ...and the light-count debug view, which reads them and the light list's header.
+    auto debug = compileEmbeddedProgram("fullscreen.vert", "debug_view.frag");
+    ASSERT_TRUE(debug.ok()) << debug.error().message;
+    expectHeaderBlock(debug->id(), "LightClusters",
+                      PNB_ROWS(LightClustersHeader, PNB_LIGHT_CLUSTERS_HEADER_MEMBERS),
+                      "uClusterMasks[0]");
+    expectHeaderBlock(debug->id(), "LightBuffer",
+                      PNB_ROWS(LightListHeader, PNB_LIGHT_LIST_HEADER_MEMBERS), "");
 }
 
 } // namespace

@@ -7,20 +7,15 @@
 #include <glm/gtc/matrix_transform.hpp>
 
 #include "frame/frame_context.h"
+#include "shared/bindings.h" // PNB_BINDING_* (GLSL and C++)
+#include "shared/instance_data.h" // InstanceData (GLSL and C++)
+#include "shared/material_block.h" // MaterialBlock (GLSL and C++)
 #include "shared/object_block.h" // ObjectBlock (GLSL and C++)
 
 namespace pnb::player {
 
 namespace {
 
-// std430 element of surface.vert's InstanceBlock: one copy of an instanced batch.
-struct InstanceData {
-    glm::mat4 model;
-    glm::mat4 normalMatrix;
-    glm::vec4 params;
-};
-static_assert(sizeof(InstanceData) == 144);
-constexpr GLuint kInstanceBinding = 10; // SSBO binding of InstanceBlock (surface.vert)
 constexpr uint32_t kNoGroup = 0xFFFFFFFFu;
 
 ObjectBlock objectBlock(const GpuScene& scene, const DrawItem& item, const glm::dmat4& toCamera,
@@ -147,8 +142,8 @@ void drawItems(FrameContext& ctx, std::span<const DrawRef> refs, GLuint program,
         if (p != boundProgram) glUseProgram(boundProgram = p);
         if (item.material != boundMaterial) {
             boundMaterial = item.material;
-            glBindBufferRange(GL_UNIFORM_BUFFER, 2, scene.materialBuffer.id(),
-                              GLintptr(material.uniformOffset), 14 * 16); // MaterialBlock
+            glBindBufferRange(GL_UNIFORM_BUFFER, PNB_BINDING_MATERIAL_BLOCK, scene.materialBuffer.id(),
+                              GLintptr(material.uniformOffset), sizeof(MaterialBlock));
             for (size_t slot = 0; slot < material.desc.textures.size(); ++slot) {
                 uint32_t t = material.desc.textures[slot].texture;
                 glBindTextureUnit(GLuint(slot), t == kNone ? 0 : scene.textures[t].texture.id());
@@ -174,10 +169,10 @@ void drawItems(FrameContext& ctx, std::span<const DrawRef> refs, GLuint program,
             ObjectBlock head = objectBlock(scene, item, toCamera, 0.0f);
             head.params.w = 1.0f;
             objectOffset = ctx.ring.push(&head, sizeof head);
-            glBindBufferRange(GL_SHADER_STORAGE_BUFFER, kInstanceBinding, ctx.ring.buffer(),
+            glBindBufferRange(GL_SHADER_STORAGE_BUFFER, PNB_BINDING_INSTANCES, ctx.ring.buffer(),
                               GLintptr(arrayOffset), GLsizeiptr(copies * sizeof(InstanceData)));
         }
-        glBindBufferRange(GL_UNIFORM_BUFFER, 1, ctx.ring.buffer(), GLintptr(objectOffset),
+        glBindBufferRange(GL_UNIFORM_BUFFER, PNB_BINDING_OBJECT_BLOCK, ctx.ring.buffer(), GLintptr(objectOffset),
                           GLsizeiptr(ctx.objectBlockBytes));
         if (mesh.vertexArray.id() != boundVao) glBindVertexArray(boundVao = mesh.vertexArray.id());
         const DrawLevel& level = scene.levels[ref.level];

@@ -14,6 +14,7 @@
 #include "shadows/shadow_maps.h"
 #include "gl/gl_allocation.h"
 #include "pnb_lighting/scene_lights.h"
+#include "shared/bindings.h" // PNB_BINDING_* (GLSL and C++)
 
 namespace pnb::player {
 
@@ -241,7 +242,8 @@ void prepareGi(FrameContext& ctx, GiContext& gi, const ShadowContext& shadows) {
 void bindGiForLighting(FrameContext& ctx, const GiContext& gi) {
     const GiFrame& f = gi.frame;
     if (!f.active) return;
-    glBindBufferRange(GL_UNIFORM_BUFFER, 6, ctx.ring.buffer(), GLintptr(f.blockOffset), sizeof(GiBlock));
+    glBindBufferRange(GL_UNIFORM_BUFFER, PNB_BINDING_GI_BLOCK, ctx.ring.buffer(), GLintptr(f.blockOffset),
+                      sizeof(GiBlock));
     for (GLuint ch = 0; ch < 3; ++ch) glBindTextureUnit(10 + ch, gi.resources.sum[ch].id());
 }
 

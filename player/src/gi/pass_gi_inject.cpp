@@ -8,6 +8,7 @@
 
 #include "frame/frame_context.h"
 #include "gi/gi.h"
+#include "shared/bindings.h" // PNB_BINDING_* (GLSL and C++)
 
 namespace pnb::player {
 
@@ -45,8 +46,8 @@ void runGiInject(FrameContext& ctx, GiContext& gi) {
     glBindTextureUnit(0, r.rsmColor.id());
     glBindTextureUnit(1, r.rsmNormal.id());
     glBindTextureUnit(2, r.rsmDepth.id());
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, r.lightAccumulation.id());
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, r.geometryAccumulation.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, PNB_BINDING_LPV_LIGHT, r.lightAccumulation.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, PNB_BINDING_LPV_GEOMETRY, r.geometryAccumulation.id());
     glUseProgram(p);
     GLuint groups = (r.rsmResolution + 7) / 8;
     glDispatchCompute(groups, groups, 1);
@@ -73,8 +74,8 @@ void runGiCameraGeometry(FrameContext& ctx, GiContext& gi) {
     glBindTextureUnit(0, t.gbuffer[0].id());
     glBindTextureUnit(1, t.gbuffer[1].id());
     glBindTextureUnit(2, t.depth.id());
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, r.lightAccumulation.id());
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, r.geometryAccumulation.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, PNB_BINDING_LPV_LIGHT, r.lightAccumulation.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, PNB_BINDING_LPV_GEOMETRY, r.geometryAccumulation.id());
     glUseProgram(p);
     glDispatchCompute((t.width / kCameraStride + 8) / 8, (t.height / kCameraStride + 8) / 8, 1);
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
@@ -84,8 +85,8 @@ void runGiResolve(FrameContext& ctx, GiContext& gi, bool cameraGeometry) {
     const GiFrame& f = gi.frame;
     const GiResources& r = gi.resources;
     const GLint cells = GLint(r.cells), cascades = GLint(f.cascades.size());
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, r.lightAccumulation.id());
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, r.geometryAccumulation.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, PNB_BINDING_LPV_LIGHT, r.lightAccumulation.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, PNB_BINDING_LPV_GEOMETRY, r.geometryAccumulation.id());
 
     GLuint light = r.resolveLight.id();
     glProgramUniform3i(light, 0, cells, cells * cascades, 0);

@@ -15,6 +15,7 @@
 
 #include "frame/frame_context.h"
 #include "gi/gi.h"
+#include "shared/bindings.h" // PNB_BINDING_* (GLSL and C++)
 
 namespace pnb::player {
 
@@ -100,7 +101,7 @@ void traceSkyVisibility(FrameContext& ctx, GiContext& gi, const glm::vec3& origi
 void traceProbeDepths(FrameContext& ctx, GiContext& gi, const glm::vec3& origin, float spacing) {
     GiResources& r = gi.resources;
     glBindImageTexture(0, r.probeDepth.id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_R16F);
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, r.probeNeeded.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, PNB_BINDING_GI_PROBE_NEEDED, r.probeNeeded.id());
     r.depthCurrent = traceThroughGrid(ctx, gi, r.traceDepth.id(), origin, spacing);
 }
 
@@ -131,7 +132,7 @@ void runGiProbes(FrameContext& ctx, GiContext& gi) {
     glBindTextureUnit(0, r.rsmColor.id());
     glBindTextureUnit(1, r.rsmNormal.id());
     glBindTextureUnit(2, r.rsmDepth.id());
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, r.vpls.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, PNB_BINDING_GI_VPLS, r.vpls.id());
     glUseProgram(cluster);
     const GLuint groups = (r.vplSide + 7) / 8;
     glDispatchCompute(groups, groups, 1);
@@ -143,7 +144,7 @@ void runGiProbes(FrameContext& ctx, GiContext& gi) {
     glBindTextureUnit(0, r.voxels.id());
     if (r.probeDepth) {
         glBindTextureUnit(1, r.probeDepth.id());
-        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, r.probeNeeded.id());
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, PNB_BINDING_GI_PROBE_NEEDED, r.probeNeeded.id());
     }
     for (GLuint ch = 0; ch < 3; ++ch)
         glBindImageTexture(ch, r.sum[ch].id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA16F);

@@ -7,6 +7,7 @@
 // is turned towards the sun as the G-buffer shader turns every back face's.
 #include "frame/frame_context.h"
 #include "gi/gi.h"
+#include "shared/bindings.h" // PNB_BINDING_* (GLSL and C++)
 
 namespace pnb::player {
 
@@ -32,9 +33,11 @@ void runGiRsm(FrameContext& ctx, GiContext& gi) {
     glDepthMask(GL_TRUE);
     glDisable(GL_BLEND);
     glEnable(GL_DEPTH_CLAMP);
-    glBindBufferRange(GL_UNIFORM_BUFFER, 0, ctx.ring.buffer(), GLintptr(f.rsmFrameOffset), sizeof(FrameBlock));
+    glBindBufferRange(GL_UNIFORM_BUFFER, PNB_BINDING_FRAME_BLOCK, ctx.ring.buffer(), GLintptr(f.rsmFrameOffset),
+                      sizeof(FrameBlock));
     drawItems(ctx, refs, 0, &GpuMaterial::rsmProgram, true);
-    glBindBufferRange(GL_UNIFORM_BUFFER, 0, ctx.ring.buffer(), GLintptr(ctx.frameBlockOffset), sizeof(FrameBlock));
+    glBindBufferRange(GL_UNIFORM_BUFFER, PNB_BINDING_FRAME_BLOCK, ctx.ring.buffer(), GLintptr(ctx.frameBlockOffset),
+                      sizeof(FrameBlock));
     glDisable(GL_DEPTH_CLAMP);
     glViewport(0, 0, GLsizei(ctx.targets.width), GLsizei(ctx.targets.height));
 }

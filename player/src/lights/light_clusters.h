@@ -18,7 +18,8 @@
 #include "pnb/chunks.h"
 #include "pnb_player/gl_handles.h"
 #include "pnb_player/settings.h"
-#include "shared/gpu_light.h" // GpuLight (GLSL and C++)
+#include "shared/light_cluster_masks.h" // LightClustersHeader (GLSL and C++)
+#include "shared/light_list.h" // LightListHeader, GpuLight (GLSL and C++)
 
 namespace pnb::player {
 
@@ -40,7 +41,9 @@ struct LightClusterGrid {
     float invTilePx = 0;     // 1 / tile side in pixels
     float sliceScale = 0;    // slice = log(view depth) * scale + bias
     float sliceBias = 0;
-    uint64_t maskBytes() const { return 32 + uint64_t(tilesX * tilesY + slices) * words * 4; }
+    uint64_t maskBytes() const {
+        return sizeof(LightClustersHeader) + uint64_t(tilesX * tilesY + slices) * words * sizeof(uint32_t);
+    }
 };
 
 // Tiles of `tilePx` over width x height, `slices` exponential slices from zNear to zFar (zFar is
@@ -55,28 +58,30 @@ bool clustersWanted(const RenderSettings& settings, uint32_t localLights);
 // The renderer's light state across frames.
 struct LightContext {
     GlHandle clusterProgram; // light_clusters.comp, while clustering
-    GlHandle masks;          // LightClusters (binding 8), grown as needed
+    GlHandle masks;          // LightClusters (PNB_BINDING_LIGHT_CLUSTERS), grown as needed
     uint64_t maskCapacity = 0;
     bool clustered = false;  // this frame
     LightClusterGrid grid;   // this frame's, if clustered
     uint32_t localLights = 0;
     std::vector<GpuLight> list;      // this frame's lights, camera-relative (planLights)
     std::vector<glm::vec4> spheres;  // their view-space bounding spheres, if clustered
-    std::byte* listData = nullptr; // this frame's light list in the mapped ring (GpuLight at 16 + 64 i)
+    std::byte* listData = nullptr; // this frame's light list in the mapped ring (LightListHeader, then
+                                   // GpuLight i at sizeof(LightListHeader) + sizeof(GpuLight) i)
     size_t listOffset = 0, listBytes = 0; // its place in the ring
     size_t sphereOffset = 0;              // the spheres' place in the ring (clustered)
 };
 
-// Writes this frame's light list into the ring (binding 3) and, if clustering, runs the cluster
-// pass (binding 8). After the view and the viewport are known, before any lighting.
+// Writes this frame's light list into the ring (PNB_BINDING_LIGHT_LIST) and, if clustering, runs
+// the cluster pass (PNB_BINDING_LIGHT_CLUSTERS). After the view and the viewport are known, before any lighting.
 // The CPU step, without GL: the light list, and where the frame clusters, the lights' spheres
 // and the cluster grid.
 void planLights(const FrameView& in, LightContext& lights);
 
-// planLights, then the list (and spheres) into the ring, bound for lighting (binding 3).
+// planLights, then the list (and spheres) into the ring, bound for lighting (PNB_BINDING_LIGHT_LIST).
 void prepareLights(FrameContext& ctx, LightContext& lights);
 
-// The lights.clusters pass: one light mask per screen tile and per depth slice (binding 8).
+// The lights.clusters pass: one light mask per screen tile and per depth slice
+// (PNB_BINDING_LIGHT_CLUSTERS).
 void runLightClusters(FrameContext& ctx, const LightContext& lights);
 
 } // namespace pnb::player

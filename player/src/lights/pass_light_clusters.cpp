@@ -13,6 +13,7 @@
 #include "frame/frame_context.h"
 #include "lights/light_clusters.h"
 #include "gl/program_compile.h"
+#include "shared/bindings.h" // PNB_BINDING_* (GLSL and C++)
 
 namespace pnb::player {
 
@@ -76,18 +77,20 @@ void prepareLights(FrameContext& ctx, LightContext& lc) {
     }
     // The light list, written straight into the mapped ring, and the spheres beside it.
     const uint32_t count = uint32_t(lc.list.size());
-    lc.listBytes = 16 + sizeof(GpuLight) * count;
+    lc.listBytes = sizeof(LightListHeader) + sizeof(GpuLight) * count;
     lc.listOffset = ctx.ring.allocate(lc.listBytes, lc.listData);
-    const uint32_t header[4] = {count, lc.clustered ? 1u : 0u, 0, 0};
-    std::memcpy(lc.listData, header, sizeof header);
-    if (count) std::memcpy(lc.listData + 16, lc.list.data(), sizeof(GpuLight) * count);
-    glBindBufferRange(GL_SHADER_STORAGE_BUFFER, 3, ctx.ring.buffer(), GLintptr(lc.listOffset),
-                      GLsizeiptr(lc.listBytes));
+    LightListHeader header;
+    header.count = count;
+    header.clustered = lc.clustered ? 1u : 0u;
+    std::memcpy(lc.listData, &header, sizeof header);
+    if (count) std::memcpy(lc.listData + sizeof header, lc.list.data(), sizeof(GpuLight) * count);
+    glBindBufferRange(GL_SHADER_STORAGE_BUFFER, PNB_BINDING_LIGHT_LIST, ctx.ring.buffer(),
+                      GLintptr(lc.listOffset), GLsizeiptr(lc.listBytes));
     if (!lc.clustered) {
         // lights.glsl declares the clusters' block; it is not read while uLightsClustered is 0,
         // but a declared block wants a buffer: the light list stands in (no buffer of its own).
-        glBindBufferRange(GL_SHADER_STORAGE_BUFFER, 8, ctx.ring.buffer(), GLintptr(lc.listOffset),
-                          GLsizeiptr(lc.listBytes));
+        glBindBufferRange(GL_SHADER_STORAGE_BUFFER, PNB_BINDING_LIGHT_CLUSTERS, ctx.ring.buffer(),
+                          GLintptr(lc.listOffset), GLsizeiptr(lc.listBytes));
         return;
     }
     std::byte* sphereData = nullptr;
@@ -115,13 +118,14 @@ void runLightClusters(FrameContext& ctx, const LightContext& lc) {
     glProgramUniformMatrix4fv(program, 3, 1, GL_FALSE, glm::value_ptr(ctx.view.projection));
     glProgramUniform2f(program, 4, float(ctx.targets.width), float(ctx.targets.height));
     glUseProgram(program);
-    glBindBufferRange(GL_SHADER_STORAGE_BUFFER, 0, ctx.ring.buffer(), GLintptr(lc.sphereOffset),
-                      GLsizeiptr(sizeof(glm::vec4) * count));
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, lc.masks.id());
+    glBindBufferRange(GL_SHADER_STORAGE_BUFFER, PNB_BINDING_CLUSTER_SPHERES, ctx.ring.buffer(),
+                      GLintptr(lc.sphereOffset), GLsizeiptr(sizeof(glm::vec4) * count));
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, PNB_BINDING_CLUSTER_MASKS_OUT, lc.masks.id());
     const uint64_t invocations = uint64_t(g.tilesX * g.tilesY + g.slices) * g.words;
     glDispatchCompute(GLuint((invocations + 63) / 64), 1, 1);
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
-    glBindBufferRange(GL_SHADER_STORAGE_BUFFER, 8, lc.masks.id(), 0, GLsizeiptr(g.maskBytes()));
+    glBindBufferRange(GL_SHADER_STORAGE_BUFFER, PNB_BINDING_LIGHT_CLUSTERS, lc.masks.id(), 0,
+                      GLsizeiptr(g.maskBytes()));
 }
 
 } // namespace pnb::player

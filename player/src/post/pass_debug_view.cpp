@@ -10,6 +10,7 @@
 #include "gi/gi.h"
 #include "post/post.h"
 #include "shadows/shadow_maps.h"
+#include "shared/bindings.h" // PNB_BINDING_* (GLSL and C++)
 
 namespace pnb::player {
 
@@ -140,7 +141,7 @@ void renderShadowDebug(FrameContext& ctx, const ShadowContext& shadows, DebugVie
     glProgramUniform1fv(p, 4, GLsizei(f.splits.size()), f.splits.data());
     glProgramUniform1i(p, 13, f.gpuFit ? 1 : 0);
     glBindTextureUnit(0, r.depthView.id());
-    if (f.gpuFit) glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, r.sdsmState.id());
+    if (f.gpuFit) glBindBufferBase(GL_SHADER_STORAGE_BUFFER, PNB_BINDING_SDSM_STATE, r.sdsmState.id());
     const float black[4] = {0, 0, 0, 1};
     glClearNamedFramebufferfv(ctx.targets.outputFb.id(), GL_COLOR, 0, black);
     if (f.active) drawFullscreenTriangle();

@@ -12,6 +12,7 @@
 #include "shadows/local_shadows.h"
 #include "shadows/shadow_maps.h"
 #include "sky/ibl.h"
+#include "shared/bindings.h" // PNB_BINDING_* (GLSL and C++)
 
 namespace pnb::player {
 
@@ -139,7 +140,8 @@ PlayResult<Done> prepareFrame(Frame& f) {
     // a: the GI cascades lighting reads (0: GI off, gi_lookup.glsl returns at once).
     fb.ambient = glm::vec4(glm::vec3(s.ambient), float(f.gi.frame.cascades.size()));
     ctx.frameBlockOffset = ctx.ring.push(&fb, sizeof fb);
-    glBindBufferRange(GL_UNIFORM_BUFFER, 0, ctx.ring.buffer(), GLintptr(ctx.frameBlockOffset), sizeof fb);
+    glBindBufferRange(GL_UNIFORM_BUFFER, PNB_BINDING_FRAME_BLOCK, ctx.ring.buffer(), GLintptr(ctx.frameBlockOffset),
+                      sizeof fb);
     const ShadowFrame& shadowFrame = f.shadows.frame;
     ShadowResources& maps = f.shadows.resources;
     if (shadowFrame.active) {

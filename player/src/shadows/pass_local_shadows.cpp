@@ -3,6 +3,7 @@
 // light's first tile into the frame's light list, and draw the tiles whose content changed.
 #include <algorithm>
 #include <cmath>
+#include <cstddef>
 #include <cstring>
 
 #include <glm/gtc/matrix_transform.hpp>
@@ -12,7 +13,10 @@
 #include "shadows/shadow_maps.h"
 #include "shadows/local_shadows.h"
 #include "lights/light_clusters.h"
-#include "shared/local_shadow_tile.h" // GpuShadowTile (GLSL and C++)
+#include "shared/bindings.h" // PNB_BINDING_* (GLSL and C++)
+#include "shared/light_list.h" // LightListHeader, GpuLight (GLSL and C++)
+#include "shared/local_shadow_tile.h" // LocalShadowsHeader, GpuShadowTile (GLSL and C++)
+#include "shared/material_block.h" // MaterialBlock (GLSL and C++)
 
 namespace pnb::player {
 
@@ -93,14 +97,15 @@ void drawTile(FrameContext& ctx, const ShadowContext& shadows, const SceneLight&
         if (scene.shadowMaskProgram && caster.program == *scene.shadowMaskProgram && item.material != boundMaterial) {
             boundMaterial = item.material;
             const GpuMaterial& material = scene.materials[item.material];
-            glBindBufferRange(GL_UNIFORM_BUFFER, 2, scene.materialBuffer.id(), GLintptr(material.uniformOffset), 14 * 16);
+            glBindBufferRange(GL_UNIFORM_BUFFER, PNB_BINDING_MATERIAL_BLOCK, scene.materialBuffer.id(),
+                              GLintptr(material.uniformOffset), sizeof(MaterialBlock));
             const uint32_t t = material.desc.textures.empty() ? kNone : material.desc.textures[0].texture;
             glBindTextureUnit(0, t == kNone ? 0 : scene.textures[t].texture.id());
         }
         const GpuMesh& mesh = scene.meshes[item.mesh];
         const DrawLevel& level = scene.levels[drawLevel(scene, ctx.lod, caster.item)];
         const uint64_t firstIndex = mesh.indexOffset / mesh.indexSize + level.firstIndex;
-        glBindBufferRange(GL_UNIFORM_BUFFER, 1, ctx.ring.buffer(), GLintptr(objectOffsets[c]),
+        glBindBufferRange(GL_UNIFORM_BUFFER, PNB_BINDING_OBJECT_BLOCK, ctx.ring.buffer(), GLintptr(objectOffsets[c]),
                           GLsizeiptr(ctx.objectBlockBytes));
         if (mesh.vertexArray.id() != boundVao) glBindVertexArray(boundVao = mesh.vertexArray.id());
         glDrawElements(mesh.primitive, GLsizei(warmUpCount(ctx, level.indexCount)), mesh.indexType,
@@ -145,8 +150,8 @@ void runLocalShadows(FrameContext& ctx, LocalShadowContext& ls, const ShadowCont
         dropAtlas(ls); // no local light casts a shadow in view: no atlas
         // local_shadows.glsl declares the tiles' block; no light points into it (cone.z = -1),
         // but a declared block wants a buffer: the light list stands in.
-        glBindBufferRange(GL_SHADER_STORAGE_BUFFER, 9, ctx.ring.buffer(), GLintptr(lights.listOffset),
-                          GLsizeiptr(lights.listBytes));
+        glBindBufferRange(GL_SHADER_STORAGE_BUFFER, PNB_BINDING_LOCAL_SHADOWS, ctx.ring.buffer(),
+                          GLintptr(lights.listOffset), GLsizeiptr(lights.listBytes));
         return;
     }
     ensureAtlas(ls, s.shadowLocalAtlas);
@@ -155,27 +160,31 @@ void runLocalShadows(FrameContext& ctx, LocalShadowContext& ls, const ShadowCont
     // The tiles' data for lighting, and each light's first tile in the light list (cone.z).
     for (const LocalShadowPlacement& p : ls.placements) ls.tiles += p.faces;
     std::byte* data = nullptr;
-    const size_t tileBytes = 16 + sizeof(GpuShadowTile) * ls.tiles;
+    const size_t tileBytes = sizeof(LocalShadowsHeader) + sizeof(GpuShadowTile) * ls.tiles;
     const size_t tileOffset = ctx.ring.allocate(tileBytes, data);
     const float atlas = float(ls.atlasSize);
-    const glm::vec4 header(1.0f / atlas, float(s.shadowLocalTaps), s.shadowRadius, 0);
+    LocalShadowsHeader header;
+    header.atlas = {1.0f / atlas, float(s.shadowLocalTaps), s.shadowRadius, 0};
     std::memcpy(data, &header, sizeof header);
     uint32_t tile = 0;
     for (const LocalShadowPlacement& p : ls.placements) {
         const SceneLight& l = scene.lights[p.light];
         const TileShape shape = tileShape(l, p, s.shadowRadius);
         const float first = float(tile);
-        std::memcpy(lights.listData + 16 + size_t(p.light) * 64 + 56, &first, sizeof first);
+        const size_t coneZ = offsetof(GpuLight, cone) + 2 * sizeof(float);
+        std::memcpy(lights.listData + sizeof(LightListHeader) + size_t(p.light) * sizeof(GpuLight) + coneZ,
+                    &first, sizeof first);
         for (uint32_t f = 0; f < p.faces; ++f, ++tile) {
             GpuShadowTile t;
             t.matrix = localShadowMatrix(glm::vec3(l.position - ctx.view.position), tileDirection(l, p, f),
                                          shape.tanHalf, shape.range);
             t.rect = {float(p.origins[f].x) / atlas, float(p.origins[f].y) / atlas, float(p.size) / atlas,
                       2.0f * shape.tanHalf / float(p.size)};
-            std::memcpy(data + 16 + size_t(tile) * sizeof t, &t, sizeof t);
+            std::memcpy(data + sizeof header + size_t(tile) * sizeof t, &t, sizeof t);
         }
     }
-    glBindBufferRange(GL_SHADER_STORAGE_BUFFER, 9, ctx.ring.buffer(), GLintptr(tileOffset), GLsizeiptr(tileBytes));
+    glBindBufferRange(GL_SHADER_STORAGE_BUFFER, PNB_BINDING_LOCAL_SHADOWS, ctx.ring.buffer(), GLintptr(tileOffset),
+                      GLsizeiptr(tileBytes));
 
     // Draw the tiles whose light, place or casters changed (all of them without the cache).
     ls.drawn.resize(ls.tiles);
@@ -210,7 +219,8 @@ void runLocalShadows(FrameContext& ctx, LocalShadowContext& ls, const ShadowCont
                     block.matrix[k] = localShadowMatrix(glm::vec3(l.position - ctx.view.position),
                                                         tileDirection(l, p, k), shape.tanHalf, shape.range);
                 const size_t offset = ctx.ring.push(&block, sizeof block);
-                glBindBufferRange(GL_UNIFORM_BUFFER, 4, ctx.ring.buffer(), GLintptr(offset), sizeof block);
+                glBindBufferRange(GL_UNIFORM_BUFFER, PNB_BINDING_SHADOW_BLOCK, ctx.ring.buffer(), GLintptr(offset),
+                                  sizeof block);
                 blockPushed = true;
             }
             glViewport(GLint(p.origins[f].x), GLint(p.origins[f].y), GLsizei(p.size), GLsizei(p.size));

@@ -15,6 +15,8 @@
 #include "frame/frame_context.h"
 #include "shadows/shadow_maps.h"
 #include "gl/program_compile.h"
+#include "shared/bindings.h" // PNB_BINDING_* (GLSL and C++)
+#include "shared/material_block.h" // MaterialBlock (GLSL and C++)
 
 namespace pnb::player {
 
@@ -81,13 +83,14 @@ void drawCasters(FrameContext& ctx, ShadowContext& shadows, int passCascade, boo
             item.material != boundMaterial) {
             boundMaterial = item.material;
             const GpuMaterial& material = scene.materials[item.material];
-            glBindBufferRange(GL_UNIFORM_BUFFER, 2, scene.materialBuffer.id(),
-                              GLintptr(material.uniformOffset), 14 * 16);
+            glBindBufferRange(GL_UNIFORM_BUFFER, PNB_BINDING_MATERIAL_BLOCK,
+                              scene.materialBuffer.id(), GLintptr(material.uniformOffset),
+                              sizeof(MaterialBlock));
             uint32_t t = material.desc.textures.empty() ? kNone : material.desc.textures[0].texture;
             glBindTextureUnit(0, t == kNone ? 0 : scene.textures[t].texture.id());
         }
-        glBindBufferRange(GL_UNIFORM_BUFFER, 1, ctx.ring.buffer(), GLintptr(f.objectOffsets[i]),
-                          GLsizeiptr(ctx.objectBlockBytes));
+        glBindBufferRange(GL_UNIFORM_BUFFER, PNB_BINDING_OBJECT_BLOCK, ctx.ring.buffer(),
+                          GLintptr(f.objectOffsets[i]), GLsizeiptr(ctx.objectBlockBytes));
         if (mesh.vertexArray.id() != boundVao) glBindVertexArray(boundVao = mesh.vertexArray.id());
         if (f.gpuFit && ctx.warmUp) {
             // The GPU cull may leave a draw empty, and a driver may skip an empty draw before
@@ -120,11 +123,11 @@ void runShadowPass(FrameContext& ctx, ShadowContext& shadows) {
     glBindTextureUnit(8, 0);     // not sampled while being written
     glBindTextureUnit(9, 0);
     if (f.gpuFit) {
-        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 5, r.sdsmMasks.id());
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, PNB_BINDING_CASTER_MASKS, r.sdsmMasks.id());
         glBindBuffer(GL_DRAW_INDIRECT_BUFFER, r.sdsmCommands.id());
     } else if (f.maskBytes) {
-        glBindBufferRange(GL_SHADER_STORAGE_BUFFER, 5, ctx.ring.buffer(), GLintptr(f.maskOffset),
-                          GLsizeiptr(f.maskBytes));
+        glBindBufferRange(GL_SHADER_STORAGE_BUFFER, PNB_BINDING_CASTER_MASKS, ctx.ring.buffer(),
+                          GLintptr(f.maskOffset), GLsizeiptr(f.maskBytes));
     }
     glViewport(0, 0, GLsizei(r.resolution), GLsizei(r.resolution));
     glEnable(GL_DEPTH_TEST);

@@ -5,13 +5,12 @@
 #include "gl/program_compile.h"
 #include "shadows/shadow_maps.h"
 #include "gl/upload_heap.h"
+#include "shared/sdsm_state.h" // SdsmState (GLSL and C++)
 
 namespace pnb::player {
 
 namespace {
 
-// std430 SdsmState (player/shaders/sdsm.comp).
-constexpr size_t kSdsmStateBytes = 16 + 256 * 4 + kMaxCascades * 16 + kMaxCascades * 8 * 4;
 constexpr size_t kIndirectCommandBytes = 20; // DrawElementsIndirectCommand
 
 GlHandle buffer(size_t bytes, const char* label, uint64_t& counter) {
@@ -96,7 +95,7 @@ PlayResult<Done> ShadowResources::ensure(uint32_t res, uint32_t layerCount, bool
     if (!sdsmState || casterCount > sdsmCasterCapacity) {
         bufferBytes = 0;
         sdsmCasterCapacity = casterCount;
-        sdsmState = buffer(kSdsmStateBytes, "sdsm state", bufferBytes);
+        sdsmState = buffer(sizeof(SdsmState), "sdsm state", bufferBytes);
         sdsmBlock = buffer(sizeof(ShadowBlock), "sdsm shadow block", bufferBytes);
         sdsmMasks = buffer(casterCount * 4, "sdsm caster masks", bufferBytes);
         sdsmCommands = buffer(size_t(casterCount) * (kMaxCascades + 1) * kIndirectCommandBytes,

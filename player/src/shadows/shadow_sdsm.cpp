@@ -2,10 +2,14 @@
 // bound the samples per cascade, build the matrices and cull the casters. The results stay in GPU
 // buffers that the shadow pass (indirect draws, masks) and lighting (the ShadowBlock) read
 // directly: no read-back, so the CPU never waits for the GPU in the frame loop.
+#include <cstddef>
+
 #include <glm/gtc/type_ptr.hpp>
 
 #include "frame/frame_context.h"
 #include "shadows/shadow_maps.h"
+#include "shared/bindings.h" // PNB_BINDING_* (GLSL and C++)
+#include "shared/sdsm_state.h" // SdsmState (GLSL and C++)
 
 namespace pnb::player {
 
@@ -16,11 +20,14 @@ void runSdsmFit(FrameContext& ctx, ShadowContext& shadows) {
     const RenderSettings& s = ctx.settings;
     ctx.timer.mark("reduce");
 
-    // Reset: min depth = FLT_MAX, max/count/histogram = 0.
+    // Reset: min depth = FLT_MAX, max/count/histogram = 0 (the members from depthMaxBits up to
+    // cascadeRange, which the partition writes).
     const uint32_t floatMax = 0x7f7fffffu, zero = 0;
-    glClearNamedBufferSubData(r.sdsmState.id(), GL_R32UI, 0, 4, GL_RED_INTEGER, GL_UNSIGNED_INT, &floatMax);
-    glClearNamedBufferSubData(r.sdsmState.id(), GL_R32UI, 4, 12 + 256 * 4, GL_RED_INTEGER,
-                              GL_UNSIGNED_INT, &zero);
+    glClearNamedBufferSubData(r.sdsmState.id(), GL_R32UI, offsetof(SdsmState, depthMinBits),
+                              sizeof(uint32_t), GL_RED_INTEGER, GL_UNSIGNED_INT, &floatMax);
+    glClearNamedBufferSubData(r.sdsmState.id(), GL_R32UI, offsetof(SdsmState, depthMaxBits),
+                              offsetof(SdsmState, cascadeRange) - offsetof(SdsmState, depthMaxBits),
+                              GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
 
     // The depth buffer -> camera-relative position through the inverse view-projection holds for
     // both projections (orthographic: w = 1, depth linear); view depth is along `forward`.
@@ -47,10 +54,10 @@ void runSdsmFit(FrameContext& ctx, ShadowContext& shadows) {
         glProgramUniform1ui(p, 10, r.sdsmCasterCapacity);
         glProgramUniform1i(p, 11, histogram ? 1 : 0);
     };
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, r.sdsmState.id());
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, r.sdsmBlock.id());
-    glBindBufferRange(GL_SHADER_STORAGE_BUFFER, 2, ctx.ring.buffer(), GLintptr(f.blockOffset),
-                      sizeof(ShadowBlock));
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, PNB_BINDING_SDSM_STATE, r.sdsmState.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, PNB_BINDING_SDSM_SHADOW_OUT, r.sdsmBlock.id());
+    glBindBufferRange(GL_SHADER_STORAGE_BUFFER, PNB_BINDING_SDSM_SHADOW_IN, ctx.ring.buffer(),
+                      GLintptr(f.blockOffset), sizeof(ShadowBlock));
     glBindTextureUnit(0, ctx.targets.depth.id());
     // 16 x 16 invocations of 4 x 4 pixels each (sdsm.comp's TILE).
     GLuint groupsX = (ctx.targets.width + 63) / 64, groupsY = (ctx.targets.height + 63) / 64;
@@ -77,11 +84,12 @@ void runSdsmFit(FrameContext& ctx, ShadowContext& shadows) {
 
     if (!f.casters.empty()) {
         setCommon(r.sdsmCull.id());
-        // Bindings 3 (the light list) and 5 (masks, as the shadow pass reads them) are shared.
-        // Binding 6: bounds and the index range of the level each caster draws this frame.
-        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 4, r.sdsmCommands.id());
-        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 5, r.sdsmMasks.id());
-        glBindBufferRange(GL_SHADER_STORAGE_BUFFER, 6, ctx.ring.buffer(), GLintptr(f.boundsOffset),
+        // The masks go where the shadow pass reads them. The casters: bounds and the index
+        // range of the level each caster draws this frame.
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, PNB_BINDING_SDSM_COMMANDS, r.sdsmCommands.id());
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, PNB_BINDING_CASTER_MASKS, r.sdsmMasks.id());
+        glBindBufferRange(GL_SHADER_STORAGE_BUFFER, PNB_BINDING_SDSM_CASTERS, ctx.ring.buffer(),
+                          GLintptr(f.boundsOffset),
                           GLsizeiptr(f.casterBounds.size() * sizeof(SdsmCasterData)));
         glUseProgram(r.sdsmCull.id());
         glDispatchCompute(GLuint((f.casters.size() + 63) / 64), 1, 1);

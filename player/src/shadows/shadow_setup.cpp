@@ -11,6 +11,7 @@
 #include "cascade_splits.h"
 #include "frame/frame_context.h"
 #include "shadows/shadow_maps.h"
+#include "shared/bindings.h" // PNB_BINDING_* (GLSL and C++)
 
 namespace pnb::player {
 
@@ -276,10 +277,10 @@ void bindShadowsForLighting(FrameContext& ctx, const ShadowContext& shadows) {
     if (!f.sceneHasShadows) return;
     const ShadowResources& r = shadows.resources;
     if (f.gpuFit)
-        glBindBufferBase(GL_UNIFORM_BUFFER, 4, r.sdsmBlock.id());
+        glBindBufferBase(GL_UNIFORM_BUFFER, PNB_BINDING_SHADOW_BLOCK, r.sdsmBlock.id());
     else
-        glBindBufferRange(GL_UNIFORM_BUFFER, 4, ctx.ring.buffer(), GLintptr(f.blockOffset),
-                          sizeof(ShadowBlock));
+        glBindBufferRange(GL_UNIFORM_BUFFER, PNB_BINDING_SHADOW_BLOCK, ctx.ring.buffer(),
+                          GLintptr(f.blockOffset), sizeof(ShadowBlock));
     if (f.active) {
         glBindTextureUnit(8, r.depthArray.id());
         glBindTextureUnit(9, r.depthView.id());

@@ -9,6 +9,7 @@
 #include "sky/ibl.h"
 #include "gi/gi.h"
 #include "pnb_lighting/sh9.h"
+#include "shared/bindings.h" // PNB_BINDING_* (GLSL and C++)
 
 namespace pnb::player {
 
@@ -107,7 +108,7 @@ void prepareIbl(FrameContext& ctx, IblContext& ibl, const GiContext& gi) {
     }
     if (!ctx.scene.iblPrograms) return;
     size_t offset = ctx.ring.push(&block, sizeof block);
-    glBindBufferRange(GL_UNIFORM_BUFFER, 7, ctx.ring.buffer(), GLintptr(offset), sizeof block);
+    glBindBufferRange(GL_UNIFORM_BUFFER, PNB_BINDING_IBL_BLOCK, ctx.ring.buffer(), GLintptr(offset), sizeof block);
 }
 
 } // namespace pnb::player

@@ -13,6 +13,7 @@
 
 #include "frame/frame_context.h"
 #include "sky/ibl.h"
+#include "shared/bindings.h" // PNB_BINDING_* (GLSL and C++)
 
 namespace pnb::player {
 
@@ -56,7 +57,7 @@ void renderSkyHeightMap(FrameContext& ctx, IblContext& ibl) {
     FrameBlock fb{};
     fb.viewProjection = glm::mat4(m);
     size_t fbOffset = ctx.ring.push(&fb, sizeof fb);
-    glBindBufferRange(GL_UNIFORM_BUFFER, 0, ctx.ring.buffer(), GLintptr(fbOffset), sizeof fb);
+    glBindBufferRange(GL_UNIFORM_BUFFER, PNB_BINDING_FRAME_BLOCK, ctx.ring.buffer(), GLintptr(fbOffset), sizeof fb);
     const glm::dmat4 toEye = glm::translate(glm::dmat4(1.0), -eye);
     const std::vector<DrawRef> refs = opaqueDrawRefs(ctx, toEye); // glass lets light through
     glBindFramebuffer(GL_FRAMEBUFFER, ibl.heightFb.id());
