@@ -3,6 +3,8 @@
 // checks its declared reads and writes against every other pass's.
 #include "renderer/frame.h"
 
+#include <iterator>
+
 #include "gl/gl_allocation.h"
 
 #include "gi/gi.h"
