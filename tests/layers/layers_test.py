@@ -1,20 +1,13 @@
 #!/usr/bin/env python3
 """scripts/check-layers: the repository has no arrow against its floors, and the checker sees the
 kinds of arrow it claims to (a sideways include, an upward bare include, a sideways CMake link)."""
-import importlib.machinery
-import importlib.util
-import os
 import subprocess
 import sys
-import tempfile
 import unittest
 
-REPO = os.path.abspath(sys.argv.pop(1) if len(sys.argv) > 1 else os.path.join(os.path.dirname(__file__), "..", ".."))
-CHECK = os.path.join(REPO, "scripts", "check-layers")
-loader = importlib.machinery.SourceFileLoader("check_layers", CHECK)
-spec = importlib.util.spec_from_loader("check_layers", loader)
-check_layers = importlib.util.module_from_spec(spec)
-loader.exec_module(check_layers)
+from checker_fixture import REPO, fake_repo, load_script
+
+CHECK, check_layers = load_script("check-layers")
 
 
 class Layers(unittest.TestCase):
@@ -29,18 +22,8 @@ class Layers(unittest.TestCase):
             self.assertTrue(graph[middle] <= {"cli", "format", "lighting", "shaders"}, (middle, graph[middle]))
         self.assertEqual(graph["judge"] - {"format", "lighting"}, {"player", "reference"})
 
-    def fake_repo(self, files):
-        d = tempfile.mkdtemp()
-        for path, text in files.items():
-            os.makedirs(os.path.join(d, os.path.dirname(path)), exist_ok=True)
-            with open(os.path.join(d, path), "w") as f:
-                f.write(text)
-        subprocess.run(["git", "init", "-q", d], check=True)
-        subprocess.run(["git", "-C", d, "add", "-A"], check=True)
-        return d
-
     def test_it_finds_sideways_upward_and_linked_arrows(self):
-        d = self.fake_repo({
+        d = fake_repo({
             "format/include/pnb/chunks.h": "",
             "player/math/sh9.h": "",
             "player/include/pnb_player/renderer.h": '#include "pnb/chunks.h"\n',
@@ -71,7 +54,7 @@ class Layers(unittest.TestCase):
             self.assertEqual(graph.get(low, set()), set(), low)
 
     def test_it_finds_arrows_against_the_renderers_floors(self):
-        d = self.fake_repo({
+        d = fake_repo({
             "player/src/frame/frame_context.h": '#include "shadows/shadow_maps.h"\n',  # upward
             "player/src/shadows/shadow_maps.h": '#include "frame/frame_context.h"\n',  # downward
             "player/src/shading/pass_forward.cpp": '#include "post/post.h"\n',          # sideways

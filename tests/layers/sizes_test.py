@@ -2,20 +2,13 @@
 """scripts/check-sizes: the repository keeps docs/STYLE.md's size limits (no function over 150
 lines, no file over 800, outside tests/), and the checker measures what it claims to: planted
 functions and files just over and just at the limits, in the shapes C++ writes them."""
-import importlib.machinery
-import importlib.util
-import os
 import subprocess
 import sys
-import tempfile
 import unittest
 
-REPO = os.path.abspath(sys.argv.pop(1) if len(sys.argv) > 1 else os.path.join(os.path.dirname(__file__), "..", ".."))
-CHECK = os.path.join(REPO, "scripts", "check-sizes")
-loader = importlib.machinery.SourceFileLoader("check_sizes", CHECK)
-spec = importlib.util.spec_from_loader("check_sizes", loader)
-check_sizes = importlib.util.module_from_spec(spec)
-loader.exec_module(check_sizes)
+from checker_fixture import REPO, fake_repo, load_script
+
+CHECK, check_sizes = load_script("check-sizes")
 
 
 def body(lines):
@@ -29,18 +22,8 @@ class Sizes(unittest.TestCase):
         self.assertEqual(r.returncode, 0, r.stdout + r.stderr)
         self.assertIn("0 over the limits", r.stdout)
 
-    def fake_repo(self, files):
-        d = tempfile.mkdtemp()
-        for path, text in files.items():
-            os.makedirs(os.path.join(d, os.path.dirname(path)), exist_ok=True)
-            with open(os.path.join(d, path), "w") as f:
-                f.write(text)
-        subprocess.run(["git", "init", "-q", d], check=True)
-        subprocess.run(["git", "-C", d, "add", "-A"], check=True)
-        return d
-
     def test_it_measures_functions_and_files(self):
-        d = self.fake_repo({
+        d = fake_repo({
             # Free functions: one over, one at the limit.
             "a/free.cpp": "namespace n {\nint over(int x) " + body(151) + "int at(int x) " + body(150) + "}\n",
             # A member defined in its class, a constructor with an initialiser list, a
