@@ -165,7 +165,9 @@ float shadowVisibility(vec3 p, vec3 n) {
     return v;
 }
 
-// The lit colour, or what debug.view / the shadow capture asks for instead.
+// The lit colour, or what debug.view / the shadow capture asks for instead. The capture describes
+// the surface whose depth the frame kept (the truth is traced there): a translucent layer writes
+// no depth, so it leaves the value below it (alpha 0), as the GI and sky captures do.
 vec4 shadowOutput(vec4 color) {
     int mode = int(uShadowMapInfo.w);
     if (mode == 1) {
@@ -174,11 +176,12 @@ vec4 shadowOutput(vec4 color) {
         vec3 t = gShadowCascade == -1 ? vec3(1, 1, 0) : tint[max(gShadowCascade, 0)];
         return vec4(color.rgb * 0.35 + t * (0.15 + 0.5 * gShadowVisibility), color.a);
     }
+    float keep = color.a < 1.0 ? 0.0 : 1.0;
     if (mode == 2 && uShadowView.z >= 0.0) // capture of a point or spot light: visibility, 0
-        return gLocalJudged ? vec4(gShadowVisibility, 0.0, 0.0, 1.0) : vec4(-1, -1, 0, 1);
+        return gLocalJudged ? vec4(gShadowVisibility, 0.0, 0.0, keep) : vec4(-1, -1, 0, keep);
     if (mode == 2) // capture: visibility (-1: not classified), cascade, texel/pixel ratio
-        return gShadowCascade == -2 ? vec4(-1, -1, 0, 1)
-                                    : vec4(gShadowVisibility, float(gShadowCascade), gShadowTexelRatio, 1.0);
+        return gShadowCascade == -2 ? vec4(-1, -1, 0, keep)
+                                    : vec4(gShadowVisibility, float(gShadowCascade), gShadowTexelRatio, keep);
     return color;
 }
 
