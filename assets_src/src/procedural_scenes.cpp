@@ -10,8 +10,10 @@
 //   procedural_extremes.cpp       grazing-plane, one-triangle, wide-flat
 //   procedural_load_test.cpp      load-test
 //   procedural_light_field.cpp    light-field
+//   procedural_window.cpp         window (and its analytic expectations, window_scene.h)
 
 #include "pnb_assets/procedural_scenes.h"
+#include "pnb_assets/window_scene.h"
 
 #include <algorithm>
 #include <cmath>
@@ -42,6 +44,8 @@ constexpr ProceduralScene kScenes[] = {
     {"lamp-room",
      "closed 8x3x6 m room, boxes, pillar and table lit by one spot and one point light "
      "(no sun gets in): local-light shadows"},
+    {"window", "closed room lit only through glass: a sun through a coloured roof pane, a spot "
+               "through two overlapping panes (translucent shadows)"},
 };
 
 uint32_t sqrtRound(double v) {
@@ -112,6 +116,7 @@ std::optional<gltf::Document> buildProceduralScene(std::string_view name,
     if (name == "wide-flat") return buildWideFlat({});
     if (name == "atrium") return buildAtrium();
     if (name == "lamp-room") return buildLampRoom();
+    if (name == "window") return buildWindowScene();
     return std::nullopt;
 }
 

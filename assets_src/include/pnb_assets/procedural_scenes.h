@@ -20,6 +20,9 @@
 //   wide-flat
 //   lamp-room      a closed room lit by one spot and one point light and no sun: the shadows of
 //                  local lights (issue 29) and their ray-traced truth
+//   window         a closed room lit only through glass: a sun through a coloured roof pane and
+//                  a spot through two overlapping panes (issue 43's translucent shadows; the
+//                  layout and its analytic values are in window_scene.h)
 //
 // load-test and light-field exist for benchmarks: they are not generated at build time (not in
 // assets_src/CMakeLists.txt's PNB_PROCEDURAL_SCENES), the benchmark scripts make them.
