@@ -2,6 +2,7 @@
 #include "translucency.h"
 
 #include <algorithm>
+#include <cmath>
 #include <tuple>
 
 #include "mesh_decode.h"
@@ -74,13 +75,21 @@ glm::vec3 TranslucentSurfaces::transmittance(const TranslucentHit& hit) const {
 
 glm::vec3 TranslucentSurfaces::product(std::vector<TranslucentHit>& hits, float tMax) const {
     std::sort(hits.begin(), hits.end(), [](const TranslucentHit& a, const TranslucentHit& b) {
-        return std::tie(a.geometry, a.primitive, a.t) < std::tie(b.geometry, b.primitive, b.t);
+        return std::tie(a.geometry, a.t, a.primitive) < std::tie(b.geometry, b.t, b.primitive);
     });
     glm::vec3 t(1.0f);
-    for (size_t k = 0; k < hits.size(); ++k) {
-        if (k > 0 && hits[k].geometry == hits[k - 1].geometry && hits[k].primitive == hits[k - 1].primitive)
-            continue; // the same triangle again
-        if (hits[k].t < tMax) t *= transmittance(hits[k]);
+    const TranslucentHit* counted = nullptr; // the last crossing multiplied in
+    for (const TranslucentHit& hit : hits) {
+        if (!(hit.t < tMax)) continue;
+        // One crossing of one surface: the same triangle offered again, or the neighbouring
+        // triangle where the ray passes through their shared edge (a quad's diagonal, a box's
+        // crease), at the same distance up to the point's own error band (kPointRelativeError,
+        // relative: no constant in scene units).
+        if (counted && counted->geometry == hit.geometry &&
+            double(hit.t) - double(counted->t) <= kPointRelativeError * std::fabs(double(hit.t)))
+            continue;
+        t *= transmittance(hit);
+        counted = &hit;
     }
     return t;
 }

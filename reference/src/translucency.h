@@ -54,11 +54,13 @@ public:
     // The transmittance of one recorded hit (1 for a geometry that is not translucent).
     glm::vec3 transmittance(const TranslucentHit& hit) const;
 
-    // The product of the transmittances of the distinct triangles in `hits` (Embree may report a
-    // triangle twice: the BVH's spatial splits reference it from several leaves) whose distance
-    // is below tMax. `hits` is sorted by geometry, triangle and distance first, so the product
-    // is taken in one order whatever order traversal found them in: the same bits on any
-    // number of threads.
+    // The product of the transmittances of the distinct crossings in `hits` whose distance is
+    // below tMax. A crossing is counted once: Embree may offer a triangle twice (the BVH's
+    // spatial splits reference it from several leaves), and a ray through the edge two
+    // triangles of a surface share hits both; hits on one geometry within the point's relative
+    // error band of each other (kPointRelativeError x t) are one crossing. `hits` is sorted by
+    // geometry, distance and triangle first, so the product is taken in one order whatever
+    // order traversal found them in: the same bits on any number of threads.
     glm::vec3 product(std::vector<TranslucentHit>& hits,
                       float tMax = std::numeric_limits<float>::infinity()) const;
 
