@@ -167,6 +167,7 @@ TracerResult<std::unique_ptr<IndirectTracer>> IndirectTracer::build(const Scene&
     impl.reflectors = std::move(*reflectors);
     stats.triangles = impl.reflectors->triangles;
     stats.instances = impl.reflectors->instances;
+    stats.translucentInstances = impl.reflectors->translucentInstances;
     stats.buildMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
     return tracer;
 }
@@ -194,7 +195,7 @@ void IndirectTracer::irradiance(std::span<const glm::vec3> positions, std::span<
     const unsigned threads = std::max(1u, std::thread::hardware_concurrency());
 
     std::vector<glm::vec3> hitPosition, hitNormal, hitAlbedo;
-    std::vector<float> visibility;
+    std::vector<glm::vec3> visibility; // colour: through the glass between bounce and light
     std::vector<glm::vec3> contribution;
     for (size_t first = 0; first < count; first += batch) {
         const size_t points = std::min(batch, count - first);
@@ -209,6 +210,8 @@ void IndirectTracer::irradiance(std::span<const glm::vec3> positions, std::span<
             rtcInitIntersectContext(&context.embree);
             context.eye = eye;
             context.fixedBand = kVertexRelativeError * glm::length(eye) + impl.reflectors->worldBand;
+            std::vector<detail::TranslucentHit> crossed; // the translucent surfaces of one ray
+            context.translucentHits = &crossed;
             for (size_t i = next.fetch_add(1); i < points; i = next.fetch_add(1)) {
                 const size_t point = first + i;
                 const glm::vec3 p = positions[point], n = normals[point];
@@ -227,6 +230,7 @@ void IndirectTracer::irradiance(std::span<const glm::vec3> positions, std::span<
                     rh.ray.time = 0, rh.ray.mask = 0xFFFFFFFFu, rh.ray.id = 0, rh.ray.flags = 0;
                     rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
                     rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+                    crossed.clear();
                     rtcIntersect1(impl.reflectors->scene, &context.embree, &rh);
                     if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) continue; // black sky
                     const Instance& inst = impl.instances[rh.hit.geomID];
@@ -249,7 +253,9 @@ void IndirectTracer::irradiance(std::span<const glm::vec3> positions, std::span<
                         uv = glm::vec2(t.x, t.y);
                         albedo *= glm::vec3(impl.textures[size_t(m.texture)].sample(uv));
                     }
-                    hitAlbedo[k] = albedo;
+                    // The light reflected back towards p crosses the glass between them
+                    // (translucency.h): only surfaces nearer than the reflector count.
+                    hitAlbedo[k] = albedo * impl.reflectors->translucent.product(crossed, rh.ray.tfar);
                 }
             }
         };
@@ -265,11 +271,11 @@ void IndirectTracer::irradiance(std::span<const glm::vec3> positions, std::span<
         for (int li : lights) {
             const LightInfo& l = impl.lights[size_t(li)];
             if (l.type == LightType::Directional)
-                impl.shadows->visibility(hitPosition, l.toward, visibility, eye);
+                impl.shadows->colorVisibility(hitPosition, l.toward, visibility, eye);
             else
-                impl.shadows->visibilityToPoint(hitPosition, l.position, visibility, eye);
+                impl.shadows->colorVisibilityToPoint(hitPosition, l.position, visibility, eye);
             for (size_t k = 0; k < rays; ++k) {
-                if (!(visibility[k] > 0.0f)) continue;
+                if (!(visibility[k].x > 0.0f || visibility[k].y > 0.0f || visibility[k].z > 0.0f)) continue;
                 glm::vec3 toLight = l.toward;
                 float attenuation = 1.0f;
                 if (l.type != LightType::Directional) {
@@ -283,7 +289,7 @@ void IndirectTracer::irradiance(std::span<const glm::vec3> positions, std::span<
                             spotConeFactor(glm::dot(l.travel, -toLight), l.cosOuter, l.cosInner));
                 }
                 float cosine = std::max(0.0f, glm::dot(hitNormal[k], toLight));
-                contribution[k] += hitAlbedo[k] * l.radiance * (attenuation * cosine);
+                contribution[k] += hitAlbedo[k] * visibility[k] * l.radiance * (attenuation * cosine);
             }
         }
         // 3. Mean and standard error per point: E = (1/N) sum rho E_direct (pdf cos/pi cancels

@@ -156,4 +156,20 @@ ShadowErrorMetrics compareLocalShadow(std::span<const float> player,
     return compareShadow(p, r, std::span<const float>(weights.irradiance).first(n));
 }
 
+ShadowColorMetrics compareLocalShadowColor(std::span<const glm::vec3> player,
+                                           std::span<const glm::vec3> reference,
+                                           const LocalLightWeights& weights) {
+    assert(player.size() == reference.size() && weights.reached.size() == player.size());
+    const size_t n = std::min({player.size(), reference.size(), weights.reached.size()});
+    // Outside the reach neither side is judged, as in compareLocalShadow.
+    std::vector<glm::vec3> p(player.begin(), player.begin() + std::ptrdiff_t(n)),
+        r(reference.begin(), reference.begin() + std::ptrdiff_t(n));
+    for (size_t i = 0; i < n; ++i)
+        if (!weights.reached[i]) {
+            p[i] = glm::vec3(-1.0f);
+            r[i] = glm::vec3(std::numeric_limits<float>::quiet_NaN());
+        }
+    return compareShadowColor(p, r, std::span<const float>(weights.irradiance).first(n));
+}
+
 } // namespace pnb::reference

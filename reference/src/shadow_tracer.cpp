@@ -8,6 +8,7 @@
 #include "pnb/node_transform.h"
 #include "mesh_decode.h"
 #include "self_intersection.h"
+#include "translucency.h"
 
 #include <algorithm>
 #include <atomic>
@@ -16,6 +17,7 @@
 #include <cstring>
 #include <limits>
 #include <mutex>
+#include <optional>
 #include <thread>
 #include <vector>
 
@@ -37,8 +39,10 @@ namespace pnb::reference {
 using detail::meshName;
 using detail::nodeName;
 using detail::readIndex;
+using detail::passTranslucent;
 using detail::rejectOwnSurface;
 using detail::TraceContext;
+using detail::TranslucentHit;
 
 namespace {
 
@@ -63,6 +67,7 @@ struct ShadowTracer::Embree {
     // Per geometry (the filter's user pointer), per triangle: kVertexRelativeError x the largest
     // origin-relative vertex magnitude, the triangle's own error band.
     std::vector<std::unique_ptr<std::vector<float>>> triangleTolerances;
+    detail::TranslucentSurfaces translucent; // the Blend casters, by geometry id
 
     ~Embree() {
         if (scene) rtcReleaseScene(scene);
@@ -91,6 +96,56 @@ private:
     unsigned int mSaved;
 #endif
 };
+
+
+// Attaches `indices` (3 per triangle) of the mesh vertices `local`, placed by `world`, to
+// `scene` as one triangle geometry with `filter` on its occlusion queries, its per-triangle
+// error bands appended to `tolerances` (the filter's user data); raises `worldBand` to this
+// geometry's. World space in double, then relative to the origin, then float: the subtraction
+// is exact enough that far-away scenes keep sub-millimetre precision near the camera. Returns
+// the geometry id, or nothing when Embree fails.
+std::optional<unsigned> attachTriangles(RTCDevice device, RTCScene scene, const std::vector<glm::dvec3>& local,
+                                        const glm::dmat4& world, glm::dvec3 origin,
+                                        const std::vector<uint32_t>& indices, RTCFilterFunctionN filter,
+                                        std::vector<std::unique_ptr<std::vector<float>>>& tolerances,
+                                        double& worldBand) {
+    RTCGeometry geometry = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
+    if (!geometry) return std::nullopt;
+    rtcSetGeometryBuildQuality(geometry, RTC_BUILD_QUALITY_HIGH);
+    // Embree pads vertex buffers it allocates itself so the last vertex can be read with a
+    // 16-byte load.
+    auto* vertices = static_cast<float*>(rtcSetNewGeometryBuffer(geometry, RTC_BUFFER_TYPE_VERTEX, 0,
+                                                                 RTC_FORMAT_FLOAT3, 3 * sizeof(float), local.size()));
+    auto* triangles = static_cast<uint32_t*>(rtcSetNewGeometryBuffer(
+        geometry, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(uint32_t), indices.size() / 3));
+    if (!vertices || !triangles) {
+        rtcReleaseGeometry(geometry);
+        return std::nullopt;
+    }
+    std::vector<double> magnitude(local.size());
+    for (size_t v = 0; v < local.size(); ++v) {
+        const glm::dvec3 ws = glm::dvec3(world * glm::dvec4(local[v], 1.0));
+        const glm::dvec3 rel = ws - origin;
+        vertices[v * 3 + 0] = float(rel.x);
+        vertices[v * 3 + 1] = float(rel.y);
+        vertices[v * 3 + 2] = float(rel.z);
+        magnitude[v] = glm::length(rel);
+        worldBand = std::max(worldBand, kWorldRelativeError * glm::length(ws));
+    }
+    std::memcpy(triangles, indices.data(), indices.size() * sizeof(uint32_t));
+    auto tolerance = std::make_unique<std::vector<float>>(indices.size() / 3);
+    for (size_t t = 0; t < tolerance->size(); ++t)
+        (*tolerance)[t] = float(kVertexRelativeError * std::max({magnitude[indices[t * 3]],
+                                                                 magnitude[indices[t * 3 + 1]],
+                                                                 magnitude[indices[t * 3 + 2]]}));
+    rtcSetGeometryUserData(geometry, tolerance.get());
+    rtcSetGeometryOccludedFilterFunction(geometry, filter);
+    tolerances.push_back(std::move(tolerance));
+    rtcCommitGeometry(geometry);
+    const unsigned id = rtcAttachGeometry(scene, geometry);
+    rtcReleaseGeometry(geometry); // the scene holds its reference
+    return id;
+}
 
 } // namespace
 
@@ -129,7 +184,8 @@ TracerResult<std::unique_ptr<ShadowTracer>> ShadowTracer::build(const Scene& sce
     const std::vector<Node>& nodes = scene.nodes.nodes;
     std::vector<std::vector<glm::dvec3>> decoded(scene.meshes.size()); // decoded on first use
     std::vector<bool> isDecoded(scene.meshes.size(), false);
-    std::vector<uint32_t> triangleIndices;
+    std::vector<uint32_t> triangleIndices; // the instance's opaque casters, one geometry
+    std::vector<std::pair<const Submesh*, std::vector<uint32_t>>> translucent; // one geometry each
 
     for (size_t i = 0; i < nodes.size(); ++i)
         if (nodes[i].parent != kNone && nodes[i].parent >= i)
@@ -148,6 +204,7 @@ TracerResult<std::unique_ptr<ShadowTracer>> ShadowTracer::build(const Scene& sce
 
         // The triangles of this instance's casting submeshes (the player draws lod 0 only).
         triangleIndices.clear();
+        translucent.clear();
         for (const Submesh& sm : mesh.submeshes) {
             if (sm.lod != 0) continue;
             if (mesh.primitive != Primitive::Triangles || sm.material == kNone) {
@@ -159,7 +216,7 @@ TracerResult<std::unique_ptr<ShadowTracer>> ShadowTracer::build(const Scene& sce
                                   std::to_string(sm.material) + " of " +
                                   std::to_string(scene.materials.size()));
             const Material& m = scene.materials[sm.material];
-            if (!m.castsShadows || m.alphaMode == AlphaMode::Blend) {
+            if (!m.castsShadows) { // a Blend surface that casts nothing lets everything through
                 ++stats.excludedInstances;
                 continue;
             }
@@ -170,6 +227,11 @@ TracerResult<std::unique_ptr<ShadowTracer>> ShadowTracer::build(const Scene& sce
                                   std::to_string(indexCount) + " indices");
             ++stats.casterInstances;
             if (m.alphaMode == AlphaMode::Mask) ++stats.maskedCastersTreatedOpaque;
+            std::vector<uint32_t>* target = &triangleIndices;
+            if (detail::isTranslucentCaster(m)) {
+                ++stats.translucentCasters;
+                target = &translucent.emplace_back(&sm, std::vector<uint32_t>{}).second;
+            }
             const uint64_t end = uint64_t(sm.firstIndex) + sm.indexCount / 3 * 3;
             for (uint64_t k = sm.firstIndex; k < end; ++k) {
                 uint32_t index = readIndex(mesh, k);
@@ -178,10 +240,11 @@ TracerResult<std::unique_ptr<ShadowTracer>> ShadowTracer::build(const Scene& sce
                                       " at position " + std::to_string(k) +
                                       " is not below vertexCount " +
                                       std::to_string(mesh.vertexCount));
-                triangleIndices.push_back(index);
+                target->push_back(index);
             }
         }
-        if (triangleIndices.empty()) continue;
+        std::erase_if(translucent, [](const auto& t) { return t.second.empty(); });
+        if (triangleIndices.empty() && translucent.empty()) continue;
 
         if (!isDecoded[n.mesh]) {
             auto positions = detail::decodeStream(scene, n.mesh, VertexSemantic::Position, true);
@@ -190,50 +253,21 @@ TracerResult<std::unique_ptr<ShadowTracer>> ShadowTracer::build(const Scene& sce
             for (size_t v = 0; v < positions->size(); ++v) decoded[n.mesh][v] = glm::dvec3((*positions)[v]);
             isDecoded[n.mesh] = true;
         }
-        const std::vector<glm::dvec3>& local = decoded[n.mesh];
-
-        RTCGeometry geometry = rtcNewGeometry(embree.device, RTC_GEOMETRY_TYPE_TRIANGLE);
-        if (!geometry) return embreeFailure("rtcNewGeometry failed");
-        rtcSetGeometryBuildQuality(geometry, RTC_BUILD_QUALITY_HIGH);
-        // Embree pads vertex buffers it allocates itself so the last vertex can be read with a
-        // 16-byte load.
-        auto* vertices = static_cast<float*>(rtcSetNewGeometryBuffer(
-            geometry, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), local.size()));
-        auto* indices = static_cast<uint32_t*>(
-            rtcSetNewGeometryBuffer(geometry, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
-                                    3 * sizeof(uint32_t), triangleIndices.size() / 3));
-        if (!vertices || !indices) {
-            rtcReleaseGeometry(geometry);
-            return embreeFailure("allocating geometry buffers failed");
+        const glm::dmat4 world = glm::make_mat4(copy.world.data());
+        auto attach = [&](const std::vector<uint32_t>& indices, RTCFilterFunctionN filter) {
+            stats.triangles += indices.size() / 3;
+            return attachTriangles(embree.device, embree.scene, decoded[n.mesh], world, origin, indices, filter,
+                                   embree.triangleTolerances, tracer->mWorldBand);
+        };
+        if (!triangleIndices.empty() && !attach(triangleIndices, rejectOwnSurface))
+            return embreeFailure("attaching a geometry failed");
+        for (auto& [sm, indices] : translucent) {
+            const auto id = attach(indices, passTranslucent);
+            if (!id) return embreeFailure("attaching a geometry failed");
+            if (auto e = embree.translucent.add(scene, *id, n.mesh, *sm, std::move(indices))) return *e;
         }
-        // World space in double, then relative to the origin, then float: the subtraction is
-        // exact enough that far-away scenes keep sub-millimetre precision near the camera.
-        const glm::dmat4 m = glm::make_mat4(copy.world.data());
-        std::vector<double> magnitude(local.size());
-        for (size_t v = 0; v < local.size(); ++v) {
-            glm::dvec3 ws = glm::dvec3(m * glm::dvec4(local[v], 1.0));
-            glm::dvec3 rel = ws - origin;
-            vertices[v * 3 + 0] = float(rel.x);
-            vertices[v * 3 + 1] = float(rel.y);
-            vertices[v * 3 + 2] = float(rel.z);
-            magnitude[v] = glm::length(rel);
-            tracer->mWorldBand = std::max(tracer->mWorldBand, kWorldRelativeError * glm::length(ws));
-        }
-        std::memcpy(indices, triangleIndices.data(), triangleIndices.size() * sizeof(uint32_t));
-        auto tolerance = std::make_unique<std::vector<float>>(triangleIndices.size() / 3);
-        for (size_t t = 0; t < tolerance->size(); ++t)
-            (*tolerance)[t] = float(kVertexRelativeError *
-                                    std::max({magnitude[triangleIndices[t * 3]],
-                                              magnitude[triangleIndices[t * 3 + 1]],
-                                              magnitude[triangleIndices[t * 3 + 2]]}));
-        rtcSetGeometryUserData(geometry, tolerance.get());
-        rtcSetGeometryOccludedFilterFunction(geometry, rejectOwnSurface);
-        embree.triangleTolerances.push_back(std::move(tolerance));
-        rtcCommitGeometry(geometry);
-        rtcAttachGeometry(embree.scene, geometry);
-        rtcReleaseGeometry(geometry); // the scene holds its reference
-        stats.triangles += triangleIndices.size() / 3;
     }
+    stats.translucentTexturesFactorOnly = embree.translucent.texturesFactorOnly();
 
     rtcCommitScene(embree.scene);
     if (rtcGetDeviceError(embree.device) != RTC_ERROR_NONE)
@@ -244,23 +278,42 @@ TracerResult<std::unique_ptr<ShadowTracer>> ShadowTracer::build(const Scene& sce
 
 void ShadowTracer::visibility(std::span<const glm::vec3> positions, glm::vec3 towardLight,
                               std::span<float> out, glm::dvec3 eye) const {
-    trace(positions, towardLight, nullptr, out, eye);
+    trace(positions, towardLight, nullptr, Output{out, {}}, eye);
 }
 
 void ShadowTracer::visibilityToPoint(std::span<const glm::vec3> positions, glm::vec3 light,
                                      std::span<float> out, glm::dvec3 eye) const {
-    trace(positions, glm::vec3(0.0f, 1.0f, 0.0f), &light, out, eye);
+    trace(positions, glm::vec3(0.0f, 1.0f, 0.0f), &light, Output{out, {}}, eye);
+}
+
+void ShadowTracer::colorVisibility(std::span<const glm::vec3> positions, glm::vec3 towardLight,
+                                   std::span<glm::vec3> out, glm::dvec3 eye) const {
+    trace(positions, towardLight, nullptr, Output{{}, out}, eye);
+}
+
+void ShadowTracer::colorVisibilityToPoint(std::span<const glm::vec3> positions, glm::vec3 light,
+                                          std::span<glm::vec3> out, glm::dvec3 eye) const {
+    trace(positions, glm::vec3(0.0f, 1.0f, 0.0f), &light, Output{{}, out}, eye);
 }
 
 void ShadowTracer::trace(std::span<const glm::vec3> positions, glm::vec3 towardLight,
-                         const glm::vec3* point, std::span<float> out, glm::dvec3 eye) const {
+                         const glm::vec3* point, Output out, glm::dvec3 eye) const {
     constexpr float kNaN = std::numeric_limits<float>::quiet_NaN();
     const size_t count = positions.size();
+    const bool color = out.binary.empty() && !out.color.empty();
+    // Colour: the product of the transmittances crossed (translucency.h); binary: 1 unless an
+    // opaque caster blocks (the translucent ones are passed unrecorded).
+    auto write = [&](size_t i, glm::vec3 value) {
+        if (color) out.color[i] = value;
+        else out.binary[i] = value.x;
+    };
     const float lightLength = glm::length(towardLight);
     const bool pointOk = !point || (std::isfinite(point->x) && std::isfinite(point->y) && std::isfinite(point->z));
-    if (out.size() != count || !std::isfinite(lightLength) || !(lightLength > 0.0f) || !pointOk ||
-        !std::isfinite(eye.x) || !std::isfinite(eye.y) || !std::isfinite(eye.z)) {
-        std::fill(out.begin(), out.end(), kNaN);
+    if ((color ? out.color.size() : out.binary.size()) != count || !std::isfinite(lightLength) ||
+        !(lightLength > 0.0f) || !pointOk || !std::isfinite(eye.x) || !std::isfinite(eye.y) ||
+        !std::isfinite(eye.z)) {
+        std::fill(out.binary.begin(), out.binary.end(), kNaN);
+        std::fill(out.color.begin(), out.color.end(), glm::vec3(kNaN));
         return;
     }
     const glm::vec3 dir = towardLight / lightLength;
@@ -279,6 +332,8 @@ void ShadowTracer::trace(std::span<const glm::vec3> positions, glm::vec3 towardL
         context.eye = eye;
         context.fixedBand = kVertexRelativeError * glm::length(eye) + mWorldBand;
         if (point) context.lightBand = kPointRelativeError * glm::length(glm::dvec3(*point) - eye);
+        std::vector<TranslucentHit> hits[kPacket]; // per lane (the ray's id), colour queries only
+        if (color) context.translucentHits = hits;
         for (size_t first = begin; first < end; first += kPacket) {
             // The manual requires the packet aligned to 64 bytes; Embree's AVX-512 path also
             // reads the valid mask with an aligned 64-byte load, so a mask that happens to sit
@@ -289,6 +344,7 @@ void ShadowTracer::trace(std::span<const glm::vec3> positions, glm::vec3 towardL
             for (size_t lane = 0; lane < kPacket; ++lane) {
                 const size_t i = first + lane;
                 valid[lane] = 0;
+                hits[lane].clear();
                 // Inactive lanes still get defined values (Embree may load them).
                 ray.org_x[lane] = ray.org_y[lane] = ray.org_z[lane] = 0.0f;
                 ray.dir_x[lane] = dir.x, ray.dir_y[lane] = dir.y, ray.dir_z[lane] = dir.z;
@@ -301,7 +357,7 @@ void ShadowTracer::trace(std::span<const glm::vec3> positions, glm::vec3 towardL
                 if (i >= end) continue;
                 const glm::vec3 p = positions[i];
                 if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z)) {
-                    out[i] = kNaN;
+                    write(i, glm::vec3(kNaN));
                     continue;
                 }
                 // From the point itself: its own surface is rejected by rejectOwnSurface. Nothing
@@ -315,7 +371,7 @@ void ShadowTracer::trace(std::span<const glm::vec3> positions, glm::vec3 towardL
                     const glm::vec3 d = *point - p;
                     const double length = glm::length(glm::dvec3(d));
                     if (!(length > 0.0)) { // the point is the light: nothing lies between
-                        out[i] = 1.0f;
+                        write(i, glm::vec3(1.0f));
                         continue;
                     }
                     ray.dir_x[lane] = d.x, ray.dir_y[lane] = d.y, ray.dir_z[lane] = d.z;
@@ -330,8 +386,13 @@ void ShadowTracer::trace(std::span<const glm::vec3> positions, glm::vec3 towardL
             }
             if (!any) continue;
             rtcOccluded16(valid, scene, &context.embree, &ray);
-            for (size_t lane = 0; lane < kPacket; ++lane)
-                if (valid[lane]) out[first + lane] = ray.tfar[lane] < 0.0f ? 0.0f : 1.0f; // -inf: hit
+            for (size_t lane = 0; lane < kPacket; ++lane) {
+                if (!valid[lane]) continue;
+                const bool blocked = ray.tfar[lane] < 0.0f; // -inf: an opaque caster
+                write(first + lane, blocked ? glm::vec3(0.0f)
+                                    : color ? mEmbree->translucent.product(hits[lane])
+                                            : glm::vec3(1.0f));
+            }
         }
     };
     auto worker = [&] {

@@ -94,6 +94,7 @@ TracerResult<std::unique_ptr<SkyTracer>> SkyTracer::build(const Scene& scene, gl
     impl.occluders = std::move(*occluders);
     stats.triangles = impl.occluders->triangles;
     stats.instances = impl.occluders->instances;
+    stats.translucentInstances = impl.occluders->translucentInstances;
     stats.buildMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
     return tracer;
 }
@@ -130,6 +131,8 @@ void SkyTracer::irradiance(std::span<const glm::vec3> positions, std::span<const
         rtcInitIntersectContext(&context.embree);
         context.eye = eye;
         context.fixedBand = kVertexRelativeError * glm::length(eye) + impl.occluders->worldBand;
+        std::vector<detail::TranslucentHit> crossed; // the translucent surfaces of one ray
+        context.translucentHits = &crossed;
         for (size_t i = next.fetch_add(1); i < count; i = next.fetch_add(1)) {
             const glm::vec3 p = positions[i], n = normals[i];
             if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z) ||
@@ -142,7 +145,9 @@ void SkyTracer::irradiance(std::span<const glm::vec3> positions, std::span<const
             glm::dvec3 sum(0.0), sum2(0.0);
             for (uint32_t s = 0; s < samples; ++s) {
                 const glm::vec3 dir = frame.direction(settings.seed, i, s);
+                glm::dvec3 transmittance(1.0);
                 if (settings.visibility) {
+                    crossed.clear();
                     RTCRay ray;
                     ray.org_x = p.x, ray.org_y = p.y, ray.org_z = p.z;
                     ray.dir_x = dir.x, ray.dir_y = dir.y, ray.dir_z = dir.z;
@@ -151,8 +156,10 @@ void SkyTracer::irradiance(std::span<const glm::vec3> positions, std::span<const
                     ray.time = 0, ray.mask = 0xFFFFFFFFu, ray.id = 0, ray.flags = 0;
                     rtcOccluded1(impl.occluders->scene, &context.embree, &ray);
                     if (ray.tfar < 0.0f) continue; // Embree marks an occluded ray with tfar = -inf
+                    // The sky seen through glass is tinted (translucency.h).
+                    transmittance = glm::dvec3(impl.occluders->translucent.product(crossed));
                 }
-                const glm::dvec3 l = radiance(dir);
+                const glm::dvec3 l = radiance(dir) * transmittance;
                 sum += l;
                 sum2 += l * l;
             }

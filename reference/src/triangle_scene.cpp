@@ -1,4 +1,4 @@
-// The opaque-triangle Embree scene of the Monte-Carlo tracers (triangle_scene.h).
+// The Embree scene of the Monte-Carlo tracers (triangle_scene.h).
 #include "triangle_scene.h"
 
 #include <algorithm>
@@ -12,6 +12,7 @@
 #include "mesh_decode.h"
 #include "pnb/node_transform.h"
 #include "self_intersection.h"
+#include "translucency.h"
 
 namespace pnb::reference::detail {
 
@@ -51,8 +52,11 @@ TracerResult<std::unique_ptr<TriangleScene>> buildTriangleScene(const Scene& sce
             if (sm.material >= scene.materials.size())
                 return inputError(meshName(scene, n.mesh) + " refers to material " + std::to_string(sm.material) +
                                   " of " + std::to_string(scene.materials.size()));
-            // Blend surfaces let most light through; the player's shadows ignore them too.
-            if (scene.materials[sm.material].alphaMode == AlphaMode::Blend) continue;
+            // Blend surfaces reflect nothing here; those that cast shadows attenuate what
+            // crosses them (translucency.h), the others let everything through.
+            const Material& material = scene.materials[sm.material];
+            const bool translucent = isTranslucentCaster(material);
+            if (material.alphaMode == AlphaMode::Blend && !translucent) continue;
             if (uint64_t(sm.firstIndex) + sm.indexCount > indexCount)
                 return inputError(meshName(scene, n.mesh) + ": submesh indices " + std::to_string(sm.firstIndex) +
                                   "+" + std::to_string(sm.indexCount) + " run past its " +
@@ -103,15 +107,19 @@ TracerResult<std::unique_ptr<TriangleScene>> buildTriangleScene(const Scene& sce
             rtcSetGeometryUserData(geometry, tolerance.get());
             // Both queries: IndirectTracer intersects (it needs the hit), SkyTracer only asks
             // whether anything is in the way.
-            rtcSetGeometryIntersectFilterFunction(geometry, rejectOwnSurface);
-            rtcSetGeometryOccludedFilterFunction(geometry, rejectOwnSurface);
+            const RTCFilterFunctionN filter = translucent ? passTranslucent : rejectOwnSurface;
+            rtcSetGeometryIntersectFilterFunction(geometry, filter);
+            rtcSetGeometryOccludedFilterFunction(geometry, filter);
             rtcCommitGeometry(geometry);
             const unsigned id = rtcAttachGeometry(out->scene, geometry);
             rtcReleaseGeometry(geometry);
             out->tolerances.push_back(std::move(tolerance));
             out->triangles += indices.size() / 3;
             ++out->instances;
-            if (onInstance)
+            if (translucent) {
+                ++out->translucentInstances;
+                if (auto e = out->translucent.add(scene, id, n.mesh, sm, std::move(indices))) return *e;
+            } else if (onInstance)
                 if (auto e = onInstance(id, uint32_t(i), n.mesh, sm, std::move(indices))) return *e;
         }
     }

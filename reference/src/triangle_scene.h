@@ -1,7 +1,8 @@
-// triangle_scene.h — the Embree scene of everything that stops a ray in the Monte-Carlo tracers
+// triangle_scene.h — the Embree scene of everything a ray meets in the Monte-Carlo tracers
 // (IndirectTracer: what light bounces off; SkyTracer: what hides the sky): every level-0 submesh
-// instance whose material is not Blend, whatever it casts into the player's shadow maps.
-// Internal to pnb_reference.
+// instance whose material is not Blend, whatever it casts into the player's shadow maps, and the
+// translucent ones (Blend that casts shadows, translucency.h), which attenuate the rays that
+// cross them and stop none. Internal to pnb_reference.
 #pragma once
 
 #include <cstdint>
@@ -15,18 +16,23 @@
 
 #include "pnb/scene.h"
 #include "pnb_reference/shadow_tracer.h"
+#include "translucency.h"
 
 namespace pnb::reference::detail {
 
 // An Embree device and a committed scene (robust, high build quality) whose triangles carry the
-// self-intersection filter (self_intersection.h) for both rtcIntersect and rtcOccluded.
+// self-intersection filter (self_intersection.h) for both rtcIntersect and rtcOccluded: the
+// opaque ones rejectOwnSurface, the translucent ones passTranslucent (which records them in the
+// query's TraceContext::translucentHits).
 struct TriangleScene {
     RTCDevice device = nullptr;
     RTCScene scene = nullptr;
     std::vector<std::unique_ptr<std::vector<float>>> tolerances; // the filter's per-triangle bands
     double worldBand = 0;   // kWorldRelativeError x the largest world-space vertex magnitude
     uint64_t triangles = 0;
-    uint32_t instances = 0; // node x submesh instances attached
+    uint32_t instances = 0; // node x submesh instances attached, translucent ones included
+    uint32_t translucentInstances = 0;
+    TranslucentSurfaces translucent; // the translucent instances, by geometry id
 
     TriangleScene() = default;
     TriangleScene(const TriangleScene&) = delete;
@@ -34,7 +40,8 @@ struct TriangleScene {
     ~TriangleScene();
 };
 
-// Called once per attached instance, in node order then submesh order: its Embree geometry id,
+// Called once per attached opaque instance, in node order then submesh order (translucent ones
+// are registered in TriangleScene::translucent instead): its Embree geometry id,
 // node, mesh index and submesh, and its triangle list (3 indices per triangle, each checked to
 // be below the mesh's vertexCount). A returned error stops the build with it.
 using TriangleInstanceCallback = std::function<std::optional<TracerError>(

@@ -1,6 +1,7 @@
 // pnb-reference's run (reference_run.h), as stages: read the dumped frame, place the judged
-// light, trace its visibility, compare it with the player's shadow factor, write the images and
-// metrics.json (with the irradiance truths asked for), print the summary.
+// light, trace its (colour) visibility, compare it with the player's shadow factor and, when
+// dumped, its colour visibility (reference_color.h), write the images and metrics.json (with
+// the irradiance truths asked for), print the summary.
 #include "reference_run.h"
 
 #include <chrono>
@@ -18,6 +19,8 @@
 #include "pnb_reference/local_light.h"
 #include "pnb_reference/shadow_metrics.h"
 #include "pnb_reference/shadow_tracer.h"
+#include "diff_palette.h"
+#include "reference_color.h"
 #include "reference_io.h"
 #include "reference_irradiance.h"
 
@@ -28,11 +31,12 @@ namespace {
 namespace fs = std::filesystem;
 using pnb::reference::ShadowTracer;
 
-// The dumped frame: frame.json and its buffers (normal, shadow and hdr are optional).
+// The dumped frame: frame.json and its buffers (normal, shadow, shadow_color and hdr are
+// optional).
 struct Inputs {
     Frame frame;
     FloatImage position;
-    std::optional<FloatImage> normal, shadow, hdr;
+    std::optional<FloatImage> normal, shadow, shadowColor, hdr;
 };
 
 // The judged light when it is a point or spot light, placed by its node; its position is
@@ -45,7 +49,8 @@ struct JudgedLight {
 // What the ray tracer found at every pixel.
 struct Truth {
     std::vector<glm::vec3> positions, normals; // normals: empty without normal.exr
-    std::vector<float> visibility;
+    std::vector<glm::vec3> color;              // colour visibility: through glass (issue 43)
+    std::vector<float> visibility;             // its mean over the channels (binary without glass)
     double rayMs = 0;
     uint64_t rays = 0, litPixels = 0, nonfiniteVerdicts = 0, nonfiniteImagePixels = 0;
 };
@@ -53,27 +58,11 @@ struct Truth {
 // The player's shadow factor against the truth (metrics only with shadow.exr).
 struct Comparison {
     pnb::reference::LocalLightWeights reach; // a local light's: where it reaches and what it gives
+    std::vector<float> sunWeights;           // the sun's: max(N.L, 0) (with shadow or shadow_color)
     std::vector<float> playerShadow;
     pnb::reference::ShadowErrorMetrics metrics;
     std::vector<pnb::reference::RatioStats> ratios;
 };
-
-// Colours of the PNG views (8-bit sRGB-encoded).
-struct Rgb8 {
-    uint8_t r, g, b;
-};
-constexpr Rgb8 kLit{255, 255, 255}, kShadow{0, 0, 0}, kNoGeometry{0, 0, 96};
-constexpr Rgb8 kAgreeLit{200, 200, 200}, kAgreeShadow{96, 96, 96};
-constexpr Rgb8 kFalseShadow{230, 30, 30}; // red: player shadowed, truly lit
-constexpr Rgb8 kFalseLit{30, 200, 30};    // green: player lit, truly shadowed
-constexpr Rgb8 kCoverage{230, 0, 230};    // magenta: only one of the two has geometry
-constexpr Rgb8 kNotReached{64, 48, 80}; // dim violet: a local light does not reach it (not judged)
-
-void put(std::vector<uint8_t>& rgb, size_t pixel, Rgb8 c) {
-    rgb[pixel * 3 + 0] = c.r;
-    rgb[pixel * 3 + 1] = c.g;
-    rgb[pixel * 3 + 2] = c.b;
-}
 
 // All inputs are read and checked before any work is done.
 Expected<Inputs> readInputs(const Settings& settings, const std::string& in) {
@@ -81,7 +70,7 @@ Expected<Inputs> readInputs(const Settings& settings, const std::string& in) {
     if (!frame) return frame.error();
     auto position = readExr(in + "position.exr", {"R", "G", "B"}, 3, *frame);
     if (!position) return position.error();
-    Inputs inputs{*frame, std::move(*position), {}, {}, {}};
+    Inputs inputs{*frame, std::move(*position), {}, {}, {}, {}};
     std::error_code ec;
     if (fs::exists(in + "normal.exr", ec)) {
         auto n = readExr(in + "normal.exr", {"R", "G", "B"}, 3, *frame);
@@ -95,6 +84,12 @@ Expected<Inputs> readInputs(const Settings& settings, const std::string& in) {
         auto s = readExr(in + "shadow.exr", {"R", "G", "B"}, 3, *frame);
         if (!s) return s.error();
         inputs.shadow = std::move(*s);
+    }
+    // The player's colour visibility (light through glass), when dumped.
+    if (fs::exists(in + "shadow_color.exr", ec)) {
+        auto s = readExr(in + "shadow_color.exr", {"R", "G", "B"}, 3, *frame);
+        if (!s) return s.error();
+        inputs.shadowColor = std::move(*s);
     }
     // The player's HDR image, when dumped: only checked for non-finite pixels (the extremes
     // matrix asks "is the image finite?" beside "is the verdict right?").
@@ -135,12 +130,16 @@ Truth traceVisibility(ShadowTracer& tracer, const Inputs& inputs, const JudgedLi
         t.positions[p] = {inputs.position.at(p, 0), inputs.position.at(p, 1), inputs.position.at(p, 2)};
         if (inputs.normal) t.normals[p] = {inputs.normal->at(p, 0), inputs.normal->at(p, 1), inputs.normal->at(p, 2)};
     }
+    t.color.resize(pixels);
     t.visibility.resize(pixels);
     auto traceStart = std::chrono::steady_clock::now();
     if (light.local)
-        tracer.visibilityToPoint(t.positions, glm::vec3(light.position), t.visibility);
+        tracer.colorVisibilityToPoint(t.positions, glm::vec3(light.position), t.color);
     else
-        tracer.visibility(t.positions, frame.towardLight, t.visibility); // the eye is the origin
+        tracer.colorVisibility(t.positions, frame.towardLight, t.color); // the eye is the origin
+    // The scalar truth the player's shadow dump is judged against: the opaque visibility times
+    // the mean transmittance (the contract of issue 43), exactly 0 or 1 without glass.
+    for (size_t p = 0; p < pixels; ++p) t.visibility[p] = (t.color[p].x + t.color[p].y + t.color[p].z) / 3.0f;
     t.rayMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - traceStart).count();
     for (size_t p = 0; p < pixels; ++p) {
         const float v = t.visibility[p];
@@ -163,12 +162,16 @@ Comparison compareWithPlayer(const Inputs& inputs, const Truth& truth, const Jud
     // its weighted one weighs by that irradiance): the player's shading normal where it wrote one,
     // else the normal of the positions themselves, as for the sun.
     std::vector<glm::vec3> geometric;
-    if (light.local || inputs.shadow)
+    if (light.local || inputs.shadow || inputs.shadowColor)
         geometric = pnb::reference::normalsFromPositions(truth.positions, frame.width, frame.height);
     Comparison c;
     if (light.local)
         c.reach = pnb::reference::localLightWeights(*light.local, light.position, truth.positions, truth.normals,
                                                     geometric);
+    else if (inputs.shadow || inputs.shadowColor)
+        // Irradiance weights: the player's shading normal where it wrote one, else the normal
+        // of the positions themselves.
+        c.sunWeights = pnb::reference::lambertWeights(truth.normals, geometric, frame.towardLight);
     if (!inputs.shadow) return c;
     std::vector<float> cascade(pixels), ratio(pixels);
     c.playerShadow.resize(pixels);
@@ -180,10 +183,7 @@ Comparison compareWithPlayer(const Inputs& inputs, const Truth& truth, const Jud
     if (light.local) {
         c.metrics = pnb::reference::compareLocalShadow(c.playerShadow, truth.visibility, c.reach);
     } else {
-        // Irradiance weights: the player's shading normal where it wrote one, else the normal
-        // of the positions themselves.
-        const std::vector<float> weights = pnb::reference::lambertWeights(truth.normals, geometric, frame.towardLight);
-        c.metrics = pnb::reference::compareShadow(c.playerShadow, truth.visibility, weights);
+        c.metrics = pnb::reference::compareShadow(c.playerShadow, truth.visibility, c.sunWeights);
     }
     c.ratios = pnb::reference::texelRatioByCascade(cascade, ratio);
     return c;
@@ -282,6 +282,7 @@ nlohmann::ordered_json metricsJson(const Settings& settings, const Inputs& input
     j["tracer"] = {{"triangles", ts.triangles},
                    {"caster_instances", ts.casterInstances},
                    {"masked_casters_treated_opaque", ts.maskedCastersTreatedOpaque},
+                   {"translucent_casters", ts.translucentCasters},
                    {"excluded_instances", ts.excludedInstances},
                    {"build_ms", ts.buildMs}};
     j["rays"] = {{"count", truth.rays},
@@ -291,7 +292,8 @@ nlohmann::ordered_json metricsJson(const Settings& settings, const Inputs& input
 }
 
 void printSummary(const std::string& outDir, const Inputs& inputs, const Truth& truth, const Comparison& c,
-                  const JudgedLight& light, const pnb::reference::TracerStats& ts) {
+                  const JudgedLight& light, const pnb::reference::TracerStats& ts,
+                  const std::optional<pnb::reference::ShadowColorMetrics>& color) {
     std::printf("pnb-reference: %llu triangles (built in %.1f ms), %llu rays in %.1f ms "
                 "(%.2f Mrays/s), %.1f%% lit\n",
                 (unsigned long long)ts.triangles, ts.buildMs, (unsigned long long)truth.rays, truth.rayMs,
@@ -307,6 +309,8 @@ void printSummary(const std::string& outDir, const Inputs& inputs, const Truth& 
                     local->ownRange ? "its own" : "0.01 lux cut-off", (unsigned long long)c.reach.reachedCount);
     if (ts.maskedCastersTreatedOpaque)
         std::printf("  note: %u alpha-masked caster instance(s) traced as opaque\n", ts.maskedCastersTreatedOpaque);
+    if (ts.translucentCasters)
+        std::printf("  note: %u blended caster instance(s) traced as translucent\n", ts.translucentCasters);
     if (inputs.shadow) {
         const pnb::reference::ShadowErrorMetrics& m = c.metrics;
         std::printf("  player vs reference over %llu pixels: misclassified %.3f%% (false lit "
@@ -315,8 +319,10 @@ void printSummary(const std::string& outDir, const Inputs& inputs, const Truth& 
                     (unsigned long long)m.pixels, m.misclassifiedPercent, m.falseLitPercent, m.falseShadowPercent,
                     m.meanAbsError, m.weightedErrorPercent, m.weightedFalseLitPercent, m.weightedFalseShadowPercent);
     }
-    std::printf("  wrote %s/{visibility.exr,visibility.png%s,metrics.json}\n", outDir.c_str(),
-                inputs.shadow ? ",shadow_diff.png" : "");
+    if (color) printShadowColorSummary(*color);
+    std::printf("  wrote %s/{visibility.exr,visibility.png%s%s,metrics.json}\n", outDir.c_str(),
+                inputs.shadow ? ",shadow_diff.png" : "",
+                inputs.shadowColor ? ",shadow_color_reference.exr,shadow_color_diff.png" : "");
 }
 
 } // namespace
@@ -343,6 +349,14 @@ int run(const Settings& settings) {
     if (auto images = writeShadowImages(outDir, *inputs, truth, comparison, *light); !images)
         return fail(images.error());
     nlohmann::ordered_json j = metricsJson(settings, *inputs, truth, comparison, *light, (*tracer)->stats());
+    std::optional<pnb::reference::ShadowColorMetrics> color;
+    if (inputs->shadowColor) {
+        auto judged = judgeShadowColor(outDir, inputs->frame, *inputs->shadowColor, truth.color,
+                                       light->local ? &comparison.reach : nullptr, comparison.sunWeights);
+        if (!judged) return fail(judged.error());
+        color = *judged;
+        j["shadow_color"] = shadowColorJson(*color);
+    }
     if (settings.indirect) {
         auto indirect = runIndirect(settings, *scene, inputs->frame, truth.positions, truth.normals, in, outDir);
         if (!indirect) return fail(indirect.error());
@@ -354,7 +368,7 @@ int run(const Settings& settings) {
         j["sky"] = *sky;
     }
     if (auto json = writeText(outDir + "/metrics.json", j.dump(2) + "\n"); !json) return fail(json.error());
-    if (!settings.quiet) printSummary(outDir, *inputs, truth, comparison, *light, (*tracer)->stats());
+    if (!settings.quiet) printSummary(outDir, *inputs, truth, comparison, *light, (*tracer)->stats(), color);
     return kExitOk;
 }
 

@@ -564,6 +564,68 @@ TEST_F(ReferenceCli, BadShadowLightIndicesAreInputErrors) {
     EXPECT_NE(r.output.find("toward_light"), std::string::npos) << r.output;
 }
 
+
+// Light through glass (issue 43): the box of the ground + box scene made of red glass of alpha
+// 0.5 lets (0.5, 0, 0) through each face, (0.25, 0, 0) through the box. The player's colour
+// visibility (shadow_color.exr) equals it except for `wrong` pixels under the box seen grey 0.5
+// (green and blue leak: false lit); pnb-reference writes the colour truth, its error map and
+// "shadow_color" beside the existing keys, and judges visibility.exr as the mean transmittance.
+TEST_F(ReferenceCli, JudgesTheColourVisibilityThroughGlass) {
+    gltf::Document doc = groundAndBox();
+    gltf::Material glass = material("glass", gltf::AlphaMode::Blend);
+    glass.baseColorFactor = {1, 0, 0, 0.5f};
+    doc.materials.push_back(glass);
+    doc.meshes[1].primitives[0].material = 1;
+    const std::string scene = pnb::test::convertDocument(sDir->str(), doc, "glass-box", "", false);
+    TempDir dir("glass");
+    writeFrame(dir.path / "in", makeFrame(0));
+    const int n = Frame::kSize, wrong = 5;
+    std::vector<float> color;
+    int flipped = 0, under = 0;
+    for (int j = 0; j < n; ++j)
+        for (int i = 0; i < n; ++i) {
+            const double x = -4 + (i + 0.5) * 8.0 / n, z = -4 + (j + 0.5) * 8.0 / n;
+            const bool glazed = j > 0 && std::fabs(x) < 1 && std::fabs(z) < 1;
+            under += glazed;
+            if (j == 0) color.insert(color.end(), {-1, -1, -1, 1});
+            else if (glazed && flipped++ < wrong) color.insert(color.end(), {0.5f, 0.5f, 0.5f, 1});
+            else if (glazed) color.insert(color.end(), {0.25f, 0, 0, 1});
+            else color.insert(color.end(), {1, 1, 1, 1});
+        }
+    writeExr(dir.path / "in" / "shadow_color.exr", n, n, 4, color);
+    RunResult r = run(shellQuote(scene) + " --frame " + shellQuote(dir.path / "in") + " --out " +
+                      shellQuote(dir.path / "out"));
+    ASSERT_EQ(r.exitCode, 0) << r.output;
+    EXPECT_NE(r.output.find("colour visibility over 992 pixels (64 through glass)"), std::string::npos) << r.output;
+
+    std::ifstream in(dir.path / "out" / "metrics.json");
+    const nlohmann::json j = nlohmann::json::parse(in);
+    EXPECT_EQ(j["tracer"]["translucent_casters"], 1);
+    ASSERT_TRUE(j.contains("shadow")); // the existing keys stay
+    EXPECT_DOUBLE_EQ(j["shadow"]["misclassified_percent"].get<double>(), 0.0);
+    const auto& c = j["shadow_color"];
+    EXPECT_EQ(c["pixels"], 31 * 32);
+    EXPECT_EQ(c["translucent_pixels"], under);
+    EXPECT_DOUBLE_EQ(c["false_lit_percent"].get<double>(), 100.0 * wrong / (31 * 32));
+    EXPECT_DOUBLE_EQ(c["false_shadow_percent"].get<double>(), 0.0);
+    EXPECT_EQ(c["coverage_mismatch_pixels"], 0);
+    ASSERT_EQ(c["weighted_error_percent"].size(), 3u);
+    EXPECT_GT(c["weighted_error_percent"][1].get<double>(), 0.0);
+
+    int w = 0, h = 0, channels = 0;
+    const std::vector<float> truth = readImage(dir.path / "out" / "shadow_color_reference.exr", w, h, channels);
+    ASSERT_EQ(channels, 3);
+    const std::vector<float> visibility = readImage(dir.path / "out" / "visibility.exr", w, h, channels);
+    const size_t centre = size_t(n / 2) * size_t(n) + size_t(n / 2); // (0.125, 0.125): under the box
+    EXPECT_EQ(truth[centre * 3 + 0], 0.25f);
+    EXPECT_EQ(truth[centre * 3 + 1], 0.0f);
+    EXPECT_EQ(truth[centre * 3 + 2], 0.0f);
+    EXPECT_FLOAT_EQ(visibility[centre], 0.25f / 3.0f);
+    EXPECT_EQ(truth[3 * n + 3], 1.0f); // far from the box
+    EXPECT_TRUE(std::isnan(truth[0]));  // row 0: no geometry
+    EXPECT_TRUE(fs::exists(dir.path / "out" / "shadow_color_diff.png"));
+}
+
 } // namespace
 
 } // namespace pnb::reference::test

@@ -1,5 +1,5 @@
 // ShadowTracer: analytically known shadow footprints, acne-free grazing light, precision 10^6
-// units from the world origin, material rules (Mask opaque, Blend and non-casting skipped),
+// units from the world origin, material rules (Mask opaque, Blend passed, non-casting skipped),
 // every position encoding, node hierarchies, bad input, and every procedural scene.
 #include <cmath>
 #include <cstring>
@@ -222,6 +222,8 @@ TEST_F(ShadowTracerTest, QuantizedPositionsDecodeToTheSameShadow) {
     }
 }
 
+// visibility() is the opaque part: the blended box (a translucent caster since issue 43, see
+// translucency_test.cpp for what it lets through) does not block it.
 TEST(ShadowTracerMaterials, MaskCastsAsOpaqueBlendAndNonCastingDoNot) {
     TempDir dir("materials");
     gltf::Document doc;
@@ -237,10 +239,11 @@ TEST(ShadowTracerMaterials, MaskCastsAsOpaqueBlendAndNonCastingDoNot) {
     ASSERT_TRUE(loaded);
     auto tracer = buildTracer(loaded->scene, {0, 10, 10});
     ASSERT_TRUE(tracer);
-    EXPECT_EQ(tracer->stats().casterInstances, 2u); // ground + masked box
+    EXPECT_EQ(tracer->stats().casterInstances, 3u); // ground + masked box + blended box
     EXPECT_EQ(tracer->stats().maskedCastersTreatedOpaque, 1u);
-    EXPECT_EQ(tracer->stats().excludedInstances, 2u);
-    EXPECT_EQ(tracer->stats().triangles, 2u + 12u);
+    EXPECT_EQ(tracer->stats().translucentCasters, 1u);
+    EXPECT_EQ(tracer->stats().excludedInstances, 1u); // the box that casts nothing
+    EXPECT_EQ(tracer->stats().triangles, 2u + 12u + 12u);
     auto vis = trace(*tracer, {{-6, 0, 0}, {0, 0, 0}, {6, 0, 0}, {-3, 0, 0}}, kUp);
     EXPECT_EQ(vis, (std::vector<float>{0.0f, 1.0f, 1.0f, 1.0f}));
 }

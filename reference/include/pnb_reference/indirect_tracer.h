@@ -7,8 +7,11 @@
 // rho its diffuse albedo (base-colour factor x base-colour texture at the hit's UV x vertex
 // colour, x (1 - metallic factor)) and E_direct its irradiance from the scene's lights (the
 // player's light model: KHR_lights_punctual intensities, lights.glsl's range window, shadow rays
-// against the shadow casters). Rays that leave the scene see black (no sky yet). The surface seen
-// is the side the ray arrives on (two-sided reflectors).
+// against the shadow casters, coloured by the glass they cross: ShadowTracer::colorVisibility).
+// Translucent surfaces (Blend that casts shadows) reflect nothing; a bounce ray that crosses
+// them on its way to x is attenuated by their transmittance (docs/REFERENCE.md "Light through
+// glass"). Rays that leave the scene see black (no sky yet). The surface seen is the side the
+// ray arrives on (two-sided reflectors).
 //
 // Does NOT do: alpha-masked holes (masked surfaces are opaque), the metallic-roughness texture
 // (metallic is the factor), block-compressed textures (their factor only; counted in stats),
@@ -39,8 +42,10 @@ struct IndirectSettings {
 };
 
 struct IndirectStats {
-    uint64_t triangles = 0;           // reflecting triangles (non-blended, level 0)
+    uint64_t triangles = 0;           // level-0 triangles: reflecting (non-blended) and translucent
     uint32_t instances = 0;           // submesh instances among them
+    uint32_t translucentInstances = 0; // translucent (Blend, casting) instances: they reflect
+                                       // nothing and attenuate the rays that cross them
     uint32_t texturedMaterials = 0;   // materials whose base-colour texture is sampled
     uint32_t texturesFactorOnly = 0;  // base-colour textures that could not be decoded (block
                                       // compressed): their material's factor stands in

@@ -22,6 +22,7 @@
 #include <glm/vec3.hpp>
 
 #include "pnb/scene.h"
+#include "pnb_reference/shadow_color_metrics.h"
 #include "pnb_reference/shadow_metrics.h"
 #include "pnb_reference/shadow_tracer.h"
 
@@ -88,5 +89,10 @@ LocalLightWeights localLightWeights(const LocalLight& light, glm::dvec3 lightPos
 ShadowErrorMetrics compareLocalShadow(std::span<const float> player,
                                       std::span<const float> reference,
                                       const LocalLightWeights& weights);
+
+// compareShadowColor likewise: the pixels the light reaches only, weighted by its irradiance.
+ShadowColorMetrics compareLocalShadowColor(std::span<const glm::vec3> player,
+                                           std::span<const glm::vec3> reference,
+                                           const LocalLightWeights& weights);
 
 } // namespace pnb::reference

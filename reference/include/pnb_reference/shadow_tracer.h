@@ -4,18 +4,19 @@
 //
 // Does: builds one Embree scene (RTC_BUILD_QUALITY_HIGH, robust mode, triangle geometry) from the
 // shadow casters of a pnb::Scene — every level-0 submesh instance whose material has
-// castsShadows = true and alphaMode != Blend, exactly the instances the player draws — with world
+// castsShadows = true, Blend ones as translucent casters (issue 43) — with world
 // transforms composed in double from the node graph (as the player's buildSceneGraph does) and
 // vertices made relative to a caller-given origin before they are rounded to float; then answers
 // "is this point lit?" for many points at once, on all cores, with 16-ray packets: by a ray to
-// infinity (directional) or by the segment to a light's position (visibilityToPoint).
+// infinity (directional) or by the segment to a light's position (visibilityToPoint); and "how
+// much light of each colour reaches it through the glass on the way?" (colorVisibility*).
 //
 // Does NOT do: alpha-mask texture lookups (Mask casters are treated as opaque and counted, see
 // TracerStats), soft shadows (a directional light of zero angular size, point lights of zero
 // radius), a light's range, spot cone or falloff (visibility is geometric: whether anything lies
 // between; local_light.h weighs and restricts it), placing lights from the node graph
-// (placeLocalLight does), transmission through Blend materials (they cast nothing), images or
-// files (pnb-reference does).
+// (placeLocalLight does), refraction or Fresnel reflection at Blend surfaces (they only
+// attenuate), images or files (pnb-reference does).
 //
 // Self-intersection (docs/REFERENCE.md): rays start exactly at the query point; a hit is
 // rejected as the point's own surface when the point lies within the hit triangle's error band
@@ -53,8 +54,12 @@ struct TracerStats {
     uint64_t triangles = 0;               // casting triangles in the Embree scene
     uint32_t casterInstances = 0;         // submesh instances (node x level-0 submesh) that cast
     uint32_t maskedCastersTreatedOpaque = 0; // of those, alphaMode Mask: traced as opaque
+    uint32_t translucentCasters = 0;      // of those, alphaMode Blend: they transmit (colour
+                                          // queries) and are passed by visibility()
+    uint32_t translucentTexturesFactorOnly = 0; // their base-colour textures that could not be
+                                          // decoded (block compressed): the factor stands in
     uint32_t excludedInstances = 0;       // level-0 submesh instances that cast nothing:
-                                          // castsShadows false, Blend, no material, not triangles
+                                          // castsShadows false, no material, not triangles
     double buildMs = 0;                   // decode + transform + Embree BVH build, milliseconds
 };
 
@@ -94,8 +99,9 @@ public:
     ShadowTracer& operator=(const ShadowTracer&) = delete;
 
     // For every i: out[i] = 1 if a ray from positions[i] towards the light reaches infinity
-    // unblocked, 0 if a caster blocks it, NaN if positions[i] has a non-finite component (no
-    // geometry at that pixel).
+    // unblocked, 0 if an opaque caster (Opaque or Mask) blocks it, NaN if positions[i] has a
+    // non-finite component (no geometry at that pixel). Translucent (Blend) casters do not block
+    // here: this is the opaque part of colorVisibility().
     //   positions:   origin-relative world positions (scene units) of visible surface points.
     //   towardLight: direction from the surface towards the directional light (the negated
     //                direction the light shines in); normalised here, must be finite and non-zero.
@@ -122,6 +128,21 @@ public:
     void visibilityToPoint(std::span<const glm::vec3> positions, glm::vec3 light,
                            std::span<float> out, glm::dvec3 eye = glm::dvec3(0.0)) const;
 
+    // Colour visibility (docs/REFERENCE.md "Light through glass"): per point, the product of the
+    // transmittances of the translucent casters (Blend, castsShadows) the ray crosses on its
+    // way to the light, each T = baseColor.rgb x (1 - alpha) at the hit's texture coordinate and
+    // counted once; (0, 0, 0) when an opaque caster (Opaque or Mask) blocks it; (1, 1, 1) when
+    // nothing does. Every channel in [0, 1]; NaN (all three) where visibility() gives NaN, and
+    // everywhere on the same precondition violations (out.size() == positions.size(), ...).
+    // The same rays, tolerances and own-surface rule as visibility(), whose result is the
+    // opaque part of this one (0 where this is 0, else 1). The product is taken in an order
+    // fixed by the surfaces hit, not by traversal: the same bits on any number of threads.
+    void colorVisibility(std::span<const glm::vec3> positions, glm::vec3 towardLight,
+                         std::span<glm::vec3> out, glm::dvec3 eye = glm::dvec3(0.0)) const;
+    // The same along the segment to a point or spot light at `light` (visibilityToPoint's rules).
+    void colorVisibilityToPoint(std::span<const glm::vec3> positions, glm::vec3 light,
+                                std::span<glm::vec3> out, glm::dvec3 eye = glm::dvec3(0.0)) const;
+
     const TracerStats& stats() const { return mStats; }
     glm::dvec3 origin() const { return mOrigin; }
 
@@ -129,9 +150,14 @@ private:
     struct Embree; // RTCDevice + RTCScene (Embree types stay out of this header)
 
     ShadowTracer() = default;
-    // visibility() (point == nullptr: towards `toward`) and visibilityToPoint().
-    void trace(std::span<const glm::vec3> positions, glm::vec3 toward, const glm::vec3* point,
-               std::span<float> out, glm::dvec3 eye) const;
+    // Where trace() writes: binary (visibility*) or, when `binary` is empty, colour.
+    struct Output {
+        std::span<float> binary;
+        std::span<glm::vec3> color;
+    };
+    // visibility*() (point == nullptr: towards `toward`) and *visibilityToPoint().
+    void trace(std::span<const glm::vec3> positions, glm::vec3 toward, const glm::vec3* point, Output out,
+               glm::dvec3 eye) const;
 
     std::unique_ptr<Embree> mEmbree; // also owns the per-triangle tolerances the filter reads
     TracerStats mStats;

@@ -4,9 +4,11 @@
 // diffuse term (irradiance SH x its sky-visibility approximation) is measured against.
 //
 // E(p, n) = ∫ L(R(w)) V(p, w) max(0, n.w) dw, estimated with cosine-weighted directions as
-// pi x mean(L V): V = 1 when a ray from p along w meets no level-0, non-Blend triangle (the same
-// occluders as IndirectTracer's reflectors), R the environment's rotation. In the radiance's unit
-// times steradians: nits -> lux, before any albedo.
+// pi x mean(L V): V = 0 when a ray from p along w meets a level-0, non-Blend triangle (the same
+// occluders as IndirectTracer's reflectors), else the product of the transmittances of the
+// translucent surfaces it crosses (Blend that casts shadows, docs/REFERENCE.md "Light through
+// glass"; 1 when none: sky through a window is tinted), R the environment's rotation. In the
+// radiance's unit times steradians: nits -> lux, before any albedo.
 //
 // Radiance sources (SkySource):
 //   Image: the ENVM radiance texture, level 0 (RGBA16F or RGBA32F), bilinear with u wrapping and
@@ -22,8 +24,8 @@
 //
 // Does NOT do: interreflection (sky light bounced off the scene — one bounce of sky — is not
 // counted: an occluded ray contributes 0, whatever the occluder's albedo), alpha-masked holes
-// (Mask surfaces are opaque, as in IndirectTracer), transmission through Blend surfaces (they hide
-// nothing), the sun (the scene's directional light, not in the ENVM radiance), the specular term.
+// (Mask surfaces are opaque, as in IndirectTracer), refraction or reflection at Blend surfaces
+// (they only attenuate), the sun (the scene's directional light, not in the ENVM radiance), the specular term.
 #pragma once
 
 #include <cstdint>
@@ -56,8 +58,9 @@ struct SkySettings {
 };
 
 struct SkyStats {
-    uint64_t triangles = 0;  // occluding triangles (non-blended, level 0)
+    uint64_t triangles = 0;  // level-0 triangles: occluding (non-blended) and translucent
     uint32_t instances = 0;  // submesh instances among them
+    uint32_t translucentInstances = 0; // translucent (Blend, casting) instances: they attenuate
     uint32_t radianceWidth = 0, radianceHeight = 0; // the decoded image (0 x 0: none)
     double buildMs = 0;
 };
