@@ -102,7 +102,9 @@ layout(binding = 21) uniform sampler2DArray uShadowTranslucentDepth;
 vec3 translucentTransmittance(sampler2DArray transmittance, sampler2DArray nearest, int layer, vec3 s,
                               bool reversed) {
     if (any(lessThan(s.xy, vec2(0.0))) || any(greaterThan(s.xy, vec2(1.0)))) return vec3(1.0);
-    ivec2 size = textureSize(nearest, 0).xy;
+    ivec3 extent = textureSize(nearest, 0);
+    ivec2 size = extent.xy;
+    layer = min(layer, extent.z - 1); // the 1x1x1 stand-ins serve every cascade
     vec2 t = s.xy * vec2(size) - 0.5;
     ivec2 i0 = ivec2(floor(t));
     vec2 f = t - floor(t);
