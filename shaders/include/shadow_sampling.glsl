@@ -103,6 +103,7 @@ vec3 translucentTransmittance(sampler2DArray transmittance, sampler2DArray neare
                               bool reversed) {
     if (any(lessThan(s.xy, vec2(0.0))) || any(greaterThan(s.xy, vec2(1.0)))) return vec3(1.0);
     ivec3 extent = textureSize(nearest, 0);
+    if (extent.x == 0) return vec3(1.0); // nothing bound (a player that predates the companions)
     ivec2 size = extent.xy;
     layer = min(layer, extent.z - 1); // the 1x1x1 stand-ins serve every cascade
     vec2 t = s.xy * vec2(size) - 0.5;
