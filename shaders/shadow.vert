@@ -16,7 +16,7 @@
 #endif
 
 layout(location = PNB_ATTR_POSITION) in vec3 inPosition;
-#ifdef ALPHA_MASK
+#if defined(ALPHA_MASK) || defined(TRANSLUCENT)
 layout(location = PNB_ATTR_UV0) in vec2 inUv0;
 layout(location = 3) out vec2 vUv0;
 #endif
@@ -35,7 +35,7 @@ layout(location = 4) flat out uint vCascadeMask; // the geometry shader emits on
 void main() {
     vec3 objectPosition = inPosition * uDequantScale.xyz + uDequantOffset.xyz;
     vec4 world = uModel * vec4(objectPosition, 1.0);
-#ifdef ALPHA_MASK
+#if defined(ALPHA_MASK) || defined(TRANSLUCENT)
     vUv0 = inUv0;
 #endif
 #ifdef PNB_LAYERS_IN_GEOMETRY_SHADER

@@ -91,6 +91,8 @@ void describeOmissions(const ResolvedMaterials& r, const ShaderPlan& plan,
         sum.omitted.push_back("G-buffer and deferred lighting programs: no deferred material");
     if (!needs.shadows)
         sum.omitted.push_back("shadow programs: no shadow-casting light and caster");
+    else if (!needs.translucentCasters)
+        sum.omitted.push_back("translucent shadow programs: no BLEND material casts shadows");
     if (!needs.gi) sum.omitted.push_back("GI programs: gi.enabled is not true (pnb-convert --gi)");
     if (!needs.ibl)
         sum.omitted.push_back(
@@ -273,6 +275,7 @@ SceneShaderNeeds sceneShaderNeeds(const ConvertSettings& s, const IrScene& scene
     for (const Material& m : materials.materials) {
         needs.shadows |= shadowLight && m.castsShadows;
         needs.maskedCasters |= shadowLight && m.castsShadows && m.alphaMode == AlphaMode::Mask;
+        needs.translucentCasters |= shadowLight && m.castsShadows && m.alphaMode == AlphaMode::Blend;
     }
     for (const auto& [key, value] : s.renderSettings)
         if (key == "gi.enabled") needs.gi = value == "true"; // the last assignment wins

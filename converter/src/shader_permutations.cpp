@@ -87,7 +87,10 @@ ShaderPlan planShaders(std::span<const Material> materials,
         // G-buffer program of its features: forward materials get one too.
         if (!deferred && needs.gi && materials[i].alphaMode != AlphaMode::Blend)
             add(variant("gbuffer", {"surface.vert", "gbuffer.frag"}, defines));
-        if (!deferred && needs.shadows && materials[i].receivesShadows) defines.push_back("SHADOWS");
+        if (!deferred && needs.shadows && materials[i].receivesShadows) {
+            defines.push_back("SHADOWS");
+            if (needs.translucentCasters) defines.push_back("TRANSLUCENT_SHADOWS");
+        }
         if (!deferred && needs.gi) defines.push_back("GI");
         // Image-based lighting is a lighting term: the forward program and deferred lighting
         // get it; G-buffer programs (the deferred ones and the GI twin above, which FORMAT.md
@@ -100,6 +103,7 @@ ShaderPlan planShaders(std::span<const Material> materials,
     if (anyDeferred) {
         std::vector<std::string> defines;
         if (needs.shadows) defines.push_back("SHADOWS");
+        if (needs.shadows && needs.translucentCasters) defines.push_back("TRANSLUCENT_SHADOWS");
         if (needs.gi) defines.push_back("GI");
         if (needs.ibl) defines.push_back("IBL");
         add(variant("deferred_lighting", {"fullscreen.vert", "deferred_lighting.frag"}, std::move(defines)));
@@ -108,6 +112,9 @@ ShaderPlan planShaders(std::span<const Material> materials,
         add(variant("shadow", {"shadow.vert", "shadow.frag"}, {}));
         if (needs.maskedCasters)
             add(variant("shadow", {"shadow.vert", "shadow.frag"}, {"ALPHA_MASK"}));
+        // Blended casters: their transmittance into the maps' colour companions.
+        if (needs.translucentCasters)
+            add(variant("shadow", {"shadow.vert", "shadow.frag"}, {"TRANSLUCENT"}));
     }
     // GI's own passes (RSM injection, propagation) are the player's compute shaders: they do not
     // depend on the scene's materials, so they are not scene content.

@@ -265,8 +265,6 @@ std::string Document::noEffectReason(uint32_t index, std::string_view field) con
         return shadowLight ? "no material casts shadows, so the scene has no shadow pass"
                            : "the scene has no shadow-casting light";
     }
-    if (field == "casts_shadows" && m.alphaMode == AlphaMode::Blend)
-        return "BLEND materials cast no shadows (the shadow pass draws opaque and MASK ones)";
     if (field == "alpha_cutoff" && m.alphaMode != AlphaMode::Mask)
         return "alpha_cutoff applies to alpha_mode mask only";
     return {};

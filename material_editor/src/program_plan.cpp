@@ -6,9 +6,12 @@
 //   - A material whose fields equal the file's keeps the file's program, whatever it is.
 //   - A changed material gets the converter's variant for its features: the file's own program
 //     if that is the variant, else the first file program that is, else a new one.
-//   - A scene-level program (deferred lighting, shadow, shadow with alpha mask, tonemap) is
-//     added only when the edits create the need: if the file's own materials already called for
-//     it, the file has it or deliberately lacks it (a hand-built file) and is left alone.
+//   - When blended shadow casters appear or go, every material counts as changed: the lighting
+//     programs' TRANSLUCENT_SHADOWS define follows them.
+//   - A scene-level program (deferred lighting, shadow, shadow with alpha mask or translucent
+//     casters, tonemap) is added only when the edits create the need: if the file's own
+//     materials already called for it, the file has it or deliberately lacks it (a hand-built
+//     file) and is left alone.
 //   - Features that the fields do not show (vertex colours) are the file's (document.cpp).
 
 #include <algorithm>
@@ -86,6 +89,7 @@ converter::SceneShaderNeeds Document::Impl::sceneNeeds(
     for (const Material& m : materials) {
         needs.shadows |= shadowLight && m.castsShadows;
         needs.maskedCasters |= shadowLight && m.castsShadows && m.alphaMode == AlphaMode::Mask;
+        needs.translucentCasters |= shadowLight && m.castsShadows && m.alphaMode == AlphaMode::Blend;
     }
     for (const Setting& s : scene.settings.entries)
         if (scene.str(s.key) == "gi.enabled" && scene.str(s.value) == "true") needs.gi = true;
@@ -215,9 +219,14 @@ Result<detail::ProgramPlan> Document::Impl::planPrograms(const std::vector<Mater
 
     // In plan order, so additions come in the converter's order: surface programs of changed
     // materials (by first use), then the scene-level programs the edits call for.
+    // Blended casters appearing or going (casts_shadows on a BLEND material) change every
+    // lighting program's defines (TRANSLUCENT_SHADOWS): each material then takes the converter's
+    // variant again, as a changed one does (its own program is kept where it still matches).
+    const bool translucentChanged =
+        sceneNeeds(materials).translucentCasters != sceneNeeds(base.materials).translucentCasters;
     std::vector<bool> changed(materials.size());
     for (size_t i = 0; i < materials.size(); ++i)
-        changed[i] = !detail::sameExceptProgram(materials[i], base.materials[i]);
+        changed[i] = translucentChanged || !detail::sameExceptProgram(materials[i], base.materials[i]);
     for (uint32_t p = 0; p < plan.programs.size(); ++p) {
         bool surface = false, wanted = false;
         for (size_t i = 0; i < materials.size(); ++i) {

@@ -11,7 +11,7 @@ layout(triangles) in;
 layout(triangle_strip, max_vertices = 24) out;
 
 layout(location = 4) flat in uint vCascadeMask[];
-#ifdef ALPHA_MASK
+#if defined(ALPHA_MASK) || defined(TRANSLUCENT)
 layout(location = 3) in vec2 vUv0[];
 layout(location = 3) out vec2 gUv0;
 #endif
@@ -24,7 +24,7 @@ void main() {
         for (int i = 0; i < 3; ++i) {
             gl_Position = uShadowMatrix[c] * gl_in[i].gl_Position;
             gl_Layer = c;
-#ifdef ALPHA_MASK
+#if defined(ALPHA_MASK) || defined(TRANSLUCENT)
             gUv0 = vUv0[i];
 #endif
             EmitVertex();

@@ -61,6 +61,7 @@ PlayResult<CaptureRequest> dumpRequest(const std::string& kind, const Args& a) {
                                  {"normal", CaptureBuffer::Normal, "exr"},
                                  {"position", CaptureBuffer::Position, "exr"},
                                  {"shadow", CaptureBuffer::Shadow, "exr"},
+                                 {"shadow_color", CaptureBuffer::ShadowColor, "exr"},
                                  {"indirect", CaptureBuffer::Indirect, "exr"},
                                  {"sky", CaptureBuffer::Sky, "exr"}};
     for (const Kind& k : kinds)
@@ -69,7 +70,7 @@ PlayResult<CaptureRequest> dumpRequest(const std::string& kind, const Args& a) {
                                   a.outDir + "/frame" + std::to_string(a.frame) + "_" + k.name + "." + k.ext};
     return PlayError{PlayErrorKind::Usage,
                      "--dump: unknown buffer '" + kind +
-                         "' (color, hdr, depth, lineardepth, normal, position, shadow, indirect, sky)"};
+                         "' (color, hdr, depth, lineardepth, normal, position, shadow, shadow_color, indirect, sky)"};
 }
 
 // `earlier` (when set) then `next`, their metrics in one list: the --*-metrics options measure

@@ -97,12 +97,13 @@ vec3 shadeLight(uint i, vec3 baseColor, float metallic, float roughness, vec3 n,
     if (shadowed && light.cone.z >= 0.0 && attenuation > 0.0) {
         // Six faces for point lights and spots wider than 60 degrees (cos < 0.5), as the player
         // places them (pass_local_shadows.cpp).
-        float visibility = localShadowVisibility(int(light.cone.z), type == PNB_LIGHT_POINT || light.cone.x < 0.5,
-                                                 light.positionRange.xyz, p, n, l);
+        vec3 visibility = localShadowVisibility(int(light.cone.z), type == PNB_LIGHT_POINT || light.cone.x < 0.5,
+                                                light.positionRange.xyz, p, n, l);
         radiance *= visibility;
         if (float(i) == uShadowView.z) { // the judged light (shadows.judged_light): the capture
             gLocalJudged = dot(n, l) > 0.0;
-            gShadowVisibility = visibility;
+            gShadowColor = visibility;
+            gShadowVisibility = (visibility.r + visibility.g + visibility.b) / 3.0;
             gShadowCascade = 0;
         }
     }

@@ -3,6 +3,9 @@
 // cascade read (normal offset plus slope-scaled offset toward the light), and three filters:
 // hardware 2x2 PCF, N-tap Poisson-like PCF rotated per pixel, and PCSS.
 // Compiled in when the container has a shadow-casting light (the SHADOWS define).
+// TRANSLUCENT_SHADOWS (blended casters, issue 43): the visibility is a colour, the opaque
+// visibility times the transmittance of the panes between the point and the light, read from
+// the maps' colour companions where the receiver lies behind the nearest pane.
 #ifndef PNB_SHADOW_SAMPLING_GLSL
 #define PNB_SHADOW_SAMPLING_GLSL
 
@@ -12,8 +15,10 @@
 layout(binding = 8) uniform sampler2DArrayShadow uShadowMapCompare;
 layout(binding = 9) uniform sampler2DArray uShadowMapDepth; // raw depths: PCSS blocker search
 
-// What the last shadowVisibility() call read, for the cascade tint and the capture output.
+// What the last shadowVisibility() call read, for the cascade tint and the capture output:
+// the colour visibility, and its mean (the opaque visibility x the mean transmittance).
 float gShadowVisibility = 1.0;
+vec3 gShadowColor = vec3(1.0);
 int gShadowCascade = -1;
 float gShadowTexelRatio = 0.0;
 // Set by local_shadows.glsl when the judged light (shadows.judged_light, uShadowView.z >= 0) is a
@@ -84,16 +89,63 @@ float pcss(int c, vec3 s, vec3 p, float texelWorld, int taps) {
     return pcf(c, s, clamp(penumbraTexels, 0.5, 32.0), taps);
 }
 
-float cascadeVisibility(int c, vec3 p, vec3 n, float ndotl) {
+#ifdef TRANSLUCENT_SHADOWS
+// The companions of the cascade array (player/src/shadows/shadow_resources.cpp): transmittance
+// (RGBA8, the product of the panes' T) and the nearest pane's depth (R32F), both 1 where none.
+layout(binding = 20) uniform sampler2DArray uShadowTransmittance;
+layout(binding = 21) uniform sampler2DArray uShadowTranslucentDepth;
+
+// Transmittance toward the light at shadow coordinate `s` of layer `layer`: each of the 2x2
+// texels around it counts where the receiver (with the opaque test's offsets, so a pane does
+// not tint itself) is farther than that texel's nearest pane, weighted bilinearly. `reversed`:
+// depths stored as 1 - z (the local atlas). Outside the map nothing is in the way.
+vec3 translucentTransmittance(sampler2DArray transmittance, sampler2DArray nearest, int layer, vec3 s,
+                              bool reversed) {
+    if (any(lessThan(s.xy, vec2(0.0))) || any(greaterThan(s.xy, vec2(1.0)))) return vec3(1.0);
+    ivec3 extent = textureSize(nearest, 0);
+    if (extent.x == 0) return vec3(1.0); // nothing bound (a player that predates the companions)
+    ivec2 size = extent.xy;
+    layer = min(layer, extent.z - 1); // the 1x1x1 stand-ins serve every cascade
+    vec2 t = s.xy * vec2(size) - 0.5;
+    ivec2 i0 = ivec2(floor(t));
+    vec2 f = t - floor(t);
+    float z = reversed ? 1.0 - s.z : s.z;
+    vec3 sum = vec3(0.0);
+    for (int k = 0; k < 4; ++k) {
+        ivec2 o = ivec2(k & 1, k >> 1);
+        ivec3 texel = ivec3(clamp(i0 + o, ivec2(0), size - 1), layer);
+        float w = (o.x == 1 ? f.x : 1.0 - f.x) * (o.y == 1 ? f.y : 1.0 - f.y);
+        bool behind = z > texelFetch(nearest, texel, 0).r;
+        sum += w * (behind ? texelFetch(transmittance, texel, 0).rgb : vec3(1.0));
+    }
+    return sum;
+}
+#endif
+
+// The opaque visibility of cascade `c` into gCascadeOpaque; returns the offset shadow coordinate.
+float gCascadeOpaque = 1.0;
+vec3 cascadeOpaque(int c, vec3 p, vec3 n, float ndotl) {
     float texelWorld = shadowTexelWorld(c, p);
     float tanTheta = min(sqrt(max(1.0 - ndotl * ndotl, 0.0)) / max(ndotl, 1e-3), 10.0);
     vec3 offset = n * (uShadowBias.x * texelWorld) + uShadowLight.xyz * (uShadowBias.y * texelWorld * tanTheta);
     vec3 s = shadowCoord(c, p + offset);
     int filterMode = int(uShadowParams.y);
     int taps = int(uShadowParams.z);
-    if (filterMode == 0) return texture(uShadowMapCompare, vec4(s.xy, float(c), s.z));
-    if (filterMode == 1) return pcf(c, s, uShadowParams.w, taps);
-    return pcss(c, s, p + offset, texelWorld, taps);
+    gCascadeOpaque = filterMode == 0 ? texture(uShadowMapCompare, vec4(s.xy, float(c), s.z))
+                   : filterMode == 1 ? pcf(c, s, uShadowParams.w, taps)
+                                     : pcss(c, s, p + offset, texelWorld, taps);
+    return s;
+}
+
+// The colour visibility of cascade `c`: opaque x transmittance.
+vec3 cascadeVisibility(int c, vec3 p, vec3 n, float ndotl) {
+    vec3 s = cascadeOpaque(c, p, n, ndotl);
+    float v = gCascadeOpaque;
+#ifdef TRANSLUCENT_SHADOWS
+    return v * translucentTransmittance(uShadowTransmittance, uShadowTranslucentDepth, c, s, false);
+#else
+    return vec3(v);
+#endif
 }
 
 bool insideMap(vec3 s, float margin) {
@@ -102,17 +154,19 @@ bool insideMap(vec3 s, float margin) {
 }
 
 // The sun's visibility, recording what the capture and the cascade tint show.
-float sunShadowVisibility(vec3 p, vec3 n) {
+vec3 sunShadowVisibility(vec3 p, vec3 n) {
     gShadowVisibility = 1.0;
+    gShadowColor = vec3(1.0);
     gShadowCascade = -1;
     gShadowTexelRatio = 0.0;
     int count = int(uShadowParams.x);
-    if (count == 0) return 1.0;
+    if (count == 0) return vec3(1.0);
     float ndotl = dot(n, uShadowLight.xyz);
     if (ndotl <= 0.0) {
         gShadowVisibility = 0.0; // facing away: the BRDF is zero anyway
+        gShadowColor = vec3(0.0);
         gShadowCascade = -2;     // (the capture leaves such pixels out)
-        return 0.0;
+        return vec3(0.0);
     }
     float depth = -(uView * vec4(p, 1.0)).z;
     int c = -1;
@@ -142,24 +196,27 @@ float sunShadowVisibility(vec3 p, vec3 n) {
             }
         }
     }
-    if (c < 0) return 1.0; // beyond the shadowed range
-    float v = cascadeVisibility(c, p, n, ndotl);
+    if (c < 0) return vec3(1.0); // beyond the shadowed range
+    vec3 v = cascadeVisibility(c, p, n, ndotl);
     if (blend > 0.0) v = mix(v, cascadeVisibility(c + 1, p, n, ndotl), blend);
-    gShadowVisibility = v;
+    gShadowColor = v;
+    gShadowVisibility = (v.r + v.g + v.b) / 3.0;
     gShadowCascade = c;
     float pixelWorld = 2.0 * (depth * uShadowView.x + uShadowView.w) / uShadowView.y;
     gShadowTexelRatio = shadowTexelWorld(c, p) / max(pixelWorld, 1e-30);
     return v;
 }
 
-// 1 lit .. 0 shadowed. `p` camera-relative, `n` the unit surface normal. While a local light is
+// 1 lit .. 0 shadowed, per colour channel. `p` camera-relative, `n` the unit surface normal. While a local light is
 // judged, the sun's record is left as the local light's shadow set it.
-float shadowVisibility(vec3 p, vec3 n) {
+vec3 shadowVisibility(vec3 p, vec3 n) {
     if (uShadowView.z < 0.0) return sunShadowVisibility(p, n);
     float v0 = gShadowVisibility, r0 = gShadowTexelRatio;
+    vec3 color0 = gShadowColor;
     int c0 = gShadowCascade;
-    float v = sunShadowVisibility(p, n);
+    vec3 v = sunShadowVisibility(p, n);
     gShadowVisibility = v0;
+    gShadowColor = color0;
     gShadowTexelRatio = r0;
     gShadowCascade = c0;
     return v;
@@ -177,6 +234,10 @@ vec4 shadowOutput(vec4 color) {
         return vec4(color.rgb * 0.35 + t * (0.15 + 0.5 * gShadowVisibility), color.a);
     }
     float keep = color.a < 1.0 ? 0.0 : 1.0;
+    if (mode == 3) { // colour capture (CaptureBuffer::ShadowColor): rgb visibility, -1 unclassified
+        bool classified = uShadowView.z >= 0.0 ? gLocalJudged : gShadowCascade != -2;
+        return classified ? vec4(gShadowColor, keep) : vec4(-1, -1, -1, keep);
+    }
     if (mode == 2 && uShadowView.z >= 0.0) // capture of a point or spot light: visibility, 0
         return gLocalJudged ? vec4(gShadowVisibility, 0.0, 0.0, keep) : vec4(-1, -1, 0, keep);
     if (mode == 2) // capture: visibility (-1: not classified), cascade, texel/pixel ratio

@@ -25,7 +25,8 @@
     FIELD(vec4, bias, uShadowBias) /* normal offset (texels), slope bias (texels), blend band,     \
                                       selection (0 depth, 1 bounds) */                             \
     FIELD(vec4, mapInfo, uShadowMapInfo) /* resolution, 1 / resolution, PCSS tan(light angular     \
-                                            radius), output (0 lit, 1 cascade tint, 2 capture) */  \
+                                            radius), output (0 lit, 1 cascade tint, 2 capture, \
+                                            3 colour capture) */                                \
     FIELD(vec4, view, uShadowView) /* tan(vertical fov / 2), viewport height, judged light (-1:    \
                                       the sun), orthographic half height (then x = 0): a pixel is  \
                                       2 (depth x + w) / y wide */

@@ -107,6 +107,40 @@ TEST(ShaderPlan, OnlyTheVariantsTheMaterialsUse) {
     EXPECT_FALSE(has("deferred_lighting", {})) << "no deferred material, no lighting pass";
 }
 
+// Issue 43: blended casters get a translucent shadow program, and lighting reads its maps
+// (TRANSLUCENT_SHADOWS); without one, neither exists.
+TEST(ShaderPlan, TranslucentShadowVariantOnlyWithBlendedCasters) {
+    std::vector<Material> materials = {deferredOpaque(), forwardBlend()};
+    std::vector<MaterialFeatures> features(2);
+    ShaderPlan plan;
+    auto has = [&](const std::string& name, const std::vector<std::string>& defines) {
+        return std::any_of(plan.programs.begin(), plan.programs.end(), [&](const ProgramVariant& v) {
+            return v.name == name && v.defines == defines;
+        });
+    };
+    auto anyDefine = [&](const std::string& define) {
+        return std::any_of(plan.programs.begin(), plan.programs.end(), [&](const ProgramVariant& v) {
+            return std::find(v.defines.begin(), v.defines.end(), define) != v.defines.end();
+        });
+    };
+    plan = planShaders(materials, features, {.shadows = true});
+    EXPECT_FALSE(anyDefine("TRANSLUCENT")) << "no blended caster, no translucent shadow program";
+    EXPECT_FALSE(anyDefine("TRANSLUCENT_SHADOWS"));
+    plan = planShaders(materials, features, {.shadows = true, .translucentCasters = true});
+    EXPECT_TRUE(has("shadow", {}));
+    EXPECT_TRUE(has("shadow", {"TRANSLUCENT"}));
+    EXPECT_TRUE(has("deferred_lighting", {"SHADOWS", "TRANSLUCENT_SHADOWS"}));
+    EXPECT_TRUE(has("forward", {"SHADOWS", "TRANSLUCENT_SHADOWS"}));
+    EXPECT_FALSE(has("deferred_lighting", {"SHADOWS"}));
+    auto validated = validateShaders(plan, builtinShaderFiles());
+    ASSERT_TRUE(validated.ok()) << validated.error().message;
+    EXPECT_EQ(*validated, plan.programs.size());
+    // A forward material that receives no shadow reads no map at all.
+    materials[1].receivesShadows = false;
+    plan = planShaders(materials, features, {.shadows = true, .translucentCasters = true});
+    EXPECT_TRUE(has("forward", {}));
+}
+
 TEST(ShaderPlan, EveryFeatureAloneAndAllTogetherCompileAndLink) {
     std::vector<Material> materials;
     std::vector<MaterialFeatures> features;

@@ -56,6 +56,10 @@ struct MaterialFeatures {
 struct SceneShaderNeeds {
     bool shadows = false;       // a light casts shadows and some material casts them
     bool maskedCasters = false; // some shadow caster is alpha-masked
+    // Some shadow caster is blended (BLEND, castsShadows): light passes through it tinted
+    // (issue 43): a `shadow[TRANSLUCENT]` program draws its transmittance, and the lighting
+    // programs read it (TRANSLUCENT_SHADOWS).
+    bool translucentCasters = false;
     bool gi = false;            // GI: lighting with GI, G-buffer variants for forward materials
     bool ibl = false;           // an environment (ENVM) is written: lighting with IBL
 };

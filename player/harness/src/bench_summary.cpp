@@ -166,6 +166,7 @@ nlohmann::json summaryJson(const SummaryInputs& in, const BenchResult& result) {
                              {"output", tm.outputBytes}, {"debug", tm.debugBytes},
                              {"per_frame_stream", tm.streamingBytes}, {"shadow_maps", tm.shadowMapBytes},
                              {"shadow_buffers", tm.shadowBufferBytes},
+                             {"shadow_translucent", tm.shadowTranslucentBytes},
                              {"gi", tm.giBytes}, {"sky_height_map", tm.iblBytes}};
     nlohmann::json gpu = nlohmann::json::object();
     for (const PassSummary& s : result.gpu) gpu[s.pass] = toJson(s);

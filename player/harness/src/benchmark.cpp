@@ -75,8 +75,10 @@ PlayResult<Done> saveCaptures(const GpuScene& scene, Renderer& renderer, const B
         if (auto s = saveCapture(c.path, *img); !s) return s.error();
         result.written.push_back(c.path);
         if (c.buffer == CaptureBuffer::Position || c.buffer == CaptureBuffer::Shadow ||
-            c.buffer == CaptureBuffer::Sky) {
-            std::string jsonPath = c.path.substr(0, c.path.rfind('_')) + "_frame.json";
+            c.buffer == CaptureBuffer::ShadowColor || c.buffer == CaptureBuffer::Sky) {
+            // frame<N>_<buffer>.exr -> frame<N>_frame.json (a buffer's name may hold a '_')
+            const size_t name = c.path.rfind('/') == std::string::npos ? 0 : c.path.rfind('/') + 1;
+            std::string jsonPath = c.path.substr(0, c.path.find('_', name)) + "_frame.json";
             if (auto w = writeTextFile(jsonPath, tracerFrameJson(scene, renderer, options)); !w) return w.error();
             if (std::find(result.written.begin(), result.written.end(), jsonPath) == result.written.end())
                 result.written.push_back(jsonPath);

@@ -159,6 +159,10 @@ struct GpuScene {
     // The shadow pass's programs (present when the converter found a shadow-casting light and
     // caster; lighting programs are then built with SHADOWS).
     std::optional<uint32_t> shadowProgram, shadowMaskProgram;
+    // Blended casters' program (shadow[TRANSLUCENT], issue 43); the lighting programs are then
+    // built with TRANSLUCENT_SHADOWS (translucentLighting).
+    std::optional<uint32_t> shadowTranslucentProgram;
+    bool translucentLighting = false;
     // The lighting programs were built with GI (pnb-convert --gi): gi.enabled can take effect.
     bool giPrograms = false;
     // The lighting programs were built with IBL (a container with an environment).

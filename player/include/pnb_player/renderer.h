@@ -68,11 +68,14 @@ struct TargetMemory {
     uint64_t giBytes = 0;           // RSM, light and geometry volumes, injection buffers
     uint64_t iblBytes = 0;          // the sky-visibility height map (ibl.visibility = height)
     uint64_t localShadowBytes = 0;  // point and spot light shadow atlas (D32F side^2), 0 if none
+    // Blended casters' colour companions of the cascade array and the local atlas (RGBA8
+    // transmittance + R32F nearest depth: 8 B a texel), 0 without blended casters
+    uint64_t shadowTranslucentBytes = 0;
     uint64_t lightClusterBytes = 0; // light cluster masks, 0 while every pixel shades every light
     uint64_t total() const {
         return gbufferBytes + depthBytes + hdrBytes + outputBytes + debugBytes + streamingBytes +
                shadowMapBytes + shadowBufferBytes + giBytes + iblBytes + localShadowBytes +
-               lightClusterBytes;
+               lightClusterBytes + shadowTranslucentBytes;
     }
 };
 
@@ -86,7 +89,12 @@ enum class CaptureBuffer {
     Position, // camera-relative world position from depth, 3 floats (NaN where nothing was drawn)
     Shadow, // re-renders the last frame's view with lighting writing, per pixel: sun visibility
             // (1 lit .. 0 shadowed; -1 unclassified: no geometry or facing away), cascade index
-            // (-1 none) and shadow-texel / screen-pixel world size; 4 floats (alpha 1)
+            // (-1 none) and shadow-texel / screen-pixel world size; 4 floats (alpha 1). With
+            // blended casters (issue 43) the visibility is the opaque one x the mean transmittance
+    ShadowColor, // re-renders the last frame's view with lighting writing the colour visibility of
+                 // the judged light (the sun, or shadows.judged_light): opaque visibility x the
+                 // transmittance of the blended casters toward it, rgb (-1: unclassified, as
+                 // Shadow), at the surface whose depth the frame kept; 4 floats
     Indirect, // re-renders the last frame's view with lighting writing the irradiance GI adds
               // (rgb, lux like the sun's intensity; 0 without GI or geometry); 4 floats
     Sky,      // re-renders the last frame's view with lighting writing the sky irradiance it

@@ -174,6 +174,11 @@ const Row kRows[] = {
       "draw a local-light tile again only when its light, its place in the atlas or the "
       "casters change (its depths do not depend on the camera); false: every frame"},
      BoolField{&S::shadowLocalCache}},
+    {{"shadows.translucent", "bool",
+      "blended (BLEND) materials that cast shadows let light through, tinted: T = base colour x "
+      "(1 - alpha), into colour companions of the sun's maps and the local atlas; false: they "
+      "cast nothing (no companions; for comparing the cost)"},
+     BoolField{&S::shadowTranslucent}},
     {{"shadows.local_taps", "int 1..64",
       "local-light PCF taps over the shadows.radius disk (1: one 2x2 hardware-compared tap); "
       "a pixel may read many lights' tiles, so fewer than the sun's shadows.taps"},

@@ -87,17 +87,33 @@ PlayResult<Done> compileNeededPrograms(const Scene& scene, GpuScene& gpu) {
     gpu.shadowProgram.reset();
     gpu.shadowSources.clear();
     gpu.shadowMaskProgram.reset();
+    gpu.shadowTranslucentProgram.reset();
+    gpu.translucentLighting = false;
+    auto hasDefine = [&](uint32_t p, std::string_view define) {
+        for (StringRef d : scene.programs[p].defines)
+            if (scene.str(d) == define) return true;
+        return false;
+    };
+    // A file the editor changed may hold lighting programs with and without TRANSLUCENT_SHADOWS
+    // (it adds, never removes): deferred lighting is the one matching the shadow programs.
+    bool translucentShadows = false;
+    for (uint32_t i = 0; i < scene.programs.size(); ++i)
+        translucentShadows |= scene.str(scene.programs[i].name) == "shadow" && hasDefine(i, "TRANSLUCENT");
     for (uint32_t i = 0; i < scene.programs.size(); ++i) {
         if (i >= labelled) gpu.programLabels[i] = programLabel(scene, i);
         std::string_view name = scene.str(scene.programs[i].name);
-        if (name == "deferred_lighting" && !gpu.deferredLayers.empty() && !gpu.deferredLightingProgram) {
+        if (name == "deferred_lighting" && !gpu.deferredLayers.empty() &&
+            (!gpu.deferredLightingProgram ||
+             (hasDefine(i, "TRANSLUCENT_SHADOWS") == translucentShadows &&
+              hasDefine(*gpu.deferredLightingProgram, "TRANSLUCENT_SHADOWS") != translucentShadows))) {
+            if (gpu.deferredLightingProgram) wanted.erase(*gpu.deferredLightingProgram);
             gpu.deferredLightingProgram = i;
             wanted.insert(i);
         }
         if (name == "shadow") {
-            bool masked = false;
-            for (StringRef d : scene.programs[i].defines) masked |= scene.str(d) == "ALPHA_MASK";
-            std::optional<uint32_t>& slot = masked ? gpu.shadowMaskProgram : gpu.shadowProgram;
+            std::optional<uint32_t>& slot = hasDefine(i, "TRANSLUCENT")   ? gpu.shadowTranslucentProgram
+                                            : hasDefine(i, "ALPHA_MASK") ? gpu.shadowMaskProgram
+                                                                          : gpu.shadowProgram;
             if (!slot) {
                 slot = i;
                 wanted.insert(i);
@@ -124,7 +140,9 @@ PlayResult<Done> compileNeededPrograms(const Scene& scene, GpuScene& gpu) {
     auto defines = [&](uint32_t p) {
         std::set<std::string_view> d;
         for (StringRef r : scene.programs[p].defines)
-            if (scene.str(r) != "SHADOWS" && scene.str(r) != "GI" && scene.str(r) != "IBL") d.insert(scene.str(r));
+            if (scene.str(r) != "SHADOWS" && scene.str(r) != "TRANSLUCENT_SHADOWS" && scene.str(r) != "GI" &&
+                scene.str(r) != "IBL")
+                d.insert(scene.str(r));
         return d;
     };
     gpu.giPrograms = gpu.iblPrograms = false;
@@ -132,6 +150,7 @@ PlayResult<Done> compileNeededPrograms(const Scene& scene, GpuScene& gpu) {
         for (StringRef r : scene.programs[i].defines) {
             gpu.giPrograms |= scene.str(r) == "GI";
             gpu.iblPrograms |= scene.str(r) == "IBL";
+            gpu.translucentLighting |= scene.str(r) == "TRANSLUCENT_SHADOWS";
         }
     for (GpuMaterial& m : gpu.materials) {
         m.rsmProgram = kNone;

@@ -147,12 +147,12 @@ PlayResult<Done> prepareFrame(Frame& f) {
     const ShadowFrame& shadowFrame = f.shadows.frame;
     ShadowResources& maps = f.shadows.resources;
     if (shadowFrame.active) {
-        const uint64_t shadowBytes = maps.mapBytes + maps.bufferBytes;
-        auto ok = maps.ensure(s.shadowResolution, shadowFrame.cascades, shadowFrame.gpuFit, f.shadows.casters,
-                              ctx.scene);
-        if (ok && maps.mapBytes + maps.bufferBytes != shadowBytes)
+        const uint64_t shadowBytes = maps.mapBytes + maps.bufferBytes + maps.translucent.bytes;
+        auto ok = maps.ensure(s.shadowResolution, shadowFrame.cascades, shadowFrame.gpuFit, shadowFrame.translucent,
+                              f.shadows.casters, ctx.scene);
+        if (ok && maps.mapBytes + maps.bufferBytes + maps.translucent.bytes != shadowBytes)
             ok = checkGlAllocation("the shadow maps (shadows.resolution " + std::to_string(s.shadowResolution) + ")",
-                                   maps.mapBytes);
+                                   maps.mapBytes + maps.translucent.bytes);
         if (!ok) return ok.error();
     } else if (maps.resolution) {
         maps = ShadowResources{}; // nothing drawn: nothing allocated

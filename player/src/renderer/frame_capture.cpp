@@ -86,6 +86,7 @@ PlayResult<CapturedImage> Renderer::capture(CaptureBuffer buffer) {
         break;
     }
     case CaptureBuffer::Shadow:
+    case CaptureBuffer::ShadowColor:
     case CaptureBuffer::Indirect:
     case CaptureBuffer::Sky: {
         // Lighting writes visibility, cascade and texel ratio (or indirect irradiance) instead
@@ -94,9 +95,10 @@ PlayResult<CapturedImage> Renderer::capture(CaptureBuffer buffer) {
         img.channels = 4;
         Impl& impl = *mImpl;
         FrameStats stats = mStats;
-        bool& mode = buffer == CaptureBuffer::Shadow     ? impl.shadows.capture
-                     : buffer == CaptureBuffer::Indirect ? impl.gi.capture
-                                                         : impl.ibl.capture;
+        bool& mode = buffer == CaptureBuffer::Shadow        ? impl.shadows.capture
+                     : buffer == CaptureBuffer::ShadowColor ? impl.shadows.captureColor
+                     : buffer == CaptureBuffer::Indirect    ? impl.gi.capture
+                                                            : impl.ibl.capture;
         impl.capturing = mode = true;
         auto r = render(impl.lastCamera, t.width, t.height);
         if (r) img.f32 = readFloats(t.hdr.id(), GL_RGBA, 4, t.width, t.height);

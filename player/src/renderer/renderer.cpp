@@ -132,6 +132,7 @@ TargetMemory Renderer::targetMemory() const {
     m.localShadowBytes = uint64_t(mImpl->localShadows.atlasSize) * mImpl->localShadows.atlasSize * 4;
     m.lightClusterBytes = mImpl->lights.maskCapacity;
     m.shadowBufferBytes = mImpl->shadows.resources.bufferBytes;
+    m.shadowTranslucentBytes = mImpl->shadows.resources.translucent.bytes + mImpl->localShadows.translucent.bytes;
     m.giBytes = mImpl->gi.resources.bytes;
     m.iblBytes = mImpl->ibl.heightBytes;
     return m;

@@ -9,7 +9,8 @@
 // tests/player/local_shadow_math_test.cpp); a tile is drawn again only when its light, its place
 // in the atlas or the scene's casters changed (its depths do not depend on the camera), then
 // lighting (shaders/include/local_shadows.glsl) reads each lit pixel's tile. No atlas exists
-// while no local light casts a shadow in view.
+// while no local light casts a shadow in view. Blended casters (issue 43) give the atlas the
+// sun's colour companions (shadow_maps.h), one layer each, nearest depth stored as 1 - z.
 #pragma once
 
 #include <array>
@@ -20,6 +21,7 @@
 
 #include "pnb_player/gl_handles.h"
 #include "pnb_player/settings.h"
+#include "shadows/shadow_maps.h" // TranslucentMaps
 
 namespace pnb::player {
 
@@ -71,6 +73,7 @@ inline constexpr std::array<glm::vec3, 6> kCubeFaceDirections = {
 struct LocalShadowContext {
     GlHandle atlas;       // D32F, comparison on (sampler2DShadow, GL_GEQUAL: reversed-Z)
     GlHandle framebuffer;
+    TranslucentMaps translucent; // blended casters' companions, while there are some
     uint32_t atlasSize = 0;
     // What each tile holds, to draw only the tiles whose content changed.
     struct TileKey {

@@ -22,8 +22,10 @@ namespace pnb::player {
 
 namespace {
 
-// The atlas's texture unit (local_shadows.glsl): 0-4 materials, 8-9 the sun, 10-18 GI and sky.
+// The atlas's texture unit (local_shadows.glsl): 0-4 materials, 8-9 the sun, 10-18 GI and sky;
+// its companions 22 and 23 (20 and 21: the sun's).
 constexpr GLuint kLocalShadowUnit = 19;
+constexpr GLuint kLocalTranslucentUnit = 22;
 
 // Spot lights up to this half-angle get one tile; wider ones (and point lights) the six faces.
 constexpr float kMaxSpotTileRadians = 1.0471976f; // 60 degrees
@@ -31,12 +33,13 @@ constexpr float kMaxSpotTileRadians = 1.0471976f; // 60 degrees
 void dropAtlas(LocalShadowContext& ls) {
     ls.atlas = {};
     ls.framebuffer = {};
+    ls.translucent = {};
     ls.atlasSize = 0;
     ls.drawn.clear();
 }
 
-void ensureAtlas(LocalShadowContext& ls, uint32_t size) {
-    if (ls.atlasSize == size) return;
+void ensureAtlas(LocalShadowContext& ls, uint32_t size, bool translucent) {
+    if (ls.atlasSize == size && translucent == bool(ls.translucent)) return;
     dropAtlas(ls);
     ls.atlas = createTexture(GL_TEXTURE_2D);
     glTextureStorage2D(ls.atlas.id(), 1, GL_DEPTH_COMPONENT32F, GLsizei(size), GLsizei(size));
@@ -50,6 +53,8 @@ void ensureAtlas(LocalShadowContext& ls, uint32_t size) {
     ls.framebuffer = createFramebuffer();
     glNamedFramebufferTexture(ls.framebuffer.id(), GL_DEPTH_ATTACHMENT, ls.atlas.id(), 0);
     glNamedFramebufferDrawBuffer(ls.framebuffer.id(), GL_NONE);
+    if (translucent) ls.translucent.create(size, size, 1, "local shadow atlas");
+    attachTranslucentMaps(ls.framebuffer.id(), ls.translucent, 0);
     ls.atlasSize = size;
 }
 
@@ -80,27 +85,26 @@ bool boxTouchesSphere(glm::dvec3 lo, glm::dvec3 hi, glm::dvec3 centre, double ra
     return glm::dot(d, d) <= radius * radius;
 }
 
-// Draws every caster the light's sphere touches into one tile (`face` of the pushed block).
+// Draws every caster the light's sphere touches into one tile (`face` of the pushed block): the
+// opaque and masked ones, or the blended ones (`translucent`).
 void drawTile(FrameContext& ctx, const ShadowContext& shadows, const SceneLight& light, float range, uint32_t face,
-              const std::vector<size_t>& objectOffsets) {
+              const std::vector<size_t>& objectOffsets, bool translucent) {
     const GpuScene& scene = ctx.scene;
     GLuint boundProgram = ~0u, boundVao = ~0u;
     uint32_t boundMaterial = kNone;
     for (size_t c = 0; c < shadows.casters.size(); ++c) {
         const ShadowCaster& caster = shadows.casters[c];
+        if (caster.translucent != translucent) continue;
         const DrawItem& item = scene.items[caster.item];
         if (!boxTouchesSphere(item.boundsMin, item.boundsMax, light.position, double(range))) continue;
         const GLuint program = scene.programs[caster.program].id();
         if (!program) continue;
         if (program != boundProgram) glUseProgram(boundProgram = program);
         glProgramUniform1i(program, 0, int(face)); // the tile's matrix in the pushed block
-        if (scene.shadowMaskProgram && caster.program == *scene.shadowMaskProgram && item.material != boundMaterial) {
+        const bool materialRead = caster.translucent || (scene.shadowMaskProgram && caster.program == *scene.shadowMaskProgram);
+        if (materialRead && item.material != boundMaterial) {
             boundMaterial = item.material;
-            const GpuMaterial& material = scene.materials[item.material];
-            glBindBufferRange(GL_UNIFORM_BUFFER, PNB_BINDING_MATERIAL_BLOCK, scene.materialBuffer.id(),
-                              GLintptr(material.uniformOffset), sizeof(MaterialBlock));
-            const uint32_t t = material.desc.textures.empty() ? kNone : material.desc.textures[0].texture;
-            glBindTextureUnit(0, t == kNone ? 0 : scene.textures[t].texture.id());
+            bindCasterMaterial(scene, caster, program, true);
         }
         const GpuMesh& mesh = scene.meshes[item.mesh];
         const DrawLevel& level = scene.levels[drawLevel(scene, ctx.lod, caster.item)];
@@ -154,7 +158,8 @@ void runLocalShadows(FrameContext& ctx, LocalShadowContext& ls, const ShadowCont
                           GLintptr(lights.listOffset), GLsizeiptr(lights.listBytes));
         return;
     }
-    ensureAtlas(ls, s.shadowLocalAtlas);
+    const bool translucent = s.shadowTranslucent && shadows.translucentCasters;
+    ensureAtlas(ls, s.shadowLocalAtlas, translucent);
     ctx.timer.mark("local_shadows");
 
     // The tiles' data for lighting, and each light's first tile in the light list (cone.z).
@@ -207,6 +212,8 @@ void runLocalShadows(FrameContext& ctx, LocalShadowContext& ls, const ShadowCont
                                                             ctx.ring, float(c)));
                 glBindFramebuffer(GL_FRAMEBUFFER, ls.framebuffer.id());
                 glBindTextureUnit(kLocalShadowUnit, 0); // not sampled while being written
+                glBindTextureUnit(kLocalTranslucentUnit, 0);
+                glBindTextureUnit(kLocalTranslucentUnit + 1, 0);
                 glEnable(GL_DEPTH_TEST);
                 glDepthFunc(GL_GREATER);
                 glDepthMask(GL_TRUE);
@@ -227,11 +234,19 @@ void runLocalShadows(FrameContext& ctx, LocalShadowContext& ls, const ShadowCont
             glScissor(GLint(p.origins[f].x), GLint(p.origins[f].y), GLsizei(p.size), GLsizei(p.size));
             const float far = 0.0f; // reversed-Z
             glClearNamedFramebufferfv(ls.framebuffer.id(), GL_DEPTH, 0, &far);
-            drawTile(ctx, shadows, l, shape.range, f, objectOffsets);
+            if (translucent) clearTranslucentMaps(ls.framebuffer.id()); // the scissor keeps it in the tile
+            drawTile(ctx, shadows, l, shape.range, f, objectOffsets, false);
+            if (translucent) {
+                beginTranslucentCasters();
+                drawTile(ctx, shadows, l, shape.range, f, objectOffsets, true);
+                restoreOpaqueCasterState();
+                glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE); // the next tile's opaque casters
+            }
             ++ls.tilesDrawn;
         }
     }
     if (!objectOffsets.empty()) {
+        glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
         if (!ctx.warmUp) glDisable(GL_SCISSOR_TEST); // the warm-up frame keeps its 1x1 scissor
         else glScissor(0, 0, 1, 1);
         glEnable(GL_CULL_FACE);
@@ -239,6 +254,8 @@ void runLocalShadows(FrameContext& ctx, LocalShadowContext& ls, const ShadowCont
         bindShadowsForLighting(ctx, shadows); // the sun's block again
     }
     glBindTextureUnit(kLocalShadowUnit, ls.atlas.id());
+    if (scene.translucentLighting)
+        bindTranslucentMaps(ls.translucent, shadows.neutralTranslucent, kLocalTranslucentUnit);
     ctx.stats.localShadowTiles = ls.tiles;
     ctx.stats.localShadowTilesDrawn = ls.tilesDrawn;
 }

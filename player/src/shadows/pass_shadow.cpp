@@ -9,6 +9,9 @@
 // Where the vertex shader cannot write gl_Layer (or shadows.layer_from = geometry), the layered
 // pass links a geometry shader that replicates each triangle into its cascades instead.
 // Faces are not culled: open, single-sided geometry casts too; receiver offsets handle acne.
+// Blended casters (issue 43) come after the opaque ones, in a second round over the same layers
+// (its own timer section, "shadow_translucent"): into the colour companions, depth-tested
+// against the opaque depths without writing any (shadow_maps.h).
 #include <bit>
 #include <cstdio>
 
@@ -53,7 +56,26 @@ GLuint casterProgram(FrameContext& ctx, ShadowContext& shadows, const ShadowCast
     return 0;
 }
 
-void drawCasters(FrameContext& ctx, ShadowContext& shadows, int passCascade, bool geometryLayers) {
+} // namespace
+
+void bindCasterMaterial(const GpuScene& scene, const ShadowCaster& caster, GLuint program, bool reversedDepth) {
+    const DrawItem& item = scene.items[caster.item];
+    const GpuMaterial& material = scene.materials[item.material];
+    glBindBufferRange(GL_UNIFORM_BUFFER, PNB_BINDING_MATERIAL_BLOCK, scene.materialBuffer.id(),
+                      GLintptr(material.uniformOffset), sizeof(MaterialBlock));
+    uint32_t t = material.desc.textures.empty() ? kNone : material.desc.textures[0].texture;
+    glBindTextureUnit(0, t == kNone ? 0 : scene.textures[t].texture.id());
+    if (caster.translucent) { // shadow.frag's TRANSLUCENT uniforms
+        glProgramUniform1i(program, 1, t == kNone ? 0 : 1);
+        glProgramUniform1i(program, 2, reversedDepth ? 1 : 0);
+    }
+}
+
+namespace {
+
+// The listed casters of one round: the opaque and masked ones, or the blended ones.
+void drawCasters(FrameContext& ctx, ShadowContext& shadows, int passCascade, bool geometryLayers,
+                 bool translucent) {
     const ShadowFrame& f = shadows.frame;
     const GpuScene& scene = ctx.scene;
     const std::vector<ShadowCaster>& casters = shadows.casters;
@@ -69,6 +91,7 @@ void drawCasters(FrameContext& ctx, ShadowContext& shadows, int passCascade, boo
         // Instancing replicates in the vertex-layer path, the geometry shader in the other.
         uint32_t instances = geometryLayers ? 1u : copies;
         const ShadowCaster& caster = casters[f.casters[i]];
+        if (caster.translucent != translucent) continue;
         const DrawItem& item = scene.items[caster.item];
         const GpuMesh& mesh = scene.meshes[item.mesh];
         const DrawLevel& level = scene.levels[f.levels[i]];
@@ -79,15 +102,10 @@ void drawCasters(FrameContext& ctx, ShadowContext& shadows, int passCascade, boo
             glUseProgram(boundProgram = program);
             glProgramUniform1i(program, 0, passCascade);
         }
-        if (scene.shadowMaskProgram && caster.program == *scene.shadowMaskProgram &&
-            item.material != boundMaterial) {
+        const bool materialRead = caster.translucent || (scene.shadowMaskProgram && caster.program == *scene.shadowMaskProgram);
+        if (materialRead && item.material != boundMaterial) {
             boundMaterial = item.material;
-            const GpuMaterial& material = scene.materials[item.material];
-            glBindBufferRange(GL_UNIFORM_BUFFER, PNB_BINDING_MATERIAL_BLOCK,
-                              scene.materialBuffer.id(), GLintptr(material.uniformOffset),
-                              sizeof(MaterialBlock));
-            uint32_t t = material.desc.textures.empty() ? kNone : material.desc.textures[0].texture;
-            glBindTextureUnit(0, t == kNone ? 0 : scene.textures[t].texture.id());
+            bindCasterMaterial(scene, caster, program, false);
         }
         glBindBufferRange(GL_UNIFORM_BUFFER, PNB_BINDING_OBJECT_BLOCK, ctx.ring.buffer(),
                           GLintptr(f.objectOffsets[i]), GLsizeiptr(ctx.objectBlockBytes));
@@ -122,6 +140,8 @@ void runShadowPass(FrameContext& ctx, ShadowContext& shadows) {
     bindShadowsForLighting(ctx, shadows); // the vertex shader reads the ShadowBlock too
     glBindTextureUnit(8, 0);     // not sampled while being written
     glBindTextureUnit(9, 0);
+    glBindTextureUnit(20, 0); // the companions likewise
+    glBindTextureUnit(21, 0);
     if (f.gpuFit) {
         glBindBufferBase(GL_SHADER_STORAGE_BUFFER, PNB_BINDING_CASTER_MASKS, r.sdsmMasks.id());
         glBindBuffer(GL_DRAW_INDIRECT_BUFFER, r.sdsmCommands.id());
@@ -137,20 +157,33 @@ void runShadowPass(FrameContext& ctx, ShadowContext& shadows) {
     glDisable(GL_CULL_FACE);
     glEnable(GL_DEPTH_CLAMP);
     const float far = 1.0f;
-    if (ctx.settings.shadowRender == ShadowRender::Layered) {
-        glBindFramebuffer(GL_FRAMEBUFFER, r.layeredFb.id());
-        glClearNamedFramebufferfv(r.layeredFb.id(), GL_DEPTH, 0, &far);
-        // gl_Layer from the vertex shader needs ARB_shader_viewport_layer_array.
-        static const bool vertexLayers = epoxy_has_gl_extension("GL_ARB_shader_viewport_layer_array");
-        LayerSource source = ctx.settings.shadowLayerSource;
-        bool geometry = source == LayerSource::Geometry || !vertexLayers;
-        drawCasters(ctx, shadows, -1, geometry);
-    } else {
+    const bool translucent = f.translucent && r.translucent;
+    // gl_Layer from the vertex shader needs ARB_shader_viewport_layer_array.
+    static const bool vertexLayers = epoxy_has_gl_extension("GL_ARB_shader_viewport_layer_array");
+    const bool layered = ctx.settings.shadowRender == ShadowRender::Layered;
+    const bool geometry = ctx.settings.shadowLayerSource == LayerSource::Geometry || !vertexLayers;
+    // One round of casters (opaque, or blended) over every cascade.
+    auto round = [&](bool blended) {
+        if (layered) {
+            glBindFramebuffer(GL_FRAMEBUFFER, r.layeredFb.id());
+            if (!blended) glClearNamedFramebufferfv(r.layeredFb.id(), GL_DEPTH, 0, &far);
+            if (!blended && translucent) clearTranslucentMaps(r.layeredFb.id());
+            drawCasters(ctx, shadows, -1, geometry, blended);
+            return;
+        }
         for (uint32_t c = 0; c < f.cascades; ++c) {
             glBindFramebuffer(GL_FRAMEBUFFER, r.layerFbs[c].id());
-            glClearNamedFramebufferfv(r.layerFbs[c].id(), GL_DEPTH, 0, &far);
-            drawCasters(ctx, shadows, int(c), false);
+            if (!blended) glClearNamedFramebufferfv(r.layerFbs[c].id(), GL_DEPTH, 0, &far);
+            if (!blended && translucent) clearTranslucentMaps(r.layerFbs[c].id());
+            drawCasters(ctx, shadows, int(c), false, blended);
         }
+    };
+    round(false);
+    if (translucent) {
+        ctx.timer.mark("shadow_translucent");
+        beginTranslucentCasters();
+        round(true);
+        restoreOpaqueCasterState();
     }
     glDisable(GL_DEPTH_CLAMP);
     glEnable(GL_CULL_FACE);

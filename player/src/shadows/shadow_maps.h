@@ -11,6 +11,11 @@
 //     instancing + gl_Layer from the vertex shader) or once per cascade (multi-pass).
 // Lighting then reads the array through two views: a comparison sampler (PCF) and raw depth
 // (PCSS blocker search).
+// Blended casters (issue 43, only when the scene has some and shadows.translucent is on) give the
+// array two colour companions on the same framebuffers: transmittance (RGBA8, cleared to 1,
+// blended dst x src) and the nearest pane's depth (R32F, cleared to 1, GL_MIN). The pass draws
+// the opaque casters first, then the blended ones depth-tested against them without writing
+// depth, so glass behind an opaque caster adds nothing.
 #pragma once
 
 #include <array>
@@ -36,8 +41,36 @@ class StreamRing;
 // level of detail the main view chose for it this frame (LodState, frame_context.h).
 struct ShadowCaster {
     uint32_t item = 0;
-    uint32_t program = 0;     // GpuScene::programs index (shadow[] or shadow[ALPHA_MASK])
+    uint32_t program = 0;     // GpuScene::programs index (shadow[], [ALPHA_MASK] or [TRANSLUCENT])
+    bool translucent = false; // a blended caster: drawn after the opaque ones, into the companions
 };
+
+// The colour companions of a depth map (the cascade array or the local atlas): 2D arrays of the
+// map's size and layers, colour attachments 0 and 1 of its framebuffers.
+struct TranslucentMaps {
+    GlHandle transmittance; // RGBA8: product of the panes' T = baseColor.rgb x (1 - alpha)
+    GlHandle nearestDepth;  // R32F: the nearest pane's depth (1 - z where the map is reversed-Z)
+    uint64_t bytes = 0;
+    explicit operator bool() const { return bool(transmittance); }
+    void create(uint32_t width, uint32_t height, uint32_t layers, const char* label);
+};
+
+// Attaches `maps`' layer `layer` (or every layer, layer < 0) as colour attachments 0 and 1 of
+// `framebuffer`, or detaches them (empty maps): drawing then writes depth only.
+void attachTranslucentMaps(GLuint framebuffer, const TranslucentMaps& maps, int layer);
+
+// Clears the companions bound to `framebuffer` to 1 (nothing in the way).
+void clearTranslucentMaps(GLuint framebuffer);
+
+// Blending and masks for the blended casters (dst x src; GL_MIN), after the opaque ones have
+// drawn with colour writes off; restoreOpaqueCasterState undoes it.
+void beginTranslucentCasters();
+void restoreOpaqueCasterState();
+
+// Binds `maps` for lighting at `firstUnit` and the next unit, or, while they do not exist
+// (shadows.translucent off, no blended caster in reach), `neutral`: 1x1 stand-ins (transmittance
+// 1, nearest depth 1), created on first use, that lighting built with TRANSLUCENT_SHADOWS reads.
+void bindTranslucentMaps(const TranslucentMaps& maps, TranslucentMaps& neutral, GLuint firstUnit);
 
 struct ShadowResources {
     uint32_t resolution = 0, layers = 0;
@@ -49,10 +82,12 @@ struct ShadowResources {
     GlHandle sdsmState, sdsmBlock, sdsmMasks, sdsmCommands;
     GlHandle sdsmReduce, sdsmPartition, sdsmBounds, sdsmFinalize, sdsmCull;
     uint32_t sdsmCasterCapacity = 0;
+    TranslucentMaps translucent; // blended casters' companions (empty: none this frame)
     uint64_t mapBytes = 0, bufferBytes = 0;
 
-    // (Re)creates the array for `resolution` x `layers`; drops the SDSM objects unless `sdsm`.
-    PlayResult<Done> ensure(uint32_t resolution, uint32_t layers, bool sdsm,
+    // (Re)creates the array for `resolution` x `layers`, with the companions iff `translucent`;
+    // drops the SDSM objects unless `sdsm`.
+    PlayResult<Done> ensure(uint32_t resolution, uint32_t layers, bool sdsm, bool translucent,
                             const std::vector<ShadowCaster>& casters, const GpuScene& scene);
 };
 
@@ -62,6 +97,7 @@ struct ShadowFrame {
     bool active = false;          // maps are drawn and read this frame
     const char* off = nullptr;    // why they are not (nullptr while active): debug-view notes
     bool gpuFit = false;          // SDSM: block, masks and draws live in GPU buffers
+    bool translucent = false;     // blended casters are drawn into the companions this frame
     uint32_t cascades = 0;
     size_t blockOffset = 0;       // CPU-written ShadowBlock in the ring (SDSM: its parameters)
     size_t maskOffset = 0, maskBytes = 0;
@@ -84,11 +120,14 @@ struct ShadowContext {
     ShadowResources resources;
     std::vector<ShadowCaster> casters;
     int light = -1;                  // index of the shadowing light in GpuScene::lights, or -1
+    bool translucentCasters = false; // some caster is blended (its maps get companions)
     glm::dvec3 sceneMin{0.0}, sceneMax{0.0}; // world bounds of every draw item
     ShadowFrame frame;
-    bool capture = false;
+    bool capture = false;      // lighting writes visibility/cascade/ratio (CaptureBuffer::Shadow)
+    bool captureColor = false; // lighting writes the colour visibility (CaptureBuffer::ShadowColor)
+    mutable TranslucentMaps neutralTranslucent; // bindTranslucentMaps' stand-ins
     // Layered pass through a geometry shader (shadows.layer_from), per container program.
-    std::vector<std::pair<uint32_t, GlHandle>> geometryLayerPrograms;            // lighting writes visibility/cascade/ratio (CaptureBuffer::Shadow)
+    std::vector<std::pair<uint32_t, GlHandle>> geometryLayerPrograms;
 };
 
 // Casters, the shadowing light (the first directional light that casts shadows) and the scene
@@ -107,10 +146,16 @@ void prepareShadows(FrameContext& ctx, ShadowContext& shadows);
 // before the clear, or the first deferred layer's (renderer/frame.cpp).
 void runSdsmFit(FrameContext& ctx, ShadowContext& shadows);
 
+// Binds what a masked or blended caster's shadow program reads of its material (block, base
+// colour texture) and, for a blended one, shadow.frag's TRANSLUCENT uniforms on `program`
+// (`reversedDepth`: the local atlas). pass_shadow.cpp.
+void bindCasterMaterial(const GpuScene& scene, const ShadowCaster& caster, GLuint program, bool reversedDepth);
+
 // Draws the casters into the array (pass_shadow.cpp).
 void runShadowPass(FrameContext& ctx, ShadowContext& shadows);
 
-// Binds the ShadowBlock (binding 4) and the maps (units 8 and 9) for lighting.
+// Binds the ShadowBlock (binding 4) and the maps (units 8 and 9; the companions 20 and 21) for
+// lighting.
 void bindShadowsForLighting(FrameContext& ctx, const ShadowContext& shadows);
 
 } // namespace pnb::player

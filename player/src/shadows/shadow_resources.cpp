@@ -1,5 +1,5 @@
-// GPU objects of the shadow maps: the cascade array, its two views and framebuffers, and the
-// SDSM buffers and compute programs (only while SDSM is selected).
+// GPU objects of the shadow maps: the cascade array, its two views and framebuffers, the blended
+// casters' colour companions (only while some are drawn), and the SDSM buffers and compute programs (only while SDSM is selected).
 #include <bit>
 
 #include "gl/program_compile.h"
@@ -23,10 +23,11 @@ GlHandle buffer(size_t bytes, const char* label, uint64_t& counter) {
 
 } // namespace
 
-PlayResult<Done> ShadowResources::ensure(uint32_t res, uint32_t layerCount, bool sdsm,
+PlayResult<Done> ShadowResources::ensure(uint32_t res, uint32_t layerCount, bool sdsm, bool withTranslucent,
                                          const std::vector<ShadowCaster>& casters,
                                          const GpuScene& scene) {
-    if (res != resolution || layerCount != layers) {
+    const bool resized = res != resolution || layerCount != layers;
+    if (resized) {
         resolution = res;
         layers = layerCount;
         depthArray = createTexture(GL_TEXTURE_2D_ARRAY);
@@ -69,6 +70,12 @@ PlayResult<Done> ShadowResources::ensure(uint32_t res, uint32_t layerCount, bool
             layerFbs.push_back(std::move(fb));
         }
         mapBytes = uint64_t(res) * res * layerCount * 4;
+    }
+    if (resized || withTranslucent != bool(translucent)) {
+        translucent = {};
+        if (withTranslucent) translucent.create(res, res, layerCount, "shadow cascades");
+        attachTranslucentMaps(layeredFb.id(), translucent, -1);
+        for (uint32_t l = 0; l < layerCount; ++l) attachTranslucentMaps(layerFbs[l].id(), translucent, int(l));
     }
     if (!sdsm) {
         for (GlHandle* h : {&sdsmState, &sdsmBlock, &sdsmMasks, &sdsmCommands,

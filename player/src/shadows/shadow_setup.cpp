@@ -58,17 +58,23 @@ void initShadowContext(const GpuScene& scene, ShadowContext& shadows) {
         shadows.sceneMax = glm::max(shadows.sceneMax, item.boundsMax);
     }
     if (scene.items.empty()) shadows.sceneMin = shadows.sceneMax = glm::dvec3(0.0);
+    shadows.translucentCasters = false;
     if (!scene.shadowProgram) return;
     for (uint32_t i = 0; i < scene.items.size(); ++i) {
         const DrawItem& item = scene.items[i];
         const Material& m = scene.materials[item.material].desc;
-        if (!m.castsShadows || m.alphaMode == AlphaMode::Blend) continue;
-        std::optional<uint32_t> program =
-            m.alphaMode == AlphaMode::Mask ? scene.shadowMaskProgram : scene.shadowProgram;
+        if (!m.castsShadows) continue;
+        // Blended casters let light through, tinted (issue 43): with a container that has the
+        // shadow[TRANSLUCENT] program (older ones: they cast nothing, as before).
+        std::optional<uint32_t> program = m.alphaMode == AlphaMode::Blend  ? scene.shadowTranslucentProgram
+                                          : m.alphaMode == AlphaMode::Mask ? scene.shadowMaskProgram
+                                                                           : scene.shadowProgram;
         if (!program || !scene.programs[*program]) continue;
         ShadowCaster c;
         c.item = i;
         c.program = *program;
+        c.translucent = m.alphaMode == AlphaMode::Blend;
+        shadows.translucentCasters |= c.translucent;
         shadows.casters.push_back(c);
     }
 }
@@ -189,7 +195,7 @@ void planShadows(const FrameView& in, ShadowContext& sc, ShadowBlock& b) {
     const RenderSettings& s = in.settings;
     const GpuScene& scene = in.scene;
     f.sceneHasShadows = scene.shadowProgram.has_value();
-    f.active = f.gpuFit = false;
+    f.active = f.gpuFit = f.translucent = false;
     f.off = whyShadowsAreOff(in, sc);
     f.cascades = 0;
     f.casters.clear();
@@ -208,7 +214,7 @@ void planShadows(const FrameView& in, ShadowContext& sc, ShadowBlock& b) {
     b.bias = {s.shadowNormalOffset, s.shadowSlopeBias, s.shadowBlend,
               s.shadowSelect == CascadeSelect::Bounds ? 1.0f : 0.0f};
     float tanLight = std::tan(0.5f * glm::radians(s.shadowLightSize));
-    int output = sc.capture ? 2 : (s.debugView == DebugView::Cascades ? 1 : 0);
+    int output = sc.captureColor ? 3 : sc.capture ? 2 : (s.debugView == DebugView::Cascades ? 1 : 0);
     b.mapInfo = {float(resolution), 1.0f / float(resolution), tanLight, float(output)};
     // A pixel's world size at view depth d is 2 (d x + w) / y (shadow_sampling.glsl).
     const bool ortho = in.view.orthographic;
@@ -227,6 +233,7 @@ void planShadows(const FrameView& in, ShadowContext& sc, ShadowBlock& b) {
 
     f.active = true;
     f.gpuFit = s.shadowTechnique == ShadowTechnique::Sdsm;
+    f.translucent = sc.translucentCasters && s.shadowTranslucent;
     f.lightRotation = lightRotation(-toward);
     const FitBox box{sc.sceneMin - in.view.position, sc.sceneMax - in.view.position};
     const FitCamera cam = fitCamera(in.view);
@@ -285,6 +292,8 @@ void bindShadowsForLighting(FrameContext& ctx, const ShadowContext& shadows) {
         glBindTextureUnit(8, r.depthArray.id());
         glBindTextureUnit(9, r.depthView.id());
     }
+    // Lighting built with TRANSLUCENT_SHADOWS reads units 20 and 21 whenever it reads the maps.
+    if (ctx.scene.translucentLighting) bindTranslucentMaps(r.translucent, shadows.neutralTranslucent, 20);
 }
 
 } // namespace pnb::player
