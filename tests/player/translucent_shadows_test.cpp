@@ -131,8 +131,21 @@ TEST(TranslucentShadows, TheFloorBehindARedPaneGetsHalfItsRed) {
         EXPECT_GT(f.besideCount, 400);
         EXPECT_EQ(f.behindWrong, 0) << "of " << f.behindCount;
         EXPECT_EQ(f.besideWrong, 0) << "of " << f.besideCount;
-        // Two cascade companions of the same texels as the depth array: 8 B a texel.
-        EXPECT_EQ(c.memory.shadowTranslucentBytes, c.memory.shadowMapBytes * 2);
+        // Two cascade companions, 8 B a texel, at 1/4 of the depth array's side (the default
+        // shadows.translucent_divisor): 8 / 16 of its 4 B a texel.
+        EXPECT_EQ(c.memory.shadowTranslucentBytes, c.memory.shadowMapBytes / 8);
+    }
+    // Every companion size: the same verdict away from the pane's shadow edge, memory / d^2.
+    for (uint32_t log2 : {0u, 1u, 3u}) {
+        SCOPED_TRACE("shadows.translucent_divisor " + std::to_string(1u << log2));
+        RenderSettings s = sunSettings();
+        s.shadowTranslucentDivisorLog2 = log2;
+        Captured c = captureColorVisibility(file, lookAt(kEye, {0, 0, 0}), s);
+        FloorCheck f = checkFloor(c, kEye, 0.4, 0.6, 3.5, {0.5f, 0, 0});
+        EXPECT_GT(f.behindCount, 40);
+        EXPECT_EQ(f.behindWrong, 0) << "of " << f.behindCount;
+        EXPECT_EQ(f.besideWrong, 0) << "of " << f.besideCount;
+        EXPECT_EQ(c.memory.shadowTranslucentBytes, c.memory.shadowMapBytes * 2 >> (2 * log2));
     }
     // shadows.translucent = false: the pane casts nothing, as before issue 43; no companions.
     RenderSettings off = sunSettings();

@@ -117,6 +117,7 @@ struct RenderSettings {
     uint32_t shadowLocalMaxTile = 1024; // shadows.local_max_tile: largest tile side
     bool shadowLocalCache = true;       // shadows.local_cache: redraw only tiles that changed
     bool shadowTranslucent = true;      // shadows.translucent: blended casters tint the light
+    uint32_t shadowTranslucentDivisorLog2 = 2; // shadows.translucent_divisor (1, 2, 4, 8): log2
     uint32_t shadowLocalTaps = 4;       // shadows.local_taps: PCF taps per local-light lookup
     int32_t shadowJudgedLight = -1;     // shadows.judged_light: the light captures describe
 

@@ -60,6 +60,7 @@ constexpr std::string_view kFitNames[] = {"sphere", "tight"};
 constexpr std::string_view kRenderNames[] = {"layered", "multipass"};
 constexpr std::string_view kLayerSourceNames[] = {"auto", "vertex", "geometry"};
 constexpr std::string_view kFilterNames[] = {"hardware", "poisson", "pcss"};
+constexpr std::string_view kTranslucentDivisorNames[] = {"1", "2", "4", "8"}; // 2^index
 constexpr std::string_view kSelectNames[] = {"depth", "bounds"};
 constexpr std::string_view kPartitionNames[] = {"log", "quantile"};
 constexpr std::string_view kAtomicsNames[] = {"fixed", "float"};
@@ -179,6 +180,10 @@ const Row kRows[] = {
       "(1 - alpha), into colour companions of the sun's maps and the local atlas; false: they "
       "cast nothing (no companions; for comparing the cost)"},
      BoolField{&S::shadowTranslucent}},
+    {{"shadows.translucent_divisor", "1|2|4|8",
+      "the colour companions' side is the map's divided by this: their memory and clearing "
+      "fall with its square (x 1/16 at 4), their glass-shadow edges blur over as many texels"},
+     enumField<&S::shadowTranslucentDivisorLog2>(kTranslucentDivisorNames)},
     {{"shadows.local_taps", "int 1..64",
       "local-light PCF taps over the shadows.radius disk (1: one 2x2 hardware-compared tap); "
       "a pixel may read many lights' tiles, so fewer than the sun's shadows.taps"},

@@ -149,6 +149,7 @@ PlayResult<Done> prepareFrame(Frame& f) {
     if (shadowFrame.active) {
         const uint64_t shadowBytes = maps.mapBytes + maps.bufferBytes + maps.translucent.bytes;
         auto ok = maps.ensure(s.shadowResolution, shadowFrame.cascades, shadowFrame.gpuFit, shadowFrame.translucent,
+                              1u << s.shadowTranslucentDivisorLog2,
                               f.shadows.casters, ctx.scene);
         if (ok && maps.mapBytes + maps.bufferBytes + maps.translucent.bytes != shadowBytes)
             ok = checkGlAllocation("the shadow maps (shadows.resolution " + std::to_string(s.shadowResolution) + ")",

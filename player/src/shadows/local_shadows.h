@@ -72,7 +72,10 @@ inline constexpr std::array<glm::vec3, 6> kCubeFaceDirections = {
 // The renderer's local-shadow state across frames.
 struct LocalShadowContext {
     GlHandle atlas;       // D32F, comparison on (sampler2DShadow, GL_GEQUAL: reversed-Z)
-    GlHandle framebuffer;
+    GlHandle framebuffer;             // the atlas, depth only (opaque and masked casters)
+    GlHandle translucentFramebuffer;  // the companions (blended casters), while they exist
+    GlHandle depthView;               // the atlas without comparison: the blended round's depth test
+    uint32_t translucentDivisor = 1;  // the companions' side = the atlas' / this
     TranslucentMaps translucent; // blended casters' companions, while there are some
     uint32_t atlasSize = 0;
     // What each tile holds, to draw only the tiles whose content changed.

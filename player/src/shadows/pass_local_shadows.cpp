@@ -33,13 +33,17 @@ constexpr float kMaxSpotTileRadians = 1.0471976f; // 60 degrees
 void dropAtlas(LocalShadowContext& ls) {
     ls.atlas = {};
     ls.framebuffer = {};
+    ls.translucentFramebuffer = {};
+    ls.depthView = {};
     ls.translucent = {};
     ls.atlasSize = 0;
     ls.drawn.clear();
 }
 
-void ensureAtlas(LocalShadowContext& ls, uint32_t size, bool translucent) {
-    if (ls.atlasSize == size && translucent == bool(ls.translucent)) return;
+void ensureAtlas(LocalShadowContext& ls, uint32_t size, bool translucent, uint32_t divisor) {
+    if (ls.atlasSize == size && translucent == bool(ls.translucent) &&
+        (!translucent || divisor == ls.translucentDivisor))
+        return;
     dropAtlas(ls);
     ls.atlas = createTexture(GL_TEXTURE_2D);
     glTextureStorage2D(ls.atlas.id(), 1, GL_DEPTH_COMPONENT32F, GLsizei(size), GLsizei(size));
@@ -53,8 +57,21 @@ void ensureAtlas(LocalShadowContext& ls, uint32_t size, bool translucent) {
     ls.framebuffer = createFramebuffer();
     glNamedFramebufferTexture(ls.framebuffer.id(), GL_DEPTH_ATTACHMENT, ls.atlas.id(), 0);
     glNamedFramebufferDrawBuffer(ls.framebuffer.id(), GL_NONE);
-    if (translucent) ls.translucent.create(size, size, 1, "local shadow atlas");
-    attachTranslucentMaps(ls.framebuffer.id(), ls.translucent, 0);
+    if (translucent) {
+        // The blended round's own framebuffer, colour only, at 1/divisor of the atlas' side (as
+        // the sun's, shadow_resources.cpp); its fragments test the depths through a view of the
+        // atlas without comparison, as a one-layer array (shadow.frag reads arrays).
+        ls.translucentDivisor = divisor;
+        ls.translucent.create(std::max(size / divisor, 1u), std::max(size / divisor, 1u), 1, "local shadow atlas");
+        ls.translucentFramebuffer = createFramebuffer();
+        attachTranslucentMaps(ls.translucentFramebuffer.id(), ls.translucent, 0);
+        GLuint view = 0;
+        glGenTextures(1, &view);
+        glTextureView(view, GL_TEXTURE_2D_ARRAY, ls.atlas.id(), GL_DEPTH_COMPONENT32F, 0, 1, 0, 1);
+        ls.depthView = GlHandle(GlKind::Texture, view);
+        glTextureParameteri(view, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+        glTextureParameteri(view, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+    }
     ls.atlasSize = size;
 }
 
@@ -88,7 +105,7 @@ bool boxTouchesSphere(glm::dvec3 lo, glm::dvec3 hi, glm::dvec3 centre, double ra
 // Draws every caster the light's sphere touches into one tile (`face` of the pushed block): the
 // opaque and masked ones, or the blended ones (`translucent`).
 void drawTile(FrameContext& ctx, const ShadowContext& shadows, const SceneLight& light, float range, uint32_t face,
-              const std::vector<size_t>& objectOffsets, bool translucent) {
+              const std::vector<size_t>& objectOffsets, bool translucent, uint32_t divisor = 1) {
     const GpuScene& scene = ctx.scene;
     GLuint boundProgram = ~0u, boundVao = ~0u;
     uint32_t boundMaterial = kNone;
@@ -99,12 +116,15 @@ void drawTile(FrameContext& ctx, const ShadowContext& shadows, const SceneLight&
         if (!boxTouchesSphere(item.boundsMin, item.boundsMax, light.position, double(range))) continue;
         const GLuint program = scene.programs[caster.program].id();
         if (!program) continue;
-        if (program != boundProgram) glUseProgram(boundProgram = program);
+        if (program != boundProgram) {
+            glUseProgram(boundProgram = program);
+            if (translucent) setTranslucentTarget(program, 0, divisor, true);
+        }
         glProgramUniform1i(program, 0, int(face)); // the tile's matrix in the pushed block
         const bool materialRead = caster.translucent || (scene.shadowMaskProgram && caster.program == *scene.shadowMaskProgram);
         if (materialRead && item.material != boundMaterial) {
             boundMaterial = item.material;
-            bindCasterMaterial(scene, caster, program, true);
+            bindCasterMaterial(scene, caster, program);
         }
         const GpuMesh& mesh = scene.meshes[item.mesh];
         const DrawLevel& level = scene.levels[drawLevel(scene, ctx.lod, caster.item)];
@@ -159,7 +179,9 @@ void runLocalShadows(FrameContext& ctx, LocalShadowContext& ls, const ShadowCont
         return;
     }
     const bool translucent = s.shadowTranslucent && shadows.translucentCasters;
-    ensureAtlas(ls, s.shadowLocalAtlas, translucent);
+    // The atlas' companions keep its side: its tiles are already sized to each light's share
+    // of the screen, and only drawn tiles are cleared (shadows.translucent_divisor is the sun's).
+    ensureAtlas(ls, s.shadowLocalAtlas, translucent, 1);
     ctx.timer.mark("local_shadows");
 
     // The tiles' data for lighting, and each light's first tile in the light list (cone.z).
@@ -234,13 +256,21 @@ void runLocalShadows(FrameContext& ctx, LocalShadowContext& ls, const ShadowCont
             glScissor(GLint(p.origins[f].x), GLint(p.origins[f].y), GLsizei(p.size), GLsizei(p.size));
             const float far = 0.0f; // reversed-Z
             glClearNamedFramebufferfv(ls.framebuffer.id(), GL_DEPTH, 0, &far);
-            if (translucent) clearTranslucentMaps(ls.framebuffer.id()); // the scissor keeps it in the tile
             drawTile(ctx, shadows, l, shape.range, f, objectOffsets, false);
-            if (translucent) {
+            if (translucent) { // the tile's place in the companions, 1/divisor the size
+                const uint32_t d = ls.translucentDivisor;
+                const GLint x = GLint(p.origins[f].x / d), y = GLint(p.origins[f].y / d);
+                const GLsizei side = GLsizei(std::max(p.size / d, 1u));
+                glViewport(x, y, side, side);
+                glScissor(x, y, side, side);
+                glBindFramebuffer(GL_FRAMEBUFFER, ls.translucentFramebuffer.id());
+                glBindTextureUnit(9, ls.depthView.id());
+                clearTranslucentMaps(ls.translucentFramebuffer.id()); // the scissor keeps it in the tile
                 beginTranslucentCasters();
-                drawTile(ctx, shadows, l, shape.range, f, objectOffsets, true);
+                drawTile(ctx, shadows, l, shape.range, f, objectOffsets, true, d);
                 restoreOpaqueCasterState();
-                glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE); // the next tile's opaque casters
+                glBindTextureUnit(9, 0);
+                glBindFramebuffer(GL_FRAMEBUFFER, ls.framebuffer.id());
             }
             ++ls.tilesDrawn;
         }

@@ -12,6 +12,7 @@
 // Blended casters (issue 43) come after the opaque ones, in a second round over the same layers
 // (its own timer section, "shadow_translucent"): into the colour companions, depth-tested
 // against the opaque depths without writing any (shadow_maps.h).
+#include <algorithm>
 #include <bit>
 #include <cstdio>
 
@@ -58,17 +59,20 @@ GLuint casterProgram(FrameContext& ctx, ShadowContext& shadows, const ShadowCast
 
 } // namespace
 
-void bindCasterMaterial(const GpuScene& scene, const ShadowCaster& caster, GLuint program, bool reversedDepth) {
+void bindCasterMaterial(const GpuScene& scene, const ShadowCaster& caster, GLuint program) {
     const DrawItem& item = scene.items[caster.item];
     const GpuMaterial& material = scene.materials[item.material];
     glBindBufferRange(GL_UNIFORM_BUFFER, PNB_BINDING_MATERIAL_BLOCK, scene.materialBuffer.id(),
                       GLintptr(material.uniformOffset), sizeof(MaterialBlock));
     uint32_t t = material.desc.textures.empty() ? kNone : material.desc.textures[0].texture;
     glBindTextureUnit(0, t == kNone ? 0 : scene.textures[t].texture.id());
-    if (caster.translucent) { // shadow.frag's TRANSLUCENT uniforms
-        glProgramUniform1i(program, 1, t == kNone ? 0 : 1);
-        glProgramUniform1i(program, 2, reversedDepth ? 1 : 0);
-    }
+    if (caster.translucent) glProgramUniform1i(program, 1, t == kNone ? 0 : 1); // shadow.frag's TRANSLUCENT
+}
+
+void setTranslucentTarget(GLuint program, int depthLayer, uint32_t divisor, bool reversedDepth) {
+    glProgramUniform1i(program, 2, reversedDepth ? 1 : 0);
+    glProgramUniform1i(program, 3, depthLayer);
+    glProgramUniform1i(program, 4, GLint(divisor));
 }
 
 namespace {
@@ -101,11 +105,13 @@ void drawCasters(FrameContext& ctx, ShadowContext& shadows, int passCascade, boo
         if (program != boundProgram) {
             glUseProgram(boundProgram = program);
             glProgramUniform1i(program, 0, passCascade);
+            if (translucent)
+                setTranslucentTarget(program, passCascade, shadows.resources.translucentDivisor, false);
         }
         const bool materialRead = caster.translucent || (scene.shadowMaskProgram && caster.program == *scene.shadowMaskProgram);
         if (materialRead && item.material != boundMaterial) {
             boundMaterial = item.material;
-            bindCasterMaterial(scene, caster, program, false);
+            bindCasterMaterial(scene, caster, program);
         }
         glBindBufferRange(GL_UNIFORM_BUFFER, PNB_BINDING_OBJECT_BLOCK, ctx.ring.buffer(),
                           GLintptr(f.objectOffsets[i]), GLsizeiptr(ctx.objectBlockBytes));
@@ -163,27 +169,33 @@ void runShadowPass(FrameContext& ctx, ShadowContext& shadows) {
     const bool layered = ctx.settings.shadowRender == ShadowRender::Layered;
     const bool geometry = ctx.settings.shadowLayerSource == LayerSource::Geometry || !vertexLayers;
     // One round of casters (opaque, or blended) over every cascade.
+    const GLsizei companionSide = GLsizei(std::max(r.resolution / r.translucentDivisor, 1u));
     auto round = [&](bool blended) {
         if (layered) {
-            glBindFramebuffer(GL_FRAMEBUFFER, r.layeredFb.id());
-            if (!blended) glClearNamedFramebufferfv(r.layeredFb.id(), GL_DEPTH, 0, &far);
-            if (!blended && translucent) clearTranslucentMaps(r.layeredFb.id());
+            GLuint fb = blended ? r.translucentLayeredFb.id() : r.layeredFb.id();
+            glBindFramebuffer(GL_FRAMEBUFFER, fb);
+            if (blended) clearTranslucentMaps(fb);
+            else glClearNamedFramebufferfv(fb, GL_DEPTH, 0, &far);
             drawCasters(ctx, shadows, -1, geometry, blended);
             return;
         }
         for (uint32_t c = 0; c < f.cascades; ++c) {
-            glBindFramebuffer(GL_FRAMEBUFFER, r.layerFbs[c].id());
-            if (!blended) glClearNamedFramebufferfv(r.layerFbs[c].id(), GL_DEPTH, 0, &far);
-            if (!blended && translucent) clearTranslucentMaps(r.layerFbs[c].id());
+            GLuint fb = blended ? r.translucentLayerFbs[c].id() : r.layerFbs[c].id();
+            glBindFramebuffer(GL_FRAMEBUFFER, fb);
+            if (blended) clearTranslucentMaps(fb);
+            else glClearNamedFramebufferfv(fb, GL_DEPTH, 0, &far);
             drawCasters(ctx, shadows, int(c), false, blended);
         }
     };
     round(false);
     if (translucent) {
         ctx.timer.mark("shadow_translucent");
+        glViewport(0, 0, companionSide, companionSide);
+        glBindTextureUnit(9, r.depthView.id()); // the opaque depths, read by shadow.frag's test
         beginTranslucentCasters();
         round(true);
         restoreOpaqueCasterState();
+        glBindTextureUnit(9, 0);
     }
     glDisable(GL_DEPTH_CLAMP);
     glEnable(GL_CULL_FACE);

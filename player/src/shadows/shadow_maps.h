@@ -63,7 +63,7 @@ void attachTranslucentMaps(GLuint framebuffer, const TranslucentMaps& maps, int 
 void clearTranslucentMaps(GLuint framebuffer);
 
 // Blending and masks for the blended casters (dst x src; GL_MIN), after the opaque ones have
-// drawn with colour writes off; restoreOpaqueCasterState undoes it.
+// drawn into the depth-only framebuffer; restoreOpaqueCasterState undoes it.
 void beginTranslucentCasters();
 void restoreOpaqueCasterState();
 
@@ -83,11 +83,14 @@ struct ShadowResources {
     GlHandle sdsmReduce, sdsmPartition, sdsmBounds, sdsmFinalize, sdsmCull;
     uint32_t sdsmCasterCapacity = 0;
     TranslucentMaps translucent; // blended casters' companions (empty: none this frame)
+    GlHandle translucentLayeredFb;   // the companions, every layer (the blended round)
+    std::vector<GlHandle> translucentLayerFbs; // one layer each (multi-pass)
+    uint32_t translucentDivisor = 1; // the companions' side = resolution / this
     uint64_t mapBytes = 0, bufferBytes = 0;
 
     // (Re)creates the array for `resolution` x `layers`, with the companions iff `translucent`;
     // drops the SDSM objects unless `sdsm`.
-    PlayResult<Done> ensure(uint32_t resolution, uint32_t layers, bool sdsm, bool translucent,
+    PlayResult<Done> ensure(uint32_t resolution, uint32_t layers, bool sdsm, bool translucent, uint32_t divisor,
                             const std::vector<ShadowCaster>& casters, const GpuScene& scene);
 };
 
@@ -149,7 +152,13 @@ void runSdsmFit(FrameContext& ctx, ShadowContext& shadows);
 // Binds what a masked or blended caster's shadow program reads of its material (block, base
 // colour texture) and, for a blended one, shadow.frag's TRANSLUCENT uniforms on `program`
 // (`reversedDepth`: the local atlas). pass_shadow.cpp.
-void bindCasterMaterial(const GpuScene& scene, const ShadowCaster& caster, GLuint program, bool reversedDepth);
+void bindCasterMaterial(const GpuScene& scene, const ShadowCaster& caster, GLuint program);
+
+// Where a blended caster's fragments find the opaque depths they are tested against
+// (shadow.frag's TRANSLUCENT uniforms): `depthLayer` of the depth array bound at unit 9 (-1:
+// gl_Layer, the layered pass), `divisor` depth texels per companion texel each way,
+// `reversedDepth` for the local atlas (nearer is larger).
+void setTranslucentTarget(GLuint program, int depthLayer, uint32_t divisor, bool reversedDepth);
 
 // Draws the casters into the array (pass_shadow.cpp).
 void runShadowPass(FrameContext& ctx, ShadowContext& shadows);

@@ -24,6 +24,7 @@ GlHandle buffer(size_t bytes, const char* label, uint64_t& counter) {
 } // namespace
 
 PlayResult<Done> ShadowResources::ensure(uint32_t res, uint32_t layerCount, bool sdsm, bool withTranslucent,
+                                         uint32_t divisor,
                                          const std::vector<ShadowCaster>& casters,
                                          const GpuScene& scene) {
     const bool resized = res != resolution || layerCount != layers;
@@ -71,11 +72,27 @@ PlayResult<Done> ShadowResources::ensure(uint32_t res, uint32_t layerCount, bool
         }
         mapBytes = uint64_t(res) * res * layerCount * 4;
     }
-    if (resized || withTranslucent != bool(translucent)) {
+    if (resized || withTranslucent != bool(translucent) || (withTranslucent && divisor != translucentDivisor)) {
+        // At 1/divisor of the map's side: clearing them every frame costs their bytes, and at
+        // full size they would outweigh the depths twice (docs/PLAYER.md "Light through glass").
         translucent = {};
-        if (withTranslucent) translucent.create(res, res, layerCount, "shadow cascades");
-        attachTranslucentMaps(layeredFb.id(), translucent, -1);
-        for (uint32_t l = 0; l < layerCount; ++l) attachTranslucentMaps(layerFbs[l].id(), translucent, int(l));
+        translucentDivisor = divisor;
+        const uint32_t side = std::max(res / divisor, 1u);
+        if (withTranslucent) translucent.create(side, side, layerCount, "shadow cascades");
+        // Framebuffers of their own, colour only: the opaque round keeps its depth-only targets,
+        // and the blended round tests the depths in its fragment shader (shadow.frag), since
+        // attachments of different sizes cannot share a framebuffer.
+        translucentLayeredFb = {};
+        translucentLayerFbs.clear();
+        if (withTranslucent) {
+            translucentLayeredFb = createFramebuffer();
+            attachTranslucentMaps(translucentLayeredFb.id(), translucent, -1);
+            for (uint32_t l = 0; l < layerCount; ++l) {
+                GlHandle fb = createFramebuffer();
+                attachTranslucentMaps(fb.id(), translucent, int(l));
+                translucentLayerFbs.push_back(std::move(fb));
+            }
+        }
     }
     if (!sdsm) {
         for (GlHandle* h : {&sdsmState, &sdsmBlock, &sdsmMasks, &sdsmCommands,

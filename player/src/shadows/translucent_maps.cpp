@@ -45,7 +45,6 @@ void clearTranslucentMaps(GLuint framebuffer) {
     glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
     glClearNamedFramebufferfv(framebuffer, GL_COLOR, 0, one);
     glClearNamedFramebufferfv(framebuffer, GL_COLOR, 1, one);
-    glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE); // the opaque casters write depth only
 }
 
 void beginTranslucentCasters() {
