@@ -51,7 +51,7 @@ void main() {
     }
 #endif
 #ifdef IBL
-    float sky = iblActive() ? skyVisibility(position, n) : 1.0;
+    vec3 sky = iblActive() ? skyVisibility(position, n) : vec3(1.0);
     if (iblCaptureSky()) { // CaptureBuffer::Sky: the sky irradiance this pixel receives
         outColor = vec4(iblIrradiance(n) * sky, captureAlpha);
         return;

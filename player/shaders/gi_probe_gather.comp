@@ -31,6 +31,16 @@
 // lighting turns that into the cosine-weighted visible fraction around a normal
 // (shaders/include/sky_visibility.glsl). A probe whose own voxel is solid stores c0 = -1: the
 // look-up leaves it out (it sees through a wall both ways and would let the outside's sky in).
+//
+// TRANSMITTANCE (with any of the three; only while some BLEND material casts shadows, issue 43):
+// the panes' transmittance grid beside the occupancy grid (gi_transmit.frag, VOXELIZE) dims and
+// tints what a ray passes: the exact walk multiplies a VPL's flux by the panes between it and the
+// probe; PROBE_DEPTH also stores, per depth texel, the product of the panes its ray crosses before
+// its hit and the distance to the first (RGBA8), which the gather applies to VPLs beyond that
+// distance; SKY_VISIBILITY stores one SH per colour (red, green, blue stacked along z). A run of
+// pane voxels along a ray counts as one surface: a pane one voxel thick crossed at a grazing angle
+// steps through several of its voxels, and light passes it once. Two panes within one voxel keep
+// one's transmittance.
 #include "shared/bindings.h"
 #if defined(SKY_VISIBILITY) || defined(PROBE_DEPTH)
 layout(local_size_x = 64) in; // a work group per probe, its threads sharing the rays
@@ -44,9 +54,17 @@ const int kLanes = 8;
 #endif
 
 layout(binding = 0) uniform usampler3D uVoxels;
+#ifdef TRANSMITTANCE
+layout(binding = 3) uniform sampler3D uTransmitVoxels; // rgb: T, a: 1 where a pane is
+#endif
 #ifdef SKY_VISIBILITY
 layout(rgba16f, binding = 0) writeonly uniform image3D uSky;
 const int kSkyRays = 256;
+#ifdef TRANSMITTANCE
+const int kSkyColours = 3; // one SH per colour, stacked along z
+#else
+const int kSkyColours = 1;
+#endif
 #elif defined(PROBE_DEPTH)
 // The depth maps: probe (x, y, z) is the tile at (x, y) * kTile in layer z, its 16 x 16 texels
 // inside a one-texel border that repeats the octahedral map's folded neighbours, so that the
@@ -55,6 +73,9 @@ layout(r16f, binding = 0) writeonly uniform image2DArray uDepthMaps;
 // Per probe (x + n (y + n z)): 1 if lighting's look-up can read it (kReach).
 layout(std430, binding = PNB_BINDING_GI_PROBE_NEEDED) writeonly buffer ProbeNeeded { uint uNeeded[]; };
 shared uint sNeeded;
+#ifdef TRANSMITTANCE
+layout(rgba8, binding = 1) writeonly uniform image2DArray uTransmitMaps; // the depth maps' layout
+#endif
 #else
 struct Vpl {
     vec4 position; // camera-relative world, w: lit area
@@ -68,6 +89,9 @@ layout(rgba16f, binding = 1) writeonly uniform image3D uSumG;
 layout(rgba16f, binding = 2) writeonly uniform image3D uSumB;
 #ifndef EXACT_VISIBILITY
 layout(binding = 1) uniform sampler2DArray uDepthMaps; // PROBE_DEPTH's, filtered bilinearly
+#ifdef TRANSMITTANCE
+layout(binding = 2) uniform sampler2DArray uTransmitMaps; // PROBE_DEPTH's, filtered bilinearly
+#endif
 layout(std430, binding = PNB_BINDING_GI_PROBE_NEEDED) readonly buffer ProbeNeeded { uint uNeeded[]; };
 #endif
 #endif
@@ -94,18 +118,37 @@ const float kPassThroughVoxels = 1.5;
 const float kReach = 1.5;
 
 #ifdef SKY_VISIBILITY
-shared vec4 sSum[64];
+shared vec4 sSum[kSkyColours][64];
 #elif !defined(PROBE_DEPTH)
 shared vec4 sSums[3][8][8]; // colour, probe, lane
 #endif
+
+// The transmittance maps' distance unit: the grid's diagonal in voxels (no pane: 1).
+float paneScale(int side) { return 1.7321 * float(side); }
 
 vec4 basis(vec3 w) { return vec4(kShY0, -kShY1 * w.y, kShY1 * w.z, -kShY1 * w.x); }
 
 bool solid(ivec3 v) { return texelFetch(uVoxels, v, 0).r != 0u; }
 
+// Multiplies `through` by voxel v's pane when a run of pane voxels begins there (TRANSMITTANCE;
+// `inPane` carries whether the previous voxel was one). Returns whether it began one.
+bool crossPane(ivec3 v, inout vec3 through, inout bool inPane) {
+#ifdef TRANSMITTANCE
+    vec4 g = texelFetch(uTransmitVoxels, v, 0);
+    bool began = g.a > 0.5 && !inPane;
+    if (began) through *= g.rgb;
+    inPane = g.a > 0.5;
+    return began;
+#else
+    return false;
+#endif
+}
+
 // Whether the segment from a to b (in voxel units) crosses a solid voxel other than the ones a and
-// b are in and those it enters within `passAtB` voxels of b (Amanatides & Woo's traversal).
-bool blocked(vec3 a, vec3 b, int side, float passAtB) {
+// b are in and those it enters within `passAtB` voxels of b (Amanatides & Woo's traversal);
+// `through` is multiplied by the panes it crosses where a solid voxel would count (crossPane).
+bool blocked(vec3 a, vec3 b, int side, float passAtB, inout vec3 through) {
+    bool inPane = false;
     vec3 d = b - a;
     ivec3 v = ivec3(floor(a)), end = ivec3(floor(b));
     ivec3 stepDir = ivec3(sign(d));
@@ -131,13 +174,16 @@ bool blocked(vec3 a, vec3 b, int side, float passAtB) {
         if (v == end) return false;
         if (any(lessThan(v, ivec3(0))) || any(greaterThanEqual(v, ivec3(side)))) return false;
         if (solid(v)) return true;
+        crossPane(v, through, inPane);
     }
     return false;
 }
 
 // How far the ray from a (voxel units) along unit w runs before it enters a solid voxel that
-// begins at least `pass` voxels along it; kClear if it leaves the grid first.
-float firstHit(vec3 a, vec3 w, int side, float pass) {
+// begins at least `pass` voxels along it; kClear if it leaves the grid first. `through` is
+// multiplied by the panes it crosses past `pass` before that, `paneAt` is where the first begins.
+float firstHit(vec3 a, vec3 w, int side, float pass, inout vec3 through, inout float paneAt) {
+    bool inPane = false;
     ivec3 v = ivec3(floor(a));
     ivec3 stepDir = ivec3(sign(w));
     vec3 inv = 1.0 / max(abs(w), vec3(1e-12));
@@ -157,6 +203,7 @@ float firstHit(vec3 a, vec3 w, int side, float pass) {
         }
         if (any(lessThan(v, ivec3(0))) || any(greaterThanEqual(v, ivec3(side)))) return kClear;
         if (t >= pass && solid(v)) return t;
+        if (t >= pass && crossPane(v, through, inPane)) paneAt = min(paneAt, t);
     }
     return kClear;
 }
@@ -190,22 +237,33 @@ void main() {
     int n = uCounts.x, side = uCounts.z;
     float voxel = uGrid.w * float(n) / float(side);
     vec3 xv = (vec3(id) + 0.5) * uGrid.w / voxel; // the probe, in voxels from the grid's corner
-    vec4 acc = vec4(0.0);
+    vec4 acc[kSkyColours];
+    for (int c = 0; c < kSkyColours; ++c) acc[c] = vec4(0.0);
     for (int i = int(gl_LocalInvocationID.x); i < kSkyRays; i += 64) {
         float z = 1.0 - (2.0 * float(i) + 1.0) / float(kSkyRays);
         float r = sqrt(max(0.0, 1.0 - z * z)), phi = 2.39996323 * float(i); // golden angle
         vec3 w = vec3(r * cos(phi), z, r * sin(phi));
-        if (!blocked(xv, gridExit(xv, w, side), side, 0.0)) acc += basis(w);
+        vec3 through = vec3(1.0);
+        if (blocked(xv, gridExit(xv, w, side), side, 0.0, through)) continue;
+#ifdef TRANSMITTANCE
+        for (int c = 0; c < kSkyColours; ++c) acc[c] += basis(w) * through[c];
+#else
+        acc[0] += basis(w);
+#endif
     }
-    sSum[gl_LocalInvocationID.x] = acc;
+    uint lane = gl_LocalInvocationID.x;
+    for (int c = 0; c < kSkyColours; ++c) sSum[c][lane] = acc[c];
     barrier();
     for (uint s = 32u; s > 0u; s >>= 1) {
-        if (gl_LocalInvocationID.x < s) sSum[gl_LocalInvocationID.x] += sSum[gl_LocalInvocationID.x + s];
+        if (lane < s)
+            for (int c = 0; c < kSkyColours; ++c) sSum[c][lane] += sSum[c][lane + s];
         barrier();
     }
-    if (gl_LocalInvocationID.x == 0u) {
+    if (lane == 0u) {
         bool inside = solid(ivec3(floor(xv)));
-        imageStore(uSky, id, inside ? vec4(-1.0, 0.0, 0.0, 0.0) : sSum[0] * (4.0 * 3.14159265 / float(kSkyRays)));
+        for (int c = 0; c < kSkyColours; ++c)
+            imageStore(uSky, id + ivec3(0, 0, c * n),
+                       inside ? vec4(-1.0, 0.0, 0.0, 0.0) : sSum[c][0] * (4.0 * 3.14159265 / float(kSkyRays)));
     }
 }
 #elif defined(PROBE_DEPTH)
@@ -236,8 +294,14 @@ void main() {
         if (t.x < 0 || t.x >= kDepthSide) t = ivec2(clamp(t.x, 0, kDepthSide - 1), kDepthSide - 1 - t.y);
         if (t.y < 0 || t.y >= kDepthSide) t = ivec2(kDepthSide - 1 - t.x, clamp(t.y, 0, kDepthSide - 1));
         vec2 e = (vec2(t) + 0.5) / float(kDepthSide) * 2.0 - 1.0;
-        float d = firstHit(xv, octDecode(e), side, max(kPassThroughVoxels, float(side) / float(n)));
-        imageStore(uDepthMaps, ivec3(id.xy * kTile + ivec2(b % kTile, b / kTile), id.z), vec4(d));
+        vec3 through = vec3(1.0);
+        float paneAt = paneScale(side);
+        float d = firstHit(xv, octDecode(e), side, max(kPassThroughVoxels, float(side) / float(n)), through, paneAt);
+        ivec3 at = ivec3(id.xy * kTile + ivec2(b % kTile, b / kTile), id.z);
+        imageStore(uDepthMaps, at, vec4(d));
+#ifdef TRANSMITTANCE
+        imageStore(uTransmitMaps, at, vec4(through, paneAt / paneScale(side)));
+#endif
     }
 }
 #else
@@ -248,6 +312,16 @@ float depthTowards(ivec3 id, vec3 w) {
     vec2 texel = vec2(id.xy * kTile) + 1.0 + (octEncode(w) * 0.5 + 0.5) * float(kDepthSide);
     return textureLod(uDepthMaps, vec3(texel / vec2(textureSize(uDepthMaps, 0).xy), float(id.z)), 0.0).r;
 }
+
+#ifdef TRANSMITTANCE
+// What the probe's ray towards w passes of the panes before a point rv voxels away: their product
+// once the point lies past the first pane (fading over a voxel, as the depth's visibility).
+vec3 transmitTowards(ivec3 id, vec3 w, float rv) {
+    vec2 texel = vec2(id.xy * kTile) + 1.0 + (octEncode(w) * 0.5 + 0.5) * float(kDepthSide);
+    vec4 t = textureLod(uTransmitMaps, vec3(texel / vec2(textureSize(uTransmitMaps, 0).xy), float(id.z)), 0.0);
+    return mix(vec3(1.0), t.rgb, clamp(rv - t.a * paneScale(uCounts.z) + 1.0, 0.0, 1.0));
+}
+#endif
 #endif
 
 void main() {
@@ -276,8 +350,9 @@ void main() {
         // marked wherever in its voxel it lies, or a ray grazing along the surface (a floor's light
         // towards the foot of a wall) would run through its own surface's voxels.
         vec3 yv = (l.position.xyz + l.normal.xyz * (1.5 * voxel) - uGrid.xyz) / voxel;
+        vec3 through = vec3(1.0);
 #ifdef EXACT_VISIBILITY
-        if (blocked(yv, xv, uCounts.z, max(kPassThroughVoxels, float(uCounts.z) / float(n)))) continue;
+        if (blocked(yv, xv, uCounts.z, max(kPassThroughVoxels, float(uCounts.z) / float(n)), through)) continue;
         const float visible = 1.0;
 #else
         // Seen if the probe's depth towards the point a voxel and a half in front of the VPL
@@ -287,10 +362,18 @@ void main() {
         float rv = length(toVpl);
         float visible = clamp(depthTowards(id, toVpl / max(rv, 1e-6)) - rv + 1.0, 0.0, 1.0);
         if (visible <= 0.0) continue;
+#ifdef TRANSMITTANCE
+        through = transmitTowards(id, toVpl / max(rv, 1e-6), rv);
+#endif
 #endif
         float e = visible * cosine * kInvPi / (r2 + l.position.w * (0.5 * kInvPi));
         vec4 y = basis(w);
-        for (int ch = 0; ch < 3; ++ch) acc[ch] += (l.flux[ch] * e) * y;
+#ifdef TRANSMITTANCE
+        vec3 flux = l.flux.rgb * through;
+#else
+        vec3 flux = l.flux.rgb;
+#endif
+        for (int ch = 0; ch < 3; ++ch) acc[ch] += (flux[ch] * e) * y;
     }
     for (int ch = 0; ch < 3; ++ch) sSums[ch][slot][lane] = acc[ch];
     barrier();

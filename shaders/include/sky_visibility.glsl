@@ -22,7 +22,9 @@
 //           behind the surface (which see the other side's sky) weighing next to nothing, never
 //           a probe inside a solid voxel. Sees every surface the grid holds (overhangs, a
 //           room's roof and open side alike), as coarse as the probes; noise-free and stable
-//           while the camera moves.
+//           while the camera moves. Panes (BLEND materials that cast shadows, issue 43) tint
+//           and dim what a probe sees through them: the volume then holds one SH per colour
+//           (red, green, blue stacked along z), and the term is a colour.
 // Their errors against the ray-traced sky light: docs/PLAYER.md "Sky and image-based lighting".
 #ifndef PNB_SKY_VISIBILITY_GLSL
 #define PNB_SKY_VISIBILITY_GLSL
@@ -90,6 +92,7 @@ float volumeTransmittance(vec3 p, vec3 dir) {
 }
 
 layout(binding = 18) uniform sampler3D uGiSkyVisibility; // per probe: L1 SH of the open directions
+                                                         // (per colour, stacked along z, with panes)
 
 // The cosine-weighted fraction of the sky the probes around camera-relative p see around n:
 // the 8 probes around the point half a cell in front of the surface (as the indirect light's
@@ -100,14 +103,16 @@ layout(binding = 18) uniform sampler3D uGiSkyVisibility; // per probe: L1 SH of 
 // 1280x720 frame on llvmpipe, 8 x 3 fetches instead of 3, for no better error.) Measured on the
 // box room's sky (160x90, 64 rays): 0.477 x the best constant's error, DDGI's smoother
 // ((cos + 1) / 2)^2 + 0.2: 0.495.
-float probeSkyVisibility(vec3 p, vec3 n) {
+vec3 probeSkyVisibility(vec3 p, vec3 n) {
     int cells = int(uGiGrid.x);
+    bool colour = textureSize(uGiSkyVisibility, 0).z > cells;
     float spacing = uGiCascade[0].w;
     vec3 g = (p - uGiCascade[0].xyz) / spacing + 0.5 * n - 0.5; // probe i sits at cell centre i + 0.5
     ivec3 base = ivec3(floor(g));
     vec3 f = g - vec3(base);
     vec4 lobe = vec4(0.886226925, -1.023326708 * n.y, 1.023326708 * n.z, -1.023326708 * n.x);
-    float sum = 0.0, total = 0.0;
+    vec3 sum = vec3(0.0);
+    float total = 0.0;
     for (int i = 0; i < 8; ++i) {
         ivec3 o = ivec3(i & 1, (i >> 1) & 1, i >> 2);
         ivec3 at = clamp(base + o, ivec3(0), ivec3(cells - 1));
@@ -117,18 +122,24 @@ float probeSkyVisibility(vec3 p, vec3 n) {
         vec3 toProbe = uGiCascade[0].xyz + (vec3(at) + 0.5) * spacing - p;
         float front = max(dot(toProbe, n) * inversesqrt(max(dot(toProbe, toProbe), 1e-30)), 0.0) + 0.01;
         float w = tri.x * tri.y * tri.z * front;
-        sum += w * dot(v, lobe);
+        vec3 seen = vec3(dot(v, lobe));
+        if (colour) {
+            seen.g = dot(texelFetch(uGiSkyVisibility, at + ivec3(0, 0, cells), 0), lobe);
+            seen.b = dot(texelFetch(uGiSkyVisibility, at + ivec3(0, 0, 2 * cells), 0), lobe);
+        }
+        sum += w * seen;
         total += w;
     }
-    if (total <= 0.0) return 1.0; // every probe around is solid: nothing known blocks it
+    if (total <= 0.0) return vec3(1.0); // every probe around is solid: nothing known blocks it
     return clamp(sum / (total * 3.14159265), 0.0, 1.0);
 }
 #endif
 
-float skyVisibility(vec3 p, vec3 n) {
+// A colour: the probes' term is tinted by the panes they see the sky through; the others are grey.
+vec3 skyVisibility(vec3 p, vec3 n) {
     float radius = uIblParams.z;
     int mode = int(uIblHeightRange.z + 0.5);
-    if (mode == 0 || (radius <= 0.0 && mode < 3)) return 1.0;
+    if (mode == 0 || (radius <= 0.0 && mode < 3)) return vec3(1.0);
 #ifdef GI
     if (mode == 4) return probeSkyVisibility(p, n);
 #endif
@@ -174,7 +185,7 @@ float skyVisibility(vec3 p, vec3 n) {
         }
         open += blocked ? 0.0 : 1.0;
     }
-    return open / float(rays);
+    return vec3(open / float(rays));
 }
 
 #endif

@@ -53,6 +53,18 @@ std::vector<PlayerProgram> playerPrograms() {
     for (const char* define : {"EXACT_VISIBILITY", "PROBE_DEPTH", "SKY_VISIBILITY"})
         out.push_back(compute("gi_probe_gather.comp", {define}));
     out.push_back(compute("gi_vpls.comp", {}));
+    // gi_resources.cpp, with translucent casters (issue 43): every probe variant with
+    // TRANSMITTANCE after its own define, and the panes' program for the RSM and the grid.
+    for (const char* define : {"", "EXACT_VISIBILITY", "PROBE_DEPTH", "SKY_VISIBILITY"}) {
+        std::vector<std::string> defines;
+        if (*define) defines.push_back(define);
+        defines.push_back("TRANSMITTANCE");
+        out.push_back(compute("gi_probe_gather.comp", defines));
+    }
+    out.push_back(graphics("gi_transmit.vert", "gi_transmit.frag"));
+    PlayerProgram voxelize = graphics("gi_transmit.vert", "gi_transmit.frag");
+    voxelize.defines = {"VOXELIZE"};
+    out.push_back(voxelize);
     return out;
 }
 

@@ -9,12 +9,15 @@
 //   prepareGi      places the cascades (player/math/lpv_math), fits the RSM over the outer one
 //                  with the shadow code's light fitting, writes the GiBlock into the ring;
 //   runGiRsm       draws opaque and masked surfaces from the sun with their G-buffer programs
-//                  (pass_gi_rsm.cpp): base colour, normal, depth;
+//                  (pass_gi_rsm.cpp): base colour, normal, depth; then the translucent casters
+//                  (BLEND materials that cast shadows) multiply its base colour by what they
+//                  let through (gi_transmit.frag), so light behind glass bounces tinted;
 //   runGiInject    RSM texels -> light and geometry accumulation buffers (pass_gi_inject.cpp);
 //   finishGi       the camera's G-buffer -> geometry (gi.camera_occlusion), resolve the buffers
 //                  into volumes, propagate (pass_gi_propagate.cpp). Runs after the first deferred
 //                  layer's G-buffer is drawn, or straight away when nothing deferred is visible.
-// Nothing of this exists while GI is off: no program, texture or buffer.
+// Nothing of this exists while GI is off: no program, texture or buffer; nothing of the
+// translucent casters' (GiResources::transmit*) while no BLEND material casts shadows.
 #pragma once
 
 #include <array>
@@ -31,6 +34,7 @@
 
 namespace pnb::player {
 
+struct DrawRef;
 struct FrameContext;
 struct FrameView;
 struct ShadowContext;
@@ -43,6 +47,13 @@ struct GiResources {
     bool floatAtomics = false;
     // RSM: RT0 base colour (sRGB), RT1 normal + material (as the G-buffer), depth.
     GlHandle rsmColor, rsmNormal, rsmDepth, rsmFb;
+    // Translucent casters (issue 43), only while some BLEND material casts shadows: the program
+    // multiplying the RSM's flux by their transmittance; probes: the transmittance grid (RGBA8,
+    // rgb = T, a = 1 where a pane is, beside the occupancy grid), its voxelisation and, with
+    // gi.probe_visibility = depth, each probe's map of what its depth rays pass through (RGBA8,
+    // rgb = T, a = distance to the first pane over the grid's diagonal).
+    bool glass = false;
+    GlHandle transmitRsm, transmitVoxelize, transmitVoxels, probeTransmit;
     std::array<GlHandle, 3> sum;
     // LPV: volumes (cells x cells x cells*cascades), RGBA16F per colour: two propagation
     // buffers beside the sum. Geometry: (cells+1)^3 per cascade.
@@ -74,7 +85,8 @@ struct GiResources {
     double voxelCell = 0;
     uint64_t bytes = 0;
 
-    PlayResult<Done> ensure(const RenderSettings& settings, uint32_t cascades);
+    // `glass`: some translucent caster is drawn (GiFrame::rsmGlassItems or the probes' grid).
+    PlayResult<Done> ensure(const RenderSettings& settings, uint32_t cascades, bool glass);
 };
 
 // This frame's GI state (prepareGi).
@@ -88,6 +100,11 @@ struct GiFrame {
     glm::dvec3 toward{0, 1, 0}; // toward the sun
     std::vector<uint32_t> rsmItems;
     std::vector<size_t> rsmObjectOffsets;
+    // The translucent casters whose bounds reach the RSM (drawn after rsmItems, multiplying), and
+    // whether the scene has any at all (the probes' grid holds them wherever they are).
+    std::vector<uint32_t> rsmGlassItems;
+    std::vector<size_t> rsmGlassOffsets;
+    bool sceneGlass = false;
     size_t rsmFrameOffset = 0, blockOffset = 0;
     float lightScale = 0, geometryScale = 0; // fixed-point units per 1.0
     std::vector<uint64_t> probeInputs; // probes: this frame's inputs (GiResources::probeInputs)
@@ -105,12 +122,19 @@ struct GiContext {
     bool diffuse = false;
 };
 
+// A translucent caster (issue 43): a blended material that casts shadows lets light through
+// tinted, T = base colour x (1 - alpha) (gi_transmit.frag); one that does not lets all through.
+inline bool translucentCaster(const GpuMaterial& m) { return m.translucent() && m.desc.castsShadows; }
+
 // The CPU step, without GL: GI's cascades (or the probes' grid) around the camera, or why GI is
 // off (gi.frame.off); the sun's RSM fit, what it draws, the probes' inputs and the GiBlock.
 void planGi(const FrameView& in, GiContext& gi, const ShadowContext& shadows, GiBlock& block);
 // planGi, then the volumes' storage, the RSM's object blocks and frame block, the GiBlock.
 void prepareGi(FrameContext& ctx, GiContext& gi, const ShadowContext& shadows);                 // gi_setup.cpp
 void runGiRsm(FrameContext& ctx, GiContext& gi);                  // pass_gi_rsm.cpp
+// Draws translucent casters with a gi_transmit program (`refs` sorted by material on the way:
+// the program is told per material whether its base colour unit holds a texture). pass_gi_rsm.cpp
+void drawTranslucentCasters(FrameContext& ctx, std::vector<DrawRef>& refs, GLuint program);
 void runGiInject(FrameContext& ctx, GiContext& gi);               // pass_gi_inject.cpp: RSM texels
 void runGiCameraGeometry(FrameContext& ctx, GiContext& gi);       // pass_gi_inject.cpp: G-buffer surfels
 void runGiResolve(FrameContext& ctx, GiContext& gi, bool cameraGeometry); // pass_gi_inject.cpp: -> volumes

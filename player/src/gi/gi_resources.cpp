@@ -35,14 +35,14 @@ GlHandle volume(uint32_t side, uint32_t depth, const char* label, GLenum format 
 }
 
 // The probes' depth maps: a (16 + 2)^2 tile per probe, probes (x, y) side by side in layer z.
-GlHandle depthAtlas(uint32_t probes) {
+GlHandle depthAtlas(uint32_t probes, GLenum format = GL_R16F, const char* label = "gi probe depth maps") {
     GlHandle t = createTexture(GL_TEXTURE_2D_ARRAY);
     const GLsizei side = GLsizei(probes * 18);
-    glTextureStorage3D(t.id(), 1, GL_R16F, side, side, GLsizei(probes));
+    glTextureStorage3D(t.id(), 1, format, side, side, GLsizei(probes));
     glTextureParameteri(t.id(), GL_TEXTURE_MIN_FILTER, GL_LINEAR);
     glTextureParameteri(t.id(), GL_TEXTURE_MAG_FILTER, GL_LINEAR);
     for (GLenum wrap : {GL_TEXTURE_WRAP_S, GL_TEXTURE_WRAP_T}) glTextureParameteri(t.id(), wrap, GL_CLAMP_TO_EDGE);
-    glObjectLabel(GL_TEXTURE, t.id(), -1, "gi probe depth maps");
+    glObjectLabel(GL_TEXTURE, t.id(), -1, label);
     return t;
 }
 
@@ -75,15 +75,75 @@ PlayResult<Done> compileStages(std::span<const std::pair<GlHandle*, std::pair<co
     return Done{};
 }
 
+// A gi_probe_gather.comp variant: `define` ("" for the gather itself), and TRANSMITTANCE with
+// glass (the panes' transmittance grid along its rays).
+PlayResult<GlHandle> compileProbeProgram(std::string_view define, bool glass) {
+    std::vector<std::string_view> defines;
+    if (!define.empty()) defines.push_back(define);
+    if (glass) defines.push_back("TRANSMITTANCE");
+    return compileEmbeddedCompute("gi_probe_gather.comp", defines);
+}
+
+// The translucent casters' objects (issue 43), or none while no BLEND material casts shadows:
+// the RSM's multiplying program always; probes: the transmittance grid and its voxelisation, and
+// with depth maps each probe's transmittance map. Runs after the sizes are set (a size change
+// dropped the grids). Returns their bytes.
+PlayResult<uint64_t> ensureGlass(GiResources& r, const RenderSettings& s) {
+    const bool probes = r.glass && r.technique == GiTechnique::Probes;
+    const bool depthMaps = probes && s.giProbeVisibility == ProbeVisibility::Depth;
+    if (!r.glass) r.transmitRsm = {};
+    if (!probes) {
+        r.transmitVoxelize = {};
+        r.transmitVoxels = {};
+    }
+    if (!depthMaps) r.probeTransmit = {};
+    if (!r.glass) return uint64_t(0);
+    if (!r.transmitRsm) {
+        auto p = compileEmbeddedProgram("gi_transmit.vert", "gi_transmit.frag");
+        if (!p) return p.error();
+        r.transmitRsm = std::move(*p);
+    }
+    if (probes && !r.transmitVoxelize) {
+        std::string_view define = "VOXELIZE";
+        auto p = compileEmbeddedProgram("gi_transmit.vert", "gi_transmit.frag", std::span(&define, 1));
+        if (!p) return p.error();
+        r.transmitVoxelize = std::move(*p);
+    }
+    const uint64_t side = r.voxelSide, probeCount = uint64_t(r.cells) * r.cells * r.cells;
+    if (probes && !r.transmitVoxels) {
+        r.transmitVoxels = createTexture(GL_TEXTURE_3D);
+        glTextureStorage3D(r.transmitVoxels.id(), 1, GL_RGBA8, GLsizei(side), GLsizei(side), GLsizei(side));
+        glTextureParameteri(r.transmitVoxels.id(), GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+        glTextureParameteri(r.transmitVoxels.id(), GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+        glObjectLabel(GL_TEXTURE, r.transmitVoxels.id(), -1, "gi probe transmittance voxels");
+        r.voxelVersion = ~0ull;
+    }
+    if (depthMaps && !r.probeTransmit) {
+        r.probeTransmit = depthAtlas(r.cells, GL_RGBA8, "gi probe transmittance maps");
+        r.depthCurrent = false;
+    }
+    return (probes ? side * side * side * 4 : 0) + (depthMaps ? probeCount * 18 * 18 * 4 : 0);
+}
+
 } // namespace
 
-PlayResult<Done> GiResources::ensure(const RenderSettings& s, uint32_t cascadeCount) {
+PlayResult<Done> GiResources::ensure(const RenderSettings& s, uint32_t cascadeCount, bool glassWanted) {
     const GiTechnique want = s.giTechnique;
     const uint32_t cellCount = want == GiTechnique::Probes ? s.giProbeCells : s.giCells;
     const bool useFloatAtomics = want == GiTechnique::Lpv && s.giAtomics == GiAtomics::Float;
     if (want != technique) {
         *this = GiResources{}; // the other technique's objects go
         technique = want;
+    }
+    if (glassWanted != glass) {
+        // The grids and what was traced through them are drawn again with (or without) glass;
+        // the sky visibility changes layout (one SH or one per colour).
+        glass = glassWanted;
+        voxelVersion = ~0ull;
+        skyVisibility = {};
+        gatherProbes = {}; // these three are compiled again with(out) TRANSMITTANCE
+        traceDepth = {};
+        traceSky = {};
     }
     const uint32_t rsm = s.giRsmResolution;
     if (want == GiTechnique::Lpv && (useFloatAtomics != floatAtomics || !injectRsm)) {
@@ -101,17 +161,16 @@ PlayResult<Done> GiResources::ensure(const RenderSettings& s, uint32_t cascadeCo
     const bool depthMaps = want == GiTechnique::Probes && s.giProbeVisibility == ProbeVisibility::Depth;
     if (want == GiTechnique::Probes && (!gatherProbes || gatherVisibility != s.giProbeVisibility)) {
         gatherVisibility = s.giProbeVisibility;
-        const std::pair<GlHandle*, std::pair<const char*, std::string_view>> stages[] = {
-            {&gatherProbes, {"gi_probe_gather.comp", depthMaps ? "" : "EXACT_VISIBILITY"}}};
-        if (auto ok = compileStages(stages, false); !ok) return ok.error();
+        auto p = compileProbeProgram(depthMaps ? "" : "EXACT_VISIBILITY", glass);
+        if (!p) return p.error();
+        gatherProbes = std::move(*p);
     }
     if (!depthMaps) {
         probeDepth = {};
         probeNeeded = {};
         traceDepth = {};
     } else if (!traceDepth) {
-        std::string_view define = "PROBE_DEPTH";
-        auto p = compileEmbeddedCompute("gi_probe_gather.comp", std::span(&define, 1));
+        auto p = compileProbeProgram("PROBE_DEPTH", glass);
         if (!p) return p.error();
         traceDepth = std::move(*p);
         depthCurrent = false;
@@ -132,8 +191,7 @@ PlayResult<Done> GiResources::ensure(const RenderSettings& s, uint32_t cascadeCo
         skyVisibility = {};
         traceSky = {};
     } else if (!traceSky) {
-        std::string_view define = "SKY_VISIBILITY";
-        auto p = compileEmbeddedCompute("gi_probe_gather.comp", std::span(&define, 1));
+        auto p = compileProbeProgram("SKY_VISIBILITY", glass);
         if (!p) return p.error();
         traceSky = std::move(*p);
     }
@@ -161,6 +219,7 @@ PlayResult<Done> GiResources::ensure(const RenderSettings& s, uint32_t cascadeCo
         skyVisibility = {};
         probeDepth = {};
         probeNeeded = {};
+        probeTransmit = {};
         if (want == GiTechnique::Lpv) {
             for (int ch = 0; ch < 3; ++ch) {
                 source[size_t(ch)] = volume(cells, depth, names[0][ch]);
@@ -181,6 +240,7 @@ PlayResult<Done> GiResources::ensure(const RenderSettings& s, uint32_t cascadeCo
         if (s.giVoxels != voxelSide) {
             voxelSide = s.giVoxels;
             voxels = voxelGrid(voxelSide);
+            transmitVoxels = {};
             voxelVersion = ~0ull;
         }
         if (s.giVpls != vplSide) {
@@ -188,7 +248,9 @@ PlayResult<Done> GiResources::ensure(const RenderSettings& s, uint32_t cascadeCo
             vpls = storage(uint64_t(vplSide) * vplSide * 48, "gi probe vpls");
         }
         if (sky && !skyVisibility) {
-            skyVisibility = volume(cells, cells, "gi probe sky visibility");
+            // With glass, one L1 SH per colour (red, green, blue stacked along z): what a probe
+            // sees of the sky through panes is tinted. sky_visibility.glsl tells by the depth.
+            skyVisibility = volume(cells, glass ? 3 * cells : cells, "gi probe sky visibility");
             skyCurrent = false;
         }
         if (depthMaps && !probeDepth) {
@@ -196,13 +258,18 @@ PlayResult<Done> GiResources::ensure(const RenderSettings& s, uint32_t cascadeCo
             probeNeeded = storage(cellsTotal * 4, "gi probes needed");
             depthCurrent = false;
         }
-        bytes = rsmBytes + cellsTotal * (sky ? 4 : 3) * 8 + (depthMaps ? cellsTotal * (18 * 18 * 2 + 4) : 0) +
-                uint64_t(voxelSide) * voxelSide * voxelSide + uint64_t(vplSide) * vplSide * 48;
+        auto glassBytes = ensureGlass(*this, s);
+        if (!glassBytes) return glassBytes.error();
+        const uint64_t skyVolumes = sky ? (glass ? 3 : 1) : 0;
+        bytes = rsmBytes + cellsTotal * (3 + skyVolumes) * 8 + (depthMaps ? cellsTotal * (18 * 18 * 2 + 4) : 0) +
+                uint64_t(voxelSide) * voxelSide * voxelSide + uint64_t(vplSide) * vplSide * 48 + *glassBytes;
         return Done{};
     }
+    auto glassBytes = ensureGlass(*this, s);
+    if (!glassBytes) return glassBytes.error();
     const uint64_t cornersTotal = uint64_t(cells + 1) * (cells + 1) * (cells + 1) * cascades;
     bytes = rsmBytes + cellsTotal * (9 * 8 + 2 * 4) + cornersTotal * 8 + cellsTotal * 12 * 4 +
-            cornersTotal * 2 * 4 * 4;
+            cornersTotal * 2 * 4 * 4 + *glassBytes;
     return Done{};
 }
 

@@ -140,15 +140,19 @@ void fitGiRsm(const FrameView& in, GiFrame& f, const ShadowContext& shadows) {
     f.rsm = fitLightRectangle(rotation, centre - 0.5 * side, centre + 0.5 * side, llo.z, sceneBox, res);
     f.rsmTexelArea = (side / res) * (side / res);
 
-    // What the RSM draws: opaque and masked items whose bounds reach its rectangle.
+    // What the RSM draws: opaque and masked items whose bounds reach its rectangle, then the
+    // translucent casters there (multiplying the flux behind them).
     const GpuScene& scene = in.scene;
     for (uint32_t i = 0; i < scene.items.size(); ++i) {
         const DrawItem& item = scene.items[i];
-        if (scene.materials[item.material].rsmProgram == kNone) continue;
+        const GpuMaterial& material = scene.materials[item.material];
+        const bool glass = scene.giPrograms && translucentCaster(material);
+        if (material.rsmProgram == kNone && !glass) continue;
+        f.sceneGlass |= glass;
         auto [ilo, ihi] = lightBounds(rotation, item.boundsMin, item.boundsMax, cam);
         glm::dvec2 rlo = centre - 0.5 * side, rhi = centre + 0.5 * side;
         if (!in.warmUp && (ihi.x < rlo.x || ilo.x > rhi.x || ihi.y < rlo.y || ilo.y > rhi.y)) continue;
-        f.rsmItems.push_back(i);
+        (glass ? f.rsmGlassItems : f.rsmItems).push_back(i);
     }
 }
 
@@ -166,6 +170,7 @@ void listProbeInputs(const FrameView& in, GiFrame& f) {
                                                uint64_t(s.giProbeVisibility), in.scene.materialsVersion,
                                                in.scene.texelsVersion});
     for (uint32_t i : f.rsmItems) f.probeInputs.push_back(drawLevel(in.scene, in.lod, i));
+    for (uint32_t i : f.rsmGlassItems) f.probeInputs.push_back(drawLevel(in.scene, in.lod, i));
 }
 
 } // namespace
@@ -178,6 +183,9 @@ void planGi(const FrameView& in, GiContext& gi, const ShadowContext& shadows, Gi
     f.cascades.clear();
     f.rsmItems.clear();
     f.rsmObjectOffsets.clear();
+    f.rsmGlassItems.clear();
+    f.rsmGlassOffsets.clear();
+    f.sceneGlass = false;
     f.probeInputs.clear();
     block = GiBlock{};
     const int sun = giLight(scene);
@@ -213,7 +221,7 @@ void prepareGi(FrameContext& ctx, GiContext& gi, const ShadowContext& shadows) {
     }
     const RenderSettings& s = ctx.settings;
     const uint64_t giBytes = gi.resources.bytes; // checked only when storage was made
-    auto ok = gi.resources.ensure(s, uint32_t(f.cascades.size()));
+    auto ok = gi.resources.ensure(s, uint32_t(f.cascades.size()), f.sceneGlass);
     if (ok && gi.resources.bytes != giBytes) ok = checkGlAllocation("GI's volumes", gi.resources.bytes);
     if (!ok) {
         std::fprintf(stderr, "pnb-play: GI off: %s\n", ok.error().message.c_str());
@@ -227,6 +235,8 @@ void prepareGi(FrameContext& ctx, GiContext& gi, const ShadowContext& shadows) {
     const glm::dvec3 cam = ctx.view.position;
     const glm::dmat4 toCamera = glm::translate(glm::dmat4(1.0), -cam);
     for (uint32_t i : f.rsmItems) f.rsmObjectOffsets.push_back(pushObjectBlock(scene, scene.items[i], toCamera, ctx.ring, 0.0f));
+    for (uint32_t i : f.rsmGlassItems)
+        f.rsmGlassOffsets.push_back(pushObjectBlock(scene, scene.items[i], toCamera, ctx.ring, 0.0f));
     f.probesCurrent = s.giTechnique == GiTechnique::Probes && s.giProbeCache && !ctx.warmUp &&
                       f.probeInputs == gi.resources.probeInputs;
     const uint32_t res = s.giRsmResolution;

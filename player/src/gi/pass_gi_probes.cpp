@@ -10,6 +10,10 @@
 // levels, the RSM items' levels of detail). With ibl.visibility = probes, (4) every probe traces
 // rays through the grid for the sky it sees (gi_probe_gather.comp, SKY_VISIBILITY), again only
 // when the grid was redrawn: it depends on the geometry alone, not on the sun.
+// With translucent casters (issue 43: BLEND materials that cast shadows), the panes are drawn
+// into a transmittance grid beside the occupancy grid (gi_transmit.frag, VOXELIZE; they stay out
+// of the occupancy grid), and every ray of (3) and (4) is dimmed and tinted by the panes it
+// crosses (gi_probe_gather.comp, TRANSMITTANCE).
 #include <glm/gtc/matrix_transform.hpp>
 #include <glm/gtc/type_ptr.hpp>
 
@@ -34,6 +38,18 @@ glm::dmat4 axisView(int axis, double extent) {
     return m;
 }
 
+// Every translucent caster, its object block relative to the grid's corner.
+std::vector<DrawRef> glassDrawRefs(FrameContext& ctx, const glm::dmat4& toGrid) {
+    const GpuScene& scene = ctx.scene;
+    std::vector<DrawRef> refs;
+    for (uint32_t i = 0; i < scene.items.size(); ++i) {
+        if (!translucentCaster(scene.materials[scene.items[i].material])) continue;
+        refs.push_back({i, 0.0f, pushObjectBlock(scene, scene.items[i], toGrid, ctx.ring, 0.0f),
+                        drawLevel(scene, ctx.lod, i)});
+    }
+    return refs;
+}
+
 void voxelizeScene(FrameContext& ctx, GiContext& gi, const LpvCascade& box) {
     GiResources& r = gi.resources;
     const GpuScene& scene = ctx.scene;
@@ -44,6 +60,14 @@ void voxelizeScene(FrameContext& ctx, GiContext& gi, const LpvCascade& box) {
     const glm::dmat4 toGrid = glm::translate(glm::dmat4(1.0), -box.origin);
     const std::vector<DrawRef> refs = opaqueDrawRefs(ctx, toGrid); // glass lets light through
     const GLsizei side = GLsizei(r.voxelSide);
+    std::vector<DrawRef> glass;
+    if (r.transmitVoxels) {
+        const float clear[4] = {1, 1, 1, 0}; // a = 0: no pane
+        glClearTexImage(r.transmitVoxels.id(), 0, GL_RGBA, GL_FLOAT, clear);
+        glass = glassDrawRefs(ctx, toGrid);
+        glBindImageTexture(1, r.transmitVoxels.id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA8);
+        glProgramUniform1i(r.transmitVoxelize.id(), 1, GLint(side));
+    }
     glNamedFramebufferParameteri(r.voxelFb.id(), GL_FRAMEBUFFER_DEFAULT_WIDTH, side);
     glNamedFramebufferParameteri(r.voxelFb.id(), GL_FRAMEBUFFER_DEFAULT_HEIGHT, side);
     glBindFramebuffer(GL_FRAMEBUFFER, r.voxelFb.id());
@@ -62,6 +86,9 @@ void voxelizeScene(FrameContext& ctx, GiContext& gi, const LpvCascade& box) {
         glBindBufferRange(GL_UNIFORM_BUFFER, 0, ctx.ring.buffer(), GLintptr(offset), sizeof fb);
         glProgramUniform1i(p, 0, axis);
         drawItems(ctx, refs, p, &GpuMaterial::program, true);
+        if (glass.empty()) continue;
+        glProgramUniform1i(r.transmitVoxelize.id(), 0, axis);
+        drawTranslucentCasters(ctx, glass, r.transmitVoxelize.id());
     }
     glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT);
     glBindBufferRange(GL_UNIFORM_BUFFER, 0, ctx.ring.buffer(), GLintptr(ctx.frameBlockOffset), sizeof(FrameBlock));
@@ -81,11 +108,13 @@ bool traceThroughGrid(FrameContext& ctx, GiContext& gi, GLuint program, const gl
     glProgramUniform4f(program, 0, origin.x, origin.y, origin.z, spacing);
     glProgramUniform3i(program, 1, GLint(r.cells), 0, GLint(r.voxelSide));
     glBindTextureUnit(0, r.voxels.id());
+    if (r.transmitVoxels) glBindTextureUnit(3, r.transmitVoxels.id());
     glUseProgram(program);
     glDispatchCompute(r.cells, r.cells, r.cells);
     glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_SHADER_STORAGE_BARRIER_BIT |
                     GL_TEXTURE_FETCH_BARRIER_BIT);
     glBindTextureUnit(0, 0);
+    glBindTextureUnit(3, 0);
     glUseProgram(0);
     return !ctx.warmUp;
 }
@@ -101,6 +130,7 @@ void traceSkyVisibility(FrameContext& ctx, GiContext& gi, const glm::vec3& origi
 void traceProbeDepths(FrameContext& ctx, GiContext& gi, const glm::vec3& origin, float spacing) {
     GiResources& r = gi.resources;
     glBindImageTexture(0, r.probeDepth.id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_R16F);
+    if (r.probeTransmit) glBindImageTexture(1, r.probeTransmit.id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA8);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, PNB_BINDING_GI_PROBE_NEEDED, r.probeNeeded.id());
     r.depthCurrent = traceThroughGrid(ctx, gi, r.traceDepth.id(), origin, spacing);
 }
@@ -146,12 +176,14 @@ void runGiProbes(FrameContext& ctx, GiContext& gi) {
         glBindTextureUnit(1, r.probeDepth.id());
         glBindBufferBase(GL_SHADER_STORAGE_BUFFER, PNB_BINDING_GI_PROBE_NEEDED, r.probeNeeded.id());
     }
+    if (r.probeTransmit) glBindTextureUnit(2, r.probeTransmit.id());
+    if (r.transmitVoxels) glBindTextureUnit(3, r.transmitVoxels.id());
     for (GLuint ch = 0; ch < 3; ++ch)
         glBindImageTexture(ch, r.sum[ch].id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA16F);
     glUseProgram(gather);
     glDispatchCompute((r.cells + 7) / 8, r.cells, r.cells); // 8 probes along x a group
     glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT);
-    for (GLuint unit = 0; unit < 3; ++unit) glBindTextureUnit(unit, 0); // voxels, depth maps
+    for (GLuint unit = 0; unit < 4; ++unit) glBindTextureUnit(unit, 0); // voxels, depth maps, panes
     glUseProgram(0);
     r.probeInputs = ctx.warmUp ? std::vector<uint64_t>{} : f.probeInputs;
 }
