@@ -6,6 +6,7 @@
 #include "pnb/reader.h"
 #include "pnb/scene.h"
 #include "pnb_reference/local_light.h"
+#include "pnb_reference/shadow_color_metrics.h"
 #include "pnb_reference/shadow_metrics.h"
 #include "pnb_reference/shadow_tracer.h"
 
@@ -16,8 +17,32 @@ struct ShadowQuality::Impl {
     std::optional<reference::LocalLight> local; // the judged point or spot light, if not the sun
     // The last measured frame, for the follow-up's flicker and lastFrame().
     std::vector<float> previousPlayer, previousTruth;
+    // With translucent casters (issue 43): the same frame in colour, as compared.
+    std::vector<glm::vec3> playerColor, truthColor;
     uint32_t width = 0, height = 0;
 };
+
+namespace {
+
+float meanOf(glm::vec3 v) { return (v.r + v.g + v.b) / 3.0f; }
+
+// The metrics' columns from the colour comparison (light through glass): the same names as the
+// grey comparison's, with the weighted figures as the mean over the channels, and how many
+// pixels the truth sees through glass.
+void addColorColumns(const reference::ShadowColorMetrics& m, std::vector<std::pair<std::string, double>>& out) {
+    auto mean3 = [](const glm::dvec3& v) { return (v.r + v.g + v.b) / 3.0; };
+    out.emplace_back("pixels", double(m.pixels));
+    out.emplace_back("misclassified_pct", m.misclassifiedPercent);
+    out.emplace_back("false_lit_pct", m.falseLitPercent);
+    out.emplace_back("false_shadow_pct", m.falseShadowPercent);
+    out.emplace_back("mean_abs_error", m.meanAbsError);
+    out.emplace_back("weighted_error_pct", mean3(m.weightedErrorPercent));
+    out.emplace_back("weighted_false_lit_pct", mean3(m.weightedFalseLitPercent));
+    out.emplace_back("weighted_false_shadow_pct", mean3(m.weightedFalseShadowPercent));
+    out.emplace_back("translucent_pixels", double(m.translucentPixels));
+}
+
+} // namespace
 
 ShadowQuality::~ShadowQuality() = default;
 
@@ -50,6 +75,16 @@ PlayResult<std::vector<std::pair<std::string, double>>> ShadowQuality::measure(R
     auto shadow = renderer.capture(CaptureBuffer::Shadow);
     if (!shadow) return shadow.error();
     size_t pixels = size_t(position->width) * position->height;
+    // Glass in the scene (the truth's translucent casters): judged in colour, the player's
+    // colour capture against the colour truth (whatever shadows.translucent says: with it off,
+    // the player's grey verdict meets the truth's tinted one).
+    const bool color = mImpl->tracer->stats().translucentCasters > 0;
+    std::optional<CapturedImage> shadowColor;
+    if (color) {
+        auto c = renderer.capture(CaptureBuffer::ShadowColor);
+        if (!c) return c.error();
+        shadowColor = std::move(*c);
+    }
 
     // Camera-relative positions to the tracer's origin, in double.
     glm::dvec3 shift = renderer.lastView().position - mImpl->tracer->origin();
@@ -67,14 +102,32 @@ PlayResult<std::vector<std::pair<std::string, double>>> ShadowQuality::measure(R
     // The eye-relative light, for a judged point or spot light.
     const glm::dvec3 eye = renderer.lastView().position;
     const glm::dvec3 lightFromEye = mImpl->local ? mImpl->local->position - eye : glm::dvec3(0.0);
-    if (mImpl->local)
+    std::vector<glm::vec3> playerColor, truthColor;
+    if (color) {
+        playerColor.resize(pixels);
+        truthColor.resize(pixels);
+        for (size_t i = 0; i < pixels; ++i) {
+            const float* c = &shadowColor->f32[i * 4];
+            playerColor[i] = {c[0], c[1], c[2]};
+        }
+        if (mImpl->local)
+            mImpl->tracer->colorVisibilityToPoint(points, glm::vec3(lightFromEye + shift), truthColor, shift);
+        else
+            mImpl->tracer->colorVisibility(points, towardLight, truthColor, shift);
+        // The grey figures (flicker, the texel ratios' pixels) from the same colours: their means.
+        for (size_t i = 0; i < pixels; ++i) truth[i] = meanOf(truthColor[i]);
+    } else if (mImpl->local) {
         mImpl->tracer->visibilityToPoint(points, glm::vec3(lightFromEye + shift), truth, shift);
-    else
+    } else {
         mImpl->tracer->visibility(points, towardLight, truth, shift);
+    }
     // Surfaces facing away (or, for a local light, out of its reach) are dark whatever the map
     // says: the player leaves them out, and so does the comparison.
     for (size_t i = 0; i < pixels; ++i)
-        if (player[i] < 0) truth[i] = std::numeric_limits<float>::quiet_NaN();
+        if (player[i] < 0) {
+            truth[i] = std::numeric_limits<float>::quiet_NaN();
+            if (color) truthColor[i] = glm::vec3(std::numeric_limits<float>::quiet_NaN());
+        }
 
     std::vector<std::pair<std::string, double>> out;
     if (followUp) {
@@ -99,35 +152,48 @@ PlayResult<std::vector<std::pair<std::string, double>>> ShadowQuality::measure(R
     // none (forward surfaces).
     const std::vector<glm::vec3> fallback =
         reference::normalsFromPositions(cameraRelative, int(position->width), int(position->height));
-    reference::ShadowErrorMetrics m;
-    if (mImpl->local) {
-        const reference::LocalLightWeights w =
-            reference::localLightWeights(*mImpl->local, lightFromEye, cameraRelative, normals, fallback);
-        m = reference::compareLocalShadow(player, truth, w);
+    if (color) {
+        const reference::ShadowColorMetrics m =
+            mImpl->local ? reference::compareLocalShadowColor(
+                               playerColor, truthColor,
+                               reference::localLightWeights(*mImpl->local, lightFromEye, cameraRelative, normals, fallback))
+                         : reference::compareShadowColor(playerColor, truthColor,
+                                                         reference::lambertWeights(normals, fallback, towardLight));
+        addColorColumns(m, out);
     } else {
-        m = reference::compareShadow(player, truth, reference::lambertWeights(normals, fallback, towardLight));
+        reference::ShadowErrorMetrics m;
+        if (mImpl->local) {
+            const reference::LocalLightWeights w =
+                reference::localLightWeights(*mImpl->local, lightFromEye, cameraRelative, normals, fallback);
+            m = reference::compareLocalShadow(player, truth, w);
+        } else {
+            m = reference::compareShadow(player, truth, reference::lambertWeights(normals, fallback, towardLight));
+        }
+        out.emplace_back("pixels", double(m.pixels));
+        out.emplace_back("misclassified_pct", m.misclassifiedPercent);
+        out.emplace_back("false_lit_pct", m.falseLitPercent);
+        out.emplace_back("false_shadow_pct", m.falseShadowPercent);
+        out.emplace_back("mean_abs_error", m.meanAbsError);
+        out.emplace_back("weighted_error_pct", m.weightedErrorPercent);
+        out.emplace_back("weighted_false_lit_pct", m.weightedFalseLitPercent);
+        out.emplace_back("weighted_false_shadow_pct", m.weightedFalseShadowPercent);
     }
-    out.emplace_back("pixels", double(m.pixels));
-    out.emplace_back("misclassified_pct", m.misclassifiedPercent);
-    out.emplace_back("false_lit_pct", m.falseLitPercent);
-    out.emplace_back("false_shadow_pct", m.falseShadowPercent);
-    out.emplace_back("mean_abs_error", m.meanAbsError);
-    out.emplace_back("weighted_error_pct", m.weightedErrorPercent);
-    out.emplace_back("weighted_false_lit_pct", m.weightedFalseLitPercent);
-    out.emplace_back("weighted_false_shadow_pct", m.weightedFalseShadowPercent);
     for (const reference::RatioStats& r : reference::texelRatioByCascade(cascade, ratio)) {
         out.emplace_back("texel_ratio_median_c" + std::to_string(r.cascade), r.median);
         out.emplace_back("texel_ratio_p95_c" + std::to_string(r.cascade), r.p95);
     }
     mImpl->previousPlayer = std::move(player);
     mImpl->previousTruth = std::move(truth);
+    mImpl->playerColor = std::move(playerColor);
+    mImpl->truthColor = std::move(truthColor);
     mImpl->width = position->width;
     mImpl->height = position->height;
     return out;
 }
 
 ShadowQuality::Frame ShadowQuality::lastFrame() const {
-    return {mImpl->width, mImpl->height, mImpl->previousPlayer, mImpl->previousTruth};
+    return {mImpl->width, mImpl->height, mImpl->previousPlayer, mImpl->previousTruth, mImpl->playerColor,
+            mImpl->truthColor};
 }
 
 } // namespace pnb::player

@@ -38,10 +38,13 @@ public:
     // The last measured frame (not a follow-up) exactly as compared: per pixel the player's
     // shadow factor and the truth's visibility (NaN where the player left the pixel out), rows
     // bottom-up as captured. Classify with reference::classifyShadow, as the metric does. Empty
-    // (0 x 0) before the first measurement; valid until the next one.
+    // (0 x 0) before the first measurement; valid until the next one. With translucent casters
+    // in the scene the metric compares colours (playerColor, truthColor, classified with
+    // reference::classifyShadowColor; player and truth are then their means); else those are empty.
     struct Frame {
         uint32_t width = 0, height = 0;
         std::span<const float> player, truth;
+        std::span<const glm::vec3> playerColor, truthColor;
     };
     Frame lastFrame() const;
 

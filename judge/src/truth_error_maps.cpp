@@ -6,6 +6,7 @@
 #include <cstdio>
 
 #include "pnb_reference/indirect_metrics.h"
+#include "pnb_reference/shadow_color_metrics.h"
 #include "pnb_reference/shadow_metrics.h"
 
 namespace pnb::player {
@@ -20,43 +21,87 @@ Rgb8 falseShadowColour(double absError) {
     return {0, toByte(0.35 * v), v};
 }
 
+namespace {
+
+// A colour frame's pixel (light through glass) as the grey classes, or AgreeGlass; `d` the
+// largest channel's |player - truth|.
+enum class PixelClass { Unclassified, AgreeLit, AgreeShadow, AgreeGlass, FalseLit, FalseShadow };
+
+PixelClass classifyPixel(const ShadowQuality::Frame& frame, size_t i, double& d) {
+    if (frame.playerColor.empty()) {
+        const float p = frame.player[i], t = frame.truth[i];
+        d = std::fabs(std::clamp(double(p), 0.0, 1.0) - double(t));
+        switch (reference::classifyShadow(p, t)) {
+        case reference::ShadowClass::Unclassified: return PixelClass::Unclassified;
+        case reference::ShadowClass::AgreeLit: return PixelClass::AgreeLit;
+        case reference::ShadowClass::AgreeShadow: return PixelClass::AgreeShadow;
+        case reference::ShadowClass::FalseLit: return PixelClass::FalseLit;
+        case reference::ShadowClass::FalseShadow: return PixelClass::FalseShadow;
+        }
+        return PixelClass::Unclassified;
+    }
+    const glm::vec3 p = frame.playerColor[i], t = frame.truthColor[i];
+    d = 0;
+    for (int k = 0; k < 3; ++k) d = std::max(d, std::fabs(std::clamp(double(p[k]), 0.0, 1.0) - double(t[k])));
+    switch (reference::classifyShadowColor(p, t)) {
+    case reference::ShadowColorClass::Unclassified: return PixelClass::Unclassified;
+    case reference::ShadowColorClass::AgreeLit: return PixelClass::AgreeLit;
+    case reference::ShadowColorClass::AgreeShadow: return PixelClass::AgreeShadow;
+    case reference::ShadowColorClass::AgreeTranslucent: return PixelClass::AgreeGlass;
+    case reference::ShadowColorClass::FalseLit: return PixelClass::FalseLit;
+    case reference::ShadowColorClass::FalseShadow: return PixelClass::FalseShadow;
+    }
+    return PixelClass::Unclassified;
+}
+
+} // namespace
+
 ErrorMap shadowErrorMap(const ShadowQuality::Frame& frame) {
     const size_t pixels = size_t(frame.width) * frame.height;
     if (pixels == 0 || frame.player.size() != pixels || frame.truth.size() != pixels) return {};
+    const bool color = !frame.playerColor.empty();
+    if (color && (frame.playerColor.size() != pixels || frame.truthColor.size() != pixels)) return {};
     ErrorMap m = blankErrorMap("shadow", frame.width, frame.height);
     uint64_t classified = 0, falseLit = 0, falseShadow = 0;
     for (size_t i = 0; i < pixels; ++i) {
-        const float p = frame.player[i], t = frame.truth[i];
-        const double d = std::fabs(std::clamp(double(p), 0.0, 1.0) - double(t));
-        const reference::ShadowClass k = reference::classifyShadow(p, t);
+        double d = 0;
+        const PixelClass k = classifyPixel(frame, i, d);
         Rgb8 c = kMapOutside;
         switch (k) {
-        case reference::ShadowClass::Unclassified: break;
-        case reference::ShadowClass::AgreeLit: c = kShadowAgreeLit; break;
-        case reference::ShadowClass::AgreeShadow: c = kShadowAgreeDark; break;
-        case reference::ShadowClass::FalseLit:
+        case PixelClass::Unclassified: break;
+        case PixelClass::AgreeLit: c = kShadowAgreeLit; break;
+        case PixelClass::AgreeShadow: c = kShadowAgreeDark; break;
+        case PixelClass::AgreeGlass: c = kShadowAgreeGlass; break;
+        case PixelClass::FalseLit:
             c = falseLitColour(d);
             ++falseLit;
             break;
-        case reference::ShadowClass::FalseShadow:
+        case PixelClass::FalseShadow:
             c = falseShadowColour(d);
             ++falseShadow;
             break;
         }
-        classified += k != reference::ShadowClass::Unclassified;
+        classified += k != PixelClass::Unclassified;
         putCapturedPixel(m, i, c);
     }
     char threshold[16];
     std::snprintf(threshold, sizeof threshold, "%g", double(reference::kLitThreshold));
-    m.encoding = std::string("per pixel, the sun visibility the player applied against the ray-traced truth, "
-                             "classified as misclassified_pct counts it (lit when >= ") + threshold +
-                 "); red + blue pixels over all but the dark grey ones = misclassified_pct";
+    m.encoding = color ? std::string("per pixel, the light of each colour the player let through (glass in the "
+                                     "scene) against the ray-traced truth's, classified as misclassified_pct "
+                                     "counts it (per channel, the nearest of blocked, the truth's transmittance "
+                                     "and unblocked); red + blue pixels over all but the dark grey ones = "
+                                     "misclassified_pct")
+                       : std::string("per pixel, the sun visibility the player applied against the ray-traced "
+                                     "truth, classified as misclassified_pct counts it (lit when >= ") +
+                             threshold + "); red + blue pixels over all but the dark grey ones = misclassified_pct";
     m.legend = {{colourName(kMapOutside), "not classified: no geometry, or a surface facing away from the sun"},
                 {colourName(kShadowAgreeLit), "correct: lit in both"},
                 {colourName(kShadowAgreeDark), "correct: shadowed in both"},
                 {"rgb(v, 0, 0) red", "false lit (player lit, truth shadowed: a light leak)"},
                 {"rgb(0, 0.35 v, v) blue", "false shadow (player shadowed, truth lit: acne, overdarkening)"},
-                {"v", "64 + 191 * |clamp(player, 0, 1) - truth| (160..255 for a misclassified pixel)"}};
+                {"v", "64 + 191 * |clamp(player, 0, 1) - truth| (160..255 for a misclassified pixel; "
+                      "the largest channel's with glass)"}};
+    if (color) m.legend.insert(m.legend.begin() + 3, {colourName(kShadowAgreeGlass), "correct: through glass in both"});
     m.stats = {{"classified_pixels", double(classified)},
                {"false_lit_pixels", double(falseLit)},
                {"false_shadow_pixels", double(falseShadow)},

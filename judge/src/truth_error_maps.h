@@ -15,6 +15,7 @@ namespace pnb::player {
 // Shadow map colours (all greys are exactly grey; misclassified pixels never are).
 inline constexpr Rgb8 kShadowAgreeLit{210, 210, 210}; // lit in both
 inline constexpr Rgb8 kShadowAgreeDark{150, 150, 150}; // shadowed in both
+inline constexpr Rgb8 kShadowAgreeGlass{190, 170, 120}; // through glass in both (issue 43)
 // False lit (player lit, truth shadowed): (v, 0, 0); false shadow (player shadowed, truth lit):
 // (0, v * 0.35, v); v = 64 + 191 * min(|clamp(player, 0, 1) - truth|, 1) (160..255 for a binary truth).
 Rgb8 falseLitColour(double absError);

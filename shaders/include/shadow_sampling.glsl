@@ -91,7 +91,7 @@ float pcss(int c, vec3 s, vec3 p, float texelWorld, int taps) {
 
 #ifdef TRANSLUCENT_SHADOWS
 // The companions of the cascade array (player/src/shadows/shadow_resources.cpp): transmittance
-// (RGBA8, the product of the panes' T) and the nearest pane's depth (R32F), both 1 where none.
+// (sRGB-encoded RGBA8, read linear: the product of the panes' T) and the nearest pane's depth (R32F), both 1 where none.
 layout(binding = 20) uniform sampler2DArray uShadowTransmittance;
 layout(binding = 21) uniform sampler2DArray uShadowTranslucentDepth;
 

@@ -12,7 +12,7 @@
 // Lighting then reads the array through two views: a comparison sampler (PCF) and raw depth
 // (PCSS blocker search).
 // Blended casters (issue 43, only when the scene has some and shadows.translucent is on) give the
-// array two colour companions on the same framebuffers: transmittance (RGBA8, cleared to 1,
+// array two colour companions on the same framebuffers: transmittance (sRGB8_A8, cleared to 1,
 // blended dst x src) and the nearest pane's depth (R32F, cleared to 1, GL_MIN). The pass draws
 // the opaque casters first, then the blended ones depth-tested against them without writing
 // depth, so glass behind an opaque caster adds nothing.
@@ -48,7 +48,7 @@ struct ShadowCaster {
 // The colour companions of a depth map (the cascade array or the local atlas): 2D arrays of the
 // map's size and layers, colour attachments 0 and 1 of its framebuffers.
 struct TranslucentMaps {
-    GlHandle transmittance; // RGBA8: product of the panes' T = baseColor.rgb x (1 - alpha)
+    GlHandle transmittance; // sRGB8_A8 (linear reads): product of the panes' T = baseColor.rgb x (1 - alpha)
     GlHandle nearestDepth;  // R32F: the nearest pane's depth (1 - z where the map is reversed-Z)
     uint64_t bytes = 0;
     explicit operator bool() const { return bool(transmittance); }
