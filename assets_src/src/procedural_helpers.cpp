@@ -162,6 +162,15 @@ uint64_t trianglesFor(const std::vector<Box>& boxes, float cellMeters) {
 }
 
 // A mesh of closed boxes: walls (side faces) in one primitive, roofs and floors in another.
+Mesh solidBoxesMesh(std::string name, uint32_t material, const std::vector<Box>& boxes) {
+    Mesh m;
+    m.name = std::move(name);
+    m.primitives.resize(1);
+    m.primitives[0].material = material;
+    for (const Box& b : boxes) addBox(m.primitives[0], m.primitives[0], b.lo, b.hi, {}, false);
+    return m;
+}
+
 Mesh boxesMesh(std::string name, const std::vector<Box>& boxes, float cellMeters,
                uint32_t wallMaterial, uint32_t roofMaterial) {
     Mesh m;

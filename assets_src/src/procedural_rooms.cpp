@@ -223,15 +223,7 @@ gltf::Document buildLampRoom() {
         room.primitives.push_back(std::move(p));
     }
 
-    auto boxMesh = [&](std::string name, uint32_t material, const std::vector<Box>& parts) {
-        Mesh m;
-        m.name = std::move(name);
-        m.primitives.resize(1);
-        m.primitives[0].material = material;
-        for (const Box& b : parts)
-            addBox(m.primitives[0], m.primitives[0], b.lo, b.hi, {}, false);
-        return m;
-    };
+    const auto boxMesh = solidBoxesMesh;
     // Table: a 1.2 x 0.8 m top at 0.72-0.78 m on four 6 cm legs, in the back right corner.
     const float tx0 = 1.6f, tx1 = 2.8f, tz0 = -2.4f, tz1 = -1.6f, leg = 0.06f, inset = 0.05f;
     std::vector<Box> table = {{{tx0, 0.72f, tz0}, {tx1, 0.78f, tz1}}};

@@ -147,6 +147,9 @@ BoxCells cellsFor(const Box& b, float cellMeters);
 // Triangles of `boxes` subdivided into cells of about `cellMeters`.
 uint64_t trianglesFor(const std::vector<Box>& boxes, float cellMeters);
 
+// A mesh of closed, undivided boxes in one primitive of one material (furniture, slabs).
+Mesh solidBoxesMesh(std::string name, uint32_t material, const std::vector<Box>& boxes);
+
 // A mesh of closed boxes: walls (side faces) in one primitive, roofs and floors in another.
 Mesh boxesMesh(std::string name, const std::vector<Box>& boxes, float cellMeters,
                uint32_t wallMaterial, uint32_t roofMaterial);

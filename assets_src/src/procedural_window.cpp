@@ -171,13 +171,7 @@ gltf::Document buildWindowScene() {
         addMaterial(doc, makeMaterial("partition", {0.55f, 0.5f, 0.45f}, 0.9f));
 
     auto boxMesh = [&](std::string name, uint32_t material, const std::vector<Box>& parts) {
-        Mesh m;
-        m.name = std::move(name);
-        m.primitives.resize(1);
-        m.primitives[0].material = material;
-        for (const Box& b : parts)
-            addBox(m.primitives[0], m.primitives[0], b.lo, b.hi, {}, false);
-        return addMesh(doc, std::move(m));
+        return addMesh(doc, solidBoxesMesh(std::move(name), material, parts));
     };
     const auto f = [](double v) { return float(v); };
     const float x0 = f(l.x0), x1 = f(l.x1), z0 = f(l.z0), z1 = f(l.z1), h = f(l.height),
