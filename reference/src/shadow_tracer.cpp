@@ -7,6 +7,7 @@
 
 #include "pnb/node_transform.h"
 #include "mesh_decode.h"
+#include "embree_geometry.h"
 #include "self_intersection.h"
 #include "translucency.h"
 
@@ -98,55 +99,6 @@ private:
 };
 
 
-// Attaches `indices` (3 per triangle) of the mesh vertices `local`, placed by `world`, to
-// `scene` as one triangle geometry with `filter` on its occlusion queries, its per-triangle
-// error bands appended to `tolerances` (the filter's user data); raises `worldBand` to this
-// geometry's. World space in double, then relative to the origin, then float: the subtraction
-// is exact enough that far-away scenes keep sub-millimetre precision near the camera. Returns
-// the geometry id, or nothing when Embree fails.
-std::optional<unsigned> attachTriangles(RTCDevice device, RTCScene scene, const std::vector<glm::dvec3>& local,
-                                        const glm::dmat4& world, glm::dvec3 origin,
-                                        const std::vector<uint32_t>& indices, RTCFilterFunctionN filter,
-                                        std::vector<std::unique_ptr<std::vector<float>>>& tolerances,
-                                        double& worldBand) {
-    RTCGeometry geometry = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
-    if (!geometry) return std::nullopt;
-    rtcSetGeometryBuildQuality(geometry, RTC_BUILD_QUALITY_HIGH);
-    // Embree pads vertex buffers it allocates itself so the last vertex can be read with a
-    // 16-byte load.
-    auto* vertices = static_cast<float*>(rtcSetNewGeometryBuffer(geometry, RTC_BUFFER_TYPE_VERTEX, 0,
-                                                                 RTC_FORMAT_FLOAT3, 3 * sizeof(float), local.size()));
-    auto* triangles = static_cast<uint32_t*>(rtcSetNewGeometryBuffer(
-        geometry, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(uint32_t), indices.size() / 3));
-    if (!vertices || !triangles) {
-        rtcReleaseGeometry(geometry);
-        return std::nullopt;
-    }
-    std::vector<double> magnitude(local.size());
-    for (size_t v = 0; v < local.size(); ++v) {
-        const glm::dvec3 ws = glm::dvec3(world * glm::dvec4(local[v], 1.0));
-        const glm::dvec3 rel = ws - origin;
-        vertices[v * 3 + 0] = float(rel.x);
-        vertices[v * 3 + 1] = float(rel.y);
-        vertices[v * 3 + 2] = float(rel.z);
-        magnitude[v] = glm::length(rel);
-        worldBand = std::max(worldBand, kWorldRelativeError * glm::length(ws));
-    }
-    std::memcpy(triangles, indices.data(), indices.size() * sizeof(uint32_t));
-    auto tolerance = std::make_unique<std::vector<float>>(indices.size() / 3);
-    for (size_t t = 0; t < tolerance->size(); ++t)
-        (*tolerance)[t] = float(kVertexRelativeError * std::max({magnitude[indices[t * 3]],
-                                                                 magnitude[indices[t * 3 + 1]],
-                                                                 magnitude[indices[t * 3 + 2]]}));
-    rtcSetGeometryUserData(geometry, tolerance.get());
-    rtcSetGeometryOccludedFilterFunction(geometry, filter);
-    tolerances.push_back(std::move(tolerance));
-    rtcCommitGeometry(geometry);
-    const unsigned id = rtcAttachGeometry(scene, geometry);
-    rtcReleaseGeometry(geometry); // the scene holds its reference
-    return id;
-}
-
 } // namespace
 
 ShadowTracer::~ShadowTracer() = default;
@@ -182,7 +134,7 @@ TracerResult<std::unique_ptr<ShadowTracer>> ShadowTracer::build(const Scene& sce
 
     TracerStats& stats = tracer->mStats;
     const std::vector<Node>& nodes = scene.nodes.nodes;
-    std::vector<std::vector<glm::dvec3>> decoded(scene.meshes.size()); // decoded on first use
+    std::vector<std::vector<glm::dvec4>> decoded(scene.meshes.size()); // decoded on first use
     std::vector<bool> isDecoded(scene.meshes.size(), false);
     std::vector<uint32_t> triangleIndices; // the instance's opaque casters, one geometry
     std::vector<std::pair<const Submesh*, std::vector<uint32_t>>> translucent; // one geometry each
@@ -249,15 +201,15 @@ TracerResult<std::unique_ptr<ShadowTracer>> ShadowTracer::build(const Scene& sce
         if (!isDecoded[n.mesh]) {
             auto positions = detail::decodeStream(scene, n.mesh, VertexSemantic::Position, true);
             if (!positions) return positions.error();
-            decoded[n.mesh].resize(positions->size());
-            for (size_t v = 0; v < positions->size(); ++v) decoded[n.mesh][v] = glm::dvec3((*positions)[v]);
+            decoded[n.mesh] = std::move(*positions);
             isDecoded[n.mesh] = true;
         }
         const glm::dmat4 world = glm::make_mat4(copy.world.data());
         auto attach = [&](const std::vector<uint32_t>& indices, RTCFilterFunctionN filter) {
             stats.triangles += indices.size() / 3;
-            return attachTriangles(embree.device, embree.scene, decoded[n.mesh], world, origin, indices, filter,
-                                   embree.triangleTolerances, tracer->mWorldBand);
+            return detail::attachTriangles(embree.device, embree.scene,
+                                           {decoded[n.mesh], world, origin, indices, filter, false},
+                                           embree.triangleTolerances, tracer->mWorldBand);
         };
         if (!triangleIndices.empty() && !attach(triangleIndices, rejectOwnSurface))
             return embreeFailure("attaching a geometry failed");

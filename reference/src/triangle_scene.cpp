@@ -9,6 +9,7 @@
 #include <glm/mat4x4.hpp>
 #include <glm/vec4.hpp>
 
+#include "embree_geometry.h"
 #include "mesh_decode.h"
 #include "pnb/node_transform.h"
 #include "self_intersection.h"
@@ -80,47 +81,19 @@ TracerResult<std::unique_ptr<TriangleScene>> buildTriangleScene(const Scene& sce
             }
             const auto& pos = positions[n.mesh];
 
-            RTCGeometry geometry = rtcNewGeometry(out->device, RTC_GEOMETRY_TYPE_TRIANGLE);
-            if (!geometry) return TracerError{TracerErrorKind::Embree, "Embree: rtcNewGeometry failed"};
-            auto* vertices = static_cast<float*>(rtcSetNewGeometryBuffer(
-                geometry, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), pos.size()));
-            auto* triangles = static_cast<uint32_t*>(rtcSetNewGeometryBuffer(
-                geometry, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(uint32_t), indices.size() / 3));
-            if (!vertices || !triangles) {
-                rtcReleaseGeometry(geometry);
-                return TracerError{TracerErrorKind::Embree, "Embree: allocating geometry buffers failed"};
-            }
-            std::vector<double> magnitude(pos.size());
-            for (size_t v = 0; v < pos.size(); ++v) {
-                const glm::dvec3 ws = glm::dvec3(world * glm::dvec4(glm::dvec3(pos[v]), 1.0));
-                const glm::dvec3 rel = ws - origin;
-                vertices[v * 3] = float(rel.x), vertices[v * 3 + 1] = float(rel.y), vertices[v * 3 + 2] = float(rel.z);
-                magnitude[v] = glm::length(rel);
-                out->worldBand = std::max(out->worldBand, kWorldRelativeError * glm::length(ws));
-            }
-            std::memcpy(triangles, indices.data(), indices.size() * sizeof(uint32_t));
-            auto tolerance = std::make_unique<std::vector<float>>(indices.size() / 3);
-            for (size_t t = 0; t < tolerance->size(); ++t)
-                (*tolerance)[t] = float(kVertexRelativeError * std::max({magnitude[indices[t * 3]],
-                                                                         magnitude[indices[t * 3 + 1]],
-                                                                         magnitude[indices[t * 3 + 2]]}));
-            rtcSetGeometryUserData(geometry, tolerance.get());
             // Both queries: IndirectTracer intersects (it needs the hit), SkyTracer only asks
             // whether anything is in the way.
             const RTCFilterFunctionN filter = translucent ? passTranslucent : rejectOwnSurface;
-            rtcSetGeometryIntersectFilterFunction(geometry, filter);
-            rtcSetGeometryOccludedFilterFunction(geometry, filter);
-            rtcCommitGeometry(geometry);
-            const unsigned id = rtcAttachGeometry(out->scene, geometry);
-            rtcReleaseGeometry(geometry);
-            out->tolerances.push_back(std::move(tolerance));
+            const auto id = attachTriangles(out->device, out->scene, {pos, world, origin, indices, filter, true},
+                                            out->tolerances, out->worldBand);
+            if (!id) return TracerError{TracerErrorKind::Embree, "Embree: attaching a geometry failed"};
             out->triangles += indices.size() / 3;
             ++out->instances;
             if (translucent) {
                 ++out->translucentInstances;
-                if (auto e = out->translucent.add(scene, id, n.mesh, sm, std::move(indices))) return *e;
+                if (auto e = out->translucent.add(scene, *id, n.mesh, sm, std::move(indices))) return *e;
             } else if (onInstance)
-                if (auto e = onInstance(id, uint32_t(i), n.mesh, sm, std::move(indices))) return *e;
+                if (auto e = onInstance(*id, uint32_t(i), n.mesh, sm, std::move(indices))) return *e;
         }
     }
     rtcCommitScene(out->scene);
