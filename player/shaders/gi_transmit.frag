@@ -9,7 +9,8 @@
 //             several panes multiplying. The colour target is sRGB with GL_FRAMEBUFFER_SRGB on:
 //             the blend happens on linear values. Only location 0 is written (the normal target
 //             is masked by the pass).
-//   VOXELIZE  the probes' transmittance grid (gi.technique = probes): drawn three times, once
+//   VOXELIZE  the probes' transmittance grid (gi.technique = probes) or one LPV cascade's glass
+//             cells (gi.technique = lpv, uLayer = the cascade's first z): drawn three times, once
 //             along each axis as gi_voxelize.frag; a fragment stores T in its voxel (idempotent:
 //             any writer of one pane writes its T; two panes in one voxel keep either's).
 #define HAS_BASE_COLOR_MAP
@@ -25,6 +26,7 @@ layout(location = 2) uniform int uHasBaseColorMap;
 layout(rgba8, binding = 1) writeonly uniform image3D uTransmit;
 layout(location = 0) uniform int uAxis;       // 0: viewed along x, 1: along y, 2: along z
 layout(location = 1) uniform int uResolution; // voxels along each side
+layout(location = 3) uniform int uLayer;      // z of the grid's first layer (LPV: cascades stacked)
 #else
 layout(location = 0) out vec4 outTransmit;
 #endif
@@ -44,7 +46,7 @@ void main() {
     vec3 f = vec3(gl_FragCoord.xy / float(uResolution), gl_FragCoord.z); // [0, 1]^3 in view order
     vec3 u = uAxis == 0 ? vec3(f.z, f.y, f.x) : uAxis == 1 ? vec3(f.x, f.z, f.y) : f;
     ivec3 v = clamp(ivec3(floor(u * float(uResolution))), ivec3(0), ivec3(uResolution - 1));
-    imageStore(uTransmit, v, vec4(t, 1.0));
+    imageStore(uTransmit, v + ivec3(0, 0, uLayer), vec4(t, 1.0));
 #else
     outTransmit = vec4(t, 1.0); // alpha: the blend keeps the map's own (GL_ZERO, GL_ONE)
 #endif

@@ -22,6 +22,10 @@
 // everything through. The step's result goes to the next source (images 0-2, scaled as in 1.) and
 // is added to the sum (images 3-5). Cascades are stacked along z; a neighbour outside this cell's
 // cascade is dark.
+// With GLASS (issue 43: translucent casters exist), the flux of each colour entering a cell that
+// holds a pane (uGlass: rgb = the pane's T, a = 1; pass_gi_lpv_glass.cpp) from one that holds none
+// is multiplied by that colour's T: a pane dims and tints once per crossing, a pane voxelised
+// into two neighbouring cells (lying on their shared face) counts once.
 layout(local_size_x = 4, local_size_y = 4, local_size_z = 4) in;
 
 layout(binding = 0) uniform sampler3D uSourceR;
@@ -29,6 +33,9 @@ layout(binding = 1) uniform sampler3D uSourceG;
 layout(binding = 2) uniform sampler3D uSourceB;
 layout(binding = 3) uniform sampler3D uTransmit0; // per cell: faces from the -x, +x, -y, +y neighbours
 layout(binding = 4) uniform sampler3D uTransmit1; // from the -z, +z neighbours
+#ifdef GLASS
+layout(binding = 5) uniform sampler3D uGlass; // per cell: rgb = its pane's T, a = 1 where a pane is
+#endif
 
 layout(rgba16f, binding = 0) writeonly uniform image3D uNextR;
 layout(rgba16f, binding = 1) writeonly uniform image3D uNextG;
@@ -83,6 +90,9 @@ void main() {
     vec4 t0 = texelFetch(uTransmit0, id, 0), t1 = texelFetch(uTransmit1, id, 0);
     float transmitted[6] = float[](t0.x, t0.y, t0.z, t0.w, t1.x, t1.y);
 #endif
+#ifdef GLASS
+    vec4 glassHere = texelFetch(uGlass, id, 0);
+#endif
     for (int i = 0; i < 6; ++i) {
         ivec3 d = kDirections[i]; // from the neighbour towards this cell
         ivec3 from = local - d;
@@ -94,11 +104,15 @@ void main() {
 #ifdef OCCLUSION
         transmit = transmitted[i];
 #endif
+        vec3 tint = vec3(1.0); // per colour: what a pane entered on this step lets through
+#ifdef GLASS
+        if (glassHere.a > 0.5 && texelFetch(uGlass, at, 0).a < 0.5) tint = glassHere.rgb;
+#endif
         vec3 dv = vec3(d);
         // The far face: straight on.
         {
             vec4 y = basis(dv), l = beam(dv) * (kFarFace * kInvPi * transmit);
-            for (int ch = 0; ch < 3; ++ch) sum[ch] += max(dot(src[ch], y), 0.0) * l;
+            for (int ch = 0; ch < 3; ++ch) sum[ch] += max(dot(src[ch], y), 0.0) * tint[ch] * l;
         }
         // The four side faces: towards d + 0.5 e, re-emitted along e + kSideForward d.
         for (int j = 0; j < 4; ++j) {
@@ -106,7 +120,7 @@ void main() {
             vec3 e = vec3(e3);
             vec4 y = basis(normalize(dv + 0.5 * e));
             vec4 l = beam((e + kSideForward * dv) * kSideUnit) * (kSideFace * kInvPi * transmit);
-            for (int ch = 0; ch < 3; ++ch) sum[ch] += max(dot(src[ch], y), 0.0) * l;
+            for (int ch = 0; ch < 3; ++ch) sum[ch] += max(dot(src[ch], y), 0.0) * tint[ch] * l;
         }
     }
     imageStore(uNextR, id, conservingSource(sum[0]));

@@ -4,9 +4,12 @@
 // 43): the indirect light on a wall is the bounce off the floor the sun lights through the roof,
 // so it is red and half as bright, for both GI techniques; the sky a probe sees through the roof
 // is tinted and dimmed alike (ibl.visibility = probes). Without casting glass nothing of it is
-// allocated.
+// allocated. And a room divided by a vertical red pane, the sun on the floor of one half: the
+// LPV's bounce across the pane to the other half's far wall is tinted red (lpv_propagate.comp,
+// GLASS).
 #include <unistd.h>
 
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 
@@ -42,8 +45,29 @@ gltf::Document glassRoofRoom() {
     return doc;
 }
 
-// The room converted with GI and the analytic sky, the pane casting or not (through the sidecar).
-std::string convertRoom(bool paneCasts) {
+// The same room cut in two by a vertical pane at x = 0.05 (the same red, 6 x 6: it reaches past
+// the walls, floor and roof, so no cell path goes round it), an opaque black roof (black: it
+// injects no light of its own) but for an opening over the left half, where the sun lights the
+// floor. The right half's far wall (x = 2) receives only the bounce across the pane.
+gltf::Document paneDividedRoom() {
+    gltf::Document doc = glassRoofRoom();
+    gltf::Material black;
+    black.name = "black";
+    black.baseColorFactor = {0, 0, 0, 1};
+    doc.materials.push_back(black);
+    doc.nodes.pop_back(); // the sun, added again last
+    doc.lights.clear();
+    doc.meshes[5] = {"pane", {quad(6.0f, 6.0f, 1)}};
+    doc.nodes[5].translation = {0.05f, 1.5f, 0};
+    doc.nodes[5].rotation = {0, 0.70710678f, 0, 0.70710678f}; // facing +x
+    addObject(doc, "roof-right", box(2.45f, 0.2f, 4.4f, 2), {0.975f, 3.1f, 0});
+    addObject(doc, "roof-left-rim", box(0.3f, 0.2f, 4.4f, 2), {-2.05f, 3.1f, 0});
+    addSun(doc, 3.0f, gltf::lookRotation({-0.05f, -1.0f, 0.03f}));
+    return doc;
+}
+
+// A room converted with GI and the analytic sky, the pane casting or not (through the sidecar).
+std::string convertRoom(const gltf::Document& room, const std::string& prefix, bool paneCasts) {
     // This binary's scratch directory, removed when the process ends.
     struct Dir {
         std::filesystem::path path =
@@ -56,9 +80,9 @@ std::string convertRoom(bool paneCasts) {
     };
     static const Dir scratch;
     const std::string dir = scratch.path.string();
-    const std::string name = paneCasts ? "glass-casts" : "glass-passes";
+    const std::string name = prefix + (paneCasts ? "glass-casts" : "glass-passes");
     const std::string glb = dir + "/" + name + ".glb";
-    EXPECT_TRUE(isOk(pnb::writeFileAtomic(glb, gltf::encodeGlb(glassRoofRoom()))));
+    EXPECT_TRUE(isOk(pnb::writeFileAtomic(glb, gltf::encodeGlb(room))));
     converter::ConvertSettings s;
     s.sidecar = dir + "/" + name + ".sidecar.json";
     std::ofstream(s.sidecar) << R"({"materials": {"pane": {"casts_shadows": )" << (paneCasts ? "true" : "false")
@@ -75,12 +99,21 @@ std::string convertRoom(bool paneCasts) {
 }
 
 const std::string& roomPath(bool paneCasts) {
-    static const std::string casts = convertRoom(true), passes = convertRoom(false);
+    static const std::string casts = convertRoom(glassRoofRoom(), "", true),
+                             passes = convertRoom(glassRoofRoom(), "", false);
+    return paneCasts ? casts : passes;
+}
+
+const std::string& dividedRoomPath(bool paneCasts) {
+    static const std::string casts = convertRoom(paneDividedRoom(), "divided-", true),
+                             passes = convertRoom(paneDividedRoom(), "divided-", false);
     return paneCasts ? casts : passes;
 }
 
 // Inside the room, looking at the back wall.
 const CameraState kWallView = lookAt({0, 1.5, 1.6}, {0, 1.5, -2});
+// In the divided room's right half, the pane at the camera's back, looking at the far wall (x = 2).
+const CameraState kFarWallView = lookAt({0.6, 1.5, 0}, {2, 1.5, 0});
 constexpr uint32_t kW = 64, kH = 48;
 
 struct Captures {
@@ -88,16 +121,17 @@ struct Captures {
     uint64_t giBytes = 0;
 };
 
-Captures renderRoom(bool paneCasts, const RenderSettings& s) {
+Captures renderRoom(bool paneCasts, const RenderSettings& s, bool divided = false) {
     Captures out;
-    auto scene = loadScene(roomPath(paneCasts));
+    const CameraState view = divided ? kFarWallView : kWallView;
+    auto scene = loadScene(divided ? dividedRoomPath(paneCasts) : roomPath(paneCasts));
     EXPECT_TRUE(scene.ok()) << (scene.ok() ? "" : scene.error().message);
     if (!scene) return out;
     auto renderer = Renderer::create(**scene, s);
     EXPECT_TRUE(renderer.ok());
     if (!renderer) return out;
-    EXPECT_TRUE((*renderer)->warmUp(kWallView, kW, kH).ok());
-    EXPECT_TRUE((*renderer)->render(kWallView, kW, kH).ok());
+    EXPECT_TRUE((*renderer)->warmUp(view, kW, kH).ok());
+    EXPECT_TRUE((*renderer)->render(view, kW, kH).ok());
     out.indirect = std::move(*(*renderer)->capture(CaptureBuffer::Indirect));
     out.sky = std::move(*(*renderer)->capture(CaptureBuffer::Sky));
     out.giBytes = (*renderer)->targetMemory().giBytes;
@@ -145,6 +179,38 @@ void expectRedAtHalf(GiTechnique technique, const char* name) {
 } // namespace
 
 TEST(GiGlass, LpvBounceBehindARedPaneIsRedAndHalved) { expectRedAtHalf(GiTechnique::Lpv, "lpv"); }
+
+TEST(GiGlass, LpvBounceAcrossARedPaneIsTinted) {
+    // The sun reaches the divided room's left floor only; its bounce reaches the right half's far
+    // wall only through the pane's cells, where propagation multiplies each colour by its T.
+    // One cascade: lighting reads the finest cascade holding a point, and a finer one around the
+    // camera would not hold the lit floor (each cascade propagates only what it holds).
+    RenderSettings s = glassSettings(GiTechnique::Lpv);
+    s.giCascades = 1;
+    Captures passes = renderRoom(false, s, true), casts = renderRoom(true, s, true);
+    ASSERT_FALSE(passes.indirect.f32.empty());
+    ASSERT_FALSE(casts.indirect.f32.empty());
+    ASSERT_TRUE(allFinite(casts.indirect));
+    const glm::dvec3 before = wallMean(passes.indirect), after = wallMean(casts.indirect);
+    std::printf("divided room, far wall indirect: passes (%g %g %g), casts (%g %g %g)\n", before.r, before.g,
+                before.b, after.r, after.g, after.b);
+    ASSERT_GT(before.r, 0.0);
+    EXPECT_GT(before.g, 0.5 * before.r); // the floor's bounce is grey through a pane letting all through
+    EXPECT_GT(after.r, 0.3 * before.r);  // red dimmed by about T = 0.5 (not blocked)
+    EXPECT_LT(after.r, 0.7 * before.r);
+    EXPECT_LT(after.g, 0.2 * before.g);  // green and blue stopped (T = 0): what remains leaks round
+    EXPECT_LT(after.b, 0.2 * before.b);
+    EXPECT_GT(after.r, 2.0 * after.g);   // red-dominant
+}
+
+TEST(GiGlass, LpvGlassCellsOnlyWithCastingGlass) {
+    // The LPV's glass cells (RGBA8, cells^3 per cascade) exist only with a casting pane.
+    const RenderSettings s = glassSettings(GiTechnique::Lpv);
+    Captures passes = renderRoom(false, s, true), casts = renderRoom(true, s, true);
+    ASSERT_GT(passes.giBytes, 0u);
+    const uint64_t cells = uint64_t(s.giCells) * s.giCells * s.giCells * s.giCascades;
+    EXPECT_EQ(casts.giBytes - passes.giBytes, cells * 4);
+}
 
 TEST(GiGlass, ProbesBounceBehindARedPaneIsRedAndHalved) { expectRedAtHalf(GiTechnique::Probes, "probes"); }
 

@@ -52,8 +52,14 @@ struct GiResources {
     // rgb = T, a = 1 where a pane is, beside the occupancy grid), its voxelisation and, with
     // gi.probe_visibility = depth, each probe's map of what its depth rays pass through (RGBA8,
     // rgb = T, a = distance to the first pane over the grid's diagonal).
+    // LPV: each cascade's cells' panes (RGBA8, cells x cells x cells*cascades like the volumes,
+    // rgb = T, a = 1 where a pane is; gi_transmit.frag VOXELIZE), drawn again only when the
+    // cascades move or a material changes, and the propagation variants reading them (GLASS).
     bool glass = false;
     GlHandle transmitRsm, transmitVoxelize, transmitVoxels, probeTransmit;
+    GlHandle lpvGlass, lpvGlassFb, propagateGlass, propagateOccludedGlass;
+    uint64_t lpvGlassVersion = ~0ull;
+    std::vector<glm::dvec4> lpvGlassBoxes; // the cascades' origins and cell sizes lpvGlass holds
     std::array<GlHandle, 3> sum;
     // LPV: volumes (cells x cells x cells*cascades), RGBA16F per colour: two propagation
     // buffers beside the sum. Geometry: (cells+1)^3 per cascade.
@@ -139,6 +145,14 @@ void runGiInject(FrameContext& ctx, GiContext& gi);               // pass_gi_inj
 void runGiCameraGeometry(FrameContext& ctx, GiContext& gi);       // pass_gi_inject.cpp: G-buffer surfels
 void runGiResolve(FrameContext& ctx, GiContext& gi, bool cameraGeometry); // pass_gi_inject.cpp: -> volumes
 void runGiPropagate(FrameContext& ctx, GiContext& gi);            // pass_gi_propagate.cpp
+// LPV with translucent casters: the panes into each cascade's cells (GiResources::lpvGlass) when
+// the cascades moved or a material changed. pass_gi_lpv_glass.cpp
+void voxelizeLpvGlass(FrameContext& ctx, GiContext& gi);
+// Grid-relative world [0, extent]^3 -> clip: x, y the other two axes, depth (0..1) along `axis`
+// (the voxelisations' three views). pass_gi_probes.cpp
+glm::dmat4 giAxisView(int axis, double extent);
+// Every translucent caster, its object block relative to a grid's corner. pass_gi_probes.cpp
+std::vector<DrawRef> glassDrawRefs(FrameContext& ctx, const glm::dmat4& toGrid);
 // gi.technique = probes, after the RSM: occupancy grid when stale, VPLs, gather into `sum`.
 void runGiProbes(FrameContext& ctx, GiContext& gi);               // pass_gi_probes.cpp
 // The rest of the frame's GI once the camera's G-buffer is there (or will not be): camera

@@ -84,18 +84,49 @@ PlayResult<GlHandle> compileProbeProgram(std::string_view define, bool glass) {
     return compileEmbeddedCompute("gi_probe_gather.comp", defines);
 }
 
+// LPV's glass cells (one RGBA8 volume like the LPV's, its attachment-less framebuffer) and the
+// propagation variants reading them, or none of it without glass. Returns their bytes.
+PlayResult<uint64_t> ensureLpvGlass(GiResources& r, bool lpv) {
+    if (!lpv) {
+        r.lpvGlass = {};
+        r.lpvGlassFb = {};
+        r.propagateGlass = {};
+        r.propagateOccludedGlass = {};
+        return uint64_t(0);
+    }
+    if (!r.propagateGlass) {
+        const std::pair<GlHandle*, std::string_view> variants[] = {{&r.propagateGlass, "PLAIN"},
+                                                                   {&r.propagateOccludedGlass, "OCCLUSION"}};
+        for (const auto& [program, define] : variants) {
+            const std::string_view defines[] = {define, "GLASS"};
+            auto p = compileEmbeddedCompute("lpv_propagate.comp", defines);
+            if (!p) return p.error();
+            *program = std::move(*p);
+        }
+    }
+    if (!r.lpvGlass) {
+        r.lpvGlass = volume(r.cells, r.cells * r.cascades, "lpv glass cells", GL_RGBA8);
+        r.lpvGlassFb = createFramebuffer();
+        glNamedFramebufferDrawBuffer(r.lpvGlassFb.id(), GL_NONE);
+        r.lpvGlassVersion = ~0ull;
+    }
+    return uint64_t(r.cells) * r.cells * r.cells * r.cascades * 4;
+}
+
 // The translucent casters' objects (issue 43), or none while no BLEND material casts shadows:
 // the RSM's multiplying program always; probes: the transmittance grid and its voxelisation, and
-// with depth maps each probe's transmittance map. Runs after the sizes are set (a size change
-// dropped the grids). Returns their bytes.
+// with depth maps each probe's transmittance map; LPV: the cascades' glass cells and their
+// voxelisation. Runs after the sizes are set (a size change dropped the grids). Returns their
+// bytes.
 PlayResult<uint64_t> ensureGlass(GiResources& r, const RenderSettings& s) {
     const bool probes = r.glass && r.technique == GiTechnique::Probes;
+    const bool lpv = r.glass && r.technique == GiTechnique::Lpv;
     const bool depthMaps = probes && s.giProbeVisibility == ProbeVisibility::Depth;
     if (!r.glass) r.transmitRsm = {};
-    if (!probes) {
-        r.transmitVoxelize = {};
-        r.transmitVoxels = {};
-    }
+    if (!probes) r.transmitVoxels = {};
+    if (!probes && !lpv) r.transmitVoxelize = {};
+    auto lpvBytes = ensureLpvGlass(r, lpv);
+    if (!lpvBytes) return lpvBytes.error();
     if (!depthMaps) r.probeTransmit = {};
     if (!r.glass) return uint64_t(0);
     if (!r.transmitRsm) {
@@ -103,7 +134,7 @@ PlayResult<uint64_t> ensureGlass(GiResources& r, const RenderSettings& s) {
         if (!p) return p.error();
         r.transmitRsm = std::move(*p);
     }
-    if (probes && !r.transmitVoxelize) {
+    if ((probes || lpv) && !r.transmitVoxelize) {
         std::string_view define = "VOXELIZE";
         auto p = compileEmbeddedProgram("gi_transmit.vert", "gi_transmit.frag", std::span(&define, 1));
         if (!p) return p.error();
@@ -122,7 +153,7 @@ PlayResult<uint64_t> ensureGlass(GiResources& r, const RenderSettings& s) {
         r.probeTransmit = depthAtlas(r.cells, GL_RGBA8, "gi probe transmittance maps");
         r.depthCurrent = false;
     }
-    return (probes ? side * side * side * 4 : 0) + (depthMaps ? probeCount * 18 * 18 * 4 : 0);
+    return (probes ? side * side * side * 4 : 0) + (depthMaps ? probeCount * 18 * 18 * 4 : 0) + *lpvBytes;
 }
 
 } // namespace
@@ -228,6 +259,7 @@ PlayResult<Done> GiResources::ensure(const RenderSettings& s, uint32_t cascadeCo
             geometry = volume(corners, corners * cascades, "lpv geometry");
             transmittance[0] = volume(cells, depth, "lpv transmittance -x +x -y +y", GL_RGBA8);
             transmittance[1] = volume(cells, depth, "lpv transmittance -z +z", GL_RGBA8);
+            lpvGlass = {}; // ensureGlass makes it again at the new size, with glass
             uint64_t cellsTotal = uint64_t(cells) * cells * depth;
             uint64_t cornersTotal = uint64_t(corners) * corners * corners * cascades;
             lightAccumulation = storage(cellsTotal * 12 * 4, "lpv light accumulation");

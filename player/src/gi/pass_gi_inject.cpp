@@ -30,6 +30,8 @@ void setCascades(GLuint program, const GiFrame& f, const glm::dvec3& camera) {
 void runGiInject(FrameContext& ctx, GiContext& gi) {
     GiFrame& f = gi.frame;
     if (!f.active) return;
+    // Before the injection: its own timer section, and the RSM's framebuffer is left anyway.
+    if (gi.resources.lpvGlass) voxelizeLpvGlass(ctx, gi);
     const GiResources& r = gi.resources;
     ctx.timer.mark("gi_inject");
     const uint32_t zero = 0;

@@ -23,10 +23,7 @@
 
 namespace pnb::player {
 
-namespace {
-
-// Grid-relative world [0, extent]^3 -> clip: x, y the other two axes, depth (0..1) along `axis`.
-glm::dmat4 axisView(int axis, double extent) {
+glm::dmat4 giAxisView(int axis, double extent) {
     glm::dmat4 m(0.0);
     const int horizontal = axis == 0 ? 2 : 0, vertical = axis == 1 ? 2 : 1;
     m[horizontal][0] = 2.0 / extent;
@@ -38,7 +35,6 @@ glm::dmat4 axisView(int axis, double extent) {
     return m;
 }
 
-// Every translucent caster, its object block relative to the grid's corner.
 std::vector<DrawRef> glassDrawRefs(FrameContext& ctx, const glm::dmat4& toGrid) {
     const GpuScene& scene = ctx.scene;
     std::vector<DrawRef> refs;
@@ -49,6 +45,8 @@ std::vector<DrawRef> glassDrawRefs(FrameContext& ctx, const glm::dmat4& toGrid) 
     }
     return refs;
 }
+
+namespace {
 
 void voxelizeScene(FrameContext& ctx, GiContext& gi, const LpvCascade& box) {
     GiResources& r = gi.resources;
@@ -79,7 +77,7 @@ void voxelizeScene(FrameContext& ctx, GiContext& gi, const LpvCascade& box) {
     glProgramUniform1i(p, 1, GLint(side));
     for (int axis = 0; axis < 3; ++axis) {
         FrameBlock fb{};
-        fb.viewProjection = glm::mat4(axisView(axis, box.cellSize * double(box.cells)));
+        fb.viewProjection = glm::mat4(giAxisView(axis, box.cellSize * double(box.cells)));
         fb.view = glm::mat4(1.0f);
         fb.viewport = {float(side), float(side), 1.0f / float(side), 1.0f / float(side)};
         const size_t offset = ctx.ring.push(&fb, sizeof fb);

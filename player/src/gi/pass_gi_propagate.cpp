@@ -1,7 +1,8 @@
 // Propagation (seed 004 §4.4; player/shaders/lpv_propagate.comp): gi.iterations gather steps,
 // ping-ponging between two volumes and adding each step to the sum that lighting reads, after a
 // dispatch that scales the injection into the steps' source form. The geometry volume blocks
-// light (gi.occlusion) at the face each step crosses.
+// light (gi.occlusion) at the face each step crosses; translucent casters' cells dim and tint it
+// (issue 43, pass_gi_lpv_glass.cpp).
 #include <utility>
 
 #include "frame/frame_context.h"
@@ -13,12 +14,15 @@ void runGiPropagate(FrameContext& ctx, GiContext& gi) {
     const GiFrame& f = gi.frame;
     GiResources& r = gi.resources;
     ctx.timer.mark("gi_propagate");
-    GLuint p = ctx.settings.giOcclusion ? r.propagateOccluded.id() : r.propagate.id();
+    // With translucent casters, the variant that dims and tints at the panes' cells (GLASS).
+    GLuint p = ctx.settings.giOcclusion ? (r.lpvGlass ? r.propagateOccludedGlass : r.propagateOccluded).id()
+                                        : (r.lpvGlass ? r.propagateGlass : r.propagate).id();
     const GLint cells = GLint(r.cells), cascades = GLint(f.cascades.size());
     glProgramUniform2i(p, 0, cells, cascades);
     glUseProgram(p);
     glBindTextureUnit(3, r.transmittance[0].id());
     glBindTextureUnit(4, r.transmittance[1].id());
+    if (r.lpvGlass) glBindTextureUnit(5, r.lpvGlass.id());
     for (GLuint ch = 0; ch < 3; ++ch)
         glBindImageTexture(3 + ch, r.sum[ch].id(), 0, GL_TRUE, 0, GL_READ_WRITE, GL_RGBA16F);
     std::array<GlHandle, 3>* from = &r.source;
@@ -37,7 +41,7 @@ void runGiPropagate(FrameContext& ctx, GiContext& gi) {
         glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT);
         std::swap(from, to);
     }
-    for (GLuint unit = 0; unit < 5; ++unit) glBindTextureUnit(unit, 0);
+    for (GLuint unit = 0; unit < (r.lpvGlass ? 6u : 5u); ++unit) glBindTextureUnit(unit, 0);
 }
 
 void finishGi(FrameContext& ctx, GiContext& gi) {
