@@ -5,6 +5,9 @@
 // (lpv_propagate.comp, GLASS) then dims and tints the flux that enters a pane's cell.
 // The panes are not in the geometry volume: that one holds opaque surfels from the RSM and the
 // camera, and a pane's partial, coloured blocking needs three channels anyway.
+#include <utility>
+#include <vector>
+
 #include <glm/gtc/matrix_transform.hpp>
 
 #include "frame/frame_context.h"
