@@ -151,6 +151,10 @@ void voxelizeLpvGlass(FrameContext& ctx, GiContext& gi);
 // Grid-relative world [0, extent]^3 -> clip: x, y the other two axes, depth (0..1) along `axis`
 // (the voxelisations' three views). pass_gi_probes.cpp
 glm::dmat4 giAxisView(int axis, double extent);
+
+// A frame block with giAxisView(axis, extent) for a side x side voxelisation target, pushed into
+// the ring and bound at the frame block's binding (the caller binds the frame's own back after).
+void bindAxisFrameBlock(FrameContext& ctx, int axis, double extent, uint32_t side);
 // Every translucent caster, its object block relative to a grid's corner. pass_gi_probes.cpp
 std::vector<DrawRef> glassDrawRefs(FrameContext& ctx, const glm::dmat4& toGrid);
 // gi.technique = probes, after the RSM: occupancy grid when stale, VPLs, gather into `sum`.

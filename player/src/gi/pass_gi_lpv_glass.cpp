@@ -51,12 +51,7 @@ void voxelizeLpvGlass(FrameContext& ctx, GiContext& gi) {
         std::vector<DrawRef> glass = glassDrawRefs(ctx, glm::translate(glm::dmat4(1.0), -box.origin));
         glProgramUniform1i(p, 3, GLint(c * r.cells)); // gi_transmit.frag's uLayer
         for (int axis = 0; axis < 3; ++axis) {
-            FrameBlock fb{};
-            fb.viewProjection = glm::mat4(giAxisView(axis, box.cellSize * double(box.cells)));
-            fb.view = glm::mat4(1.0f);
-            fb.viewport = {float(side), float(side), 1.0f / float(side), 1.0f / float(side)};
-            const size_t offset = ctx.ring.push(&fb, sizeof fb);
-            glBindBufferRange(GL_UNIFORM_BUFFER, 0, ctx.ring.buffer(), GLintptr(offset), sizeof fb);
+            bindAxisFrameBlock(ctx, axis, box.cellSize * double(box.cells), uint32_t(side));
             glProgramUniform1i(p, 0, axis);
             drawTranslucentCasters(ctx, glass, p);
         }

@@ -35,6 +35,15 @@ glm::dmat4 giAxisView(int axis, double extent) {
     return m;
 }
 
+void bindAxisFrameBlock(FrameContext& ctx, int axis, double extent, uint32_t side) {
+    FrameBlock fb{};
+    fb.viewProjection = glm::mat4(giAxisView(axis, extent));
+    fb.view = glm::mat4(1.0f);
+    fb.viewport = {float(side), float(side), 1.0f / float(side), 1.0f / float(side)};
+    const size_t offset = ctx.ring.push(&fb, sizeof fb);
+    glBindBufferRange(GL_UNIFORM_BUFFER, 0, ctx.ring.buffer(), GLintptr(offset), sizeof fb);
+}
+
 std::vector<DrawRef> glassDrawRefs(FrameContext& ctx, const glm::dmat4& toGrid) {
     const GpuScene& scene = ctx.scene;
     std::vector<DrawRef> refs;
@@ -76,12 +85,7 @@ void voxelizeScene(FrameContext& ctx, GiContext& gi, const LpvCascade& box) {
     const GLuint p = r.voxelize.id();
     glProgramUniform1i(p, 1, GLint(side));
     for (int axis = 0; axis < 3; ++axis) {
-        FrameBlock fb{};
-        fb.viewProjection = glm::mat4(giAxisView(axis, box.cellSize * double(box.cells)));
-        fb.view = glm::mat4(1.0f);
-        fb.viewport = {float(side), float(side), 1.0f / float(side), 1.0f / float(side)};
-        const size_t offset = ctx.ring.push(&fb, sizeof fb);
-        glBindBufferRange(GL_UNIFORM_BUFFER, 0, ctx.ring.buffer(), GLintptr(offset), sizeof fb);
+        bindAxisFrameBlock(ctx, axis, box.cellSize * double(box.cells), uint32_t(side));
         glProgramUniform1i(p, 0, axis);
         drawItems(ctx, refs, p, &GpuMaterial::program, true);
         if (glass.empty()) continue;
