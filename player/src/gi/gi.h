@@ -152,6 +152,9 @@ void voxelizeLpvGlass(FrameContext& ctx, GiContext& gi);
 // (the voxelisations' three views). pass_gi_probes.cpp
 glm::dmat4 giAxisView(int axis, double extent);
 
+// Binds `framebuffer` (no attachments: the voxelisations write images) as a side x side target,
+// depth test and blending off.
+void bindVoxelTarget(GLuint framebuffer, uint32_t side);
 // A frame block with giAxisView(axis, extent) for a side x side voxelisation target, pushed into
 // the ring and bound at the frame block's binding (the caller binds the frame's own back after).
 void bindAxisFrameBlock(FrameContext& ctx, int axis, double extent, uint32_t side);

@@ -37,12 +37,7 @@ void voxelizeLpvGlass(FrameContext& ctx, GiContext& gi) {
     const float clear[4] = {1, 1, 1, 0}; // everything through, no pane
     glClearTexImage(r.lpvGlass.id(), 0, GL_RGBA, GL_FLOAT, clear);
     const GLsizei side = GLsizei(r.cells);
-    glNamedFramebufferParameteri(r.lpvGlassFb.id(), GL_FRAMEBUFFER_DEFAULT_WIDTH, side);
-    glNamedFramebufferParameteri(r.lpvGlassFb.id(), GL_FRAMEBUFFER_DEFAULT_HEIGHT, side);
-    glBindFramebuffer(GL_FRAMEBUFFER, r.lpvGlassFb.id());
-    glViewport(0, 0, side, side);
-    glDisable(GL_DEPTH_TEST);
-    glDisable(GL_BLEND);
+    bindVoxelTarget(r.lpvGlassFb.id(), uint32_t(side));
     glBindImageTexture(1, r.lpvGlass.id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA8);
     const GLuint p = r.transmitVoxelize.id();
     glProgramUniform1i(p, 1, GLint(side));

@@ -35,6 +35,15 @@ glm::dmat4 giAxisView(int axis, double extent) {
     return m;
 }
 
+void bindVoxelTarget(GLuint framebuffer, uint32_t side) {
+    glNamedFramebufferParameteri(framebuffer, GL_FRAMEBUFFER_DEFAULT_WIDTH, GLint(side));
+    glNamedFramebufferParameteri(framebuffer, GL_FRAMEBUFFER_DEFAULT_HEIGHT, GLint(side));
+    glBindFramebuffer(GL_FRAMEBUFFER, framebuffer);
+    glViewport(0, 0, GLsizei(side), GLsizei(side));
+    glDisable(GL_DEPTH_TEST);
+    glDisable(GL_BLEND);
+}
+
 void bindAxisFrameBlock(FrameContext& ctx, int axis, double extent, uint32_t side) {
     FrameBlock fb{};
     fb.viewProjection = glm::mat4(giAxisView(axis, extent));
@@ -75,12 +84,7 @@ void voxelizeScene(FrameContext& ctx, GiContext& gi, const LpvCascade& box) {
         glBindImageTexture(1, r.transmitVoxels.id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA8);
         glProgramUniform1i(r.transmitVoxelize.id(), 1, GLint(side));
     }
-    glNamedFramebufferParameteri(r.voxelFb.id(), GL_FRAMEBUFFER_DEFAULT_WIDTH, side);
-    glNamedFramebufferParameteri(r.voxelFb.id(), GL_FRAMEBUFFER_DEFAULT_HEIGHT, side);
-    glBindFramebuffer(GL_FRAMEBUFFER, r.voxelFb.id());
-    glViewport(0, 0, side, side);
-    glDisable(GL_DEPTH_TEST);
-    glDisable(GL_BLEND);
+    bindVoxelTarget(r.voxelFb.id(), uint32_t(side));
     glBindImageTexture(0, r.voxels.id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_R8UI);
     const GLuint p = r.voxelize.id();
     glProgramUniform1i(p, 1, GLint(side));
