@@ -2,8 +2,10 @@
 // reference's brightest pixel off white to the one that shows its median at the same tone, and
 // per pixel the worst of them — the error a viewer finds by sweeping the exposure of both images.
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <limits>
+#include <thread>
 
 #include <glm/common.hpp>
 
@@ -80,25 +82,39 @@ HdrFlipResult hdrFlip(std::span<const glm::vec3> test, std::span<const glm::vec3
     const size_t pixels = size_t(width) * height;
     if (pixels == 0 || test.size() != pixels || reference.size() != pixels || range.count == 0)
         return result;
-    result.error.assign(pixels, 0.0f);
-    result.exposureIndex.assign(pixels, 0);
     const double step =
         range.count > 1 ? (range.stop - range.start) / double(range.count - 1) : 0.0;
-    for (uint32_t i = 0; i < range.count; ++i) {
-        const double scale = std::exp2(range.start + step * double(i));
-        const ToneMap toneMap = [scale](const glm::vec3& c) {
-            return glm::vec3(float(hdrFlipAces(scale * c.x)), float(hdrFlipAces(scale * c.y)),
-                             float(hdrFlipAces(scale * c.z)));
-        };
-        const std::vector<float> ldr =
-            toneMappedLdrFlip(test, reference, width, height, toneMap, ppd);
+    // The exposures are independent LDR-FLIPs: one per thread, then the maximum in exposure order
+    // (so the result, ties included, does not depend on the thread count).
+    std::vector<std::vector<float>> maps(range.count);
+    std::atomic<uint32_t> next{0};
+    auto work = [&] {
+        for (uint32_t i = next++; i < range.count; i = next++) {
+            const double scale = std::exp2(range.start + step * double(i));
+            const ToneMap toneMap = [scale](const glm::vec3& c) {
+                return glm::vec3(float(hdrFlipAces(scale * c.x)), float(hdrFlipAces(scale * c.y)),
+                                 float(hdrFlipAces(scale * c.z)));
+            };
+            maps[i] = toneMappedLdrFlip(test, reference, width, height, toneMap, ppd);
+        }
+    };
+    const uint32_t threads = std::clamp(std::thread::hardware_concurrency(), 1u, range.count);
+    std::vector<std::thread> pool;
+    for (uint32_t t = 1; t < threads; ++t)
+        pool.emplace_back(work);
+    work();
+    for (std::thread& t : pool)
+        t.join();
+
+    result.error = std::move(maps[0]);
+    result.exposureIndex.assign(pixels, 0);
+    for (uint32_t i = 1; i < range.count; ++i)
         for (size_t p = 0; p < pixels; ++p)
-            if (i == 0 || ldr[p] > result.error[p]) {
-                result.error[p] = ldr[p];
+            if (maps[i][p] > result.error[p]) {
+                result.error[p] = maps[i][p];
                 result.exposureIndex[p] =
                     uint16_t(std::min<uint32_t>(i, std::numeric_limits<uint16_t>::max()));
             }
-    }
     return result;
 }
 

@@ -101,7 +101,8 @@ struct HdrFlipResult {
     std::vector<uint16_t> exposureIndex; // which exposure gave it (the first on a tie)
     ExposureRange exposures;
 };
-// HDR-FLIP of two linear HDR images, over `range` (default: hdrFlipExposureRange(reference)).
+// HDR-FLIP of two linear HDR images, over `range` (default: hdrFlipExposureRange(reference)),
+// the exposures on all cores (the result does not depend on how many).
 // Not symmetric: the exposures come from the reference.
 HdrFlipResult hdrFlip(std::span<const glm::vec3> test, std::span<const glm::vec3> reference,
                       uint32_t width, uint32_t height, double ppd = defaultPixelsPerDegree());
