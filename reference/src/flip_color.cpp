@@ -42,6 +42,15 @@ const ColorSpaces& spaces() {
     return s;
 }
 
+// An input pixel as FLIP reads it: clamped to [0, 1], NaN as 0 (a NaN would spread through
+// every filter it touches).
+glm::dvec3 displayValue(const glm::vec3& c) {
+    glm::dvec3 v;
+    for (int i = 0; i < 3; ++i)
+        v[i] = std::isnan(c[i]) ? 0.0 : std::clamp(double(c[i]), 0.0, 1.0);
+    return v;
+}
+
 // YCxCz: Y_y = 116 y - 16, C_x = 500 (x - y), C_z = 200 (y - z) of the white-normalised XYZ.
 glm::dvec3 linearRgbToYcxcz(const glm::dvec3& rgb) {
     const glm::dvec3 n = spaces().toXyz * rgb / spaces().white;
@@ -125,7 +134,7 @@ std::vector<glm::dvec3> perceptualLab(std::span<const glm::vec3> image, uint32_t
                                       uint32_t height, double ppd) {
     Plane y(width, height), cx(width, height), cz(width, height);
     for (size_t p = 0; p < image.size(); ++p) {
-        const glm::dvec3 ycc = linearRgbToYcxcz(glm::clamp(glm::dvec3(image[p]), 0.0, 1.0));
+        const glm::dvec3 ycc = linearRgbToYcxcz(displayValue(image[p]));
         y.v[p] = float(ycc.x);
         cx.v[p] = float(ycc.y);
         cz.v[p] = float(ycc.z);
@@ -172,8 +181,7 @@ Plane normalizedLuminance(std::span<const glm::vec3> image, uint32_t width, uint
     Plane y(width, height);
     const glm::dvec3 row(spaces().toXyz[0][1], spaces().toXyz[1][1], spaces().toXyz[2][1]);
     for (size_t p = 0; p < image.size(); ++p)
-        y.v[p] =
-            float(glm::dot(row, glm::clamp(glm::dvec3(image[p]), 0.0, 1.0)) / spaces().white.y);
+        y.v[p] = float(glm::dot(row, displayValue(image[p])) / spaces().white.y);
     return y;
 }
 
