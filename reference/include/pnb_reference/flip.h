@@ -10,8 +10,9 @@
 // Images are row-major RGB, `width * height` pixels; the row order does not matter (every filter
 // is symmetric). LDR inputs are display-linear RGB in [0, 1] (what an sRGB display emits before
 // its transfer function: decode an 8-bit sRGB file with srgbToLinear first); values outside are
-// clamped, NaN is 0. HDR inputs are linear radiance >= 0 (negative values count as 0; NaN as 0,
-// +Inf as the brightest finite value FLIP's tone map sees).
+// clamped, NaN is 0. Every function returns empty maps when a size does not match width * height.
+// HDR inputs are linear radiance >= 0 (negative values count as 0; NaN as 0, +Inf as the brightest
+// finite value FLIP's tone map sees).
 #pragma once
 
 #include <cstdint>

@@ -26,7 +26,7 @@ struct RelativeMse {
     uint64_t pixels = 0;    // compared: both pixels finite in all channels
     std::vector<float> map; // per pixel, the mean over channels; NaN where not compared
 };
-// Relative MSE of `test` against `reference` (same size, linear).
+// Relative MSE of `test` against `reference` (same size, linear; sizes differing: {0, 0, empty}).
 RelativeMse relativeMse(std::span<const glm::vec3> test, std::span<const glm::vec3> reference,
                         double epsilon = kRelMseEpsilon);
 
@@ -34,6 +34,7 @@ RelativeMse relativeMse(std::span<const glm::vec3> test, std::span<const glm::ve
 // with standard error s, E[(r^ - r)^2] = s^2, so the expected relMSE of the estimate against the
 // converged image is mean over pixels and channels of s^2 / (r^2 + eps), with r^ standing in for
 // r. A test image's relMSE against r^ is its own relMSE plus about this much.
+// Pixels where either is not finite are left out; 0 when the sizes differ.
 double noiseRelativeMse(std::span<const glm::vec3> reference,
                         std::span<const glm::vec3> standardError, double epsilon = kRelMseEpsilon);
 
