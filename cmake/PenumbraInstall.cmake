@@ -16,7 +16,7 @@ set(PNB_INSTALL_DOCDIR ${CMAKE_INSTALL_DATAROOTDIR}/doc/penumbra)
 set(PNB_INSTALL_DATADIR ${CMAKE_INSTALL_DATADIR}/penumbra)
 
 # The user tools (not tests, benchmarks or fuzzers), imported as pnb::pnb-convert etc.
-set(PNB_TOOLS pnb-convert pnb-play pnb-judge pnb-edit pnb-inspect pnb-reference pnb-make-scene
+set(PNB_TOOLS pnb-convert pnb-play pnb-judge pnb-edit pnb-inspect pnb-reference pnb-flip pnb-make-scene
     pnb-make-sample)
 
 # Exported names: pnb_format -> pnb::format, ... (the same ALIAS names exist in the build).

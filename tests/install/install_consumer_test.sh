@@ -27,7 +27,7 @@ fail() {
 }
 config=$(find "$prefix" -path '*/cmake/Penumbra/PenumbraConfig.cmake')
 [ -n "$config" ] || fail "no PenumbraConfig.cmake under the prefix"
-for f in bin/pnb-convert bin/pnb-play bin/pnb-edit bin/pnb-inspect bin/pnb-reference \
+for f in bin/pnb-convert bin/pnb-play bin/pnb-edit bin/pnb-inspect bin/pnb-reference bin/pnb-flip \
     bin/pnb-make-scene bin/pnb-make-sample bin/pnb-sweep include/pnb/reader.h include/pnb_player/renderer.h \
     share/doc/penumbra/README.md share/doc/penumbra/docs/FORMAT.md share/penumbra/plot_frames.py; do
     [ -e "$prefix/$f" ] || fail "$f not installed"
