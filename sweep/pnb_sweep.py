@@ -65,6 +65,16 @@ Subcommands:
     collect DIR [-o CSV]            one row per finished job: scene, settings, GL renderer, GPU
                                     median per pass, metrics' means, load phases and floor, the
                                     conversion's size and errors.
+    budget SCENE (--budget-ms X | --budget-ratio R) [--knobs FILE] [--size WxH] [--frames N]
+           [--error METRIC] [--out DIR] [--local | --slurm] [-- CONVERTER OPTIONS]
+                                    for one scene and a frame-time budget (ms, or a ratio to the
+                                    cheapest starting configuration measured in the same run),
+                                    searches the knobs of FILE (default sweep/examples/budget-
+                                    knobs.toml: a play sweep whose [[axes]] tables are the knobs)
+                                    and prints the configuration with the lowest whole-frame error
+                                    within it, the defaults' error and cost, and the front of all
+                                    it measured (budget_command.py, budget_search.py); writes
+                                    DIR/budget-<scene>.json, which the report shows.
     report DIR -o OUT [--extremes CSV]  OUT/index.html (+ PNGs, results.csv): per scene the Pareto
                                     fronts of each measured error against its cost (per GL
                                     renderer), the GPU time per pass, load time against its floor,
@@ -97,9 +107,14 @@ from output_guard import check_outputs, write_atomically
 from sweep_report import LOAD_PHASES  # pnb-play's load phases, in the order they happen
 
 REPO = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-METRIC_FLAGS = {"shadow": "--shadow-metrics", "gi": "--gi-metrics", "sky": "--sky-metrics", "lod": "--lod-metrics"}
+METRIC_FLAGS = {"shadow": "--shadow-metrics", "gi": "--gi-metrics", "sky": "--sky-metrics", "lod": "--lod-metrics",
+                "frame": "--frame-metrics"}
 # Metrics judged against a ray-traced truth: the ones pnb-judge measures (player_for).
-TRUTH_METRICS = {"shadow", "gi", "sky"}
+TRUTH_METRICS = {"shadow", "gi", "sky", "frame"}
+# The whole frame's path-traced truth costs far more than the frame it judges and depends only on
+# the scene, the frame and the size: every job of a results directory shares one cache of them,
+# DIR/truth-cache (pnb-judge --frame-truth-cache), so the configurations of one scene pay for it once.
+TRUTH_CACHE = "truth-cache"
 # Where the experiment files of the repository live: `list` and the report's index read these.
 EXPERIMENT_DIRS = [os.path.join(REPO, "sweep", "examples"), os.path.join(REPO, "sweep", "experiments")]
 # Axis and fixed keys with this prefix are pnb-convert options, not pnb-play settings:
@@ -294,8 +309,15 @@ def plan(sweep, bins, results, args=(), max_jobs=JOB_LIMIT):
         return {"sweep": sweep["name"], "results": results, "binaries": bins, "jobs": jobs}
     if args:
         raise SweepError("%s: arguments after -- are for command experiments (kind = \"command\")" % sweep["name"])
+    jobs = plan_jobs(sweep, play_combinations(sweep), bins, results)
+    return {"sweep": sweep["name"], "results": results, "binaries": bins, "jobs": jobs}
+
+
+def plan_jobs(sweep, combos, bins, results, truth_cache=None):
+    """The jobs of a play sweep's scenes under each of `combos` (settings dicts), numbered from 0,
+    their results in `results`, the frame truth's cache in `truth_cache` (default
+    results/truth-cache). What plan expands a sweep into, and what `budget` measures."""
     jobs = []
-    combos = play_combinations(sweep)
     for scene in sweep["scenes"]:
         for settings in combos:
             options = scene["convert"] + convert_options(settings)
@@ -310,8 +332,9 @@ def plan(sweep, bins, results, args=(), max_jobs=JOB_LIMIT):
                          "player": player,
                          "convert": options, "conversion": ckey, "path": scene["path"],
                          "settings": settings, "frames": sweep["frames"], "size": sweep["size"],
-                         "metrics": sweep["metrics"], "result": os.path.join(results, key)})
-    return {"sweep": sweep["name"], "results": results, "binaries": bins, "jobs": jobs}
+                         "metrics": sweep["metrics"], "result": os.path.join(results, key),
+                         "truth_cache": truth_cache or os.path.join(results, TRUTH_CACHE)})
+    return jobs
 
 
 def done(job):
@@ -344,6 +367,31 @@ def converted_scene(job, plan_data):
     return out
 
 
+def player_command(job, plan_data, scene, out):
+    """The pnb-play (or pnb-judge) command line of a play job: the container `scene`, its outputs
+    into `out`."""
+    # The image of the last measured frame (else the last frame): the report's gallery, beside
+    # that frame's error maps.
+    every = min(job["metrics"].values()) if job["metrics"] else 1
+    shot = max(job["frames"] - 1, 0) // every * every
+    cmd = [job.get("player") or plan_data["binaries"]["play"], scene, "--headless", "--bench", "--fixed-dt", "--frames",
+           str(job["frames"]), "--size", job["size"], "--out", out, "--no-plot", "-q",
+           "--screenshot", os.path.join(out, "frame.png"), "--frame", str(shot)]
+    for k, v in job["settings"].items():
+        if not k.startswith(CONVERT_PREFIX):
+            cmd += ["--set", "%s=%s" % (k, v)]
+    for m, every in job["metrics"].items():
+        cmd += [METRIC_FLAGS[m], str(every)]
+    if "frame" in job["metrics"]:
+        # A plan written before the cache had a place: beside the job's result.
+        cache = job.get("truth_cache") or os.path.join(os.path.dirname(job["result"]), TRUTH_CACHE)
+        os.makedirs(cache, exist_ok=True)
+        cmd += ["--frame-truth-cache", cache]
+    if job["metrics"]:
+        cmd.append("--error-maps")  # beside frame.png in the report's gallery
+    return cmd
+
+
 def run_job(plan_data, index, force=False, echo=False):
     """Runs job `index` of a plan unless it is finished (force: again). echo: a command job's
     output also goes to this process's stdout."""
@@ -360,20 +408,7 @@ def run_job(plan_data, index, force=False, echo=False):
     tmp = tempfile.mkdtemp(prefix=".%s.tmp." % job["key"], dir=parent)
     started = time.time()
     try:
-        # The image of the last measured frame (else the last frame): the report's gallery, beside
-        # that frame's error maps.
-        every = min(job["metrics"].values()) if job["metrics"] else 1
-        shot = max(job["frames"] - 1, 0) // every * every
-        cmd = [job.get("player") or plan_data["binaries"]["play"], scene, "--headless", "--bench", "--fixed-dt", "--frames",
-               str(job["frames"]), "--size", job["size"], "--out", tmp, "--no-plot", "-q",
-               "--screenshot", os.path.join(tmp, "frame.png"), "--frame", str(shot)]
-        for k, v in job["settings"].items():
-            if not k.startswith(CONVERT_PREFIX):
-                cmd += ["--set", "%s=%s" % (k, v)]
-        for m, every in job["metrics"].items():
-            cmd += [METRIC_FLAGS[m], str(every)]
-        if job["metrics"]:
-            cmd.append("--error-maps")  # beside frame.png in the report's gallery
+        cmd = player_command(job, plan_data, scene, tmp)
         r = subprocess.run(cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
         log = [" ".join(cmd), r.stdout]
         if r.returncode == 0 and plan_data["binaries"].get("probe"):
@@ -701,6 +736,9 @@ def main(argv=None):
         p_.add_argument("--sweep", action="append", default=[],
                         help="only the jobs these sweep files plan now, with these binaries (repeatable)")
     rp.add_argument("-o", "--output", required=True)
+    from budget_command import add_arguments as budget_arguments
+    budget_arguments(sub.add_parser("budget", help="the settings with the lowest whole-frame error within a "
+                                                   "frame-time budget (budget_command.py)"))
     rp.add_argument("--extremes", default=None,
                     help="the extremes matrix to include (matrix.csv or its directory; default: the "
                          "build's reference.extremes_matrix output, when it exists)")
@@ -712,6 +750,9 @@ def main(argv=None):
     a.options = extra
     max_jobs = None if getattr(a, "yes", False) else getattr(a, "max_jobs", None)
     try:
+        if a.command == "budget":
+            from budget_command import main_budget
+            return main_budget(a, binaries(os.path.abspath(a.build)))
         if a.command == "list":
             entries = experiment_index(a.paths or EXPERIMENT_DIRS)
             for e in entries:
