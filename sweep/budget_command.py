@@ -7,7 +7,9 @@ whole-frame error within it (issue 40, part 4; docs/SWEEP.md "Settings for a bud
 The knob space is a play sweep file (default sweep/examples/budget-knobs.toml): each table of its
 [[axes]] is one knob whose candidate values are the table's combinations, first the cheapest;
 its `fixed` settings hold for every configuration; its frames, size and metrics are the
-measurement's unless given here (the `frame` metric is added when missing). Its scenes are not
+measurement's unless given here (the `frame` metric is added when missing and the error is one of
+the whole frame's; another truth metric's error, like the sun shadows' weighted_error_pct, is
+searched the same way with that metric in the knob file). Its scenes are not
 used: SCENE is (a .pnb as it is, or a source converted with the options after `--`).
 budget_search.py searches; this file measures each configuration as a sweep job (pnb-judge with
 --frame-metrics, content-addressed in DIR like any sweep's, so a second search reuses what the
@@ -146,9 +148,14 @@ def knob_sweep(a, pnb_sweep):
     if not knobs or not any(k["values"] for k in knobs):
         raise SweepError("%s: no knobs ([[axes]] tables)" % a.knobs)
     metrics = dict(knobs_file["metrics"])
+    # The whole frame's errors need the frame metric; another error (the sun's shadows' weighted
+    # error, say) the knob file's metric that writes it.
     if a.frame_every:
         metrics["frame"] = a.frame_every
-    metrics.setdefault("frame", 4)
+    if a.error.startswith("frame_"):
+        metrics.setdefault("frame", 4)
+    if not metrics:
+        raise SweepError("%s: no metrics to measure %s with (metrics = { frame = 4 })" % (a.knobs, a.error))
     converts = any(k.startswith(pnb_sweep.CONVERT_PREFIX) for knob in knobs for v in knob["values"] for k in v)
     if converts and scene.endswith(".pnb"):
         raise SweepError("%s: converter knobs (%s*) need scenes given by their source, and %s is a container"

@@ -6,7 +6,7 @@ A sweep (TOML or JSON, docs/SWEEP.md) names scenes, settings axes and what to me
     name = "shadows"
     frames = 30                      # pnb-play --bench --frames
     size = "320x180"
-    metrics = { shadow = 15 }        # pnb-play --shadow-metrics 15 (also gi, sky, lod)
+    metrics = { shadow = 15 }        # pnb-play --shadow-metrics 15 (also gi, sky, lod, frame)
     fixed = { "gi.enabled" = "false" }
     [axes]
     "shadows.technique" = ["pssm", "sdsm"]

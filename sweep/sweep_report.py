@@ -420,13 +420,16 @@ def budget_section(plt, path, out_dir):
     measured = [r for r in b["configurations"] if r and "failed" not in r]
     png = "budget_%s.png" % scene
     fig, ax = plt.subplots(figsize=(7, 4.5))
-    ax.scatter([r["cost"] for r in measured], [r["error"] for r in measured], color="#2060c0", alpha=0.4, s=14,
-               label="configurations measured")
     front = b["front"]
-    ax.plot([r["cost"] for r in front], [r["error"] for r in front], "o-", color="#c03020", label="Pareto front")
+    # Drawn on a log scale where the errors span more than 50x (shadows off beside the rest).
+    ys = log_if_wide(ax, "y", [r["error"] for r in measured + front + [d, w]])
+    n, k = len(measured), len(front)
+    ax.scatter([r["cost"] for r in measured], ys[:n], color="#2060c0", alpha=0.4, s=14,
+               label="configurations measured")
+    ax.plot([r["cost"] for r in front], ys[n:n + k], "o-", color="#c03020", label="Pareto front")
     ax.axvline(b["budget_ms"], color="k", ls="--", lw=1, label="budget")
-    ax.plot([d["cost"]], [d["error"]], "s", color="#20a040", ms=9, label="defaults")
-    ax.plot([w["cost"]], [w["error"]], "*", color="#c08020", ms=14, label="best within the budget")
+    ax.plot([d["cost"]], [ys[-2]], "s", color="#20a040", ms=9, label="defaults")
+    ax.plot([w["cost"]], [ys[-1]], "*", color="#c08020", ms=14, label="best within the budget")
     ax.set_xlabel(GPU[1])
     ax.set_ylabel(error)
     ax.set_title("%s: budget search" % scene)
