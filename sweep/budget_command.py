@@ -93,8 +93,10 @@ class Measurer:
         failed = {}
         if self.slurm is not None:
             if any(not self.pnb_sweep.done(j) for j in jobs):
-                array_id, collect_id, _ = self.pnb_sweep.slurm_submit(data, self.slurm)
-                self.pnb_sweep.slurm_wait([array_id, collect_id])
+                # The array's own collect job (results.csv, failed.txt) may finish later: the
+                # search reads the jobs' directories.
+                array_id, _, _ = self.pnb_sweep.slurm_submit(data, self.slurm)
+                self.pnb_sweep.slurm_wait([array_id])
             for j in jobs:
                 if not self.pnb_sweep.done(j):
                     failed[j["index"]] = "did not finish (its Slurm log: %s/slurm/)" % self.results
