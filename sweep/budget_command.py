@@ -120,7 +120,8 @@ class Measurer:
         if self.player_defaults is None and not set(job["settings"]) - set(self.sweep["fixed"]):
             self.player_defaults = summary.get("settings", {})
         return {"cost": summary["gpu_ms"]["total"]["median_ms"], "error": quality[self.error]["mean"],
-                "truth_noise_relmse": noise, "key": job["key"], "gl_renderer": summary.get("gl", {}).get("renderer", "")}
+                "truth_noise_relmse": noise, "key": job["key"],
+                "gl_renderer": summary.get("gl", {}).get("renderer", "")}
 
     def __call__(self, settings_list):
         jobs = self.pnb_sweep.plan_jobs(self.sweep, settings_list, self.bins, self.results)
@@ -214,8 +215,8 @@ def main_budget(a, bins, measurer_class=Measurer, out=print):
     pnb_sweep.player_for(sweep["metrics"], bins)  # pnb-judge, or an error saying to build it
     m = measurer_class(sweep, bins, results, a.error, a if a.slurm else None)
     scene = sweep["scenes"][0]["name"]
-    budget_text = "%.3f ms" % a.budget_ms if a.budget_ms is not None else "%.3g x %s" % (
-        a.budget_ratio, "the defaults' cost" if a.ratio_to == "defaults" else "the cheaper of the defaults and the floor")
+    reference = "the defaults' cost" if a.ratio_to == "defaults" else "the cheaper of the defaults and the floor"
+    budget_text = "%.3f ms" % a.budget_ms if a.budget_ms is not None else "%.3g x %s" % (a.budget_ratio, reference)
     out("budget search: %s, %s per frame at %s over %d frames, minimising %s; %d knobs from %s"
         % (scene, budget_text, sweep["size"], sweep["frames"], a.error, len(knobs), os.path.relpath(a.knobs)))
     search = budget_search.Search(knobs, m, budget_ms=a.budget_ms, budget_ratio=a.budget_ratio,

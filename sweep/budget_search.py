@@ -90,7 +90,7 @@ class Search:
     def __init__(self, knobs, measure, budget_ms=None, budget_ratio=None, fixed=None, canonical=None,
                  max_configs=60, pairs=False, trades=4, ratio_to="cheapest", log=None):
         if (budget_ms is None) == (budget_ratio is None):
-            raise ValueError("give a budget in ms or a ratio, not both")
+            raise ValueError("give either a budget in ms or a ratio")
         self.knobs, self.measure, self.fixed = knobs, measure, dict(fixed or {})
         self.budget_ms, self.budget_ratio = budget_ms, budget_ratio
         self.canonical = canonical or (lambda s: s)

@@ -396,8 +396,8 @@ def budget_section(plt, path, out_dir):
         b = json.load(f)
     scene, error = b["scene"], b["error"]
     out = ["<h2>Budget search: %s</h2>" % html.escape(scene)]
-    given = "%.3g x %.3f ms, %s" % (b["budget_ratio"], b["ratio_reference_ms"], "the defaults' cost"
-                                    if b.get("ratio_to") == "defaults" else "the cheaper of the defaults and the floor") \
+    reference = "the defaults' cost" if b.get("ratio_to") == "defaults" else "the cheaper of the defaults and the floor"
+    given = "%.3g x %.3f ms, %s" % (b["budget_ratio"], b["ratio_reference_ms"], reference) \
         if b.get("budget_ratio") and b.get("ratio_reference_ms") else "given"
     out.append("<p>Minimising %s at %s over %d frames; budget %s GPU ms per frame (%s). %d configurations "
                "measured.</p>" % (html.escape(error), html.escape(b["size"]), b["frames"],
