@@ -181,6 +181,9 @@ def print_answer(out, result, verdict, error):
         error, d["error"], d["cost"], "" if d["cost"] <= result["budget_ms"] else ", over the budget",
         again_text(verdict, "defaults")))
     out("verdict: %s" % verdict["text"])
+    for r in verdict["near_misses"]:
+        out("  over the budget within the cost's noise, and more accurate: %s (%.3f ms, %.4g)"
+            % (budget_search.describe(r["settings"]), r["cost"], r["error"]))
     if result["defaults_on_front"]:
         out("the defaults are on the front: nothing measured is both cheaper and more accurate")
     out("front of the %d configurations measured (cost, %s, configuration):" % (
@@ -250,6 +253,11 @@ def main_budget(a, bins, measurer_class=Measurer, out=print):
                 "within the cost's noise" if again[1]["cost"] <= result["budget_ms"] * (1 + verdict["cost_noise_rel"])
                 else "beyond the cost's noise")
     verdict["defaults_again"], verdict["winner_again"] = (None if "failed" in r else r for r in again)
+    # Over the budget by less than the cost's noise and more accurate: a second measurement might
+    # have put them inside, so they are named.
+    slack = result["budget_ms"] * (1 + verdict.get("cost_noise_rel", 0.0))
+    verdict["near_misses"] = [plain(r) for r in result["configurations"] if "failed" not in r
+                              and result["budget_ms"] < r["cost"] <= slack and r["error"] < w["error"]]
     out("budget: %.3f ms%s" % (result["budget_ms"], "" if a.budget_ratio is None else
                                " (%.3g x %.3f ms)" % (a.budget_ratio, result["ratio_reference_ms"])))
     print_answer(out, result, verdict, a.error)

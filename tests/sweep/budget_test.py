@@ -287,6 +287,8 @@ for i, a in enumerate(args):
 if os.environ.get("FAKE_JUDGE_FAIL") and settings["test.a"] == os.environ["FAKE_JUDGE_FAIL"]:
     sys.exit(3)
 cost, error = %s(settings)
+if os.environ.get("FAKE_JUDGE_REPEAT_SLOWER") and "/repeat/" in out:
+    cost *= float(os.environ["FAKE_JUDGE_REPEAT_SLOWER"])
 cache = args[args.index("--frame-truth-cache") + 1]
 with open(os.path.join(cache, "truths.txt"), "a") as f:
     f.write(out + "\\n")
@@ -356,6 +358,7 @@ class BudgetCommand(unittest.TestCase):
         self.assertIn("defaults: frame_flip_ldr %.4g, cost 6.500 ms" % separable(DEFAULTS)[1], out)
         self.assertIn("outside noise", out)
         self.assertIn("front of the", out)
+        self.assertNotIn("over the budget within the cost's noise", out, "the stand-in's costs do not move")
         with open(os.path.join(self.results, "budget-room.json")) as f:
             record = json.load(f)
         self.assertEqual(record["answer"]["settings"], settings)
@@ -398,6 +401,27 @@ class BudgetCommand(unittest.TestCase):
         self.assertEqual(pnb_sweep.main(["--build", self.dir, "report", self.results, "-o", report]), 0)
         with open(os.path.join(report, "index.html")) as f:
             self.assertIn("No answer:", f.read())
+
+    def test_noisy_repeats_name_the_near_misses(self):
+        # Measured again, everything costs 20 % more: a cost noise of 18 %, within which
+        # configurations over the budget and more accurate than the answer are named.
+        os.environ["FAKE_JUDGE_REPEAT_SLOWER"] = "1.2"
+        try:
+            code, out = self.budget("--budget-ms", "11.5")
+        finally:
+            del os.environ["FAKE_JUDGE_REPEAT_SLOWER"]
+        self.assertEqual(code, 0, out)
+        with open(os.path.join(self.results, "budget-room.json")) as f:
+            record = json.load(f)
+        verdict = record["verdict"]
+        self.assertAlmostEqual(verdict["cost_noise_rel"], 0.2 / 1.1)
+        self.assertIn("measured again, the winner costs", verdict["text"])
+        near = verdict["near_misses"]
+        self.assertTrue(near)
+        for r in near:
+            self.assertTrue(11.5 < r["cost"] <= 11.5 * (1 + 0.2 / 1.1) and r["error"] < record["answer"]["error"])
+            self.assertIn("over the budget within the cost's noise, and more accurate: %s"
+                          % budget_search.describe(r["settings"]), out)
 
     def test_failing_configurations_and_bad_arguments(self):
         os.environ["FAKE_JUDGE_FAIL"] = "3"
