@@ -417,6 +417,10 @@ def budget_section(plt, path, out_dir):
     out.append("</table><p>%s%s</p>" % (html.escape(b["verdict"]["text"]), ". The defaults are on the front: "
                                         "nothing measured is both cheaper and more accurate"
                                         if b.get("defaults_on_front") else ""))
+    for r in b["verdict"].get("near_misses", []):
+        out.append("<p>Over the budget within the cost's noise, and more accurate: %s (%.3f ms, %.4g)</p>"
+                   % (html.escape(" ".join("%s=%s" % kv for kv in sorted(r["settings"].items())) or "(defaults)"),
+                      r["cost"], r["error"]))
     measured = [r for r in b["configurations"] if r and "failed" not in r]
     png = "budget_%s.png" % scene
     fig, ax = plt.subplots(figsize=(7, 4.5))

@@ -422,6 +422,11 @@ class BudgetCommand(unittest.TestCase):
             self.assertTrue(11.5 < r["cost"] <= 11.5 * (1 + 0.2 / 1.1) and r["error"] < record["answer"]["error"])
             self.assertIn("over the budget within the cost's noise, and more accurate: %s"
                           % budget_search.describe(r["settings"]), out)
+        report = os.path.join(self.dir, "report")
+        self.assertEqual(pnb_sweep.main(["--build", self.dir, "report", self.results, "-o", report]), 0)
+        with open(os.path.join(report, "index.html")) as f:
+            self.assertIn("Over the budget within the cost's noise, and more accurate: %s"
+                          % budget_search.describe(near[0]["settings"]), f.read())
 
     def test_failing_configurations_and_bad_arguments(self):
         os.environ["FAKE_JUDGE_FAIL"] = "3"
