@@ -111,9 +111,10 @@ METRIC_FLAGS = {"shadow": "--shadow-metrics", "gi": "--gi-metrics", "sky": "--sk
                 "frame": "--frame-metrics"}
 # Metrics judged against a ray-traced truth: the ones pnb-judge measures (player_for).
 TRUTH_METRICS = {"shadow", "gi", "sky", "frame"}
-# The whole frame's path-traced truth costs far more than the frame it judges and depends only on
-# the scene, the frame and the size: every job of a results directory shares one cache of them,
-# DIR/truth-cache (pnb-judge --frame-truth-cache), so the configurations of one scene pay for it once.
+# The whole frame's path-traced truth costs far more than the frame it judges and does not depend
+# on the player's techniques: every job of a results directory shares one cache of them,
+# DIR/truth-cache (pnb-judge --frame-truth-cache, whose entries are keyed by what a truth depends
+# on: scene, camera, frame, size), so the configurations of one scene pay for it once.
 TRUTH_CACHE = "truth-cache"
 # Where the experiment files of the repository live: `list` and the report's index read these.
 EXPERIMENT_DIRS = [os.path.join(REPO, "sweep", "examples"), os.path.join(REPO, "sweep", "experiments")]
@@ -367,6 +368,12 @@ def converted_scene(job, plan_data):
     return out
 
 
+def truth_cache(job):
+    """Where a job's whole-frame truths are cached (a plan written before the cache had a place:
+    beside the job's result)."""
+    return job.get("truth_cache") or os.path.join(os.path.dirname(job["result"]), TRUTH_CACHE)
+
+
 def player_command(job, plan_data, scene, out):
     """The pnb-play (or pnb-judge) command line of a play job: the container `scene`, its outputs
     into `out`."""
@@ -383,10 +390,7 @@ def player_command(job, plan_data, scene, out):
     for m, every in job["metrics"].items():
         cmd += [METRIC_FLAGS[m], str(every)]
     if "frame" in job["metrics"]:
-        # A plan written before the cache had a place: beside the job's result.
-        cache = job.get("truth_cache") or os.path.join(os.path.dirname(job["result"]), TRUTH_CACHE)
-        os.makedirs(cache, exist_ok=True)
-        cmd += ["--frame-truth-cache", cache]
+        cmd += ["--frame-truth-cache", truth_cache(job)]
     if job["metrics"]:
         cmd.append("--error-maps")  # beside frame.png in the report's gallery
     return cmd
@@ -409,6 +413,8 @@ def run_job(plan_data, index, force=False, echo=False):
     started = time.time()
     try:
         cmd = player_command(job, plan_data, scene, tmp)
+        if "frame" in job["metrics"]:
+            os.makedirs(truth_cache(job), exist_ok=True)
         r = subprocess.run(cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
         log = [" ".join(cmd), r.stdout]
         if r.returncode == 0 and plan_data["binaries"].get("probe"):
@@ -736,12 +742,12 @@ def main(argv=None):
         p_.add_argument("--sweep", action="append", default=[],
                         help="only the jobs these sweep files plan now, with these binaries (repeatable)")
     rp.add_argument("-o", "--output", required=True)
-    from budget_command import add_arguments as budget_arguments
-    budget_arguments(sub.add_parser("budget", help="the settings with the lowest whole-frame error within a "
-                                                   "frame-time budget (budget_command.py)"))
     rp.add_argument("--extremes", default=None,
                     help="the extremes matrix to include (matrix.csv or its directory; default: the "
                          "build's reference.extremes_matrix output, when it exists)")
+    from budget_command import add_arguments as budget_arguments
+    budget_arguments(sub.add_parser("budget", help="the settings with the lowest whole-frame error within a "
+                                                   "frame-time budget (budget_command.py)"))
     # pnb-convert's own options follow "--" (argparse cannot take them after positionals).
     argv = list(sys.argv[1:] if argv is None else argv)
     extra = argv[argv.index("--") + 1:] if "--" in argv else []

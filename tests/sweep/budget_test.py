@@ -259,7 +259,6 @@ class FrameMetricWiring(unittest.TestCase):
             self.assertEqual(cmd[cmd.index("--frame-metrics") + 1], "4")
             self.assertEqual(cmd[cmd.index("--frame-truth-cache") + 1], cache, "one cache for every job")
             self.assertIn("--error-maps", cmd)
-        self.assertTrue(os.path.isdir(cache))
         self.assertIn("--set", cmds[0])
         self.assertEqual(cmds[0][cmds[0].index("--set") + 1], "shadows.technique=sdsm")
         # The cache is not part of the key: the same job planned into another directory keeps it.
