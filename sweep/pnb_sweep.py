@@ -475,12 +475,33 @@ def run_local(data, pending, jobs, gpu_jobs, force=False):
     def play(job):
         status = run_job(data, job["index"], force, echo=gpu_jobs <= 1)
         print("job %d %s: %s -> %s" % (job["index"], job["key"], status, job["result"]), flush=True)
-    each(gpu_jobs, play, pending)
+    # With several jobs at once, the whole-frame truths' first jobs alone first (truth_pilots).
+    pilots = truth_pilots(pending) if gpu_jobs > 1 else []
+    each(gpu_jobs, play, pilots)
+    each(gpu_jobs, play, [j for j in pending if j not in pilots])
+
+
+def truth_pilots(jobs):
+    """Of `jobs`, the first of each group that would path-trace the same whole-frame truths (one
+    container, camera path, size, frames and frame interval, one cache): run before the others,
+    which then find them cached. Jobs without the frame metric have none."""
+    seen, pilots = set(), []
+    for j in jobs:
+        if "frame" not in j.get("metrics", {}):
+            continue
+        group = (j.get("conversion") or j["source"], j.get("path"), j["size"], j["frames"], j["metrics"]["frame"],
+                 truth_cache(j))
+        if group not in seen:
+            seen.add(group)
+            pilots.append(j)
+    return pilots
 
 
 def slurm_submit(data, a, env=None):
     """Submits the pending jobs of `data` as an array and the dependent collect job. Returns
-    (array job id or None, collect job id or None, pending count)."""
+    (array job id or None, collect job id or None, pending count). With the whole-frame metric,
+    the first job of each truth (truth_pilots) goes first as an array of its own, the others'
+    array depending on it."""
     results = data["results"]
     pending = [j["index"] for j in data["jobs"] if not done(j)]
     if not pending:
@@ -501,20 +522,34 @@ def slurm_submit(data, a, env=None):
     with open(collect_script, "w") as f:
         f.write("#!/bin/sh\n# After the array, finished or not: the table and what is missing.\n"
                 "exec %s %s status %s --results %s --write-failed\n" % (python, me, plan_file, results))
-    spec = ",".join(str(i) for i in pending)
-    if a.throttle:
-        spec += "%%%d" % a.throttle
     common = ["--parsable", "--chdir", results]
     if a.partition:
         common += ["--partition", a.partition]
-    array_cmd = ["sbatch"] + common + ["--job-name", "pnb-sweep-" + data["sweep"], "--array", spec,
-                                       "--requeue", "--output", os.path.join(slurm_dir, "%A_%a.out")]
-    if a.gres:
-        array_cmd += ["--gres", a.gres]
-    r = subprocess.run(array_cmd + [array], stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, env=env)
-    if r.returncode != 0:
-        raise SweepError("sbatch failed: %s" % r.stdout.strip())
-    array_id = r.stdout.strip().split(";")[0]
+
+    def submit_array(indices, name, after=None):
+        spec = ",".join(str(i) for i in indices)
+        if a.throttle:
+            spec += "%%%d" % a.throttle
+        cmd = ["sbatch"] + common + ["--job-name", name, "--array", spec,
+                                     "--requeue", "--output", os.path.join(slurm_dir, "%A_%a.out")]
+        if a.gres:
+            cmd += ["--gres", a.gres]
+        if after:
+            cmd += ["--dependency", "afterany:" + after]
+        r = subprocess.run(cmd + [array], stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, env=env)
+        if r.returncode != 0:
+            raise SweepError("sbatch failed: %s" % r.stdout.strip())
+        return r.stdout.strip().split(";")[0]
+    # One job per whole-frame truth first, alone, so that the others find it in the cache
+    # instead of all path-tracing it at once.
+    pilots = [j["index"] for j in truth_pilots([data["jobs"][i] for i in pending])]
+    first = None
+    if pilots and len(pilots) < len(pending):
+        first = submit_array(pilots, "pnb-sweep-%s-truth" % data["sweep"])
+        pending_rest = [i for i in pending if i not in pilots]
+    else:
+        pending_rest = pending
+    array_id = submit_array(pending_rest, "pnb-sweep-" + data["sweep"], first)
     r = subprocess.run(["sbatch"] + common + ["--job-name", "pnb-sweep-collect", "--dependency",
                                               "afterany:" + array_id, "--output",
                                               os.path.join(slurm_dir, "collect_%j.out"), collect_script],

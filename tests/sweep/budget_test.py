@@ -264,6 +264,26 @@ class FrameMetricWiring(unittest.TestCase):
         # The cache is not part of the key: the same job planned into another directory keeps it.
         again = pnb_sweep.plan_jobs(sweep, [{"shadows.technique": "sdsm"}], bins, os.path.join(self.dir, "r2"))
         self.assertEqual(again[0]["key"], jobs[0]["key"])
+        # One job per truth goes first (truth_pilots): here both share one, the first.
+        self.assertEqual(pnb_sweep.truth_pilots(jobs), jobs[:1])
+        other_size = pnb_sweep.plan_jobs(dict(sweep, size="64x36"), [{}], bins, results)
+        self.assertEqual(pnb_sweep.truth_pilots(jobs + other_size), [jobs[0], other_size[0]])
+        # On Slurm, as an array of its own that the others' array waits for (a stand-in sbatch).
+        log = os.path.join(self.dir, "sbatch.log")
+        with open(os.path.join(self.dir, "sbatch"), "w") as f:
+            f.write("#!/bin/sh\necho \"$@\" >> %s\necho $(wc -l < %s)\n" % (log, log))
+        os.chmod(os.path.join(self.dir, "sbatch"), 0o755)
+        data = {"sweep": "t", "results": results, "binaries": bins, "jobs": jobs + [dict(other_size[0], index=2)]}
+        args = type("A", (), {"partition": None, "gres": None, "throttle": 0})
+        env = dict(os.environ, PATH=self.dir + os.pathsep + os.environ["PATH"])
+        array_id, collect_id, n = pnb_sweep.slurm_submit(data, args, env)
+        with open(log) as f:
+            calls = f.read().splitlines()
+        self.assertEqual((array_id, collect_id, n), ("2", "3", 3))
+        self.assertIn("--job-name pnb-sweep-t-truth --array 0,2 ", calls[0])
+        self.assertIn("--array 1 ", calls[1])
+        self.assertIn("--dependency afterany:1", calls[1])
+        self.assertIn("--dependency afterany:2", calls[2])
         # Without the frame metric, no cache.
         sweep["metrics"] = {"shadow": 8}
         job = pnb_sweep.plan_jobs(sweep, [{}], bins, results)[0]
