@@ -206,9 +206,9 @@ def plain(record):
     return {k: v for k, v in record.items() if k != "choice"} if record else None
 
 
-def main_budget(a, bins, measurer_class=Measurer, out=print):
-    """The budget command with parsed arguments `a` and the build's binaries; `measurer_class`
-    (tests: an oracle) measures. Returns the exit code."""
+def main_budget(a, bins, out=print):
+    """The budget command with parsed arguments `a` and the build's binaries, its lines through
+    `out`. Returns the exit code."""
     import pnb_sweep
     sweep, knobs = knob_sweep(a, pnb_sweep)
     if a.error in ("frame_truth_noise_relmse",):
@@ -216,7 +216,7 @@ def main_budget(a, bins, measurer_class=Measurer, out=print):
     results = os.path.abspath(a.out or os.path.join("out", "sweep", "budget"))
     os.makedirs(results, exist_ok=True)
     pnb_sweep.player_for(sweep["metrics"], bins)  # pnb-judge, or an error saying to build it
-    m = measurer_class(sweep, bins, results, a.error, a if a.slurm else None)
+    m = Measurer(sweep, bins, results, a.error, a if a.slurm else None)
     scene = sweep["scenes"][0]["name"]
     reference = "the defaults' cost" if a.ratio_to == "defaults" else "the cheaper of the defaults and the floor"
     budget_text = "%.3f ms" % a.budget_ms if a.budget_ms is not None else "%.3g x %s" % (a.budget_ratio, reference)
