@@ -77,7 +77,8 @@ install(PROGRAMS ${PROJECT_SOURCE_DIR}/player/tools/plot_frames.py
 install(PROGRAMS ${PROJECT_SOURCE_DIR}/sweep/pnb_sweep.py DESTINATION ${PNB_INSTALL_DATADIR}/sweep)
 install(FILES ${PROJECT_SOURCE_DIR}/sweep/sweep_report.py ${PROJECT_SOURCE_DIR}/sweep/slurm_cluster.py
     ${PROJECT_SOURCE_DIR}/sweep/sweep_command.py ${PROJECT_SOURCE_DIR}/sweep/output_guard.py
-    ${PROJECT_SOURCE_DIR}/sweep/sweep_schema.py
+    ${PROJECT_SOURCE_DIR}/sweep/sweep_schema.py ${PROJECT_SOURCE_DIR}/sweep/budget_search.py
+    ${PROJECT_SOURCE_DIR}/sweep/budget_command.py
     DESTINATION ${PNB_INSTALL_DATADIR}/sweep)
 file(RELATIVE_PATH PNB_BIN_TO_DATA /${CMAKE_INSTALL_BINDIR} /${PNB_INSTALL_DATADIR})
 configure_file(${PROJECT_SOURCE_DIR}/cmake/pnb-sweep.in ${PROJECT_BINARY_DIR}/pnb-sweep @ONLY)

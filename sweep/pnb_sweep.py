@@ -6,7 +6,7 @@ A sweep (TOML or JSON, docs/SWEEP.md) names scenes, settings axes and what to me
     name = "shadows"
     frames = 30                      # pnb-play --bench --frames
     size = "320x180"
-    metrics = { shadow = 15 }        # pnb-play --shadow-metrics 15 (also gi, sky, lod)
+    metrics = { shadow = 15 }        # pnb-play --shadow-metrics 15 (also gi, sky, lod, frame)
     fixed = { "gi.enabled" = "false" }
     [axes]
     "shadows.technique" = ["pssm", "sdsm"]
@@ -65,6 +65,16 @@ Subcommands:
     collect DIR [-o CSV]            one row per finished job: scene, settings, GL renderer, GPU
                                     median per pass, metrics' means, load phases and floor, the
                                     conversion's size and errors.
+    budget SCENE (--budget-ms X | --budget-ratio R) [--knobs FILE] [--size WxH] [--frames N]
+           [--error METRIC] [--out DIR] [--local | --slurm] [-- CONVERTER OPTIONS]
+                                    for one scene and a frame-time budget (ms, or a ratio to the
+                                    cheapest starting configuration measured in the same run),
+                                    searches the knobs of FILE (default sweep/examples/budget-
+                                    knobs.toml: a play sweep whose [[axes]] tables are the knobs)
+                                    and prints the configuration with the lowest whole-frame error
+                                    within it, the defaults' error and cost, and the front of all
+                                    it measured (budget_command.py, budget_search.py); writes
+                                    DIR/budget-<scene>.json, which the report shows.
     report DIR -o OUT [--extremes CSV]  OUT/index.html (+ PNGs, results.csv): per scene the Pareto
                                     fronts of each measured error against its cost (per GL
                                     renderer), the GPU time per pass, load time against its floor,
@@ -97,9 +107,15 @@ from output_guard import check_outputs, write_atomically
 from sweep_report import LOAD_PHASES  # pnb-play's load phases, in the order they happen
 
 REPO = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-METRIC_FLAGS = {"shadow": "--shadow-metrics", "gi": "--gi-metrics", "sky": "--sky-metrics", "lod": "--lod-metrics"}
+METRIC_FLAGS = {"shadow": "--shadow-metrics", "gi": "--gi-metrics", "sky": "--sky-metrics", "lod": "--lod-metrics",
+                "frame": "--frame-metrics"}
 # Metrics judged against a ray-traced truth: the ones pnb-judge measures (player_for).
-TRUTH_METRICS = {"shadow", "gi", "sky"}
+TRUTH_METRICS = {"shadow", "gi", "sky", "frame"}
+# The whole frame's path-traced truth costs far more than the frame it judges and does not depend
+# on the player's techniques: every job of a results directory shares one cache of them,
+# DIR/truth-cache (pnb-judge --frame-truth-cache, whose entries are keyed by what a truth depends
+# on: scene, camera, frame, size), so the configurations of one scene pay for it once.
+TRUTH_CACHE = "truth-cache"
 # Where the experiment files of the repository live: `list` and the report's index read these.
 EXPERIMENT_DIRS = [os.path.join(REPO, "sweep", "examples"), os.path.join(REPO, "sweep", "experiments")]
 # Axis and fixed keys with this prefix are pnb-convert options, not pnb-play settings:
@@ -294,8 +310,15 @@ def plan(sweep, bins, results, args=(), max_jobs=JOB_LIMIT):
         return {"sweep": sweep["name"], "results": results, "binaries": bins, "jobs": jobs}
     if args:
         raise SweepError("%s: arguments after -- are for command experiments (kind = \"command\")" % sweep["name"])
+    jobs = plan_jobs(sweep, play_combinations(sweep), bins, results)
+    return {"sweep": sweep["name"], "results": results, "binaries": bins, "jobs": jobs}
+
+
+def plan_jobs(sweep, combos, bins, results, truth_cache=None):
+    """The jobs of a play sweep's scenes under each of `combos` (settings dicts), numbered from 0,
+    their results in `results`, the frame truth's cache in `truth_cache` (default
+    results/truth-cache). What plan expands a sweep into, and what `budget` measures."""
     jobs = []
-    combos = play_combinations(sweep)
     for scene in sweep["scenes"]:
         for settings in combos:
             options = scene["convert"] + convert_options(settings)
@@ -310,8 +333,9 @@ def plan(sweep, bins, results, args=(), max_jobs=JOB_LIMIT):
                          "player": player,
                          "convert": options, "conversion": ckey, "path": scene["path"],
                          "settings": settings, "frames": sweep["frames"], "size": sweep["size"],
-                         "metrics": sweep["metrics"], "result": os.path.join(results, key)})
-    return {"sweep": sweep["name"], "results": results, "binaries": bins, "jobs": jobs}
+                         "metrics": sweep["metrics"], "result": os.path.join(results, key),
+                         "truth_cache": truth_cache or os.path.join(results, TRUTH_CACHE)})
+    return jobs
 
 
 def done(job):
@@ -344,6 +368,34 @@ def converted_scene(job, plan_data):
     return out
 
 
+def truth_cache(job):
+    """Where a job's whole-frame truths are cached (a plan written before the cache had a place:
+    beside the job's result)."""
+    return job.get("truth_cache") or os.path.join(os.path.dirname(job["result"]), TRUTH_CACHE)
+
+
+def player_command(job, plan_data, scene, out):
+    """The pnb-play (or pnb-judge) command line of a play job: the container `scene`, its outputs
+    into `out`."""
+    # The image of the last measured frame (else the last frame): the report's gallery, beside
+    # that frame's error maps.
+    every = min(job["metrics"].values()) if job["metrics"] else 1
+    shot = max(job["frames"] - 1, 0) // every * every
+    cmd = [job.get("player") or plan_data["binaries"]["play"], scene, "--headless", "--bench", "--fixed-dt", "--frames",
+           str(job["frames"]), "--size", job["size"], "--out", out, "--no-plot", "-q",
+           "--screenshot", os.path.join(out, "frame.png"), "--frame", str(shot)]
+    for k, v in job["settings"].items():
+        if not k.startswith(CONVERT_PREFIX):
+            cmd += ["--set", "%s=%s" % (k, v)]
+    for m, every in job["metrics"].items():
+        cmd += [METRIC_FLAGS[m], str(every)]
+    if "frame" in job["metrics"]:
+        cmd += ["--frame-truth-cache", truth_cache(job)]
+    if job["metrics"]:
+        cmd.append("--error-maps")  # beside frame.png in the report's gallery
+    return cmd
+
+
 def run_job(plan_data, index, force=False, echo=False):
     """Runs job `index` of a plan unless it is finished (force: again). echo: a command job's
     output also goes to this process's stdout."""
@@ -360,20 +412,9 @@ def run_job(plan_data, index, force=False, echo=False):
     tmp = tempfile.mkdtemp(prefix=".%s.tmp." % job["key"], dir=parent)
     started = time.time()
     try:
-        # The image of the last measured frame (else the last frame): the report's gallery, beside
-        # that frame's error maps.
-        every = min(job["metrics"].values()) if job["metrics"] else 1
-        shot = max(job["frames"] - 1, 0) // every * every
-        cmd = [job.get("player") or plan_data["binaries"]["play"], scene, "--headless", "--bench", "--fixed-dt", "--frames",
-               str(job["frames"]), "--size", job["size"], "--out", tmp, "--no-plot", "-q",
-               "--screenshot", os.path.join(tmp, "frame.png"), "--frame", str(shot)]
-        for k, v in job["settings"].items():
-            if not k.startswith(CONVERT_PREFIX):
-                cmd += ["--set", "%s=%s" % (k, v)]
-        for m, every in job["metrics"].items():
-            cmd += [METRIC_FLAGS[m], str(every)]
-        if job["metrics"]:
-            cmd.append("--error-maps")  # beside frame.png in the report's gallery
+        cmd = player_command(job, plan_data, scene, tmp)
+        if "frame" in job["metrics"]:
+            os.makedirs(truth_cache(job), exist_ok=True)
         r = subprocess.run(cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
         log = [" ".join(cmd), r.stdout]
         if r.returncode == 0 and plan_data["binaries"].get("probe"):
@@ -434,12 +475,33 @@ def run_local(data, pending, jobs, gpu_jobs, force=False):
     def play(job):
         status = run_job(data, job["index"], force, echo=gpu_jobs <= 1)
         print("job %d %s: %s -> %s" % (job["index"], job["key"], status, job["result"]), flush=True)
-    each(gpu_jobs, play, pending)
+    # With several jobs at once, the whole-frame truths' first jobs alone first (truth_pilots).
+    pilots = truth_pilots(pending) if gpu_jobs > 1 else []
+    each(gpu_jobs, play, pilots)
+    each(gpu_jobs, play, [j for j in pending if j not in pilots])
+
+
+def truth_pilots(jobs):
+    """Of `jobs`, the first of each group that would path-trace the same whole-frame truths (one
+    container, camera path, size, frames and frame interval, one cache): run before the others,
+    which then find them cached. Jobs without the frame metric have none."""
+    seen, pilots = set(), []
+    for j in jobs:
+        if "frame" not in j.get("metrics", {}):
+            continue
+        group = (j.get("conversion") or j["source"], j.get("path"), j["size"], j["frames"], j["metrics"]["frame"],
+                 truth_cache(j))
+        if group not in seen:
+            seen.add(group)
+            pilots.append(j)
+    return pilots
 
 
 def slurm_submit(data, a, env=None):
     """Submits the pending jobs of `data` as an array and the dependent collect job. Returns
-    (array job id or None, collect job id or None, pending count)."""
+    (array job id or None, collect job id or None, pending count). With the whole-frame metric,
+    the first job of each truth (truth_pilots) goes first as an array of its own, the others'
+    array depending on it."""
     results = data["results"]
     pending = [j["index"] for j in data["jobs"] if not done(j)]
     if not pending:
@@ -460,20 +522,34 @@ def slurm_submit(data, a, env=None):
     with open(collect_script, "w") as f:
         f.write("#!/bin/sh\n# After the array, finished or not: the table and what is missing.\n"
                 "exec %s %s status %s --results %s --write-failed\n" % (python, me, plan_file, results))
-    spec = ",".join(str(i) for i in pending)
-    if a.throttle:
-        spec += "%%%d" % a.throttle
     common = ["--parsable", "--chdir", results]
     if a.partition:
         common += ["--partition", a.partition]
-    array_cmd = ["sbatch"] + common + ["--job-name", "pnb-sweep-" + data["sweep"], "--array", spec,
-                                       "--requeue", "--output", os.path.join(slurm_dir, "%A_%a.out")]
-    if a.gres:
-        array_cmd += ["--gres", a.gres]
-    r = subprocess.run(array_cmd + [array], stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, env=env)
-    if r.returncode != 0:
-        raise SweepError("sbatch failed: %s" % r.stdout.strip())
-    array_id = r.stdout.strip().split(";")[0]
+
+    def submit_array(indices, name, after=None):
+        spec = ",".join(str(i) for i in indices)
+        if a.throttle:
+            spec += "%%%d" % a.throttle
+        cmd = ["sbatch"] + common + ["--job-name", name, "--array", spec,
+                                     "--requeue", "--output", os.path.join(slurm_dir, "%A_%a.out")]
+        if a.gres:
+            cmd += ["--gres", a.gres]
+        if after:
+            cmd += ["--dependency", "afterany:" + after]
+        r = subprocess.run(cmd + [array], stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, env=env)
+        if r.returncode != 0:
+            raise SweepError("sbatch failed: %s" % r.stdout.strip())
+        return r.stdout.strip().split(";")[0]
+    # One job per whole-frame truth first, alone, so that the others find it in the cache
+    # instead of all path-tracing it at once.
+    pilots = [j["index"] for j in truth_pilots([data["jobs"][i] for i in pending])]
+    first = None
+    if pilots and len(pilots) < len(pending):
+        first = submit_array(pilots, "pnb-sweep-%s-truth" % data["sweep"])
+        pending_rest = [i for i in pending if i not in pilots]
+    else:
+        pending_rest = pending
+    array_id = submit_array(pending_rest, "pnb-sweep-" + data["sweep"], first)
     r = subprocess.run(["sbatch"] + common + ["--job-name", "pnb-sweep-collect", "--dependency",
                                               "afterany:" + array_id, "--output",
                                               os.path.join(slurm_dir, "collect_%j.out"), collect_script],
@@ -704,6 +780,9 @@ def main(argv=None):
     rp.add_argument("--extremes", default=None,
                     help="the extremes matrix to include (matrix.csv or its directory; default: the "
                          "build's reference.extremes_matrix output, when it exists)")
+    from budget_command import add_arguments as budget_arguments
+    budget_arguments(sub.add_parser("budget", help="the settings with the lowest whole-frame error within a "
+                                                   "frame-time budget (budget_command.py)"))
     # pnb-convert's own options follow "--" (argparse cannot take them after positionals).
     argv = list(sys.argv[1:] if argv is None else argv)
     extra = argv[argv.index("--") + 1:] if "--" in argv else []
@@ -712,6 +791,9 @@ def main(argv=None):
     a.options = extra
     max_jobs = None if getattr(a, "yes", False) else getattr(a, "max_jobs", None)
     try:
+        if a.command == "budget":
+            from budget_command import main_budget
+            return main_budget(a, binaries(os.path.abspath(a.build)))
         if a.command == "list":
             entries = experiment_index(a.paths or EXPERIMENT_DIRS)
             for e in entries:

@@ -18,10 +18,17 @@ import re
 import shutil
 import statistics
 
+from budget_search import pareto_front  # one definition of the front: the budget search's
+
 # (column, title, cost column, cost title): each error's front is drawn against its own cost.
 GPU = ("gpu_ms:total", "GPU ms per frame (median)")
 SIZE = ("convert:output_bytes", "container MiB")
 HEADLINE_ERRORS = [
+    # The whole frame against its path-traced truth (pnb-judge --frame-metrics): what a user sees,
+    # every knob at once. The displayed image's FLIP first, the issue's headline.
+    ("metric:frame_flip_ldr", "whole frame: LDR-FLIP of the displayed image") + GPU,
+    ("metric:frame_flip_hdr", "whole frame: HDR-FLIP of the linear image") + GPU,
+    ("metric:frame_relmse", "whole frame: relative MSE of the linear image") + GPU,
     ("metric:misclassified_pct", "shadow pixels misclassified, %") + GPU,
     ("metric:weighted_error_pct", "shadow error weighted by irradiance, %") + GPU,
     # Indirect light is judged against the best constant ambient in the same pixels (< 1: better
@@ -33,19 +40,12 @@ HEADLINE_ERRORS = [
     ("convert:max_normal_error_deg", "mesh quantisation: max normal error, degrees") + SIZE,
     ("convert:texture_rmse8", "texture compression: worst texture RMSE, 8-bit levels") + SIZE,
 ]
+# The truth's own noise, shown beside the error it bounds: an error near it says nothing.
+TRUTH_NOISE = {"metric:frame_relmse": ("metric:frame_truth_noise_relmse", "truth's noise (relMSE)")}
 REPO = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 LOAD_PHASES = ("open", "read", "decode", "upload", "compile")  # pnb-play's summary.json load_ms
 
 
-def pareto_front(points):
-    """Indices of the points no other point beats in both cost and error (both minimised)."""
-    order = sorted(range(len(points)), key=lambda i: (points[i][0], points[i][1]))
-    front, best = [], float("inf")
-    for i in order:
-        if points[i][1] < best:
-            front.append(i)
-            best = points[i][1]
-    return front
 
 
 def labeller(rows):
@@ -111,8 +111,10 @@ def front_section(plt, scene, rows, metric, title, cost, cost_title, out_dir):
     png = "%s_%s.png" % (scene, metric.split(":", 1)[1])
     fig, ax = plt.subplots(figsize=(7, 4.5))
     head = "<th>GL renderer</th>" if len(renderers) > 1 else ""
-    table = ["<table border=1 cellpadding=3><tr><th>#</th>%s<th>configuration</th><th>%s</th><th>%s</th></tr>"
-             % (head, html.escape(cost_title), html.escape(title))]
+    noise_column, noise_title = TRUTH_NOISE.get(metric, (None, None))
+    table = ["<table border=1 cellpadding=3><tr><th>#</th>%s<th>configuration</th><th>%s</th><th>%s</th>%s</tr>"
+             % (head, html.escape(cost_title), html.escape(title),
+                "<th>%s</th>" % html.escape(noise_title) if noise_column else "")]
     colours = ["#c03020", "#2060c0", "#20a040", "#a040c0", "#c08020"]
     values = [(scale_cost(cost, number(r, cost)), number(r, metric)) for r in measured]
     # Where each point is drawn (a log axis puts zeros at a floor); the table keeps the values.
@@ -131,9 +133,11 @@ def front_section(plt, scene, rows, metric, title, cost, cost_title, out_dir):
         for i in front:
             n_front += 1
             ax.annotate(str(n_front), drawn[i], fontsize=7, xytext=(3, 3), textcoords="offset points")
-            table.append("<tr><td>%d</td>%s<td>%s</td><td>%.3g</td><td>%.3g</td></tr>"
+            noise = number(measured[i], noise_column) if noise_column else None
+            table.append("<tr><td>%d</td>%s<td>%s</td><td>%.3g</td><td>%.3g</td>%s</tr>"
                          % (n_front, "<td>%s</td>" % html.escape(renderer) if head else "",
-                            html.escape(name(measured[i])), values[i][0], values[i][1]))
+                            html.escape(name(measured[i])), values[i][0], values[i][1],
+                            "" if not noise_column else "<td>%s</td>" % ("%.3g" % noise if noise is not None else "")))
     table.append("</table>")
     ax.set_xlabel(cost_title)
     ax.set_ylabel(title, fontsize=8)
@@ -376,6 +380,78 @@ def gallery_section(rows, results_dir, out_dir):
         (["<ul style=\"font-size:small\">%s</ul>" % keys] if keys else []) + figures
 
 
+def budget_files(results_dir):
+    """The budget searches written into a results directory (pnb_sweep.py budget: budget-<scene>.json)."""
+    if not results_dir or not os.path.isdir(results_dir):
+        return []
+    return sorted(os.path.join(results_dir, f) for f in os.listdir(results_dir)
+                  if f.startswith("budget-") and f.endswith(".json"))
+
+
+def budget_section(plt, path, out_dir):
+    """One budget search's answer: the budget, the configuration with the lowest error within it
+    beside the defaults (each measured twice, and whether the advantage is within noise), and
+    every configuration it measured against the budget, with the front."""
+    with open(path) as f:
+        b = json.load(f)
+    scene, error = b["scene"], b["error"]
+    out = ["<h2>Budget search: %s</h2>" % html.escape(scene)]
+    reference = "the defaults' cost" if b.get("ratio_to") == "defaults" else "the cheaper of the defaults and the floor"
+    given = "%.3g x %.3f ms, %s" % (b["budget_ratio"], b["ratio_reference_ms"], reference) \
+        if b.get("budget_ratio") and b.get("ratio_reference_ms") else "given"
+    out.append("<p>Minimising %s at %s over %d frames; budget %s GPU ms per frame (%s). %d configurations "
+               "measured.</p>" % (html.escape(error), html.escape(b["size"]), b["frames"],
+                                  "%.3f" % b["budget_ms"] if b.get("budget_ms") is not None else "?",
+                                  html.escape(given), len(b.get("configurations", []))))
+    if not b.get("answer"):
+        return out + ["<p><b>No answer:</b> %s</p>" % html.escape(b.get("message", ""))]
+    w, d = b["answer"], b["defaults"]
+    out.append("<table border=1 cellpadding=3><tr><th></th><th>configuration</th><th>GPU ms</th><th>%s</th>"
+               "<th>measured again: ms, %s</th></tr>" % (html.escape(error), html.escape(error)))
+    for label, r, again in (("best within the budget", w, b["verdict"].get("winner_again")),
+                            ("defaults", d, b["verdict"].get("defaults_again"))):
+        describe = " ".join("%s=%s" % kv for kv in sorted(r["settings"].items())) or "(defaults)"
+        out.append("<tr><td>%s</td><td>%s</td><td>%.3f</td><td>%.4g</td><td>%s</td></tr>"
+                   % (label, html.escape(describe), r["cost"], r["error"],
+                      "%.3f, %.4g" % (again["cost"], again["error"]) if again else "not measured"))
+    out.append("</table><p>%s%s</p>" % (html.escape(b["verdict"]["text"]), ". The defaults are on the front: "
+                                        "nothing measured is both cheaper and more accurate"
+                                        if b.get("defaults_on_front") else ""))
+    for r in b["verdict"].get("near_misses", []):
+        out.append("<p>Over the budget within the cost's noise, and more accurate: %s (%.3f ms, %.4g)</p>"
+                   % (html.escape(" ".join("%s=%s" % kv for kv in sorted(r["settings"].items())) or "(defaults)"),
+                      r["cost"], r["error"]))
+    measured = [r for r in b["configurations"] if r and "failed" not in r]
+    png = "budget_%s.png" % scene
+    fig, ax = plt.subplots(figsize=(7, 4.5))
+    front = b["front"]
+    # Drawn on a log scale where the errors span more than 50x (shadows off beside the rest).
+    ys = log_if_wide(ax, "y", [r["error"] for r in measured + front + [d, w]])
+    n, k = len(measured), len(front)
+    ax.scatter([r["cost"] for r in measured], ys[:n], color="#2060c0", alpha=0.4, s=14,
+               label="configurations measured")
+    ax.plot([r["cost"] for r in front], ys[n:n + k], "o-", color="#c03020", label="Pareto front")
+    ax.axvline(b["budget_ms"], color="k", ls="--", lw=1, label="budget")
+    ax.plot([d["cost"]], [ys[-2]], "s", color="#20a040", ms=9, label="defaults")
+    ax.plot([w["cost"]], [ys[-1]], "*", color="#c08020", ms=14, label="best within the budget")
+    ax.set_xlabel(GPU[1])
+    ax.set_ylabel(error)
+    ax.set_title("%s: budget search" % scene)
+    ax.legend(fontsize=7)
+    fig.tight_layout()
+    fig.savefig(os.path.join(out_dir, png), dpi=100)
+    plt.close(fig)
+    out.append("<img src=\"%s\" alt=\"budget search\">" % png)
+    out.append("<table border=1 cellpadding=3><tr><th>front: GPU ms</th><th>%s</th><th>configuration</th></tr>"
+               % html.escape(error))
+    for r in front:
+        out.append("<tr><td>%.3f</td><td>%.4g</td><td>%s</td></tr>" % (
+            r["cost"], r["error"], html.escape(" ".join("%s=%s" % kv for kv in sorted(r["settings"].items()))
+                                               or "(defaults)")))
+    out.append("</table>")
+    return out
+
+
 def extremes_section(path):
     """The ground-truth extremes matrix (bench/extremes/matrix.py, run by the test
     reference.extremes_matrix and by scripts/bench-extremes): per technique, each row's error at
@@ -506,6 +582,8 @@ def write_report(columns, rows, out_dir, results_dir=None, extremes=None, experi
         if results_dir:
             body += path_section(plt, scene, srows, results_dir, out_dir)
             body += gallery_section(srows, results_dir, out_dir)
+    for path in budget_files(results_dir):
+        body += budget_section(plt, path, out_dir)
     if extremes:
         body += extremes_section(extremes)
     else:

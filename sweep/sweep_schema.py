@@ -15,8 +15,9 @@ import jsonschema
 
 from sweep_command import BUILTIN, SweepError
 
-# The metrics a play sweep may ask for (pnb_sweep.METRIC_FLAGS has their pnb-play options).
-METRICS = ("shadow", "gi", "sky", "lod")
+# The metrics a play sweep may ask for (pnb_sweep.METRIC_FLAGS has their pnb-play options; frame:
+# the whole frame against its path-traced truth, pnb-judge --frame-metrics).
+METRICS = ("shadow", "gi", "sky", "lod", "frame")
 
 
 def _finite_number(checker, instance):

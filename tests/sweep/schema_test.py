@@ -47,7 +47,7 @@ PLAY_CASES = {
     "kind-number.toml": ("kind = 3\n" + ONE_SCENE, ["kind: 3", "(play, command)"]),
     "unknown-top-level.toml": ("colour = 1\n" + ONE_SCENE, ["unknown key 'colour'", "known: axes, description"]),
     "metrics-unknown.toml": ("metrics = { shadows = 4 }\n" + ONE_SCENE,
-                             ["unknown key 'metrics.shadows'", "known: gi, lod, shadow, sky"]),
+                             ["unknown key 'metrics.shadows'", "known: frame, gi, lod, shadow, sky"]),
     "metrics-zero.toml": ("metrics = { shadow = 0 }\n" + ONE_SCENE, ["'metrics.shadow'", ">= 1"]),
     "metrics-nan.toml": ("metrics = { gi = nan }\n" + ONE_SCENE, ["'metrics.gi'", "got nan"]),
     "metrics-string.toml": ('metrics = "shadow"\n' + ONE_SCENE, ["'metrics'", "a table"]),
