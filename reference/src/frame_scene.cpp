@@ -17,7 +17,6 @@
 #include "pnb/node_transform.h"
 #include "pnb/texture_transform.h"
 #include "pnb_lighting/scene_lights.h"
-#include "pnb_lighting/sh9.h"
 #include "translucency.h"
 
 namespace pnb::reference::detail {
@@ -112,7 +111,7 @@ TracerResult<std::unique_ptr<FrameScene>> FrameScene::build(const Scene& scene, 
             if (auto decoded = decodeTexture(scene, scene.environment->radiance)) {
                 decoded->wrapU = Wrap::Repeat;
                 decoded->wrapV = Wrap::ClampToEdge;
-                out->mEnvironment = std::move(*decoded);
+                out->mEnvironment.emplace(std::move(*decoded));
             }
     }
     stats.environment = out->mEnvironment.has_value();
@@ -342,12 +341,6 @@ glm::vec3 FrameScene::transmittance(TraceContext& context, glm::vec3 org, glm::v
         tnear = float(toPoint ? band / std::max(double(glm::length(dir)), 1e-30) : band);
     }
     return through;
-}
-
-glm::vec3 FrameScene::environment(glm::vec3 w, double cosRotation, double sinRotation, double intensity) const {
-    if (!mEnvironment) return glm::vec3(0.0f);
-    const glm::dvec3 local(cosRotation * w.x - sinRotation * w.z, w.y, sinRotation * w.x + cosRotation * w.z);
-    return glm::vec3(glm::dvec3(glm::vec3(mEnvironment->sample(glm::vec2(lighting::equirectUv(local))))) * intensity);
 }
 
 } // namespace pnb::reference::detail

@@ -17,6 +17,7 @@
 #include <glm/vec3.hpp>
 #include <glm/vec4.hpp>
 
+#include "frame_environment.h"
 #include "frame_random.h"
 #include "pnb/scene.h"
 #include "pnb_reference/frame_tracer.h"
@@ -70,7 +71,13 @@ public:
 
     // The environment's radiance along world direction w (rotation and intensity applied), black
     // without an ENVM radiance image.
-    glm::vec3 environment(glm::vec3 w, double cosRotation, double sinRotation, double intensity) const;
+    glm::vec3 environment(glm::vec3 w, const EnvironmentPose& pose) const {
+        return mEnvironment ? mEnvironment->radiance(w, pose) : glm::vec3(0.0f);
+    }
+    // The environment to sample (next-event estimation), or null: none, or black everywhere.
+    const EnvironmentMap* sampledEnvironment() const {
+        return mEnvironment && mEnvironment->sampleable() ? &*mEnvironment : nullptr;
+    }
 
     const std::vector<FrameLight>& lights() const { return mLights; }
     bool hasEnvironment() const { return mEnvironment.has_value(); }
@@ -120,7 +127,7 @@ private:
     std::vector<Instance> mInstances; // by Embree geometry id
     std::vector<LinearTexture> mTextures;
     std::vector<FrameLight> mLights;
-    std::optional<LinearTexture> mEnvironment;
+    std::optional<EnvironmentMap> mEnvironment;
     glm::dvec3 mOrigin{0.0};
 };
 

