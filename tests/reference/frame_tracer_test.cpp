@@ -4,7 +4,9 @@
 // reduction of its one-bounce indirect light to IndirectTracer's irradiance; the same image at
 // scales 1e-4 and 1e4 and 1e6 from the origin; empty scenes and a camera inside geometry;
 // determinism across seeds and thread counts; the noise falling as 1/N. Scenes are built by hand
-// (pnb::SceneBuilder), images are tiny.
+// (pnb::SceneBuilder), images are tiny. Also: direct light is exactly the player's shading of
+// point and spot lights; alpha modes, sides and unlit materials as the player draws them; the
+// environment's importance sampling agrees with BSDF sampling.
 #include <algorithm>
 #include <cmath>
 #include <functional>
@@ -15,9 +17,12 @@
 #include <glm/glm.hpp>
 #include <gtest/gtest.h>
 
+#include "pnb/light_range.h"
 #include "pnb/scene_builder.h"
+#include "pnb_lighting/brdf.h"
 #include "pnb_reference/frame_tracer.h"
 #include "pnb_reference/indirect_tracer.h"
+#include "pnb_reference/local_light.h"
 
 namespace pnb::reference::test {
 namespace {
@@ -164,10 +169,8 @@ void addUniformSky(SceneBuilder& b, glm::vec3 l) {
     addSky(b, 4, 2, [l](uint32_t, uint32_t) { return l; });
 }
 
-void addSun(SceneBuilder& b, glm::vec3 toward, float lux) {
-    Light l;
-    l.type = LightType::Directional;
-    l.intensity = lux;
+// A light of `type` at `position`, shining along -toward (directional, spot).
+void addLight(SceneBuilder& b, Light l, glm::vec3 position, glm::vec3 toward) {
     b.scene.lights.lights.push_back(l);
     // A directional light shines along its node's -Z: turn -Z onto -toward.
     const glm::dvec3 from(0, 0, -1), to = -glm::normalize(glm::dvec3(toward));
@@ -178,7 +181,34 @@ void addSun(SceneBuilder& b, glm::vec3 toward, float lux) {
     Node n;
     n.light = uint32_t(b.scene.lights.lights.size() - 1);
     n.rotation = {float(q.x), float(q.y), float(q.z), float(q.w)};
+    n.translation = {position.x, position.y, position.z};
     b.scene.nodes.nodes.push_back(n);
+}
+
+void addSun(SceneBuilder& b, glm::vec3 toward, float lux) {
+    Light l;
+    l.type = LightType::Directional;
+    l.intensity = lux;
+    addLight(b, l, glm::vec3(0.0f), toward);
+}
+
+// An orthographic camera looking straight down (-Y) from height 5 over (x, z), view +Y = world -Z:
+// pixel (i, j) of a size x size image sees the ground at groundPoint(i, j).
+struct DownCamera {
+    FrameCamera camera;
+    glm::dvec3 groundPoint(int i, int j) const {
+        const double nx = (i + 0.5) / camera.width * 2 - 1, ny = 1 - (j + 0.5) / camera.height * 2;
+        return {camera.position.x + nx * camera.xmag, 0.0, camera.position.z - ny * camera.ymag};
+    }
+};
+DownCamera lookDown(double x, double z, double halfSize, int size) {
+    DownCamera d;
+    d.camera.position = {x, 5, z};
+    d.camera.worldFromView = glm::dmat3(glm::dvec3(1, 0, 0), glm::dvec3(0, 0, -1), glm::dvec3(0, 1, 0));
+    d.camera.orthographic = true;
+    d.camera.xmag = d.camera.ymag = halfSize;
+    d.camera.width = d.camera.height = size;
+    return d;
 }
 
 // A camera at `eye` looking at `target`, +Y up.
@@ -404,6 +434,104 @@ TEST(FrameTracer, EnvironmentSamplingAgreesWithBsdfSamplingAndIsLessNoisy) {
         }
     EXPECT_NEAR(sumDrawn, sumBsdf, 4.0 * std::sqrt(variance) + 0.01 * sumBsdf);
     EXPECT_LT(drawn.relativeNoise, 0.5 * bsdf.relativeNoise) << "with 4x fewer samples";
+}
+
+// Direct light only and no sky: every pixel is exactly the player's shading (brdf.h's shadeBrdf,
+// lights.glsl's range window and spot cone), no randomness left. A point light and a spot
+// pointing down, 2 above a rough grey dielectric; pixels inside, across and outside the cone.
+TEST(FrameTracer, DirectLightIsThePlayersShadingOfPointAndSpotLights) {
+    for (LightType type : {LightType::Point, LightType::Spot}) {
+        SceneBuilder b;
+        Material grey;
+        grey.baseColorFactor = {0.6f, 0.5f, 0.4f, 1};
+        grey.metallicFactor = 0.2f;
+        grey.roughnessFactor = 0.5f;
+        b.scene.materials.push_back(grey);
+        addObject(b, ground(10.0f), 0);
+        Light l;
+        l.type = type;
+        l.color = {1.0f, 0.9f, 0.8f};
+        l.intensity = 40;
+        l.innerConeRadians = 0.2f, l.outerConeRadians = 0.4f;
+        addLight(b, l, {0.1f, 2.0f, -0.2f}, {0, 1, 0});
+        auto tracer = build(b);
+        ASSERT_TRUE(tracer);
+        const DownCamera view = lookDown(0.3, 0.1, 1.5, 8);
+        FrameTraceSettings s = fixedSamples(4, 0);
+        s.lambertianOnly = false;
+        const FrameImage image = tracer->render(view.camera, s);
+        const double range = pnb::effectiveLightRange(l);
+        int inside = 0, outside = 0;
+        for (int j = 0; j < 8; ++j)
+            for (int i = 0; i < 8; ++i) {
+                const glm::dvec3 p = view.groundPoint(i, j), toLight = glm::dvec3(0.1, 2.0, -0.2) - p;
+                double attenuation = rangeAttenuation(glm::dot(toLight, toLight), range);
+                if (type == LightType::Spot) {
+                    const double cone = spotConeFactor(glm::normalize(toLight).y, std::cos(0.4), std::cos(0.2));
+                    attenuation *= cone;
+                    inside += cone == 1.0;
+                    outside += cone == 0.0;
+                }
+                const glm::vec3 truth = lighting::shadeBrdf(glm::vec3(0.6f, 0.5f, 0.4f), 0.2f, 0.5f, {0, 1, 0}, {0, 1, 0},
+                                                            glm::vec3(glm::normalize(toLight)),
+                                                            glm::vec3(1.0f, 0.9f, 0.8f) * float(40 * attenuation));
+                const glm::vec3 got = image.mean[size_t(j) * 8 + size_t(i)];
+                for (int c = 0; c < 3; ++c) EXPECT_NEAR(got[c], truth[c], 1e-5f + 1e-5f * truth[c]) << i << "," << j;
+            }
+        if (type == LightType::Spot) {
+            EXPECT_GT(inside, 0);
+            EXPECT_GT(outside, 0);
+        }
+    }
+}
+
+// Alpha, sides and unlit materials, one quad at y = 1 over nothing, a uniform sky L behind it,
+// seen from above: MASK below its cut-off is absent, at or above it there; BLEND shows alpha x
+// surface + (1 - alpha) x what is behind; a single-sided surface seen from behind is absent;
+// unlit radiance is base colour + emissive x strength.
+TEST(FrameTracer, AlphaModesSidesAndUnlitMaterialsAsThePlayerDrawsThem) {
+    const glm::vec3 sky(0.2f, 0.4f, 0.6f), base(0.9f, 0.5f, 0.1f), emissive(0.1f, 0.2f, 0.3f);
+    struct Case {
+        const char* name;
+        AlphaMode mode;
+        float alpha;
+        bool facingUp, doubleSided;
+        float emissiveStrength;
+        glm::vec3 expected;
+    };
+    const Case cases[] = {
+        {"mask below cut-off", AlphaMode::Mask, 0.3f, true, false, 0, sky},
+        {"mask above cut-off", AlphaMode::Mask, 0.7f, true, false, 0, base},
+        {"blend", AlphaMode::Blend, 0.25f, true, false, 0, 0.25f * base + 0.75f * sky},
+        {"single-sided from behind", AlphaMode::Opaque, 1, false, false, 0, sky},
+        {"double-sided from behind", AlphaMode::Opaque, 1, false, true, 0, base},
+        {"emissive strength", AlphaMode::Opaque, 1, true, false, 4, base + 4.0f * emissive},
+    };
+    for (const Case& k : cases) {
+        SceneBuilder b;
+        Material m;
+        m.baseColorFactor = {base.x, base.y, base.z, k.alpha};
+        m.alphaMode = k.mode;
+        m.unlit = true;
+        m.doubleSided = k.doubleSided;
+        m.emissiveFactor = {emissive.x, emissive.y, emissive.z};
+        m.emissiveStrength = k.emissiveStrength;
+        b.scene.materials.push_back(m);
+        Geometry quad = ground(2.0f);
+        if (!k.facingUp) orient(quad, [](glm::vec3) { return glm::vec3(0, -1, 0); });
+        addObject(b, quad, 0, {0, 1, 0});
+        addUniformSky(b, sky);
+        auto tracer = build(b);
+        ASSERT_TRUE(tracer);
+        const FrameImage image = tracer->render(lookDown(0, 0, 1, 6).camera, fixedSamples(256, 2));
+        expectEverywhere(image, [&](size_t) { return k.expected; });
+        if (k.mode == AlphaMode::Blend) {
+            EXPECT_GT(image.standardError[0].x, 0.0f) << k.name; // stochastic: some paths pass
+        }
+        if (testing::Test::HasFailure()) {
+            ADD_FAILURE() << "case: " << k.name;
+        }
+    }
 }
 
 TEST(FrameTracer, EmptyScenesAndACameraInsideGeometryGiveFiniteImages) {
