@@ -32,6 +32,8 @@ constexpr double kPi = std::numbers::pi;
 struct Geometry {
     std::vector<glm::vec3> positions, normals;
     std::vector<uint32_t> indices;
+    std::vector<glm::vec2> uv0, uv1;  // optional
+    std::vector<glm::vec4> tangents;  // optional
 };
 
 // Each triangle wound counter-clockwise seen from the side `outward(centroid)` points to.
@@ -128,6 +130,21 @@ void addObject(SceneBuilder& b, const Geometry& g, uint32_t material, glm::dvec3
         s.data = b.keep(xyz);
         m.streams.push_back(s);
     }
+    auto addStream = [&](VertexSemantic semantic, const std::vector<float>& values, uint8_t components) {
+        VertexStream st;
+        st.semantic = semantic;
+        st.componentCount = components;
+        st.data = b.keep(values);
+        m.streams.push_back(st);
+    };
+    for (auto [semantic, uv] : {std::pair{VertexSemantic::TexCoord0, &g.uv0}, {VertexSemantic::TexCoord1, &g.uv1}}) {
+        std::vector<float> values;
+        for (const glm::vec2& v : *uv) values.insert(values.end(), {v.x, v.y});
+        if (!values.empty()) addStream(semantic, values, 2);
+    }
+    std::vector<float> tangents;
+    for (const glm::vec4& t : g.tangents) tangents.insert(tangents.end(), {t.x, t.y, t.z, t.w});
+    if (!tangents.empty()) addStream(VertexSemantic::Tangent, tangents, 4);
     m.indexType = IndexType::U32;
     m.indices = b.keep(g.indices);
     Submesh sm;
@@ -532,6 +549,101 @@ TEST(FrameTracer, AlphaModesSidesAndUnlitMaterialsAsThePlayerDrawsThem) {
             ADD_FAILURE() << "case: " << k.name;
         }
     }
+}
+
+// A linear RGBA32F texture of width x 1 texels.
+uint32_t addTexture(SceneBuilder& b, const std::vector<glm::vec4>& texels) {
+    TextureDesc t;
+    t.format = TextureFormat::RGBA32F;
+    t.colorSpace = ColorSpace::Linear;
+    t.width = uint32_t(texels.size()), t.height = 1, t.mipCount = 1;
+    TextureMip mip;
+    mip.texture = uint32_t(b.scene.textures.size());
+    mip.width = t.width, mip.height = 1;
+    std::vector<float> values;
+    for (const glm::vec4& v : texels) values.insert(values.end(), {v.x, v.y, v.z, v.w});
+    mip.data = b.keep(values);
+    b.scene.textures.push_back(t);
+    b.scene.textureMips.push_back(mip);
+    return mip.texture;
+}
+
+// The base colour texture read with the slot's UV set and KHR_texture_transform: a 2-texel
+// texture (red | green), UV set 0 at u = 0.75 and set 1 at u = 0.25 on every vertex, an unlit
+// quad seen from above. Texel centres are at u = 0.25 and 0.75, so each case is exact.
+TEST(FrameTracer, TexturesAreReadWithTheSlotsUvSetAndTransform) {
+    const glm::vec3 red(1, 0, 0), green(0, 1, 0);
+    struct Case {
+        uint8_t texCoord;
+        float offset, scale;
+        glm::vec3 expected;
+    };
+    for (const Case& k : {Case{0, 0, 1, green}, Case{1, 0, 1, red}, Case{1, 0.5f, 1, green}, Case{1, 0, 2, 0.5f * (red + green)}}) {
+        SceneBuilder b;
+        const uint32_t texture = addTexture(b, {glm::vec4(red, 1), glm::vec4(green, 1)});
+        Material m;
+        m.unlit = true;
+        m.textures[size_t(TextureSlotKind::BaseColor)].texture = texture;
+        m.textures[size_t(TextureSlotKind::BaseColor)].texCoord = k.texCoord;
+        m.textures[size_t(TextureSlotKind::BaseColor)].offset = {k.offset, 0};
+        m.textures[size_t(TextureSlotKind::BaseColor)].scale = {k.scale, 1};
+        b.scene.materials.push_back(m);
+        Geometry quad = ground(2.0f);
+        quad.uv0.assign(4, glm::vec2(0.75f, 0.5f));
+        quad.uv1.assign(4, glm::vec2(0.25f, 0.5f));
+        addObject(b, quad, 0);
+        auto tracer = build(b);
+        ASSERT_TRUE(tracer);
+        const FrameImage image = tracer->render(lookDown(0, 0, 1, 4).camera, fixedSamples(1, 0));
+        for (const glm::vec3& v : image.mean)
+            for (int c = 0; c < 3; ++c) EXPECT_NEAR(v[c], k.expected[c], 1e-6f) << "set " << int(k.texCoord) << " offset " << k.offset << " scale " << k.scale;
+    }
+}
+
+// A normal map tilts the shading normal along the stored tangent (+X): texel (0.8, 0.5, 0.9)
+// is the tangent-space normal (0.6, 0, 0.8), so the sun straight above lights the ground with
+// cos = 0.8 and a sun along (0.6, 0.8, 0) with cos = 1. And the sun's light through a glass pane
+// (Blend, casting shadows) above the ground is attenuated by T = rgb x (1 - alpha); the pane,
+// single-sided and facing down, is not seen from above. Direct light, no sky: exact.
+TEST(FrameTracer, NormalMapsTiltTheNormalAndGlassTintsTheSun) {
+    const float albedo = 0.5f, lux = 3.0f;
+    for (glm::vec3 sun : {glm::vec3(0, 1, 0), glm::vec3(0.6f, 0.8f, 0)}) {
+        SceneBuilder b;
+        Material m;
+        m.baseColorFactor = {albedo, albedo, albedo, 1};
+        m.metallicFactor = 0;
+        m.textures[size_t(TextureSlotKind::Normal)].texture = addTexture(b, {glm::vec4(0.8f, 0.5f, 0.9f, 1)});
+        b.scene.materials.push_back(m);
+        Geometry floor = ground(3.0f);
+        floor.uv0.assign(4, glm::vec2(0.5f));
+        floor.tangents.assign(4, glm::vec4(1, 0, 0, 1));
+        addObject(b, floor, 0);
+        addSun(b, sun, lux);
+        auto tracer = build(b);
+        ASSERT_TRUE(tracer);
+        FrameTraceSettings s = fixedSamples(1, 0);
+        const FrameImage image = tracer->render(lookDown(0, 0, 1, 4).camera, s);
+        const double cosine = glm::dot(glm::normalize(glm::dvec3(0.6, 0, 0.8)).x * glm::dvec3(1, 0, 0) +
+                                           glm::normalize(glm::dvec3(0.6, 0, 0.8)).z * glm::dvec3(0, 1, 0),
+                                       glm::dvec3(sun));
+        for (const glm::vec3& v : image.mean) EXPECT_NEAR(v.x, albedo / kPi * lux * cosine, 1e-4) << sun.x;
+    }
+    SceneBuilder b;
+    addObject(b, ground(3.0f), addMaterial(b, glm::vec3(albedo)));
+    Material glass;
+    glass.baseColorFactor = {0.5f, 1.0f, 0.8f, 0.4f};
+    glass.alphaMode = AlphaMode::Blend;
+    b.scene.materials.push_back(glass);
+    Geometry pane = ground(2.0f);
+    orient(pane, [](glm::vec3) { return glm::vec3(0, -1, 0); });
+    addObject(b, pane, uint32_t(b.scene.materials.size() - 1), {0, 1, 0});
+    addSun(b, glm::vec3(0, 1, 0), lux);
+    auto tracer = build(b);
+    ASSERT_TRUE(tracer);
+    const FrameImage image = tracer->render(lookDown(0, 0, 1, 4).camera, fixedSamples(1, 0));
+    const glm::vec3 transmitted = glm::vec3(0.5f, 1.0f, 0.8f) * 0.6f;
+    for (const glm::vec3& v : image.mean)
+        for (int c = 0; c < 3; ++c) EXPECT_NEAR(v[c], albedo / kPi * lux * transmitted[c], 1e-4);
 }
 
 TEST(FrameTracer, EmptyScenesAndACameraInsideGeometryGiveFiniteImages) {
