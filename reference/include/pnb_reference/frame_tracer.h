@@ -25,6 +25,10 @@
 //     directions drawn from its map (luminance x solid angle) and BSDF-sampled rays, combined by
 //     multiple importance sampling; black where there is no ENVM (the player's clear colour);
 //   - any number of bounces (maxBounces), Russian roulette after kRouletteDepth of them.
+// Not modelled: the near plane (rays start at the eye, or on the camera's plane when
+// orthographic: what the player clips nearer than znear the truth shows); emitters are not
+// sampled by next-event estimation (an emissive surface lights others through BSDF-sampled rays
+// only: a small, bright one converges slowly).
 // Importance sampling: one-sample MIS of a GGX lobe (D(h) cos(h) sampling) and a cosine lobe,
 // chosen by the estimated specular vs diffuse weight, with the combined pdf.
 //
