@@ -1,6 +1,7 @@
 #version 450 core
 // tonemap.frag — HDR -> display: exposure, ACES filmic fit (Narkowicz 2015). The player renders
 // into an sRGB framebuffer, so the hardware applies the sRGB transfer function on write.
+// Mirrored on the CPU by lighting/include/pnb_lighting/tonemap.h: change both together.
 layout(binding = 0) uniform sampler2D uHdr;
 layout(location = 0) uniform float uExposure;
 

@@ -23,7 +23,8 @@ TriangleScene::~TriangleScene() {
 }
 
 TracerResult<std::unique_ptr<TriangleScene>> buildTriangleScene(const Scene& scene, glm::dvec3 origin,
-                                                                const TriangleInstanceCallback& onInstance) {
+                                                                const TriangleInstanceCallback& onInstance,
+                                                                BlendSurfaces blend) {
     auto inputError = [](std::string message) { return TracerError{TracerErrorKind::Input, std::move(message)}; };
     auto out = std::make_unique<TriangleScene>();
     out->device = rtcNewDevice(nullptr);
@@ -56,8 +57,8 @@ TracerResult<std::unique_ptr<TriangleScene>> buildTriangleScene(const Scene& sce
             // Blend surfaces reflect nothing here; those that cast shadows attenuate what
             // crosses them (translucency.h), the others let everything through.
             const Material& material = scene.materials[sm.material];
-            const bool translucent = isTranslucentCaster(material);
-            if (material.alphaMode == AlphaMode::Blend && !translucent) continue;
+            const bool translucent = blend == BlendSurfaces::Translucent && isTranslucentCaster(material);
+            if (material.alphaMode == AlphaMode::Blend && !translucent && blend == BlendSurfaces::Translucent) continue;
             if (uint64_t(sm.firstIndex) + sm.indexCount > indexCount)
                 return inputError(meshName(scene, n.mesh) + ": submesh indices " + std::to_string(sm.firstIndex) +
                                   "+" + std::to_string(sm.indexCount) + " run past its " +
@@ -89,6 +90,8 @@ TracerResult<std::unique_ptr<TriangleScene>> buildTriangleScene(const Scene& sce
             if (!id) return TracerError{TracerErrorKind::Embree, "Embree: attaching a geometry failed"};
             out->triangles += indices.size() / 3;
             ++out->instances;
+            if (out->worldOfGeometry.size() <= *id) out->worldOfGeometry.resize(*id + 1, glm::dmat4(1.0));
+            out->worldOfGeometry[*id] = world;
             if (translucent) {
                 ++out->translucentInstances;
                 if (auto e = out->translucent.add(scene, *id, n.mesh, sm, std::move(indices))) return *e;

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include <embree3/rtcore.h>
+#include <glm/mat4x4.hpp>
 #include <glm/vec3.hpp>
 
 #include "pnb/scene.h"
@@ -33,6 +34,7 @@ struct TriangleScene {
     uint32_t instances = 0; // node x submesh instances attached, translucent ones included
     uint32_t translucentInstances = 0;
     TranslucentSurfaces translucent; // the translucent instances, by geometry id
+    std::vector<glm::dmat4> worldOfGeometry; // each attached geometry's placement, by geometry id
 
     TriangleScene() = default;
     TriangleScene(const TriangleScene&) = delete;
@@ -47,11 +49,19 @@ struct TriangleScene {
 using TriangleInstanceCallback = std::function<std::optional<TracerError>(
     unsigned geometryId, uint32_t node, uint32_t mesh, const Submesh& submesh, std::vector<uint32_t>&& indices)>;
 
+// How Blend surfaces enter the scene.
+enum class BlendSurfaces : uint8_t {
+    Translucent, // the default above: casting ones attenuate (passTranslucent), others are absent
+    Opaque,      // every Blend instance is an ordinary surface (rejectOwnSurface, onInstance called):
+                 // the whole-frame tracer decides per hit whether a ray passes (frame_scene.h)
+};
+
 // World transforms composed in double (pnb/node_transform.h), vertices made relative to `origin`
 // before they are rounded to float, as ShadowTracer does. Errors: Input (a node, material or
 // index out of range, a submesh past the index buffer, no position stream), Unsupported
 // (octahedral positions), Embree.
 TracerResult<std::unique_ptr<TriangleScene>> buildTriangleScene(const Scene& scene, glm::dvec3 origin,
-                                                                const TriangleInstanceCallback& onInstance = {});
+                                                                const TriangleInstanceCallback& onInstance = {},
+                                                                BlendSurfaces blend = BlendSurfaces::Translucent);
 
 } // namespace pnb::reference::detail

@@ -5,6 +5,7 @@
 #include <optional>
 #include <string>
 
+#include "pnb_reference/frame_tracer.h"
 #include "pnb_reference/indirect_tracer.h"
 #include "pnb_reference/sky_tracer.h"
 
@@ -17,6 +18,9 @@ struct Settings {
     pnb::reference::IndirectSettings indirectSettings;
     bool sky = false;
     pnb::reference::SkySettings skySettings;
+    // --whole-frame: the path-traced HDR image of the whole frame (reference_whole_frame.h).
+    bool wholeFrame = false;
+    pnb::reference::FrameTraceSettings frameSettings;
     // Given on the command line (they override what frame.json records).
     std::optional<double> skyRotationDegrees, skyIntensity;
     std::string usageError; // an option's value that could not be used (exit 1)

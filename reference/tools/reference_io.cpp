@@ -85,6 +85,28 @@ Expected<Frame> readFrameJson(const std::string& path) {
     };
     if (auto e = optionalNumber("ibl_rotation_degrees", f.iblRotationDegrees)) return *e;
     if (auto e = optionalNumber("ibl_intensity", f.iblIntensity)) return *e;
+    for (auto [key, out] : {std::pair{"yfov", &f.yfov}, {"aspect", &f.aspect}, {"xmag", &f.xmag}, {"ymag", &f.ymag},
+                            {"exposure", &f.exposure}})
+        if (auto e = optionalNumber(key, *out)) return *e;
+    if (auto it = j.find("projection"); it != j.end()) {
+        if (!it->is_string() || (*it != "perspective" && *it != "orthographic"))
+            return fail("\"projection\" must be \"perspective\" or \"orthographic\"");
+        f.projection = it->get<std::string>();
+    }
+    if (auto it = j.find("camera_world_from_view"); it != j.end()) {
+        glm::dmat3 m(1.0);
+        bool ok = it->is_array() && it->size() == 3;
+        for (size_t c = 0; ok && c < 3; ++c) {
+            const auto& column = (*it)[c];
+            ok = column.is_array() && column.size() == 3;
+            for (size_t r = 0; ok && r < 3; ++r) {
+                ok = column[r].is_number() && std::isfinite(column[r].get<double>());
+                if (ok) m[int(c)][int(r)] = column[r].get<double>();
+            }
+        }
+        if (!ok) return fail("\"camera_world_from_view\" must be 3 columns of 3 finite numbers");
+        f.worldFromView = m;
+    }
     return f;
 }
 

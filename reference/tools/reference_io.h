@@ -9,6 +9,7 @@
 #include <vector>
 
 #include <OpenImageIO/typedesc.h>
+#include <glm/mat3x3.hpp>
 #include <glm/vec3.hpp>
 
 #include "pnb/error.h"
@@ -36,6 +37,11 @@ struct Frame {
     int width = 0, height = 0;
     // The player's environment settings, when the dump records them (optional keys).
     std::optional<double> iblRotationDegrees, iblIntensity;
+    // The camera's orientation and projection (optional keys; pnb-reference --whole-frame needs
+    // camera_world_from_view, projection and its yfov/aspect or xmag/ymag).
+    std::optional<glm::dmat3> worldFromView; // columns: the view's +X, +Y, +Z in world
+    std::optional<std::string> projection;   // "perspective" or "orthographic"
+    std::optional<double> yfov, aspect, xmag, ymag, exposure;
 };
 
 Expected<Frame> readFrameJson(const std::string& path);

@@ -3,6 +3,7 @@
 // dumped, its colour visibility (reference_color.h), write the images and metrics.json (with
 // the irradiance truths asked for), print the summary.
 #include "reference_run.h"
+#include "reference_whole_frame.h"
 
 #include <chrono>
 #include <cmath>
@@ -328,6 +329,7 @@ void printSummary(const std::string& outDir, const Inputs& inputs, const Truth& 
 } // namespace
 
 int run(const Settings& settings) {
+    if (settings.wholeFrame) return runWholeFrame(settings); // needs frame.json only
     const std::string& dir = settings.frameDir;
     const std::string in = dir + "/" + settings.prefix; // input files: in + "position.exr", ...
     const std::string outDir = settings.outDir.empty() ? dir : settings.outDir;

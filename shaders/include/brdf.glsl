@@ -1,5 +1,7 @@
 // brdf.glsl — the glTF 2.0 metallic-roughness BRDF (Appendix B of the glTF specification):
 // GGX distribution, height-correlated Smith visibility, Schlick Fresnel, Lambert diffuse.
+// Mirrored on the CPU by lighting/include/pnb_lighting/brdf.h (the whole-frame truth shades with
+// it): change both together.
 #ifndef PNB_BRDF_GLSL
 #define PNB_BRDF_GLSL
 

@@ -52,6 +52,20 @@ std::string tracerFrameJson(const GpuScene& scene, const Renderer& renderer, con
                          // The environment as lit (pnb-reference --sky reads them).
                          {"ibl_rotation_degrees", renderer.settings().iblRotationDeg},
                          {"ibl_intensity", renderer.settings().iblIntensity}};
+    // The camera as pnb-reference --whole-frame traces it (FrameCamera): the view's axes in world
+    // (columns +X, +Y, +Z of the inverse of the rotation-only view matrix; it looks down -Z),
+    // the projection, and the exposure the displayed image was tone mapped with.
+    const ViewMatrices& view = renderer.lastView();
+    const glm::mat3 worldFromView = glm::transpose(glm::mat3(view.view));
+    nlohmann::json axes = nlohmann::json::array();
+    for (int c = 0; c < 3; ++c) axes.push_back({worldFromView[c].x, worldFromView[c].y, worldFromView[c].z});
+    fj["camera_world_from_view"] = axes;
+    fj["projection"] = view.orthographic ? "orthographic" : "perspective";
+    fj["yfov"] = view.yfov;
+    fj["aspect"] = view.aspect;
+    fj["ymag"] = view.ymag;
+    fj["xmag"] = view.ymag * view.aspect;
+    fj["exposure"] = renderer.settings().exposure;
     // A point or spot light judged (shadows.judged_light): pnb-reference traces that light,
     // placed as the container places it.
     if (renderer.settings().shadowJudgedLight >= 0) fj["shadow_light_index"] = renderer.settings().shadowJudgedLight;
