@@ -3,6 +3,10 @@
 
 #include <utility>
 
+#include <filesystem>
+
+#include "frame_error_maps.h"
+#include "frame_quality.h"
 #include "irradiance_quality.h"
 #include "shadow_quality.h"
 #include "truth_error_maps.h"
@@ -42,6 +46,21 @@ private:
     std::string mMetric;
 };
 
+// The whole frame: the FLIP map and the side-by-side comparison.
+class FrameJudge final : public TruthJudge {
+public:
+    explicit FrameJudge(std::unique_ptr<FrameQuality> quality) : mQuality(std::move(quality)) {}
+    PlayResult<std::vector<std::pair<std::string, double>>> measure(Renderer& renderer, bool followUp) override {
+        return mQuality->measure(renderer, followUp);
+    }
+    std::vector<ErrorMap> errorMaps() const override {
+        return {frameErrorMap(mQuality->lastFrame()), frameSideBySide(mQuality->lastFrame())};
+    }
+
+private:
+    std::unique_ptr<FrameQuality> mQuality;
+};
+
 } // namespace
 
 PlayResult<std::unique_ptr<TruthJudge>> makeTruthJudge(TruthMetric metric, const TruthRequest& request) {
@@ -66,6 +85,23 @@ PlayResult<std::unique_ptr<TruthJudge>> makeTruthJudge(TruthMetric metric, const
         auto q = IrradianceQuality::forSky(request.scene, request.origin, settings);
         if (!q) return q.error();
         return std::unique_ptr<TruthJudge>(std::make_unique<IrradianceJudge>(std::move(*q), "sky"));
+    }
+    case TruthMetric::Frame: {
+        FrameQuality::Settings settings;
+        settings.trace.maxBounces = request.frameBounces;
+        settings.trace.maxSamples = request.frameMaxSamples;
+        settings.trace.noiseTarget = request.frameNoise;
+        settings.trace.timeLimitSeconds = request.frameTimeLimit;
+        settings.cacheDir = request.frameTruthCache;
+        if (!settings.cacheDir.empty()) {
+            std::error_code ec;
+            std::filesystem::create_directories(settings.cacheDir, ec);
+            if (!std::filesystem::is_directory(settings.cacheDir, ec))
+                return PlayError{PlayErrorKind::Io, settings.cacheDir + ": cannot create the truth cache directory"};
+        }
+        auto q = FrameQuality::create(request.frameTruthScene, request.origin, settings);
+        if (!q) return q.error();
+        return std::unique_ptr<TruthJudge>(std::make_unique<FrameJudge>(std::move(*q)));
     }
     }
     return PlayError{PlayErrorKind::Usage, "unknown truth metric"};

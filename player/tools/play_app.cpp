@@ -324,6 +324,12 @@ struct PlayRun {
         request.giAllLights = args.giAllLights;
         request.skySamples = std::max(1u, args.skySamples);
         request.skyFromSh = args.skyFromSh;
+        request.frameTruthScene = args.frameTruthScene.empty() ? args.scene : args.frameTruthScene;
+        request.frameTruthCache = args.frameTruthCache;
+        request.frameBounces = args.frameBounces;
+        request.frameMaxSamples = std::max(1u, args.frameMaxSamples);
+        request.frameNoise = args.frameNoise;
+        request.frameTimeLimit = args.frameTimeLimit;
         struct Wanted {
             TruthMetric metric;
             uint32_t every;
@@ -331,7 +337,8 @@ struct PlayRun {
         };
         for (const Wanted& w : {Wanted{TruthMetric::Shadow, args.shadowMetrics, "--shadow-metrics"},
                                 Wanted{TruthMetric::Gi, args.giMetrics, "--gi-metrics"},
-                                Wanted{TruthMetric::Sky, args.skyMetrics, "--sky-metrics"}}) {
+                                Wanted{TruthMetric::Sky, args.skyMetrics, "--sky-metrics"},
+                                Wanted{TruthMetric::Frame, args.frameMetrics, "--frame-metrics"}}) {
             if (w.every == 0) continue;
             if (!truth)
                 return PlayError{PlayErrorKind::Usage, std::string(w.option) +

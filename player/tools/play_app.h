@@ -23,6 +23,7 @@ enum class TruthMetric {
     Shadow, // --shadow-metrics: the sun's (or shadows.judged_light's) visibility
     Gi,     // --gi-metrics: one bounce of indirect light
     Sky,    // --sky-metrics: the sky's irradiance with its visibility
+    Frame,  // --frame-metrics: the whole HDR frame against its path-traced truth
 };
 
 // Everything a truth needs from the command line and the loaded scene.
@@ -35,6 +36,11 @@ struct TruthRequest {
     bool giAllLights = false;     // --gi-lights all
     uint32_t skySamples = 64;     // --sky-samples
     bool skyFromSh = false;       // --sky-source sh
+    // --frame-metrics' truth: traced from frameTruthScene (default: scene), kept in
+    // frameTruthCache (empty: none)
+    std::string frameTruthScene, frameTruthCache;
+    uint32_t frameBounces = 16, frameMaxSamples = 4096;
+    double frameNoise = 0.003, frameTimeLimit = 120;
 };
 
 // One metric's judge: measures replayed frames (BenchOptions::quality) and draws the last one.

@@ -198,6 +198,49 @@ std::vector<Option> truthMetrics(Args& a) {
                "or every light",
                [&a](const char* v) -> Verdict { a.giAllLights = std::string(v) == "all"; return true; },
                ValueKind::Required},
+        Option{kTruth, "--frame-metrics", "N",
+               "with --bench: every N-th frame, the whole HDR frame against its path-traced\n"
+               "truth (Embree, the player's camera and material model, every light, the\n"
+               "sky, all bounces): frame_flip_ldr (LDR-FLIP of the displayed images),\n"
+               "frame_flip_hdr, frame_relmse (relative MSE, eps 0.01) and the truth's own\n"
+               "noise in both (frame_truth_noise_*); same N as the other metrics",
+               [&a](const char* v) -> Verdict { return count("--frame-metrics", v, a.frameMetrics); },
+               ValueKind::Required},
+        Option{kTruth, "--frame-truth-cache", "DIR",
+               "keep each whole-frame truth in DIR (created), keyed by the container's\n"
+               "bytes, the camera, the size and the truth's settings: later runs of the\n"
+               "same frame read it instead of tracing it again",
+               [&a](const char* v) -> Verdict {
+                   a.frameTruthCache = v;
+                   return a.frameTruthCache.empty() ? Verdict::error("--frame-truth-cache needs a directory") : true;
+               },
+               ValueKind::Required},
+        Option{kTruth, "--frame-truth-scene", "FILE.pnb",
+               "trace the truth from this container instead (the same scene converted\n"
+               "without lossy options: the error of quantisation and compression)",
+               [&a](const char* v) -> Verdict {
+                   a.frameTruthScene = v;
+                   return a.frameTruthScene.empty() ? Verdict::error("--frame-truth-scene needs a file") : true;
+               },
+               ValueKind::Required},
+        Option{kTruth, "--frame-bounces", "N",
+               "bounces of the whole-frame truth after the first hit (default 16; 0: direct\n"
+               "light only)",
+               [&a](const char* v) -> Verdict { return count("--frame-bounces", v, a.frameBounces); },
+               ValueKind::Required},
+        Option{kTruth, "--frame-noise", "X",
+               "the truth's relative noise target, as the relMSE its noise alone gives\n"
+               "(default 0.003)",
+               [&a](const char* v) -> Verdict { return positive("--frame-noise", v, a.frameNoise); },
+               ValueKind::Required},
+        Option{kTruth, "--frame-samples", "S",
+               "most paths per pixel of the truth (default 4096)",
+               [&a](const char* v) -> Verdict { return count("--frame-samples", v, a.frameMaxSamples); },
+               ValueKind::Required},
+        Option{kTruth, "--frame-time-limit", "SECONDS",
+               "stop tracing the truth after the pass that crosses it (default 120)",
+               [&a](const char* v) -> Verdict { return positive("--frame-time-limit", v, a.frameTimeLimit); },
+               ValueKind::Required},
         Option{kTruth, "--error-maps", "",
                "with --bench and a metric (--lod-metrics or a truth metric): heat-maps of the last measured frame\n"
                "(not its follow-up) into --out, lined up with --screenshot images:\n"
@@ -207,7 +250,8 @@ std::vector<Option> truthMetrics(Args& a) {
                "luminance / mean truth luminance, magma ramp black..pale yellow up to\n"
                "100 %; dark grey unmeasured), error_lod.png (largest RGB difference to\n"
                "full detail, same ramp up to 32/255); compare_gi.png, compare_sky.png\n"
-               "(player | truth | difference side by side); error_maps.json: legends",
+               "(player | truth | difference side by side); error_frame.png (LDR-FLIP,\n"
+               "magma), compare_frame.png (player | truth | FLIP); error_maps.json: legends",
                [&a](const char*) -> Verdict { return a.errorMaps = true; },
                ValueKind::None},
     };
@@ -340,9 +384,11 @@ std::optional<int> checkCombination(const Args& a) {
     }
     if (a.bench && a.outDir.empty()) return usageError("--bench needs --out DIR");
     if (!a.dumps.empty() && a.outDir.empty()) return usageError("--dump needs --out DIR");
-    if (a.errorMaps && (!a.bench || !(a.shadowMetrics || a.giMetrics || a.skyMetrics || a.lodMetrics)))
+    if (a.errorMaps && (!a.bench || !(a.shadowMetrics || a.giMetrics || a.skyMetrics || a.lodMetrics || a.frameMetrics)))
         return usageError("--error-maps needs --bench and at least one of --shadow-metrics, --gi-metrics, "
-                   "--sky-metrics, --lod-metrics (the maps show what those measure)");
+                   "--sky-metrics, --frame-metrics, --lod-metrics (the maps show what those measure)");
+    if ((!a.frameTruthCache.empty() || !a.frameTruthScene.empty()) && a.frameMetrics == 0)
+        return usageError("--frame-truth-cache and --frame-truth-scene go with --frame-metrics");
     if (a.stream == 0 && a.scene == "-") return usageError("'-' (standard input) is read by streaming: drop --no-stream");
     if (!a.scriptInput.empty() && (a.headless || a.bench))
         return usageError("--script-input drives the window (not --headless or --bench)");

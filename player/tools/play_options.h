@@ -23,6 +23,10 @@ struct Args {
     uint32_t frames = 0, frame = 0, width = 0, height = 0, shadowMetrics = 0, giMetrics = 0, giSamples = 64,
              lodMetrics = 0, skyMetrics = 0, skySamples = 64;
     bool giAllLights = false, skyFromSh = false, errorMaps = false;
+    // --frame-metrics and its truth (pnb_reference::FrameTraceSettings' defaults)
+    uint32_t frameMetrics = 0, frameBounces = 16, frameMaxSamples = 4096;
+    double frameNoise = 0.003, frameTimeLimit = 120;
+    std::string frameTruthCache, frameTruthScene;
     int stream = -1; // --stream 1, --no-stream 0, -1: by mode
     bool listSettings = false; // --list-settings: print the keys instead of running
 };

@@ -5,6 +5,7 @@
 #include <numbers>
 
 #include "flip_filter.h"
+#include "pnb_lighting/tonemap.h"
 #include "pnb_reference/flip.h"
 
 namespace pnb::reference {
@@ -51,9 +52,8 @@ glm::vec3 playerToneMap(const glm::vec3& hdr, double exposure) {
     glm::vec3 out;
     for (int c = 0; c < 3; ++c) {
         // NaN counts as black here; tonemap.frag's min() leaves it to the GPU.
-        const double x = std::isnan(hdr[c]) ? 0.0 : std::min(double(hdr[c]) * exposure, 65504.0);
-        out[c] =
-            float(std::clamp(x * (2.51 * x + 0.03) / (x * (2.43 * x + 0.59) + 0.14), 0.0, 1.0));
+        const float x = std::isnan(hdr[c]) ? 0.0f : std::min(float(double(hdr[c]) * exposure), 65504.0f);
+        out[c] = lighting::acesFitted(x); // the player's curve, one definition (pnb_lighting/tonemap.h)
     }
     return out;
 }
