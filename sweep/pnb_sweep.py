@@ -329,12 +329,18 @@ def plan_jobs(sweep, combos, bins, results, truth_cache=None):
                 "scene": scene_key, "settings": sorted(settings.items()), "frames": sweep["frames"],
                 "size": sweep["size"], "metrics": sweep["metrics"], "player": file_hash(player)},
                 sort_keys=True).encode()).hexdigest()[:20]
-            jobs.append({"index": len(jobs), "key": key, "scene": scene["name"], "source": scene["source"],
-                         "player": player,
-                         "convert": options, "conversion": ckey, "path": scene["path"],
-                         "settings": settings, "frames": sweep["frames"], "size": sweep["size"],
-                         "metrics": sweep["metrics"], "result": os.path.join(results, key),
-                         "truth_cache": truth_cache or os.path.join(results, TRUTH_CACHE)})
+            job = {"index": len(jobs), "key": key, "scene": scene["name"], "source": scene["source"],
+                   "player": player,
+                   "convert": options, "conversion": ckey, "path": scene["path"],
+                   "settings": settings, "frames": sweep["frames"], "size": sweep["size"],
+                   "metrics": sweep["metrics"], "result": os.path.join(results, key),
+                   "truth_cache": truth_cache or os.path.join(results, TRUTH_CACHE)}
+            if "frame" in sweep["metrics"] and convert_options(settings):
+                # A lossy conversion (quantised meshes, compressed textures) is judged against the
+                # truth of the scene's plain conversion, not of itself (pnb-judge --frame-truth-scene).
+                job["truth_convert"] = scene["convert"]
+                job["truth_conversion"] = conversion_key(scene, scene["convert"], bins)
+            jobs.append(job)
     return jobs
 
 
@@ -374,9 +380,9 @@ def truth_cache(job):
     return job.get("truth_cache") or os.path.join(os.path.dirname(job["result"]), TRUTH_CACHE)
 
 
-def player_command(job, plan_data, scene, out):
+def player_command(job, plan_data, scene, out, truth_scene=None):
     """The pnb-play (or pnb-judge) command line of a play job: the container `scene`, its outputs
-    into `out`."""
+    into `out`; `truth_scene`: the container the whole-frame truth is traced from (default: scene)."""
     # The image of the last measured frame (else the last frame): the report's gallery, beside
     # that frame's error maps.
     every = min(job["metrics"].values()) if job["metrics"] else 1
@@ -391,6 +397,8 @@ def player_command(job, plan_data, scene, out):
         cmd += [METRIC_FLAGS[m], str(every)]
     if "frame" in job["metrics"]:
         cmd += ["--frame-truth-cache", truth_cache(job)]
+        if truth_scene:
+            cmd += ["--frame-truth-scene", truth_scene]
     if job["metrics"]:
         cmd.append("--error-maps")  # beside frame.png in the report's gallery
     return cmd
@@ -412,7 +420,11 @@ def run_job(plan_data, index, force=False, echo=False):
     tmp = tempfile.mkdtemp(prefix=".%s.tmp." % job["key"], dir=parent)
     started = time.time()
     try:
-        cmd = player_command(job, plan_data, scene, tmp)
+        truth_scene = None
+        if job.get("truth_conversion"):
+            truth_scene = converted_scene(dict(job, conversion=job["truth_conversion"], convert=job["truth_convert"]),
+                                          plan_data)
+        cmd = player_command(job, plan_data, scene, tmp, truth_scene)
         if "frame" in job["metrics"]:
             os.makedirs(truth_cache(job), exist_ok=True)
         r = subprocess.run(cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
@@ -489,7 +501,8 @@ def truth_pilots(jobs):
     for j in jobs:
         if "frame" not in j.get("metrics", {}):
             continue
-        group = (j.get("conversion") or j["source"], j.get("path"), j["size"], j["frames"], j["metrics"]["frame"],
+        group = (j.get("truth_conversion") or j.get("conversion") or j["source"], j.get("path"), j["size"],
+                 j["frames"], j["metrics"]["frame"],
                  truth_cache(j))
         if group not in seen:
             seen.add(group)

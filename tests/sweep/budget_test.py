@@ -290,6 +290,28 @@ class FrameMetricWiring(unittest.TestCase):
         self.assertNotIn("--frame-truth-cache", pnb_sweep.player_command(job, {"binaries": bins}, "x", "o"))
 
 
+    def test_a_lossy_conversion_is_judged_against_the_plain_conversions_truth(self):
+        for name in ("pnb-play", "pnb-judge", "pnb-convert", "scene.glb"):
+            with open(os.path.join(self.dir, name), "w") as f:
+                f.write(name)
+        bins = {"play": os.path.join(self.dir, "pnb-play"), "judge": os.path.join(self.dir, "pnb-judge"),
+                "convert": os.path.join(self.dir, "pnb-convert")}
+        results = os.path.join(self.dir, "results")
+        sweep = {"kind": "play", "name": "t", "frames": 8, "size": "64x36", "metrics": {"frame": 4},
+                 "fixed": {}, "axes": [], "scenes": [{"name": "s", "source": os.path.join(self.dir, "scene.glb"),
+                                                      "convert": ["--gi"], "path": None}]}
+        plain, quantised = pnb_sweep.plan_jobs(sweep, [{}, {"convert.quantize": "true"}], bins, results)
+        self.assertNotIn("truth_conversion", plain, "a player knob's truth is its own container's")
+        self.assertEqual(quantised["convert"], ["--gi", "--quantize"])
+        self.assertEqual(quantised["truth_convert"], ["--gi"])
+        self.assertEqual(quantised["truth_conversion"], plain["conversion"],
+                         "the quantised container's truth is the plain conversion's")
+        cmd = pnb_sweep.player_command(quantised, {"binaries": bins}, "q.pnb", "o", truth_scene="plain.pnb")
+        self.assertEqual(cmd[cmd.index("--frame-truth-scene") + 1], "plain.pnb")
+        # Both share one truth: the plain job goes first, the quantised one finds it cached.
+        self.assertEqual(pnb_sweep.truth_pilots([plain, quantised]), [plain])
+
+
 # A stand-in pnb-judge: the oracle's cost and error from its --set arguments, into the
 # summary.json pnb-judge writes (settings, gpu_ms, quality), the truth cache marked.
 FAKE_JUDGE = '''#!%s
