@@ -21,7 +21,8 @@ struct Args {
     double dt = 0, seconds = 0;
     int camera = -1;
     uint32_t frames = 0, frame = 0, width = 0, height = 0, shadowMetrics = 0, giMetrics = 0, giSamples = 64,
-             lodMetrics = 0, skyMetrics = 0, skySamples = 64;
+             lodMetrics = 0, skyMetrics = 0, skySamples = 64,
+             giBounces = 1; // --gi-bounces: 0 = converged
     bool giAllLights = false, skyFromSh = false, errorMaps = false;
     int stream = -1; // --stream 1, --no-stream 0, -1: by mode
     bool listSettings = false; // --list-settings: print the keys instead of running
