@@ -85,10 +85,11 @@ struct GiResources {
     GlHandle skyVisibility, traceSky;
     bool skyCurrent = false;
     // gi.bounces > 1 (pass_gi_bounce.cpp), none of it at 1: the voxels' albedo (RGBA8 beside the
-    // occupancy grid, drawn with it by the ALBEDO voxelisation), the previous gather's volumes
-    // (a copy of `sum`) and the gather variant that adds one bounce read from them.
+    // occupancy grid, drawn with it by the ALBEDO voxelisation), the VPLs' gather and the last
+    // pass's volumes (copies of `sum`) and the gather variant that adds one bounce to the first
+    // from the second.
     GlHandle albedoVoxels, voxelizeAlbedo, bounceGather;
-    std::array<GlHandle, 3> previous;
+    std::array<GlHandle, 3> gathered, previous;
     uint32_t albedoSide = 0, previousCells = 0;
     ProbeVisibility bounceVisibility = ProbeVisibility::Depth; // the variant bounceGather is
     bool bounceGlass = false;                                  // compiled with TRANSMITTANCE

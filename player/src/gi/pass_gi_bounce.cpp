@@ -1,15 +1,15 @@
 // gi.technique = probes with gi.bounces > 1 (gi.h): light after more than one diffuse bounce, as
 // irradiance-field methods (DDGI) gather it: the probes read their own previous irradiance where
 // their rays hit. After the gather of the VPLs' one bounce (V_1 = G), each further pass computes
-// V_k+1 = G + B(V_k): the same gather plus, per probe, the 16 x 16 directions of its depth map to
-// the first solid voxel, the previous volume's irradiance there facing back along the ray, times
-// the voxel's albedo over pi, projected onto the probe's L1 SH (gi_probe_gather.comp, BOUNCE).
+// V_k+1 = G + B(V_k): the gather G kept in `gathered`, plus, per probe, 16 x 16 directions walked
+// through the occupancy grid to the first solid voxel, the previous volume's irradiance on the
+// face entered, times the voxel's albedo over pi, projected onto the probe's L1 SH
+// (gi_probe_gather.comp, BOUNCE).
 // gi.bounces = N runs N - 1 such passes in the frame the probes are gathered in; with
 // gi.probe_cache nothing runs again until an input changes (gi.bounces is one of them).
-// Why this design: it reuses what the probes already have (depth maps, occupancy grid, volume
-// format, look-up), adds one RGBA8 volume and three small ones, and costs a gather per bounce
-// only when the probes are updated. The VPL term is gathered again in each pass rather than kept
-// apart: three more volumes for a sum that is cheap beside the rays here.
+// Why this design: it reuses what the probes already have (occupancy grid, volume format,
+// look-up), adds one RGBA8 volume and six small ones, and costs a walk of 256 rays per probe per
+// bounce only when the probes are updated.
 #include <array>
 #include <string_view>
 #include <vector>
@@ -28,6 +28,7 @@ PlayResult<uint64_t> ensureGiBounce(GiResources& r, const RenderSettings& s) {
         r.voxelizeAlbedo = {};
         r.bounceGather = {};
         for (GlHandle& v : r.previous) v = {};
+        for (GlHandle& v : r.gathered) v = {};
         r.albedoSide = r.previousCells = 0;
         return uint64_t(0);
     }
@@ -59,11 +60,15 @@ PlayResult<uint64_t> ensureGiBounce(GiResources& r, const RenderSettings& s) {
     }
     if (r.previousCells != r.cells) {
         r.previousCells = r.cells;
-        const char* names[3] = {"gi probe previous r", "gi probe previous g", "gi probe previous b"};
-        for (size_t ch = 0; ch < 3; ++ch) r.previous[ch] = giVolume(r.cells, r.cells, names[ch]);
+        const char* names[2][3] = {{"gi probe previous r", "gi probe previous g", "gi probe previous b"},
+                                   {"gi probe gathered r", "gi probe gathered g", "gi probe gathered b"}};
+        for (size_t ch = 0; ch < 3; ++ch) {
+            r.previous[ch] = giVolume(r.cells, r.cells, names[0][ch]);
+            r.gathered[ch] = giVolume(r.cells, r.cells, names[1][ch]);
+        }
     }
     const uint64_t side = r.voxelSide, cells = r.cells;
-    return side * side * side * 4 + cells * cells * cells * 3 * 8;
+    return side * side * side * 4 + cells * cells * cells * 6 * 8;
 }
 
 void runGiProbeBounces(FrameContext& ctx, GiContext& gi, const glm::vec3& origin, float spacing) {
@@ -83,12 +88,17 @@ void runGiProbeBounces(FrameContext& ctx, GiContext& gi, const glm::vec3& origin
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, PNB_BINDING_GI_VPLS, r.vpls.id());
     glBindTextureUnit(7, r.albedoVoxels.id());
     const GLsizei n = GLsizei(r.cells);
+    auto copy = [n](const GlHandle& from, const GlHandle& to) {
+        glCopyImageSubData(from.id(), GL_TEXTURE_3D, 0, 0, 0, 0, to.id(), GL_TEXTURE_3D, 0, 0, 0, 0, n, n, n);
+    };
+    for (size_t ch = 0; ch < 3; ++ch) {
+        copy(r.sum[ch], r.gathered[ch]); // the VPLs' one bounce: every pass adds to it
+        glBindTextureUnit(GLuint(8 + ch), r.gathered[ch].id());
+    }
     glUseProgram(p);
     for (uint32_t pass = 1; pass < bounces; ++pass) {
         // The volume lighting reads becomes the previous one; the pass writes the next into it.
-        for (size_t ch = 0; ch < 3; ++ch)
-            glCopyImageSubData(r.sum[ch].id(), GL_TEXTURE_3D, 0, 0, 0, 0, r.previous[ch].id(), GL_TEXTURE_3D, 0,
-                               0, 0, 0, n, n, n);
+        for (size_t ch = 0; ch < 3; ++ch) copy(r.sum[ch], r.previous[ch]);
         for (GLuint ch = 0; ch < 3; ++ch) {
             glBindTextureUnit(4 + ch, r.previous[ch].id());
             glBindImageTexture(ch, r.sum[ch].id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA16F);
@@ -97,7 +107,7 @@ void runGiProbeBounces(FrameContext& ctx, GiContext& gi, const glm::vec3& origin
         glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT |
                         GL_TEXTURE_UPDATE_BARRIER_BIT);
     }
-    for (GLuint unit = 4; unit < 8; ++unit) glBindTextureUnit(unit, 0);
+    for (GLuint unit = 4; unit < 11; ++unit) glBindTextureUnit(unit, 0);
     glUseProgram(0);
 }
 
