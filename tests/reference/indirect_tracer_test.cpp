@@ -173,11 +173,11 @@ std::unique_ptr<ClosedBox> closedBox(float albedo, int grid) {
     lamp.intensity = 10.0f;
     lamp.range = 100.0f; // far beyond the box: the inverse square alone inside it
     doc.lights.push_back(lamp);
-    gltf::Node n;
-    n.name = "lamp";
-    n.light = 0;
-    n.translation = {0.3f, 0.2f, -0.1f};
-    doc.nodes.push_back(n);
+    gltf::Node lampNode;
+    lampNode.name = "lamp";
+    lampNode.light = 0;
+    lampNode.translation = {0.3f, 0.2f, -0.1f};
+    doc.nodes.push_back(lampNode);
     b->scene = loadPnb(pnb::test::convertDocument(b->dir.str(), doc, "closed-box", "", false));
     if (!b->scene) return nullptr;
     auto tracer = IndirectTracer::build(b->scene->scene, glm::dvec3(0.0));
