@@ -455,6 +455,7 @@ std::string settingNote(std::string_view key, const RenderSettings& s) {
                " draws one map";
     if (in("ibl.") && key != "ibl.enabled" && !s.iblEnabled) return "ibl.enabled is false";
     if (key == "debug.gi_slice" && s.debugView != DebugView::GiVolume) return "debug.view is not gi_volume";
+    if (key == "gi.bounces" && s.giTechnique != GiTechnique::Probes) return "gi.technique is not probes";
     return {};
 }
 
