@@ -1,6 +1,7 @@
 // assets_src/src/procedural_rooms.cpp — the enclosed scenes: box-room (the Cornell-style room of
 // box_room.h as a glTF source), atrium (a courtyard with arcade and gallery for GI) and lamp-room
-// (a closed room lit only by a spot and a point light). One file for rooms whose light comes from
+// (a closed room lit only by a spot and a point light), colour-room (an open-topped room of
+// coloured walls for multi-bounce GI). One file for rooms whose light comes from
 // inside or through one opening (procedural_scenes.h documents each scene).
 #include <algorithm>
 #include <cmath>
@@ -285,6 +286,58 @@ gltf::Document buildLampRoom() {
                                  Float3{-0.8f, 0.6f, -0.8f} - Float3{3.6f, 2.1f, 2.6f}, radians(70),
                                  16.0f / 9.0f, 0.05f, 50.0f));
     doc.nodes[rootNode].children = std::move(children);
+    return doc;
+}
+
+// [SECTION] colour-room -------------------------------------------------------------------------
+
+gltf::Document buildColourRoom() {
+    Document doc;
+    doc.sceneName = "colour-room";
+    // Bright walls (albedo 0.75-0.8 in their own colour) so that inter-reflection matters: the
+    // sunlit floor and green wall light the rest, which light each other again.
+    const uint32_t white = addMaterial(doc, makeMaterial("white-plaster", {0.80f, 0.80f, 0.78f}, 0.9f));
+    const uint32_t red = addMaterial(doc, makeMaterial("red-plaster", {0.75f, 0.12f, 0.10f}, 0.9f));
+    const uint32_t green = addMaterial(doc, makeMaterial("green-plaster", {0.12f, 0.65f, 0.15f}, 0.9f));
+    const uint32_t grey = addMaterial(doc, makeMaterial("grey-block", {0.55f, 0.55f, 0.55f}, 0.8f));
+
+    Mesh room;
+    room.name = "room";
+    const Float3 X{6, 0, 0}, Y{0, 3, 0}, Z{0, 0, 6}, lo{-3, 0, -3};
+    struct Wall {
+        uint32_t material;
+        Float3 origin, u, v; // inward normal u x v
+    };
+    const Wall walls[] = {
+        {white, lo, Z, X},      // floor, +Y
+        {white, lo, X, Y},      // back (z = -3), +Z
+        {white, lo + Z, Y, X},  // front (z = 3), -Z
+        {red, lo, Y, Z},        // left (x = -3), +X
+        {green, lo + X, Z, Y},  // right (x = 3), -X
+    };
+    for (const Wall& w : walls) {
+        Primitive p;
+        p.material = w.material;
+        addGrid(p, w.origin, w.u, w.v, 4, 4, false);
+        room.primitives.push_back(std::move(p));
+    }
+    Node root;
+    root.name = "colour-room";
+    const uint32_t rootNode = addNode(doc, std::move(root));
+    std::vector<uint32_t> children = {
+        addNode(doc, meshNode("room", addMesh(doc, std::move(room)))),
+        addNode(doc, meshNode("white-block",
+                              addMesh(doc, solidBoxesMesh("white-block", white, {{{-1.6f, 0, -1.4f}, {-0.4f, 1.0f, -0.2f}}})))),
+        addNode(doc, meshNode("tall-block",
+                              addMesh(doc, solidBoxesMesh("tall-block", grey, {{{0.7f, 0, -2.2f}, {1.5f, 2.0f, -1.4f}}})))),
+    };
+    // Above the front wall, looking down and in at the blocks and both coloured walls.
+    children.push_back(addCamera(doc, "room-camera", {0.0f, 5.2f, 5.6f}, Float3{0.0f, 0.6f, -1.0f} - Float3{0.0f, 5.2f, 5.6f},
+                                 radians(65), 16.0f / 9.0f, 0.05f, 60.0f));
+    doc.nodes[rootNode].children = std::move(children);
+    // 60 degrees up, travelling +X turned 20 degrees towards -Z: the sun falls on the floor's
+    // right half and the green wall; the red wall's shadow covers the floor's left edge.
+    addSun(doc, sunDirection(radians(60), radians(20)), {0, 0, 0}, 30.0f, {1.0f, 0.97f, 0.9f}, 3.0f);
     return doc;
 }
 

@@ -5,7 +5,7 @@
 //   procedural_scenes_internal.h  the helpers' interface (procedural_helpers.cpp: random numbers
 //                                 and noise, grids, boxes, materials, cameras, suns)
 //   procedural_city.cpp           street-canyon, flat-city
-//   procedural_rooms.cpp          box-room, atrium, lamp-room
+//   procedural_rooms.cpp          box-room, atrium, lamp-room, colour-room
 //   procedural_terrain.cpp        terrain
 //   procedural_extremes.cpp       grazing-plane, one-triangle, wide-flat
 //   procedural_load_test.cpp      load-test
@@ -44,6 +44,8 @@ constexpr ProceduralScene kScenes[] = {
     {"lamp-room",
      "closed 8x3x6 m room, boxes, pillar and table lit by one spot and one point light "
      "(no sun gets in): local-light shadows"},
+    {"colour-room", "open-topped room, red and green walls, two blocks, sun from above (GI: "
+                    "multiple bounces)"},
     {"window", "closed room lit only through glass: a sun through a coloured roof pane, a spot "
                "through two overlapping panes (translucent shadows)"},
 };
@@ -117,6 +119,7 @@ std::optional<gltf::Document> buildProceduralScene(std::string_view name,
     if (name == "atrium") return buildAtrium();
     if (name == "lamp-room") return buildLampRoom();
     if (name == "window") return buildWindowScene();
+    if (name == "colour-room") return buildColourRoom();
     return std::nullopt;
 }
 

@@ -74,6 +74,7 @@ PlayResult<std::unique_ptr<TruthJudge>> makeTruthJudge(TruthMetric metric, const
         reference::IndirectSettings settings;
         settings.samples = request.giSamples;
         settings.lights = request.giAllLights ? reference::IndirectLights::All : reference::IndirectLights::Sun;
+        settings.bounces = request.giBounces;
         auto q = IrradianceQuality::forGi(request.scene, request.origin, settings);
         if (!q) return q.error();
         return std::unique_ptr<TruthJudge>(std::make_unique<IrradianceJudge>(std::move(*q), "gi"));

@@ -32,6 +32,19 @@
 // (shaders/include/sky_visibility.glsl). A probe whose own voxel is solid stores c0 = -1: the
 // look-up leaves it out (it sees through a wall both ways and would let the outside's sky in).
 //
+// BOUNCE (gi.bounces > 1; pass_gi_bounce.cpp): the gather's result (uGathered*, kept from the
+// gather) plus the light of one more bounce. Each probe walks the 16 x 16 directions of its
+// depth map's texel centres through the grid to the first solid voxel past its own (past
+// kPassThroughVoxels only, not a cell as the depth maps: a probe within a cell of the floor has
+// to see the floor, whose light its neighbours on the walls read; with the depth maps' cell the
+// colour room kept 0.70 of the converged truth's light, walking 0.89), reads there the previous gather's irradiance (uPrev*: the volume lighting reads, copied) on
+// the voxel face the ray entered by, half a cell in front of it as lighting's look-up does, and
+// times the albedo volume's (gi_voxelize.frag, ALBEDO) over pi: the radiance that surface sends
+// back. Projected onto L1 SH with each texel's solid angle (the octahedral map's dA / r^3), that
+// is the light after one more bounce (irradiance-field methods' recurrence: V_k+1 = gather +
+// bounce(V_k)). Panes along these rays are not applied; rays leaving the grid bring nothing
+// (the sky is ibl's).
+//
 // TRANSMITTANCE (with any of the three; only while some BLEND material casts shadows, issue 43):
 // the panes' transmittance grid beside the occupancy grid (gi_transmit.frag, VOXELIZE) dims and
 // tints what a ray passes: the exact walk multiplies a VPL's flux by the panes between it and the
@@ -87,6 +100,15 @@ layout(std430, binding = PNB_BINDING_GI_VPLS) readonly buffer Vpls { Vpl uVpls[]
 layout(rgba16f, binding = 0) writeonly uniform image3D uSumR;
 layout(rgba16f, binding = 1) writeonly uniform image3D uSumG;
 layout(rgba16f, binding = 2) writeonly uniform image3D uSumB;
+#ifdef BOUNCE
+layout(binding = 4) uniform sampler3D uPrevR; // the previous gather's volumes (L1 SH per colour)
+layout(binding = 5) uniform sampler3D uPrevG;
+layout(binding = 6) uniform sampler3D uPrevB;
+layout(binding = 7) uniform sampler3D uAlbedoVoxels; // rgb: diffuse albedo, a: 1 where a surface is
+layout(binding = 8) uniform sampler3D uGatheredR; // the VPLs' gather (one bounce), per colour
+layout(binding = 9) uniform sampler3D uGatheredG;
+layout(binding = 10) uniform sampler3D uGatheredB;
+#endif
 #ifndef EXACT_VISIBILITY
 layout(binding = 1) uniform sampler2DArray uDepthMaps; // PROBE_DEPTH's, filtered bilinearly
 #ifdef TRANSMITTANCE
@@ -217,11 +239,14 @@ vec2 octEncode(vec3 w) {
     if (w.y < 0.0) e = (1.0 - abs(w.zx)) * vec2(w.x >= 0.0 ? 1.0 : -1.0, w.z >= 0.0 ? 1.0 : -1.0);
     return e;
 }
-vec3 octDecode(vec2 e) {
+// The point on the octahedron |x| + |y| + |z| = 1 (unnormalised: its length gives the texel's
+// solid angle, dA / r^3).
+vec3 octPoint(vec2 e) {
     vec3 w = vec3(e.x, 1.0 - abs(e.x) - abs(e.y), e.y);
     if (w.y < 0.0) w.xz = (1.0 - abs(w.zx)) * vec2(w.x >= 0.0 ? 1.0 : -1.0, w.z >= 0.0 ? 1.0 : -1.0);
-    return normalize(w);
+    return w;
 }
+vec3 octDecode(vec2 e) { return normalize(octPoint(e)); }
 
 #ifdef SKY_VISIBILITY
 // Where the ray from a (voxel units, inside the grid) along unit w leaves the grid, a hair inside.
@@ -324,6 +349,43 @@ vec3 transmitTowards(ivec3 id, vec3 w, float rv) {
 #endif
 #endif
 
+#ifdef BOUNCE
+const int kBounceSide = 8; // rays a probe walks per bounce: an octahedral map's texel centres
+// This lane's share of the light probe `id` (at xv, voxel units) gets from one more bounce: the
+// L1 SH per colour of the radiance the surfaces its rays hit reflect back (see the top).
+void gatherBounce(ivec3 id, vec3 xv, int lane, inout vec4 acc[3]) {
+    int n = uCounts.x, side = uCounts.z;
+    float toCells = float(n) / float(side);
+    for (int i = lane; i < kBounceSide * kBounceSide; i += kLanes) {
+        ivec2 t = ivec2(i % kBounceSide, i / kBounceSide);
+        vec3 wu = octPoint((vec2(t) + 0.5) / float(kBounceSide) * 2.0 - 1.0);
+        float r = length(wu);
+        vec3 w = wu / r;
+        vec3 through = vec3(1.0);
+        float paneAt = 0.0;
+        float d = firstHit(xv, w, side, kPassThroughVoxels, through, paneAt);
+        if (d >= 0.5 * kClear) continue; // out of the grid
+        vec3 albedo = texelFetch(uAlbedoVoxels, clamp(ivec3(floor(xv + w * (d + 0.01))), ivec3(0), ivec3(side - 1)), 0).rgb;
+        if (albedo == vec3(0.0)) continue;
+        // The hit's normal: the solid voxel's face the ray entered by (the hit lies on it: the
+        // coordinate nearest a whole voxel), facing the probe. Lighting's look-up there: half a
+        // cell in front, the clamped-cosine lobe along -normal.
+        vec3 hit = xv + w * d;
+        vec3 off = abs(hit - round(hit));
+        int axis = off.x < off.y ? (off.x < off.z ? 0 : 2) : (off.y < off.z ? 1 : 2);
+        vec3 normal = vec3(0.0);
+        normal[axis] = w[axis] > 0.0 ? -1.0 : 1.0;
+        vec3 q = clamp(hit * toCells + 0.5 * normal, vec3(0.5), vec3(float(n) - 0.5)) / float(n);
+        vec4 lobe = vec4(0.886226925, 1.023326708 * normal.y, -1.023326708 * normal.z, 1.023326708 * normal.x);
+        vec3 e = max(vec3(dot(textureLod(uPrevR, q, 0.0), lobe), dot(textureLod(uPrevG, q, 0.0), lobe),
+                          dot(textureLod(uPrevB, q, 0.0), lobe)), vec3(0.0));
+        // Radiance albedo E / pi travelling back along -w, over the texel's solid angle.
+        vec4 y = basis(-w) * ((4.0 / float(kBounceSide * kBounceSide)) / (r * r * r) * kInvPi);
+        for (int ch = 0; ch < 3; ++ch) acc[ch] += (albedo[ch] * e[ch]) * y;
+    }
+}
+#endif
+
 void main() {
     int lane = int(gl_LocalInvocationID.x), slot = int(gl_LocalInvocationID.y);
     ivec3 id = ivec3(gl_WorkGroupID.x * 8u + gl_LocalInvocationID.y, gl_WorkGroupID.yz);
@@ -337,6 +399,10 @@ void main() {
     int vpls = inGrid ? uCounts.y : 0;
 #else
     int vpls = inGrid && uNeeded[id.x + n * (id.y + n * id.z)] != 0u ? uCounts.y : 0; // none if no look-up reads it
+#endif
+#ifdef BOUNCE
+    const int gathered = vpls; // the VPLs' light is read from the gather's volumes instead
+    vpls = 0;
 #endif
     for (int i = lane; i < vpls; i += kLanes) {
         Vpl l = uVpls[i];
@@ -375,6 +441,9 @@ void main() {
 #endif
         for (int ch = 0; ch < 3; ++ch) acc[ch] += (flux[ch] * e) * y;
     }
+#ifdef BOUNCE
+    if (gathered > 0) gatherBounce(id, xv, lane, acc); // the probes the gather gathered
+#endif
     for (int ch = 0; ch < 3; ++ch) sSums[ch][slot][lane] = acc[ch];
     barrier();
     for (int s = kLanes / 2; s > 0; s >>= 1) {
@@ -383,6 +452,11 @@ void main() {
         barrier();
     }
     if (lane == 0 && inGrid) {
+#ifdef BOUNCE
+        sSums[0][slot][0] += texelFetch(uGatheredR, id, 0);
+        sSums[1][slot][0] += texelFetch(uGatheredG, id, 0);
+        sSums[2][slot][0] += texelFetch(uGatheredB, id, 0);
+#endif
         imageStore(uSumR, id, sSums[0][slot][0]);
         imageStore(uSumG, id, sSums[1][slot][0]);
         imageStore(uSumB, id, sSums[2][slot][0]);

@@ -322,6 +322,7 @@ struct PlayRun {
         request.towardSun = towardShadowingSun(*scene);
         request.giSamples = std::max(1u, args.giSamples);
         request.giAllLights = args.giAllLights;
+        request.giBounces = args.giBounces;
         request.skySamples = std::max(1u, args.skySamples);
         request.skyFromSh = args.skyFromSh;
         request.frameTruthScene = args.frameTruthScene.empty() ? args.scene : args.frameTruthScene;

@@ -34,6 +34,7 @@ struct TruthRequest {
     glm::vec3 towardSun{0, 1, 0}; // unit, toward the shadowing sun
     uint32_t giSamples = 64;      // --gi-samples
     bool giAllLights = false;     // --gi-lights all
+    uint32_t giBounces = 1;       // --gi-bounces (0: converged)
     uint32_t skySamples = 64;     // --sky-samples
     bool skyFromSh = false;       // --sky-source sh
     // --frame-metrics' truth: traced from frameTruthScene (default: scene), kept in

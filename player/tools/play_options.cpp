@@ -57,6 +57,20 @@ pnb::cli::Verdict size(const std::string& v, Args& a) {
     return true;
 }
 
+// --gi-bounces: a count of diffuse bounces 1..256 or "converged" (0; pnb_reference's
+// parseIndirectBounces, which the player cannot link).
+pnb::cli::Verdict giBounces(const std::string& v, Args& a) {
+    if (v == "converged") {
+        a.giBounces = 0;
+        return true;
+    }
+    uint32_t n = 0;
+    if (!count("--gi-bounces", v, n).ok || n == 0 || n > 256)
+        return Verdict::error("--gi-bounces: a count 1..256 or converged, not '" + v + "'");
+    a.giBounces = n;
+    return true;
+}
+
 pnb::cli::Verdict skySource(const std::string& v, Args& a) {
     if (v != "image" && v != "sh") return Verdict::error("--sky-source: image or sh, not '" + v + "'");
     a.skyFromSh = v == "sh";
@@ -192,6 +206,11 @@ std::vector<Option> truthMetrics(Args& a) {
         Option{kTruth, "--gi-samples", "S",
                "rays per pixel of that truth (default 64)",
                [&a](const char* v) -> Verdict { return count("--gi-samples", v, a.giSamples); },
+               ValueKind::Required},
+        Option{kTruth, "--gi-bounces", "N|converged",
+               "diffuse bounces of that truth: 1 (default: one bounce), up to N,\n"
+               "or converged (unlimited, Russian roulette)",
+               [&a](const char* v) -> Verdict { return giBounces(v, a); },
                ValueKind::Required},
         Option{kTruth, "--gi-lights", "sun|all",
                "light the truth's bounce with the sun alone (default: what GI models)\n"

@@ -21,7 +21,8 @@ struct Args {
     double dt = 0, seconds = 0;
     int camera = -1;
     uint32_t frames = 0, frame = 0, width = 0, height = 0, shadowMetrics = 0, giMetrics = 0, giSamples = 64,
-             lodMetrics = 0, skyMetrics = 0, skySamples = 64;
+             lodMetrics = 0, skyMetrics = 0, skySamples = 64,
+             giBounces = 1; // --gi-bounces: 0 = converged
     bool giAllLights = false, skyFromSh = false, errorMaps = false;
     // --frame-metrics and its truth (pnb_reference::FrameTraceSettings' defaults)
     uint32_t frameMetrics = 0, frameBounces = 16, frameMaxSamples = 4096;

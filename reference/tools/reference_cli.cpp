@@ -64,6 +64,14 @@ std::vector<pnb::cli::Option> options(Settings& s, bool& help) {
                                                                        : pnb::reference::IndirectLights::All;
                    return true;
                }),
+        valued("", "--indirect-bounces", "N|converged",
+               "diffuse bounces of --indirect's truth: 1 (default: one bounce, what the LPV models), "
+               "up to N, or converged (unlimited, Russian roulette)",
+               [&s](const char* a) {
+                   auto n = pnb::reference::parseIndirectBounces(a);
+                   if (n) s.indirectSettings.bounces = *n;
+                   return n.has_value();
+               }),
         valued("", "--seed", "S", "random seed of --indirect, --sky and --whole-frame (default 1)",
                [&s](const char* a) {
                    s.indirectSettings.seed = s.skySettings.seed = s.frameSettings.seed = uint64_t(std::atoll(a));

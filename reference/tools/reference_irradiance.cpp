@@ -121,6 +121,7 @@ Expected<nlohmann::ordered_json> runIndirect(const Settings& settings, const pnb
     nlohmann::ordered_json j;
     j["lights"] = settings.indirectSettings.lights == pnb::reference::IndirectLights::Sun ? "sun" : "all";
     j["samples"] = settings.indirectSettings.samples;
+    j["bounces"] = pnb::reference::indirectBouncesName(settings.indirectSettings.bounces);
     j["seed"] = settings.indirectSettings.seed;
     j["tracer"] = {{"triangles", st.triangles}, {"instances", st.instances},
                    {"textured_materials", st.texturedMaterials},
@@ -132,10 +133,11 @@ Expected<nlohmann::ordered_json> runIndirect(const Settings& settings, const pnb
         auto m = pnb::reference::compareIndirect(playerIrradiance(*player, positions), mean, error);
         putComparison(j, m);
         if (!settings.quiet)
-            std::printf("  indirect (%s lights, %u samples): relative RMSE %.1f%% (reference noise %.1f%%, "
+            std::printf("  indirect (%s lights, %s bounces, %u samples): relative RMSE %.1f%% (reference noise %.1f%%, "
                         "without it %.1f%%), "
                         "energy ratio %.3f (R %.3f G %.3f B %.3f), leak %.2f%%\n",
                         settings.indirectSettings.lights == pnb::reference::IndirectLights::Sun ? "sun" : "all",
+                        pnb::reference::indirectBouncesName(settings.indirectSettings.bounces).c_str(),
                         settings.indirectSettings.samples, m.relativeRmsePercent, m.referenceNoisePercent,
                         m.correctedRmsePercent,
                         m.energyRatio, m.channelRatio[0], m.channelRatio[1], m.channelRatio[2], m.leakPercent);

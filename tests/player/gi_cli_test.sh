@@ -36,6 +36,23 @@ for f in indirect_reference.exr indirect_stderr.exr metrics.json; do
     [ -s "$tmp/ref/$f" ] || fail "pnb-reference --indirect did not write $f"
 done
 grep -q '"energy_ratio"' "$tmp/ref/metrics.json" || fail "metrics.json has no indirect energy_ratio"
+# More bounces (issue 40): the converged truth of the same frame is brighter than the one-bounce
+# one (the room's walls light each other), says so in metrics.json, and a bad count is refused.
+"$reference" "$tmp/gi.pnb" --frame "$tmp/frame" --prefix frame0_ --indirect --samples 32 --indirect-bounces converged \
+    --out "$tmp/ref-converged" -q
+grep -q '"bounces": "converged"' "$tmp/ref-converged/metrics.json" || fail "metrics.json does not say converged"
+/usr/bin/python3 - "$tmp" <<'PY' || fail "the converged truth is not brighter than the one-bounce truth"
+import json, sys
+one, conv = (json.load(open(sys.argv[1] + d + "/metrics.json"))["indirect"]["reference_mean_luminance"]
+             for d in ("/ref", "/ref-converged"))
+assert conv > 1.05 * one, (one, conv)
+PY
+if "$reference" "$tmp/gi.pnb" --frame "$tmp/frame" --prefix frame0_ --indirect --indirect-bounces 0 -q --out "$tmp/ref-bad" 2>/dev/null; then
+    fail "--indirect-bounces 0 was accepted"
+fi
+"$play" "$tmp/gi.pnb" --headless --bench --frames 2 --fixed-dt --size 96x54 --out "$tmp/bench-converged" \
+    --gi-metrics 1 --gi-samples 16 --gi-bounces converged --set gi.technique=probes --set gi.bounces=3 --no-plot -q
+[ -s "$tmp/bench-converged/quality.csv" ] || fail "--gi-bounces converged wrote no quality.csv"
 
 # Sky visibility indoors (issue 28): the box room's sky light, seen from camera 0 through its open
 # side, against the Embree truth. ibl.visibility=probes (the GI probes' rays through the occupancy

@@ -65,6 +65,18 @@ std::vector<PlayerProgram> playerPrograms() {
     PlayerProgram voxelize = graphics("gi_transmit.vert", "gi_transmit.frag");
     voxelize.defines = {"VOXELIZE"};
     out.push_back(voxelize);
+    // pass_gi_bounce.cpp (gi.bounces > 1): the voxelisation with albedo, and the bounce gather
+    // with either visibility, with and without glass.
+    PlayerProgram albedo = graphics("flat.vert", "gi_voxelize.frag");
+    albedo.defines = {"ALBEDO"};
+    out.push_back(albedo);
+    for (bool exact : {false, true})
+        for (bool glass : {false, true}) {
+            std::vector<std::string> defines = {"BOUNCE"};
+            if (exact) defines.push_back("EXACT_VISIBILITY");
+            if (glass) defines.push_back("TRANSMITTANCE");
+            out.push_back(compute("gi_probe_gather.comp", defines));
+        }
     return out;
 }
 

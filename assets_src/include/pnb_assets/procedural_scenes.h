@@ -20,6 +20,8 @@
 //   wide-flat
 //   lamp-room      a closed room lit by one spot and one point light and no sun: the shadows of
 //                  local lights (issue 29) and their ray-traced truth
+//   colour-room    an open-topped room with a red and a green wall and two blocks, sunlit from
+//                  above: inter-reflection (multi-bounce indirect light, issue 40)
 //   window         a closed room lit only through glass: a sun through a coloured roof pane and
 //                  a spot through two overlapping panes (issue 43's translucent shadows; the
 //                  layout and its analytic values are in window_scene.h)
@@ -201,6 +203,15 @@ gltf::Document buildAtrium();
 // right corner looking across at the boxes. Lit floor and walls reach radiances of ~0.1-0.6 at
 // lighting.exposure 1. No randomness.
 gltf::Document buildLampRoom();
+
+// colour-room: an open-topped 6 x 3 x 6 m room (x, z in [-3, 3], y in [0, 3]; no ceiling) with a
+// red left wall (x = -3), a green right wall (x = 3), white floor, back and front walls, a white
+// block and a tall grey one, lit by a sun (60 degrees up, travelling towards +X and a little
+// -Z) through the open top onto the floor and the green wall: light that bounces between
+// bright walls, where the second and later diffuse bounces add about half again to the first
+// (issue 40's held-out-style room, for the multi-bounce indirect truth). One camera
+// ("room-camera") above the front wall looking down into the room. No randomness.
+gltf::Document buildColourRoom();
 
 // --- Registry (what pnb-make-scene lists) -----------------------------------------------------
 

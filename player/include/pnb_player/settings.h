@@ -146,6 +146,10 @@ struct RenderSettings {
     // probes: VPL-to-probe visibility from each probe's depth map (a fetch) or a walk through
     // the occupancy grid per pair (exact at the grid's resolution, 5.5x the gather's time here)
     ProbeVisibility giProbeVisibility = ProbeVisibility::Depth;
+    // probes: diffuse bounces the probes hold. 1: the VPLs' one bounce; N > 1: N - 1 more
+    // gathers, each probe reading the last one's irradiance where its depth rays hit
+    // (pass_gi_bounce.cpp); nothing of it exists at 1.
+    uint32_t giBounces = 1;
 
     // ibl.*: light from the container's environment (ENVM; docs/PLAYER.md "Sky and image-based
     // lighting"). Without an environment none of these has an effect.

@@ -229,6 +229,10 @@ const Row kRows[] = {
      enumField<&S::giAtomics>(kAtomicsNames)},
     {{"gi.probe_cells", "int 4..64", "probes: probes along each side of the grid over the scene"},
      UIntField{&S::giProbeCells, 4, 64}},
+    {{"gi.bounces", "int 1..16",
+      "probes: diffuse bounces (1: the VPLs' light alone; N: N - 1 more gathers, each probe reading "
+      "the previous irradiance where its rays hit, times the albedo there)"},
+     UIntField{&S::giBounces, 1, 16}},
     {{"gi.probe_max_spacing", "float >= 0",
       "probes, with gi.cell_size 0: the grid spans the scene's bounding cube unless that spaces "
       "the probes wider than this (scene units; glTF: metres), then it follows the camera at "
@@ -451,6 +455,7 @@ std::string settingNote(std::string_view key, const RenderSettings& s) {
                " draws one map";
     if (in("ibl.") && key != "ibl.enabled" && !s.iblEnabled) return "ibl.enabled is false";
     if (key == "debug.gi_slice" && s.debugView != DebugView::GiVolume) return "debug.view is not gi_volume";
+    if (key == "gi.bounces" && s.giTechnique != GiTechnique::Probes) return "gi.technique is not probes";
     return {};
 }
 

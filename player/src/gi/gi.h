@@ -84,6 +84,15 @@ struct GiResources {
     // grid (RGBA16F, probes^3), traced again only when the occupancy grid is redrawn.
     GlHandle skyVisibility, traceSky;
     bool skyCurrent = false;
+    // gi.bounces > 1 (pass_gi_bounce.cpp), none of it at 1: the voxels' albedo (RGBA8 beside the
+    // occupancy grid, drawn with it by the ALBEDO voxelisation), the VPLs' gather and the last
+    // pass's volumes (copies of `sum`) and the gather variant that adds one bounce to the first
+    // from the second.
+    GlHandle albedoVoxels, voxelizeAlbedo, bounceGather;
+    std::array<GlHandle, 3> gathered, previous;
+    uint32_t albedoSide = 0, previousCells = 0;
+    ProbeVisibility bounceVisibility = ProbeVisibility::Depth; // the variant bounceGather is
+    bool bounceGlass = false;                                  // compiled with TRANSMITTANCE
     // What the probes were last gathered from (sun, grid, sizes, scene versions, RSM items' levels
     // of detail): equal this frame = the volume is still right (gi.probe_cache).
     std::vector<uint64_t> probeInputs;
@@ -162,6 +171,15 @@ void bindAxisFrameBlock(FrameContext& ctx, int axis, double extent, uint32_t sid
 std::vector<DrawRef> glassDrawRefs(FrameContext& ctx, const glm::dmat4& toGrid);
 // gi.technique = probes, after the RSM: occupancy grid when stale, VPLs, gather into `sum`.
 void runGiProbes(FrameContext& ctx, GiContext& gi);               // pass_gi_probes.cpp
+// gi.bounces > 1: the objects of the further bounces (GiResources::albedoVoxels ...), made for
+// the grid's sizes, or dropped at 1. Returns their bytes. pass_gi_bounce.cpp
+PlayResult<uint64_t> ensureGiBounce(GiResources& r, const RenderSettings& s);
+// After the probes' gather into `sum` (its images and the VPLs bound): gi.bounces - 1 more
+// gathers, each adding the light one more bounce brings from the last. pass_gi_bounce.cpp
+void runGiProbeBounces(FrameContext& ctx, GiContext& gi, const glm::vec3& origin, float spacing);
+// A side x side x depth 3D texture (RGBA16F unless said), linearly filtered (the look-up is
+// trilinear, propagation interpolates the geometry volume), clamped at its edges. gi_resources.cpp
+GlHandle giVolume(uint32_t side, uint32_t depth, const char* label, GLenum format = GL_RGBA16F);
 // The rest of the frame's GI once the camera's G-buffer is there (or will not be): camera
 // geometry, resolve, propagation (gi.technique = lpv). The frame list (renderer/frame.cpp) runs it
 // once, before the targets or after the first deferred layer's G-buffer.

@@ -9,6 +9,17 @@
 
 namespace pnb::player {
 
+GlHandle giVolume(uint32_t side, uint32_t depth, const char* label, GLenum format) {
+    GlHandle t = createTexture(GL_TEXTURE_3D);
+    glTextureStorage3D(t.id(), 1, format, GLsizei(side), GLsizei(side), GLsizei(depth));
+    glTextureParameteri(t.id(), GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+    glTextureParameteri(t.id(), GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+    for (GLenum wrap : {GL_TEXTURE_WRAP_S, GL_TEXTURE_WRAP_T, GL_TEXTURE_WRAP_R})
+        glTextureParameteri(t.id(), wrap, GL_CLAMP_TO_EDGE);
+    glObjectLabel(GL_TEXTURE, t.id(), -1, label);
+    return t;
+}
+
 namespace {
 
 GlHandle texture2d(GLenum format, uint32_t size, const char* label) {
@@ -22,17 +33,7 @@ GlHandle texture2d(GLenum format, uint32_t size, const char* label) {
     return t;
 }
 
-// Linear filtering: the look-up is trilinear and propagation interpolates the geometry volume.
-GlHandle volume(uint32_t side, uint32_t depth, const char* label, GLenum format = GL_RGBA16F) {
-    GlHandle t = createTexture(GL_TEXTURE_3D);
-    glTextureStorage3D(t.id(), 1, format, GLsizei(side), GLsizei(side), GLsizei(depth));
-    glTextureParameteri(t.id(), GL_TEXTURE_MIN_FILTER, GL_LINEAR);
-    glTextureParameteri(t.id(), GL_TEXTURE_MAG_FILTER, GL_LINEAR);
-    for (GLenum wrap : {GL_TEXTURE_WRAP_S, GL_TEXTURE_WRAP_T, GL_TEXTURE_WRAP_R})
-        glTextureParameteri(t.id(), wrap, GL_CLAMP_TO_EDGE);
-    glObjectLabel(GL_TEXTURE, t.id(), -1, label);
-    return t;
-}
+
 
 // The probes' depth maps: a (16 + 2)^2 tile per probe, probes (x, y) side by side in layer z.
 GlHandle depthAtlas(uint32_t probes, GLenum format = GL_R16F, const char* label = "gi probe depth maps") {
@@ -105,7 +106,7 @@ PlayResult<uint64_t> ensureLpvGlass(GiResources& r, bool lpv) {
         }
     }
     if (!r.lpvGlass) {
-        r.lpvGlass = volume(r.cells, r.cells * r.cascades, "lpv glass cells", GL_RGBA8);
+        r.lpvGlass = giVolume(r.cells, r.cells * r.cascades, "lpv glass cells", GL_RGBA8);
         r.lpvGlassFb = createFramebuffer();
         glNamedFramebufferDrawBuffer(r.lpvGlassFb.id(), GL_NONE);
         r.lpvGlassVersion = ~0ull;
@@ -246,19 +247,19 @@ PlayResult<Done> GiResources::ensure(const RenderSettings& s, uint32_t cascadeCo
         const char* names[3][3] = {{"lpv source r", "lpv source g", "lpv source b"},
                                    {"lpv next r", "lpv next g", "lpv next b"},
                                    {"gi sum r", "gi sum g", "gi sum b"}};
-        for (int ch = 0; ch < 3; ++ch) sum[size_t(ch)] = volume(cells, depth, names[2][ch]);
+        for (int ch = 0; ch < 3; ++ch) sum[size_t(ch)] = giVolume(cells, depth, names[2][ch]);
         skyVisibility = {};
         probeDepth = {};
         probeNeeded = {};
         probeTransmit = {};
         if (want == GiTechnique::Lpv) {
             for (int ch = 0; ch < 3; ++ch) {
-                source[size_t(ch)] = volume(cells, depth, names[0][ch]);
-                next[size_t(ch)] = volume(cells, depth, names[1][ch]);
+                source[size_t(ch)] = giVolume(cells, depth, names[0][ch]);
+                next[size_t(ch)] = giVolume(cells, depth, names[1][ch]);
             }
-            geometry = volume(corners, corners * cascades, "lpv geometry");
-            transmittance[0] = volume(cells, depth, "lpv transmittance -x +x -y +y", GL_RGBA8);
-            transmittance[1] = volume(cells, depth, "lpv transmittance -z +z", GL_RGBA8);
+            geometry = giVolume(corners, corners * cascades, "lpv geometry");
+            transmittance[0] = giVolume(cells, depth, "lpv transmittance -x +x -y +y", GL_RGBA8);
+            transmittance[1] = giVolume(cells, depth, "lpv transmittance -z +z", GL_RGBA8);
             lpvGlass = {}; // ensureGlass makes it again at the new size, with glass
             uint64_t cellsTotal = uint64_t(cells) * cells * depth;
             uint64_t cornersTotal = uint64_t(corners) * corners * corners * cascades;
@@ -282,7 +283,7 @@ PlayResult<Done> GiResources::ensure(const RenderSettings& s, uint32_t cascadeCo
         if (sky && !skyVisibility) {
             // With glass, one L1 SH per colour (red, green, blue stacked along z): what a probe
             // sees of the sky through panes is tinted. sky_visibility.glsl tells by the depth.
-            skyVisibility = volume(cells, glass ? 3 * cells : cells, "gi probe sky visibility");
+            skyVisibility = giVolume(cells, glass ? 3 * cells : cells, "gi probe sky visibility");
             skyCurrent = false;
         }
         if (depthMaps && !probeDepth) {
@@ -292,9 +293,12 @@ PlayResult<Done> GiResources::ensure(const RenderSettings& s, uint32_t cascadeCo
         }
         auto glassBytes = ensureGlass(*this, s);
         if (!glassBytes) return glassBytes.error();
+        auto bounceBytes = ensureGiBounce(*this, s);
+        if (!bounceBytes) return bounceBytes.error();
         const uint64_t skyVolumes = sky ? (glass ? 3 : 1) : 0;
         bytes = rsmBytes + cellsTotal * (3 + skyVolumes) * 8 + (depthMaps ? cellsTotal * (18 * 18 * 2 + 4) : 0) +
-                uint64_t(voxelSide) * voxelSide * voxelSide + uint64_t(vplSide) * vplSide * 48 + *glassBytes;
+                uint64_t(voxelSide) * voxelSide * voxelSide + uint64_t(vplSide) * vplSide * 48 + *glassBytes +
+                *bounceBytes;
         return Done{};
     }
     auto glassBytes = ensureGlass(*this, s);

@@ -167,7 +167,8 @@ void listProbeInputs(const FrameView& in, GiFrame& f) {
     for (int k = 0; k < 3; ++k) put(f.toward[k]), put(outer.origin[k]);
     put(outer.cellSize);
     f.probeInputs.insert(f.probeInputs.end(), {outer.cells, s.giRsmResolution, s.giVpls, s.giVoxels,
-                                               uint64_t(s.giProbeVisibility), in.scene.materialsVersion,
+                                               uint64_t(s.giProbeVisibility), s.giBounces,
+                                               in.scene.materialsVersion,
                                                in.scene.texelsVersion});
     for (uint32_t i : f.rsmItems) f.probeInputs.push_back(drawLevel(in.scene, in.lod, i));
     for (uint32_t i : f.rsmGlassItems) f.probeInputs.push_back(drawLevel(in.scene, in.lod, i));

@@ -13,7 +13,8 @@
 // With translucent casters (issue 43: BLEND materials that cast shadows), the panes are drawn
 // into a transmittance grid beside the occupancy grid (gi_transmit.frag, VOXELIZE; they stay out
 // of the occupancy grid), and every ray of (3) and (4) is dimmed and tinted by the panes it
-// crosses (gi_probe_gather.comp, TRANSMITTANCE).
+// crosses (gi_probe_gather.comp, TRANSMITTANCE). With gi.bounces > 1 the grid also holds the
+// surfaces' albedo and the gather repeats with one more bounce each time (pass_gi_bounce.cpp).
 #include <glm/gtc/matrix_transform.hpp>
 #include <glm/gtc/type_ptr.hpp>
 
@@ -86,7 +87,12 @@ void voxelizeScene(FrameContext& ctx, GiContext& gi, const LpvCascade& box) {
     }
     bindVoxelTarget(r.voxelFb.id(), uint32_t(side));
     glBindImageTexture(0, r.voxels.id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_R8UI);
-    const GLuint p = r.voxelize.id();
+    if (r.albedoVoxels) { // gi.bounces > 1: the surfaces' albedo beside their voxels
+        const uint8_t none[4] = {0, 0, 0, 0};
+        glClearTexImage(r.albedoVoxels.id(), 0, GL_RGBA, GL_UNSIGNED_BYTE, none);
+        glBindImageTexture(2, r.albedoVoxels.id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA8);
+    }
+    const GLuint p = r.albedoVoxels ? r.voxelizeAlbedo.id() : r.voxelize.id();
     glProgramUniform1i(p, 1, GLint(side));
     for (int axis = 0; axis < 3; ++axis) {
         bindAxisFrameBlock(ctx, axis, box.cellSize * double(box.cells), uint32_t(side));
@@ -189,6 +195,7 @@ void runGiProbes(FrameContext& ctx, GiContext& gi) {
     glUseProgram(gather);
     glDispatchCompute((r.cells + 7) / 8, r.cells, r.cells); // 8 probes along x a group
     glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT);
+    runGiProbeBounces(ctx, gi, origin, float(box.cellSize)); // gi.bounces > 1
     for (GLuint unit = 0; unit < 4; ++unit) glBindTextureUnit(unit, 0); // voxels, depth maps, panes
     glUseProgram(0);
     r.probeInputs = ctx.warmUp ? std::vector<uint64_t>{} : f.probeInputs;

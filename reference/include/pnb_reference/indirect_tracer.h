@@ -1,6 +1,7 @@
-// pnb_reference/indirect_tracer.h — ground truth for one bounce of diffuse light: Monte-Carlo
-// irradiance at surface points from light that reached them after exactly one diffuse
-// reflection (what the player's light propagation volumes approximate), ray traced with Embree.
+// pnb_reference/indirect_tracer.h — ground truth for diffuse indirect light: Monte-Carlo
+// irradiance at surface points from light that reached them after one diffuse reflection (what
+// the player's light propagation volumes approximate), or after up to N of them, or converged
+// (IndirectSettings::bounces), ray traced with Embree.
 //
 // E(p, n) = ∫ L1(x(w), -w) max(0, n.w) dw, estimated with cosine-weighted directions as
 // (1/N) sum_j rho(x_j) E_direct(x_j), where x_j is the first surface a ray from p meets,
@@ -13,14 +14,25 @@
 // glass"). Rays that leave the scene see black (no sky yet). The surface seen is the side the
 // ray arrives on (two-sided reflectors).
 //
+// More bounces (bounces != 1): the path goes on from x_1 with a cosine-weighted direction about
+// the side it arrived on, and every vertex x_k adds throughput_k E_direct(x_k) with throughput_k =
+// rho(x_1) ... rho(x_k) (times the glass crossed): the cosine pdf cancels the cosine and the 1/pi
+// of each Lambertian reflection, as at the first vertex. Converged (bounces = 0) stops a path by
+// Russian roulette from the third vertex on (survival max(throughput) capped at 0.95, the
+// survivor's throughput divided by it: unbiased), with a safety cap of kMaxConvergedBounces.
+//
 // Does NOT do: alpha-masked holes (masked surfaces are opaque), the metallic-roughness texture
 // (metallic is the factor), block-compressed textures (their factor only; counted in stats),
-// specular bounces, emissive surfaces as sources, more than one bounce.
+// specular bounces, emissive surfaces as sources.
 #pragma once
 
+#include <charconv>
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <span>
+#include <string>
+#include <string_view>
 
 #include <glm/vec3.hpp>
 
@@ -39,7 +51,30 @@ struct IndirectSettings {
     uint32_t samples = 256; // cosine-weighted rays per point
     uint64_t seed = 1;      // the same seed gives the same estimate
     IndirectLights lights = IndirectLights::All;
+    // Diffuse reflections a path may take: 1 = one bounce (the default: the truth of the
+    // one-bounce techniques, bit-identical to the tracer before bounces existed), N > 1 = up to
+    // N, 0 = converged (unlimited, Russian roulette).
+    uint32_t bounces = 1;
 };
+
+// The most vertices a converged path may have: roulette ends paths long before, unless the
+// albedo is ~1 everywhere (a white furnace), where 0.95^256 < 1e-5 bounds the bias.
+inline constexpr uint32_t kMaxConvergedBounces = 256;
+
+// The command-line spelling of IndirectSettings::bounces (pnb-reference --indirect-bounces, pnb-judge
+// --gi-bounces): a count 1..kMaxConvergedBounces or "converged" (0). Nullopt: not one of them.
+inline std::optional<uint32_t> parseIndirectBounces(std::string_view text) {
+    if (text == "converged") return 0u;
+    uint32_t n = 0;
+    auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), n);
+    if (ec != std::errc() || end != text.data() + text.size() || n == 0 || n > kMaxConvergedBounces)
+        return std::nullopt;
+    return n;
+}
+// And back: "converged" or the count.
+inline std::string indirectBouncesName(uint32_t bounces) {
+    return bounces == 0 ? std::string("converged") : std::to_string(bounces);
+}
 
 struct IndirectStats {
     uint64_t triangles = 0;           // level-0 triangles: reflecting (non-blended) and translucent
@@ -64,8 +99,8 @@ public:
     IndirectTracer& operator=(const IndirectTracer&) = delete;
 
     // For every i with finite positions[i] and non-zero normals[i] (origin-relative, unit
-    // normal facing the viewer): mean[i] = one-bounce irradiance (rgb, in the lights' units:
-    // lux x albedo for the sun), standardError[i] = the estimate's standard error per channel.
+    // normal facing the viewer): mean[i] = indirect irradiance after settings.bounces (rgb, in
+    // the lights' units: lux x albedo for the sun), standardError[i] = the estimate's standard error per channel.
     // NaN where there is no surface. Spans must have equal sizes (else all NaN). Uses all cores.
     void irradiance(std::span<const glm::vec3> positions, std::span<const glm::vec3> normals,
                     const IndirectSettings& settings, std::span<glm::vec3> mean,
