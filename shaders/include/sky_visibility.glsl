@@ -151,7 +151,8 @@ vec3 skyVisibility(vec3 p, vec3 n) {
     // Off the surface: by a little (screen), or by one and a half height-map texels, so that a
     // wall does not find its own top in the texel it stands in.
     vec3 origin = p + n * (mode == 2 ? 1.5 * uIblHeightRange.w : 1e-3 * eyeDistance + 1e-3 * radius);
-    float open = 0.0;
+    vec3 open = vec3(0.0), total = vec3(0.0);
+    bool weighted = uIblRotation.w > 0.5;
     // Volume: a ray returns a transmittance, not a yes/no, so 4 rays carry what 12 do for the
     // binary terms.
     const int rays = mode == 3 ? 4 : kRays;
@@ -161,9 +162,11 @@ vec3 skyVisibility(vec3 p, vec3 n) {
         float u2 = float(bitfieldReverse(uint(i))) * 2.3283064e-10;
         float r = sqrt(u1), phi = 6.2831853 * u2 + turn;
         vec3 dir = t * (r * cos(phi)) + b * (r * sin(phi)) + n * sqrt(max(0.0, 1.0 - u1));
+        vec3 weight = weighted ? textureLod(uIblSpecular, iblToEnvironment(dir), uIblRotation.z).rgb + 1e-6 : vec3(1.0);
+        total += weight;
 #ifdef GI
         if (mode == 3) {
-            open += volumeTransmittance(p + n * (0.5 * uGiCascade[0].w), dir);
+            open += weight * volumeTransmittance(p + n * (0.5 * uGiCascade[0].w), dir);
             continue;
         }
 #endif
@@ -183,9 +186,9 @@ vec3 skyVisibility(vec3 p, vec3 n) {
                 if (gone) break;
             }
         }
-        open += blocked ? 0.0 : 1.0;
+        if (!blocked) open += weight;
     }
-    return vec3(open / float(rays));
+    return open / total;
 }
 
 #endif
