@@ -5,7 +5,14 @@
 // 12 rays (volume: 4) over the hemisphere around n, cosine-distributed (so the unblocked fraction is the
 // cosine-weighted visibility the irradiance needs), each marched out to uIblParams.z scene units
 // (screen: 6 steps, denser near the surface; height: 12 even steps). The ray set is turned per pixel by
-// interleaved gradient noise (Jimenez 2014), so banding becomes fine noise. A step is blocked
+// interleaved gradient noise (Jimenez 2014), so banding becomes fine noise. The term is not the
+// fraction of open rays but the fraction of the environment's light they carry: each ray weighs
+// by the radiance along it (the prefiltered cube at roughness 0.25, when ibl.specular binds it),
+// so the irradiance SH times the term keeps where the sky is bright. A canyon's floor sees the
+// zenith, not the bright horizon its SH irradiance averages in; counting rays made the street's
+// sky light 25 % too dark (energy 0.75, 1.39 x the best constant's error with height; weighted
+// by the cube's roughest level 0.86, 1.03; at roughness 0.5: 0.73; 0.25: 1.00, 0.53; the mirror
+// level: 1.02, 0.48 — 0.25 spreads a sun disc over its neighbours). A step is blocked
 //   screen: when it lands behind the depth buffer's surface by less than the radius (thicker
 //           gaps are taken as passing behind an object). Blind to occluders off screen or hidden
 //           behind nearer surfaces;
@@ -151,8 +158,8 @@ vec3 skyVisibility(vec3 p, vec3 n) {
     // Off the surface: by a little (screen), or by one and a half height-map texels, so that a
     // wall does not find its own top in the texel it stands in.
     vec3 origin = p + n * (mode == 2 ? 1.5 * uIblHeightRange.w : 1e-3 * eyeDistance + 1e-3 * radius);
-    vec3 open = vec3(0.0), total = vec3(0.0);
-    bool weighted = uIblRotation.w > 0.5;
+    vec3 open = vec3(0.0), total = vec3(0.0); // radiance of the open rays, of all rays
+    bool weighted = uIblRotation.w > 0.5;       // the cube is bound (ibl.specular)
     // Volume: a ray returns a transmittance, not a yes/no, so 4 rays carry what 12 do for the
     // binary terms.
     const int rays = mode == 3 ? 4 : kRays;
@@ -162,7 +169,8 @@ vec3 skyVisibility(vec3 p, vec3 n) {
         float u2 = float(bitfieldReverse(uint(i))) * 2.3283064e-10;
         float r = sqrt(u1), phi = 6.2831853 * u2 + turn;
         vec3 dir = t * (r * cos(phi)) + b * (r * sin(phi)) + n * sqrt(max(0.0, 1.0 - u1));
-        vec3 weight = weighted ? textureLod(uIblSpecular, iblToEnvironment(dir), uIblRotation.z).rgb + 1e-6 : vec3(1.0);
+        vec3 weight = weighted ? textureLod(uIblSpecular, iblToEnvironment(dir), 0.25 * uIblRotation.z).rgb + 1e-6
+                               : vec3(1.0);
         total += weight;
 #ifdef GI
         if (mode == 3) {
