@@ -64,6 +64,21 @@ bool behindDepthBuffer(vec3 q, float radius, out bool gone) {
     return behind > 0.0 && behind < radius;
 }
 
+// Ray i of n over the hemisphere around the frame (t, b, nrm), cosine-distributed: the
+// Hammersley point (i + 1/2)/n, radical inverse, turned by `turn` radians.
+vec3 skyRay(int i, int n, float turn, vec3 t, vec3 b, vec3 nrm) {
+    float u1 = (float(i) + 0.5) / float(n);
+    float u2 = float(bitfieldReverse(uint(i))) * 2.3283064e-10;
+    float r = sqrt(u1), phi = 6.2831853 * u2 + turn;
+    return t * (r * cos(phi)) + b * (r * sin(phi)) + nrm * sqrt(max(0.0, 1.0 - u1));
+}
+
+// The environment's radiance along world direction `dir`, blurred to roughness 0.25 (weights of
+// the rays; the cube is bound only with ibl.specular: uIblRotation.w).
+vec3 skyRadianceAlong(vec3 dir) {
+    return textureLod(uIblSpecular, iblToEnvironment(dir), 0.25 * uIblRotation.z).rgb + 1e-6;
+}
+
 #ifdef GI
 layout(binding = 16) uniform sampler3D uGiTransmit0; // faces from the -x, +x, -y, +y neighbours
 layout(binding = 17) uniform sampler3D uGiTransmit1; // from the -z, +z neighbours
@@ -119,6 +134,7 @@ vec3 probeSkyVisibility(vec3 p, vec3 n) {
     vec3 f = g - vec3(base);
     vec4 lobe = vec4(0.886226925, -1.023326708 * n.y, 1.023326708 * n.z, -1.023326708 * n.x);
     vec3 sum = vec3(0.0);
+    vec4 blended = vec4(0.0); // the probes' visibility SH (grey), for the radiance weighting
     float total = 0.0;
     for (int i = 0; i < 8; ++i) {
         ivec3 o = ivec3(i & 1, (i >> 1) & 1, i >> 2);
@@ -135,10 +151,32 @@ vec3 probeSkyVisibility(vec3 p, vec3 n) {
             seen.b = dot(texelFetch(uGiSkyVisibility, at + ivec3(0, 0, 2 * cells), 0), lobe);
         }
         sum += w * seen;
+        blended += w * v;
         total += w;
     }
     if (total <= 0.0) return vec3(1.0); // every probe around is solid: nothing known blocks it
-    return clamp(sum / (total * 3.14159265), 0.0, 1.0);
+    vec3 fraction = sum / (total * 3.14159265);
+    if (uIblRotation.w < 0.5) return clamp(fraction, 0.0, 1.0);
+    // As the rays of the other modes, weighted by the sky's radiance: the open directions'
+    // mean radiance (12 fixed directions around n, each by the probes' visibility there, the L1
+    // SH's value) over all directions' mean. The cosine-weighted fraction assumes the hidden sky
+    // as bright as the visible.
+    blended /= total;
+    vec3 t = normalize(abs(n.y) < 0.99 ? cross(n, vec3(0.0, 1.0, 0.0)) : cross(n, vec3(1.0, 0.0, 0.0)));
+    vec3 b = cross(n, t);
+    vec3 openRadiance = vec3(0.0), allRadiance = vec3(0.0);
+    float openWeight = 0.0;
+    for (int i = 0; i < 12; ++i) {
+        vec3 dir = skyRay(i, 12, 0.0, t, b, n);
+        float seen = clamp(0.282094792 * blended.x + 0.488602512 * (dot(blended.wyz, vec3(-dir.x, -dir.y, dir.z))),
+                           0.0, 1.0);
+        vec3 radiance = skyRadianceAlong(dir);
+        openRadiance += seen * radiance;
+        openWeight += seen;
+        allRadiance += radiance;
+    }
+    if (openWeight < 1e-3) return clamp(fraction, 0.0, 1.0);
+    return clamp(fraction * (openRadiance / openWeight) / (allRadiance / 12.0), 0.0, 1.0);
 }
 #endif
 
@@ -164,13 +202,8 @@ vec3 skyVisibility(vec3 p, vec3 n) {
     // binary terms.
     const int rays = mode == 3 ? 4 : kRays;
     for (int i = 0; i < rays; ++i) {
-        // Cosine-weighted directions: the Hammersley point (i + 1/2)/N, radical inverse.
-        float u1 = (float(i) + 0.5) / float(rays);
-        float u2 = float(bitfieldReverse(uint(i))) * 2.3283064e-10;
-        float r = sqrt(u1), phi = 6.2831853 * u2 + turn;
-        vec3 dir = t * (r * cos(phi)) + b * (r * sin(phi)) + n * sqrt(max(0.0, 1.0 - u1));
-        vec3 weight = weighted ? textureLod(uIblSpecular, iblToEnvironment(dir), 0.25 * uIblRotation.z).rgb + 1e-6
-                               : vec3(1.0);
+        vec3 dir = skyRay(i, rays, turn, t, b, n);
+        vec3 weight = weighted ? skyRadianceAlong(dir) : vec3(1.0);
         total += weight;
 #ifdef GI
         if (mode == 3) {
