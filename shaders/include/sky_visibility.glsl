@@ -11,7 +11,7 @@
 // so the irradiance SH times the term keeps where the sky is bright. A canyon's floor sees the
 // zenith, not the bright horizon its SH irradiance averages in; counting rays made the street's
 // sky light 25 % too dark (energy 0.75, 1.39 x the best constant's error with height; weighted
-// by the cube's roughest level 0.86, 1.03; at roughness 0.5: 0.73; 0.25: 1.00, 0.53; the mirror
+// by the cube's roughest level 0.86, 1.03; at roughness 0.5: 0.94, 0.73; 0.25: 1.00, 0.53; the mirror
 // level: 1.02, 0.48 — 0.25 spreads a sun disc over its neighbours). A step is blocked
 //   screen: when it lands behind the depth buffer's surface by less than the radius (thicker
 //           gaps are taken as passing behind an object). Blind to occluders off screen or hidden
@@ -31,7 +31,8 @@
 //           room's roof and open side alike), as coarse as the probes; noise-free and stable
 //           while the camera moves. Panes (BLEND materials that cast shadows, issue 43) tint
 //           and dim what a probe sees through them: the volume then holds one SH per colour
-//           (red, green, blue stacked along z), and the term is a colour.
+//           (red, green, blue stacked along z), and the term is a colour. The probes' open
+//           fraction is weighted by the sky's radiance as the rays are (probeSkyVisibility).
 // Their errors against the ray-traced sky light: docs/PLAYER.md "Sky and image-based lighting".
 #ifndef PNB_SKY_VISIBILITY_GLSL
 #define PNB_SKY_VISIBILITY_GLSL
