@@ -4,7 +4,7 @@
 //
 // 12 rays (volume: 4) over the hemisphere around n, cosine-distributed (so the unblocked fraction is the
 // cosine-weighted visibility the irradiance needs), each marched out to uIblParams.z scene units
-// (screen: 6 steps, denser near the surface; height: 12 even steps). The ray set is turned per pixel by
+// (6 steps for screen, 16 for height, denser near the surface). The ray set is turned per pixel by
 // interleaved gradient noise (Jimenez 2014), so banding becomes fine noise. The term is not the
 // fraction of open rays but the fraction of the environment's light they carry: each ray weighs
 // by the radiance along it (the prefiltered cube at roughness 0.25, when ibl.specular binds it),
@@ -189,7 +189,7 @@ vec3 skyVisibility(vec3 p, vec3 n) {
 #ifdef GI
     if (mode == 4) return probeSkyVisibility(p, n);
 #endif
-    const int kRays = 12, kSteps = 6, kHeightSteps = 12;
+    const int kRays = 12, kSteps = 6, kHeightSteps = 16;
     vec3 t = normalize(abs(n.y) < 0.99 ? cross(n, vec3(0.0, 1.0, 0.0)) : cross(n, vec3(1.0, 0.0, 0.0)));
     vec3 b = cross(n, t);
     float turn = 6.2831853 * fract(52.9829189 * fract(dot(gl_FragCoord.xy, vec2(0.06711056, 0.00583715))));
@@ -213,12 +213,15 @@ vec3 skyVisibility(vec3 p, vec3 n) {
         }
 #endif
         bool blocked = false;
-        // Height: evenly spaced, so a wall thicker than radius / 12 is never stepped over.
+        // Height: 16 steps, denser near the surface (quadratic, as screen's). 12 even steps of
+        // radius / 12 (25 m in the 2 km street canyon) stepped over its 18-30 m deep buildings:
+        // along its path the sky light came out up to 1.6x too bright (1.19 x the best constant's
+        // error); quadratic 12: 0.90 at worst, quadratic 16: 0.78, even 24: 0.73 at 1.5x the cost.
         int steps = mode == 2 ? kHeightSteps : kSteps;
         for (int s = 1; s <= steps && !blocked; ++s) {
             vec3 q;
             if (mode == 2) {
-                q = origin + dir * (radius * float(s) / float(steps));
+                q = origin + dir * (radius * float(s * s) / float(steps * steps));
                 blocked = belowHeightMap(q);
             } else {
                 q = origin + dir * (radius * float(s * s) / float(steps * steps)); // denser near

@@ -22,7 +22,7 @@ h, n = row("height"), row("none")
 print("sky, street canyon: height energy %.3f, rmse/constant %.3f, correlation %.3f; none %.3f, %.3f"
       % (h["sky_energy_ratio"], h["sky_rmse_over_constant"], h["sky_correlation"], n["sky_energy_ratio"],
          n["sky_rmse_over_constant"]))
-# Measured at 160x90, 64 rays: height 0.998, 0.522, 0.854; none 1.429, 1.797.
+# Measured at 160x90, 64 rays: height 0.969, 0.499, 0.877; none 1.429, 1.797.
 assert 0.85 <= h["sky_energy_ratio"] <= 1.15, h
 assert h["sky_rmse_over_constant"] < 0.8 and h["sky_correlation"] > 0.7, h
 assert n["sky_rmse_over_constant"] > 1.5 * h["sky_rmse_over_constant"], n
