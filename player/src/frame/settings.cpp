@@ -271,7 +271,7 @@ const Row kRows[] = {
       "when the geometry changes, looked up per pixel; needs gi.enabled and "
       "gi.technique=probes); auto (the default): probes where the GI probes run, else none — "
       "probes beat a constant on the street canyon and the box room, every other mode loses "
-      "to it on one (height: 0.53 outdoors, 1.9 indoors)"},
+      "to it on one (height: 0.51 outdoors, 1.9 indoors)"},
      enumField<&S::iblVisibility>(kSkyVisibilityNames)},
     {{"ibl.visibility_radius", "float >= 0",
       "screen and height visibility: how far occluders are searched, scene units; 0 = 1/8 of the scene "
