@@ -5,7 +5,8 @@ Per scene (converted with --sky): fly the scene's camera path with pnb-play --be
 configuration, interleaved round by round so that drift on a noisy machine hits all alike, and
 read the GPU time of the lighting pass (and the background pass) per frame; the error of the sky
 irradiance the lighting applied against the Embree sky-light truth (pnb-play --sky-metrics:
-energy ratio, relative RMSE with and without the truth's own noise).
+energy ratio, relative RMSE with and without the truth's own noise, that RMSE over the best
+constant's and the correlation).
 
 Costs are ratios to the lighting pass with ibl.enabled=false measured in the same rounds (the
 volume term: compare with "GI, sky without visibility", which has GI's look-up too).
@@ -29,6 +30,9 @@ CONFIGS = [
     # The LPV's geometry as the visibility term: against the same frame with GI and no term.
     ("GI, sky without visibility", ["ibl.visibility=none", "gi.enabled=true"]),
     ("GI, sky + volume visibility", ["ibl.visibility=volume", "gi.enabled=true"]),
+    # The probes' own visibility: against the same frame with GI probes and no term.
+    ("GI probes, sky without visibility", ["ibl.visibility=none", "gi.enabled=true", "gi.technique=probes"]),
+    ("GI probes, sky + probes visibility", ["ibl.visibility=probes", "gi.enabled=true", "gi.technique=probes"]),
 ]
 
 
@@ -101,6 +105,9 @@ def main():
                 "sky_rmse_pct": round(q["sky_rmse_pct"], 1) if q else "",
                 "sky_corrected_rmse_pct": round(q["sky_corrected_rmse_pct"], 1) if q else "",
                 "sky_reference_noise_pct": round(q["sky_reference_noise_pct"], 1) if q else "",
+                # The issue's yardstick: the error against the best constant's (the truth's mean).
+                "sky_rmse_over_constant": round(q["sky_rmse_over_constant"], 3) if q else "",
+                "sky_correlation": round(q["sky_correlation"], 3) if q else "",
                 "sky_flicker_pct": round(q["sky_flicker_pct"], 2) if q and "sky_flicker_pct" in q else "",
             })
         with open(os.path.join(out, "ibl.csv"), "w", newline="") as f:

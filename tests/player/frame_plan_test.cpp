@@ -195,5 +195,38 @@ TEST_F(PlanFixture, IblTurnsItsIrradianceAndFallsBackToWhatTheFrameHas) {
     EXPECT_EQ(turned.sh[1], glm::vec4(0.0f));
 }
 
+// ibl.visibility=auto (the default) is the probes' term where GI runs with the probes and no
+// term elsewhere: no height map, no radius, no mode that loses to a constant on a bundled scene.
+TEST_F(PlanFixture, AutoSkyVisibilityIsTheProbesWithGiProbesAndNoneElsewhere) {
+    EXPECT_EQ(RenderSettings{}.iblVisibility, SkyVisibility::Auto);
+    RenderSettings s;
+    EXPECT_EQ(resolvedSkyVisibility(s), SkyVisibility::None) << "GI off";
+    s.giEnabled = true;
+    EXPECT_EQ(resolvedSkyVisibility(s), SkyVisibility::None) << "GI with the LPV";
+    s.giTechnique = GiTechnique::Probes;
+    EXPECT_EQ(resolvedSkyVisibility(s), SkyVisibility::Probes);
+    s.iblVisibility = SkyVisibility::Height;
+    EXPECT_EQ(resolvedSkyVisibility(s), SkyVisibility::Height) << "an explicit mode stays";
+
+    GpuEnvironment env;
+    scene.environment = env;
+    scene.iblPrograms = true;
+    scene.bounds.min = {0.0f, 0.0f, 0.0f};
+    scene.bounds.max = {8.0f, 8.0f, 8.0f}; // radius: 1/8 of the diagonal
+    IblContext ibl;
+    GiContext gi;
+    IblBlock block;
+    planIbl(in(), ibl, gi, block); // the fixture's settings: auto, GI off
+    EXPECT_EQ(ibl.visibility, SkyVisibility::None);
+    EXPECT_EQ(block.params.z, 0.0f) << "no radius: no rays";
+    EXPECT_FALSE(wantsSkyHeightMap(in()));
+    settings.giEnabled = true;
+    settings.giTechnique = GiTechnique::Probes;
+    planIbl(in(), ibl, gi, block); // asks for the probes, whose volume does not exist here
+    EXPECT_EQ(ibl.visibility, SkyVisibility::None);
+    EXPECT_FALSE(ibl.warnedVisibility) << "auto does not warn: it was not asked for explicitly";
+    EXPECT_NEAR(block.params.z, std::sqrt(192.0f) / 8.0f, 1e-5f);
+}
+
 } // namespace
 } // namespace pnb::player

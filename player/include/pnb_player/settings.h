@@ -58,7 +58,9 @@ enum class GiAtomics { Fixed, Float };         // gi.atomics
 enum class GiTechnique { Lpv, Probes };        // gi.technique
 enum class ProbeVisibility { Depth, Exact };   // gi.probe_visibility
 enum class LightCulling { Auto, Clusters, Off };   // lights.culling
-enum class SkyVisibility { None, Screen, Height, Volume, Probes }; // ibl.visibility
+// ibl.visibility. Auto (the default) is Probes where the GI probes run, None elsewhere:
+// resolvedSkyVisibility says which the frame gets.
+enum class SkyVisibility { None, Screen, Height, Volume, Probes, Auto };
 
 struct RenderSettings {
     float exposure = 1.0f;       // lighting.exposure: HDR scale before tone mapping
@@ -158,11 +160,22 @@ struct RenderSettings {
     float iblRotationDeg = 0.0f;    // ibl.rotation_deg: environment turned about +Y
     bool iblSpecular = true;        // ibl.specular: the prefiltered reflection term
     bool iblBackground = true;      // ibl.background: the environment behind the scene
-    SkyVisibility iblVisibility = SkyVisibility::Screen; // ibl.visibility
+    // ibl.visibility: auto by default — the only mode that beats a constant on every bundled
+    // scene is probes (docs/PLAYER.md "Sky visibility, the scorecard"), which needs GI probes.
+    SkyVisibility iblVisibility = SkyVisibility::Auto;
     float iblVisibilityRadius = 0.0f; // ibl.visibility_radius: scene units; 0 = 1/8 of the
                                       // scene bounds' diagonal
     uint32_t iblHeightResolution = 1024; // ibl.height_resolution: the height map's side, texels
 };
+
+// The sky-visibility mode the settings ask for, Auto resolved: Probes when GI runs with the
+// probes (gi.enabled, gi.technique = probes), None otherwise (without the probes every mode
+// loses to a constant on one bundled scene). Whether the frame's inputs allow it is the
+// frame's business (planIbl).
+inline SkyVisibility resolvedSkyVisibility(const RenderSettings& s) {
+    if (s.iblVisibility != SkyVisibility::Auto) return s.iblVisibility;
+    return s.giEnabled && s.giTechnique == GiTechnique::Probes ? SkyVisibility::Probes : SkyVisibility::None;
+}
 
 struct SettingInfo {
     std::string_view key, type, description;

@@ -218,7 +218,7 @@ PlayResult<Done> GiResources::ensure(const RenderSettings& s, uint32_t cascadeCo
         glNamedFramebufferDrawBuffer(voxelFb.id(), GL_NONE);
     }
     // The probes' sky visibility exists only while ibl.visibility asks for it.
-    const bool sky = want == GiTechnique::Probes && s.iblVisibility == SkyVisibility::Probes;
+    const bool sky = want == GiTechnique::Probes && resolvedSkyVisibility(s) == SkyVisibility::Probes;
     if (!sky) {
         skyVisibility = {};
         traceSky = {};

@@ -113,7 +113,7 @@ void Renderer::setSettings(const RenderSettings& settings) {
                scene.environment->radiance,
            "fullscreen.vert", "background.frag");
     ensure(b.depthOnly,
-           settings.iblEnabled && settings.iblVisibility == SkyVisibility::Height && scene.iblPrograms &&
+           settings.iblEnabled && resolvedSkyVisibility(settings) == SkyVisibility::Height && scene.iblPrograms &&
                scene.environment,
            "flat.vert", "depth_only.frag");
     bool shadowDebug = settings.debugView == DebugView::ShadowMap || settings.debugView == DebugView::Histogram;

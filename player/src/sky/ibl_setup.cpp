@@ -17,7 +17,8 @@ using namespace lighting; // SH9 (pnb_lighting/sh9.h)
 
 bool wantsSkyHeightMap(const FrameView& in) {
     const RenderSettings& s = in.settings;
-    return in.scene.iblPrograms && s.iblEnabled && in.scene.environment && s.iblVisibility == SkyVisibility::Height;
+    return in.scene.iblPrograms && s.iblEnabled && in.scene.environment &&
+           resolvedSkyVisibility(s) == SkyVisibility::Height;
 }
 
 void planIbl(const FrameView& in, IblContext& ibl, const GiContext& gi, IblBlock& block) {
@@ -48,23 +49,24 @@ void planIbl(const FrameView& in, IblContext& ibl, const GiContext& gi, IblBlock
     ibl.specular = s.iblSpecular && env.specular && env.brdfLut;
     block.rotation = {float(std::cos(angle)), float(std::sin(angle)),
                       float(env.specularLevels > 0 ? env.specularLevels - 1 : 0), ibl.specular ? 1.0f : 0.0f};
+    const SkyVisibility asked = resolvedSkyVisibility(s); // auto: probes or none
     float radius = 0;
-    if (s.iblVisibility != SkyVisibility::None) {
+    if (asked != SkyVisibility::None) {
         const Aabb& b = scene.bounds;
         glm::vec3 diagonal(b.max.x - b.min.x, b.max.y - b.min.y, b.max.z - b.min.z);
         radius = s.iblVisibilityRadius > 0 ? s.iblVisibilityRadius
                                            : (b.min.x <= b.max.x ? glm::length(diagonal) / 8.0f : 0.0f);
     }
     block.params = {1.0f, ibl.capture ? 1.0f : 0.0f, radius, s.iblIntensity};
-    ibl.visibility = s.iblVisibility == SkyVisibility::Screen ? SkyVisibility::Screen : SkyVisibility::None;
-    if (s.iblVisibility == SkyVisibility::Height && ibl.heightMap) {
+    ibl.visibility = asked == SkyVisibility::Screen ? SkyVisibility::Screen : SkyVisibility::None;
+    if (asked == SkyVisibility::Height && ibl.heightMap) {
         const glm::dvec3 lo = ibl.heightMin - in.view.position, size = ibl.heightMax - ibl.heightMin;
         block.heightRect = {float(lo.x), float(lo.z), float(1.0 / size.x), float(1.0 / size.z)};
         block.heightRange = {float(lo.y), float(size.y), 0.0f,
                              float(std::max(size.x, size.z) / double(ibl.heightResolution))};
         ibl.visibility = SkyVisibility::Height;
     }
-    if (s.iblVisibility == SkyVisibility::Volume) {
+    if (asked == SkyVisibility::Volume) {
         // The LPV's geometry: its face transmittances exist while GI runs with occlusion.
         if (gi.frame.active && s.giOcclusion) {
             ibl.visibility = SkyVisibility::Volume;
@@ -74,11 +76,11 @@ void planIbl(const FrameView& in, IblContext& ibl, const GiContext& gi, IblBlock
                                  "gi.occlusion, a container converted with --gi): no sky visibility\n");
         }
     }
-    if (s.iblVisibility == SkyVisibility::Probes) {
+    if (asked == SkyVisibility::Probes) {
         // The probes' own: traced with their occupancy grid (pass_gi_probes.cpp).
         if (gi.frame.active && gi.resources.skyVisibility) {
             ibl.visibility = SkyVisibility::Probes;
-        } else if (!ibl.warnedVisibility) {
+        } else if (!ibl.warnedVisibility && s.iblVisibility == SkyVisibility::Probes) { // auto: silent
             ibl.warnedVisibility = true;
             std::fprintf(stderr, "pnb-play: ibl.visibility=probes needs GI probes (gi.enabled, "
                                  "gi.technique=probes, a container converted with --gi, a sun): "
