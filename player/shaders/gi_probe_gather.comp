@@ -39,7 +39,7 @@
 // to see the floor, whose light its neighbours on the walls read; with the depth maps' cell the
 // colour room kept 0.70 of the converged truth's light, walking 0.89), reads there the previous gather's irradiance (uPrev*: the volume lighting reads, copied) on
 // the voxel face the ray entered by, half a cell in front of it as lighting's look-up does, and
-// times the albedo volume's (gi_voxelize.frag, ALBEDO) over pi: the radiance that surface sends
+// times the voxel's mean albedo (gi_voxelize.frag, ALBEDO) over pi: the radiance that surface sends
 // back. Projected onto L1 SH with each texel's solid angle (the octahedral map's dA / r^3), that
 // is the light after one more bounce (irradiance-field methods' recurrence: V_k+1 = gather +
 // bounce(V_k)). Panes along these rays are not applied; rays leaving the grid bring nothing
@@ -104,7 +104,10 @@ layout(rgba16f, binding = 2) writeonly uniform image3D uSumB;
 layout(binding = 4) uniform sampler3D uPrevR; // the previous gather's volumes (L1 SH per colour)
 layout(binding = 5) uniform sampler3D uPrevG;
 layout(binding = 6) uniform sampler3D uPrevB;
-layout(binding = 7) uniform sampler3D uAlbedoVoxels; // rgb: diffuse albedo, a: 1 where a surface is
+// Per voxel four texels along x: the sums of its fragments' albedo (r, g, b, fixed point) and
+// their count (gi_voxelize.frag, ALBEDO).
+layout(binding = 7) uniform usampler3D uAlbedoSums;
+const float kAlbedoScale = 1024.0; // gi_voxelize.frag's
 layout(binding = 8) uniform sampler3D uGatheredR; // the VPLs' gather (one bounce), per colour
 layout(binding = 9) uniform sampler3D uGatheredG;
 layout(binding = 10) uniform sampler3D uGatheredB;
@@ -350,6 +353,16 @@ vec3 transmitTowards(ivec3 id, vec3 w, float rv) {
 #endif
 
 #ifdef BOUNCE
+// The mean albedo of the surfaces in voxel v (none: black).
+vec3 albedoAt(ivec3 v) {
+    ivec3 at = ivec3(4 * v.x, v.y, v.z);
+    uint count = texelFetch(uAlbedoSums, at + ivec3(3, 0, 0), 0).r;
+    if (count == 0u) return vec3(0.0);
+    uvec3 sum = uvec3(texelFetch(uAlbedoSums, at, 0).r, texelFetch(uAlbedoSums, at + ivec3(1, 0, 0), 0).r,
+                      texelFetch(uAlbedoSums, at + ivec3(2, 0, 0), 0).r);
+    return vec3(sum) / (kAlbedoScale * float(count));
+}
+
 const int kBounceSide = 8; // rays a probe walks per bounce: an octahedral map's texel centres
 // This lane's share of the light probe `id` (at xv, voxel units) gets from one more bounce: the
 // L1 SH per colour of the radiance the surfaces its rays hit reflect back (see the top).
@@ -365,7 +378,7 @@ void gatherBounce(ivec3 id, vec3 xv, int lane, inout vec4 acc[3]) {
         float paneAt = 0.0;
         float d = firstHit(xv, w, side, kPassThroughVoxels, through, paneAt);
         if (d >= 0.5 * kClear) continue; // out of the grid
-        vec3 albedo = texelFetch(uAlbedoVoxels, clamp(ivec3(floor(xv + w * (d + 0.01))), ivec3(0), ivec3(side - 1)), 0).rgb;
+        vec3 albedo = albedoAt(clamp(ivec3(floor(xv + w * (d + 0.01))), ivec3(0), ivec3(side - 1)));
         if (albedo == vec3(0.0)) continue;
         // The hit's normal: the solid voxel's face the ray entered by (the hit lies on it: the
         // coordinate nearest a whole voxel), facing the probe. Lighting's look-up there: half a

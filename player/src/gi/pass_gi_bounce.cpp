@@ -34,7 +34,7 @@ PlayResult<uint64_t> ensureGiBounce(GiResources& r, const RenderSettings& s) {
     }
     if (!r.voxelizeAlbedo) {
         const std::string_view define = "ALBEDO";
-        auto p = compileEmbeddedProgram("flat.vert", "gi_voxelize.frag", std::span(&define, 1));
+        auto p = compileEmbeddedProgram("gi_voxelize.vert", "gi_voxelize.frag", std::span(&define, 1));
         if (!p) return p.error();
         r.voxelizeAlbedo = std::move(*p);
     }
@@ -52,7 +52,9 @@ PlayResult<uint64_t> ensureGiBounce(GiResources& r, const RenderSettings& s) {
         r.albedoSide = r.voxelSide;
         r.albedoVoxels = createTexture(GL_TEXTURE_3D);
         const GLsizei side = GLsizei(r.voxelSide);
-        glTextureStorage3D(r.albedoVoxels.id(), 1, GL_RGBA8, side, side, side);
+        // Per voxel four R32UI texels along x: the fixed-point sums of r, g, b and the fragments'
+        // count (gi_voxelize.frag, ALBEDO).
+        glTextureStorage3D(r.albedoVoxels.id(), 1, GL_R32UI, 4 * side, side, side);
         glTextureParameteri(r.albedoVoxels.id(), GL_TEXTURE_MIN_FILTER, GL_NEAREST);
         glTextureParameteri(r.albedoVoxels.id(), GL_TEXTURE_MAG_FILTER, GL_NEAREST);
         glObjectLabel(GL_TEXTURE, r.albedoVoxels.id(), -1, "gi probe albedo voxels");
@@ -68,7 +70,7 @@ PlayResult<uint64_t> ensureGiBounce(GiResources& r, const RenderSettings& s) {
         }
     }
     const uint64_t side = r.voxelSide, cells = r.cells;
-    return side * side * side * 4 + cells * cells * cells * 6 * 8;
+    return side * side * side * 16 + cells * cells * cells * 6 * 8;
 }
 
 void runGiProbeBounces(FrameContext& ctx, GiContext& gi, const glm::vec3& origin, float spacing) {
