@@ -79,6 +79,8 @@ def main():
     p.add_argument("--techniques", default="lpv,probes1,probesN",
                    help="comma-separated subset of lpv, probes1, probesN (quick iterations)")
     p.add_argument("--truths", default="one,converged", help="comma-separated subset of one, converged")
+    p.add_argument("--set", action="append", default=[], metavar="KEY=VALUE",
+                   help="an extra player setting for every technique (repeatable)")
     p.add_argument("--no-cost", action="store_true", help="skip the GI cost runs (quick iterations)")
     args = p.parse_args()
     keys = args.techniques.split(",")
@@ -90,6 +92,7 @@ def main():
         for key, (name, settings) in zip(("lpv", "probes1", "probesN"), techniques(args.bounces)):
             if key not in keys:
                 continue
+            settings = settings + [a for kv in args.set for a in ("--set", kv)]
             row = {"scene": scene, "technique": name}
             for label, truth in truths:
                 runs = os.path.join(args.out, "runs", scene, name.replace(" ", "_").replace(",", ""), label)

@@ -42,8 +42,8 @@
 // times the voxel's mean albedo (gi_voxelize.frag, ALBEDO) over pi: the radiance that surface sends
 // back. Projected onto L1 SH with each texel's solid angle (the octahedral map's dA / r^3), that
 // is the light after one more bounce (irradiance-field methods' recurrence: V_k+1 = gather +
-// bounce(V_k)). Panes along these rays are not applied; rays leaving the grid bring nothing
-// (the sky is ibl's).
+// bounce(V_k)). With TRANSMITTANCE the panes a ray crosses before its hit dim and tint what it
+// brings back; rays leaving the grid bring nothing (the sky is ibl's).
 //
 // TRANSMITTANCE (with any of the three; only while some BLEND material casts shadows, issue 43):
 // the panes' transmittance grid beside the occupancy grid (gi_transmit.frag, VOXELIZE) dims and
@@ -394,7 +394,10 @@ void gatherBounce(ivec3 id, vec3 xv, int lane, inout vec4 acc[3]) {
                           dot(textureLod(uPrevB, q, 0.0), lobe)), vec3(0.0));
         // Radiance albedo E / pi travelling back along -w, over the texel's solid angle.
         vec4 y = basis(-w) * ((4.0 / float(kBounceSide * kBounceSide)) / (r * r * r) * kInvPi);
-        for (int ch = 0; ch < 3; ++ch) acc[ch] += (albedo[ch] * e[ch]) * y;
+        // Dimmed and tinted by the panes between the probe and the hit (TRANSMITTANCE: firstHit
+        // multiplied `through` by them; without panes it stays 1).
+        vec3 reflected = albedo * e * through;
+        for (int ch = 0; ch < 3; ++ch) acc[ch] += reflected[ch] * y;
     }
 }
 #endif
