@@ -29,23 +29,53 @@ layout(r32ui, binding = 2) uniform uimage3D uAlbedoSums;
 const float kAlbedoScale = 1024.0; // 2^32 / (1024 x 1.0) = 4 M fragments a voxel before overflow
 #endif
 
-void main() {
-    vec3 f = vec3(gl_FragCoord.xy / float(uResolution), gl_FragCoord.z); // [0, 1]^3 in view order
-    vec3 u = uAxis == 0 ? vec3(f.z, f.y, f.x) : uAxis == 1 ? vec3(f.x, f.z, f.y) : f;
-    ivec3 v = clamp(ivec3(floor(u * float(uResolution))), ivec3(0), ivec3(uResolution - 1));
-    imageStore(uVoxels, v, uvec4(1u));
+// A surface lying on a boundary between two voxel layers (a floor at a whole number of voxels: the
+// grid's origin is snapped to whole cells, and modelled rooms have whole-metre walls) marks both
+// layers. Left to floor(), the rounding of each triangle's interpolated depth put its fragments
+// on one side or the other, quad by quad: a floor of several quads came out as a patchwork of two
+// layers, and the probes and bounce rays saw it that way (box room: blotches of a probe's size on
+// the floor and a bright seam along the ceiling). kBoundary: in voxels along the view axis.
+const float kBoundary = 1.0 / 256.0;
+
 #ifdef ALBEDO
+// The fragment's diffuse albedo in fixed point (computed once, outside the loop below: the
+// texture's implicit derivatives need uniform control flow).
+uvec3 fragmentAlbedo() {
     SurfaceInput s;
     s.uv0 = vUv0;
     s.uv1 = vUv1;
     vec4 base = uBaseColorFactor * vColor;
     if (uHasBaseColorMap != 0) base *= texture(uBaseColorMap, slotUv(PNB_TEX_BASE_COLOR, s));
     float metallic = clamp(uMaterialParams.x, 0.0, 1.0);
-    uvec3 albedo = uvec3(round(clamp(base.rgb * (1.0 - metallic), 0.0, 1.0) * kAlbedoScale));
+    return uvec3(round(clamp(base.rgb * (1.0 - metallic), 0.0, 1.0) * kAlbedoScale));
+}
+#endif
+
+void markVoxel(ivec3 v, uvec3 albedo) {
+    imageStore(uVoxels, v, uvec4(1u));
+#ifdef ALBEDO
     ivec3 at = ivec3(4 * v.x, v.y, v.z);
     imageAtomicAdd(uAlbedoSums, at, albedo.r);
     imageAtomicAdd(uAlbedoSums, at + ivec3(1, 0, 0), albedo.g);
     imageAtomicAdd(uAlbedoSums, at + ivec3(2, 0, 0), albedo.b);
     imageAtomicAdd(uAlbedoSums, at + ivec3(3, 0, 0), 1u);
 #endif
+}
+
+void main() {
+#ifdef ALBEDO
+    uvec3 albedo = fragmentAlbedo();
+#else
+    uvec3 albedo = uvec3(0u);
+#endif
+    vec3 f = vec3(gl_FragCoord.xy / float(uResolution), gl_FragCoord.z); // [0, 1]^3 in view order
+    float depth = f.z * float(uResolution);
+    float nearest = round(depth);
+    bool onBoundary = abs(depth - nearest) < kBoundary;
+    for (int side = 0; side < (onBoundary ? 2 : 1); ++side) {
+        // On a boundary: the layers below and above it; otherwise the fragment's own.
+        vec3 g = vec3(gl_FragCoord.xy, onBoundary ? nearest - 0.5 + float(side) : depth);
+        vec3 u = uAxis == 0 ? vec3(g.z, g.y, g.x) : uAxis == 1 ? vec3(g.x, g.z, g.y) : g;
+        markVoxel(clamp(ivec3(floor(u)), ivec3(0), ivec3(uResolution - 1)), albedo);
+    }
 }
