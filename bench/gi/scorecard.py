@@ -21,7 +21,7 @@ import subprocess
 import sys
 
 TRUTHS = [("one", "1"), ("converged", "converged")]
-GI_STAGES = ("gi_rsm", "gi_inject", "gi_geometry", "gi_propagate", "gi_probes")
+GI_STAGES = ("gi_rsm", "gi_rsm_glass", "gi_inject", "gi_geometry", "gi_propagate", "gi_probes")
 
 
 def techniques(bounces):

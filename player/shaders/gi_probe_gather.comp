@@ -43,7 +43,8 @@
 // back. Projected onto L1 SH with each texel's solid angle (the octahedral map's dA / r^3), that
 // is the light after one more bounce (irradiance-field methods' recurrence: V_k+1 = gather +
 // bounce(V_k)). With TRANSMITTANCE the panes a ray crosses before its hit dim and tint what it
-// brings back; rays leaving the grid bring nothing (the sky is ibl's).
+// brings back (with the depth maps, read from the probe's transmittance map: transmitTowards);
+// rays leaving the grid bring nothing (the sky is ibl's).
 //
 // TRANSMITTANCE (with any of the three; only while some BLEND material casts shadows, issue 43):
 // the panes' transmittance grid beside the occupancy grid (gi_transmit.frag, VOXELIZE) dims and
@@ -205,9 +206,10 @@ bool blocked(vec3 a, vec3 b, int side, float passAtB, inout vec3 through) {
 }
 
 // How far the ray from a (voxel units) along unit w runs before it enters a solid voxel that
-// begins at least `pass` voxels along it; kClear if it leaves the grid first. `through` is
-// multiplied by the panes it crosses past `pass` before that, `paneAt` is where the first begins.
-float firstHit(vec3 a, vec3 w, int side, float pass, inout vec3 through, inout float paneAt) {
+// begins at least `pass` voxels along it; kClear if it leaves the grid first. With `panes`,
+// `through` is multiplied by the panes it crosses past `pass` before that, `paneAt` is where the
+// first begins (a constant at each call: without, the walk fetches no transmittance).
+float firstHit(vec3 a, vec3 w, int side, float pass, const bool panes, inout vec3 through, inout float paneAt) {
     bool inPane = false;
     ivec3 v = ivec3(floor(a));
     ivec3 stepDir = ivec3(sign(w));
@@ -228,7 +230,7 @@ float firstHit(vec3 a, vec3 w, int side, float pass, inout vec3 through, inout f
         }
         if (any(lessThan(v, ivec3(0))) || any(greaterThanEqual(v, ivec3(side)))) return kClear;
         if (t >= pass && solid(v)) return t;
-        if (t >= pass && crossPane(v, through, inPane)) paneAt = min(paneAt, t);
+        if (panes && t >= pass && crossPane(v, through, inPane)) paneAt = min(paneAt, t);
     }
     return kClear;
 }
@@ -324,7 +326,7 @@ void main() {
         vec2 e = (vec2(t) + 0.5) / float(kDepthSide) * 2.0 - 1.0;
         vec3 through = vec3(1.0);
         float paneAt = paneScale(side);
-        float d = firstHit(xv, octDecode(e), side, max(kPassThroughVoxels, float(side) / float(n)), through, paneAt);
+        float d = firstHit(xv, octDecode(e), side, max(kPassThroughVoxels, float(side) / float(n)), true, through, paneAt);
         ivec3 at = ivec3(id.xy * kTile + ivec2(b % kTile, b / kTile), id.z);
         imageStore(uDepthMaps, at, vec4(d));
 #ifdef TRANSMITTANCE
@@ -376,8 +378,17 @@ void gatherBounce(ivec3 id, vec3 xv, int lane, inout vec4 acc[3]) {
         vec3 w = wu / r;
         vec3 through = vec3(1.0);
         float paneAt = 0.0;
-        float d = firstHit(xv, w, side, kPassThroughVoxels, through, paneAt);
+#if defined(TRANSMITTANCE) && !defined(EXACT_VISIBILITY)
+        // The panes before the hit from the probe's transmittance map (one filtered fetch, as the
+        // gather's VPLs) instead of a transmittance fetch at every step of the walk: that made
+        // the box room's bounce passes 1.5 x slower.
+        float d = firstHit(xv, w, side, kPassThroughVoxels, false, through, paneAt);
         if (d >= 0.5 * kClear) continue; // out of the grid
+        through = transmitTowards(id, w, d);
+#else
+        float d = firstHit(xv, w, side, kPassThroughVoxels, true, through, paneAt);
+        if (d >= 0.5 * kClear) continue; // out of the grid
+#endif
         vec3 albedo = albedoAt(clamp(ivec3(floor(xv + w * (d + 0.01))), ivec3(0), ivec3(side - 1)));
         if (albedo == vec3(0.0)) continue;
         // The hit's normal: the solid voxel's face the ray entered by (the hit lies on it: the

@@ -222,15 +222,16 @@ TEST(GiBounces, WithCastingGlassTheBouncesAddLight) {
 // The box room's floor is a checker texture of light and dark squares (their mean ~0.57) on a
 // white factor: its voxels bounce the mean of their fragments' textured albedo, as the truth
 // does, not the factor's white (gi_voxelize.frag, ALBEDO). Measured (96x72, 128 rays, 4 bounces
-// against the converged truth): energy 1.026, RMSE / constant 0.443, correlation 0.899; with the
-// factor's albedo (the texture left out) the energy was 1.092 (0.452, 0.904): the energy bound
-// below lies between the two.
+// against the converged truth): energy 1.043, RMSE / constant 0.447, correlation 0.898; with the
+// factor's albedo (the texture left out) the energy was 1.092 (0.452, 0.904; measured with the
+// pane's tint walked voxel by voxel, which gave 1.026 with the texture): the energy bound below
+// lies between the two.
 TEST(GiBounces, BoxRoomBouncesTheCheckerFloorsMeanAlbedo) {
     const Frame four = renderRoom(probes(4), boxRoom().path, kBoxRoomView);
     ASSERT_TRUE(allFinite(four.indirect));
     const reference::IndirectErrorMetrics m = against(four, 0, boxRoom().path, kBoxRoomView);
     EXPECT_GT(m.energyRatio, 0.9);
-    EXPECT_LT(m.energyRatio, 1.06);
+    EXPECT_LT(m.energyRatio, 1.07);
     EXPECT_LT(m.rmseOverBestConstant, 0.5);
     EXPECT_GT(m.correlation, 0.85);
 }
