@@ -10,8 +10,8 @@ pnb-play SCENE.pnb --headless --bench --camera 0 --frames F --size WxH with
                             frame only the look-up runs),
   probes N, turning sun     the same with gi.probe_cache=false (RSM, VPLs, gather and N - 1
                             bounce passes every frame: what a sun that moves every frame costs).
-The figure per run is the median GPU ms of a whole frame (summary.json's gpu_ms.total); per
-configuration the median over the rounds. Output: DIR/frame_cost.md and .csv.
+The figures per run: the median GPU ms of a whole frame (summary.json's gpu_ms.total) and of
+the GI passes (as scorecard.py's GI ms); per configuration the median over the rounds. Output: DIR/frame_cost.md and .csv.
 """
 import argparse
 import csv
@@ -22,7 +22,7 @@ import subprocess
 import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from scorecard import container, run  # noqa: E402
+from scorecard import GI_STAGES, container, run  # noqa: E402
 
 
 def configs(bounces):
@@ -41,7 +41,8 @@ def frame_ms(bin_dir, pnb, settings, args, out):
     run([os.path.join(bin_dir, "player", "pnb-play"), pnb, "--headless", "--bench", "--camera", "0",
          "--frames", str(args.frames), "--size", args.size, "--out", out] + settings)
     with open(os.path.join(out, "summary.json")) as f:
-        return json.load(f)["gpu_ms"]["total"]["median_ms"]
+        gpu = json.load(f)["gpu_ms"]
+    return gpu["total"]["median_ms"], sum(v["median_ms"] for k, v in gpu.items() if k in GI_STAGES)
 
 
 def main():
@@ -64,7 +65,9 @@ def main():
             for i, (name, settings) in enumerate(configs(args.bounces)):
                 out = os.path.join(args.out, "runs", scene, f"{i}_round{r}")
                 os.makedirs(out, exist_ok=True)
-                times.setdefault((scene, name), []).append(frame_ms(args.bin, pnbs[scene], settings, args, out))
+                frame, gi = frame_ms(args.bin, pnbs[scene], settings, args, out)
+                times.setdefault((scene, name), []).append(frame)
+                times.setdefault((scene, name, "gi"), []).append(gi)
     names = [n for n, _ in configs(args.bounces)]
     rows = []
     for scene in args.scenes:
@@ -73,19 +76,21 @@ def main():
         for n in names:
             row[n] = statistics.median(times[(scene, n)])
             row[n + " / lpv"] = row[n] / lpv
+            row[n + " GI"] = statistics.median(times[(scene, n, "gi")])
         rows.append(row)
-        print(f"{scene:14s} " + "  ".join(f"{n}: {row[n]:.1f} ms ({row[n + ' / lpv']:.2f} x)" for n in names), flush=True)
+        print(f"{scene:14s} " + "  ".join(f"{n}: {row[n]:.1f} ms ({row[n + ' / lpv']:.2f} x, GI {row[n + ' GI']:.1f})"
+                                          for n in names), flush=True)
     with open(os.path.join(args.out, "frame_cost.csv"), "w", newline="") as f:
         w = csv.DictWriter(f, fieldnames=list(rows[0].keys()))
         w.writeheader()
         w.writerows(rows)
     with open(os.path.join(args.out, "frame_cost.md"), "w") as f:
-        f.write(f"Frame cost ({args.size}, camera 0, {args.frames} frames, median GPU ms of a frame, "
-                f"median of {args.rounds} interleaved rounds)\n\n| scene | " + " | ".join(names) +
+        f.write(f"Frame cost ({args.size}, camera 0, {args.frames} frames, median GPU ms of a frame "
+                f"(its ratio to the LPV's; GI: the GI passes' ms), median of {args.rounds} interleaved rounds)\n\n| scene | " + " | ".join(names) +
                 " |\n|---|" + "---|" * len(names) + "\n")
         for row in rows:
             f.write(f"| {row['scene']} | " + " | ".join(
-                f"{row[n]:.1f} ({row[n + ' / lpv']:.2f} x)" for n in names) + " |\n")
+                f"{row[n]:.1f} ({row[n + ' / lpv']:.2f} x; GI {row[n + ' GI']:.1f})" for n in names) + " |\n")
     print(f"wrote {args.out}/frame_cost.md")
 
 
