@@ -8,8 +8,8 @@
 // gi.bounces = N runs N - 1 such passes in the frame the probes are gathered in; with
 // gi.probe_cache nothing runs again until an input changes (gi.bounces is one of them).
 // Why this design: it reuses what the probes already have (occupancy grid, volume format,
-// look-up), adds one RGBA8 volume and six small ones, and costs a walk of 256 rays per probe per
-// bounce only when the probes are updated.
+// look-up), adds one albedo volume (R32UI sums, 4 texels a voxel) and six small ones, and costs
+// a walk of 64 rays per probe per bounce only when the probes are updated.
 #include <array>
 #include <string_view>
 #include <vector>
