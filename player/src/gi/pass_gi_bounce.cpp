@@ -1,7 +1,7 @@
 // gi.technique = probes with gi.bounces > 1 (gi.h): light after more than one diffuse bounce, as
 // irradiance-field methods (DDGI) gather it: the probes read their own previous irradiance where
 // their rays hit. After the gather of the VPLs' one bounce (V_1 = G), each further pass computes
-// V_k+1 = G + B(V_k): the gather G kept in `gathered`, plus, per probe, 16 x 16 directions walked
+// V_k+1 = G + B(V_k): the gather G kept in `gathered`, plus, per probe, 8 x 8 directions walked
 // through the occupancy grid to the first solid voxel, the previous volume's irradiance on the
 // face entered, times the voxel's albedo over pi, projected onto the probe's L1 SH
 // (gi_probe_gather.comp, BOUNCE).
