@@ -21,7 +21,7 @@ import subprocess
 import sys
 
 TRUTHS = [("one", "1"), ("converged", "converged")]
-GI_STAGES = ("gi_rsm", "gi_inject", "gi_geometry", "gi_propagate", "gi_probes")
+GI_STAGES = ("gi_rsm", "gi_rsm_glass", "gi_inject", "gi_geometry", "gi_propagate", "gi_probes")
 
 
 def techniques(bounces):
@@ -76,25 +76,36 @@ def main():
     p.add_argument("--samples", type=int, default=128, help="truth rays per pixel (default 128)")
     p.add_argument("--bounces", type=int, default=4, help="the probes' gi.bounces for the multi-bounce row")
     p.add_argument("--cost-frames", type=int, default=5)
+    p.add_argument("--techniques", default="lpv,probes1,probesN",
+                   help="comma-separated subset of lpv, probes1, probesN (quick iterations)")
+    p.add_argument("--truths", default="one,converged", help="comma-separated subset of one, converged")
+    p.add_argument("--set", action="append", default=[], metavar="KEY=VALUE",
+                   help="an extra player setting for every technique (repeatable)")
+    p.add_argument("--no-cost", action="store_true", help="skip the GI cost runs (quick iterations)")
     args = p.parse_args()
+    keys = args.techniques.split(",")
+    truths = [t for t in TRUTHS if t[0] in args.truths.split(",")]
     os.makedirs(args.out, exist_ok=True)
     rows = []
     for scene in args.scenes:
         pnb = container(args.bin, scene, args.out)
-        for name, settings in techniques(args.bounces):
+        for key, (name, settings) in zip(("lpv", "probes1", "probesN"), techniques(args.bounces)):
+            if key not in keys:
+                continue
+            settings = settings + [a for kv in args.set for a in ("--set", kv)]
             row = {"scene": scene, "technique": name}
-            for label, truth in TRUTHS:
+            for label, truth in truths:
                 runs = os.path.join(args.out, "runs", scene, name.replace(" ", "_").replace(",", ""), label)
                 os.makedirs(runs, exist_ok=True)
                 for k, v in quality(args.bin, pnb, settings, truth, args, runs).items():
                     row[f"{label}_{k}"] = v
             runs = os.path.join(args.out, "runs", scene, name.replace(" ", "_").replace(",", ""), "cost")
             os.makedirs(runs, exist_ok=True)
-            row["gi_ms"] = cost(args.bin, pnb, settings, args, runs)
+            row["gi_ms"] = float("nan") if args.no_cost else cost(args.bin, pnb, settings, args, runs)
             rows.append(row)
             print(f"{scene:14s} {name:18s} " + "  ".join(
                 f"{label}: {row[label + '_rmse_over_constant']:.3f} / {row[label + '_energy_ratio']:.3f} / "
-                f"{row[label + '_correlation']:.3f}" for label, _ in TRUTHS) + f"  GI {row['gi_ms']:.1f} ms",
+                f"{row[label + '_correlation']:.3f}" for label, _ in truths) + f"  GI {row['gi_ms']:.1f} ms",
                 flush=True)
     with open(os.path.join(args.out, "scorecard.csv"), "w", newline="") as f:
         w = csv.DictWriter(f, fieldnames=list(rows[0].keys()))
@@ -104,12 +115,13 @@ def main():
         f.write(f"GI scorecard ({args.size}, camera 0, truth {args.samples} rays, sun only; "
                 "RMSE / best constant, energy, correlation against each truth; GI ms: median GPU ms "
                 "of the GI passes, probes updated every frame)\n\n")
-        f.write("| scene | technique | one bounce: RMSE/const | energy | corr. | converged: RMSE/const | "
-                "energy | corr. | GI ms |\n|---|---|---|---|---|---|---|---|---|\n")
+        f.write("| scene | technique | " + "".join(
+            f"{'one bounce' if label == 'one' else 'converged'}: RMSE/const | energy | corr. | " for label, _ in truths)
+            + "GI ms |\n|---|---|" + "---|---|---|" * len(truths) + "---|\n")
         for r in rows:
             f.write(f"| {r['scene']} | {r['technique']} | " + " | ".join(
                 f"{r[label + '_rmse_over_constant']:.3f} | {r[label + '_energy_ratio']:.3f} | "
-                f"{r[label + '_correlation']:.3f}" for label, _ in TRUTHS) + f" | {r['gi_ms']:.1f} |\n")
+                f"{r[label + '_correlation']:.3f}" for label, _ in truths) + f" | {r['gi_ms']:.1f} |\n")
     print(f"wrote {args.out}/scorecard.md")
 
 

@@ -39,11 +39,12 @@
 // to see the floor, whose light its neighbours on the walls read; with the depth maps' cell the
 // colour room kept 0.70 of the converged truth's light, walking 0.89), reads there the previous gather's irradiance (uPrev*: the volume lighting reads, copied) on
 // the voxel face the ray entered by, half a cell in front of it as lighting's look-up does, and
-// times the albedo volume's (gi_voxelize.frag, ALBEDO) over pi: the radiance that surface sends
+// times the voxel's mean albedo (gi_voxelize.frag, ALBEDO) over pi: the radiance that surface sends
 // back. Projected onto L1 SH with each texel's solid angle (the octahedral map's dA / r^3), that
 // is the light after one more bounce (irradiance-field methods' recurrence: V_k+1 = gather +
-// bounce(V_k)). Panes along these rays are not applied; rays leaving the grid bring nothing
-// (the sky is ibl's).
+// bounce(V_k)). With TRANSMITTANCE the panes a ray crosses before its hit dim and tint what it
+// brings back (with the depth maps, read from the probe's transmittance map: transmitTowards);
+// rays leaving the grid bring nothing (the sky is ibl's).
 //
 // TRANSMITTANCE (with any of the three; only while some BLEND material casts shadows, issue 43):
 // the panes' transmittance grid beside the occupancy grid (gi_transmit.frag, VOXELIZE) dims and
@@ -104,7 +105,10 @@ layout(rgba16f, binding = 2) writeonly uniform image3D uSumB;
 layout(binding = 4) uniform sampler3D uPrevR; // the previous gather's volumes (L1 SH per colour)
 layout(binding = 5) uniform sampler3D uPrevG;
 layout(binding = 6) uniform sampler3D uPrevB;
-layout(binding = 7) uniform sampler3D uAlbedoVoxels; // rgb: diffuse albedo, a: 1 where a surface is
+// Per voxel four texels along x: the sums of its fragments' albedo (r, g, b, fixed point) and
+// their count (gi_voxelize.frag, ALBEDO).
+layout(binding = 7) uniform usampler3D uAlbedoSums;
+const float kAlbedoScale = 1024.0; // gi_voxelize.frag's
 layout(binding = 8) uniform sampler3D uGatheredR; // the VPLs' gather (one bounce), per colour
 layout(binding = 9) uniform sampler3D uGatheredG;
 layout(binding = 10) uniform sampler3D uGatheredB;
@@ -202,9 +206,10 @@ bool blocked(vec3 a, vec3 b, int side, float passAtB, inout vec3 through) {
 }
 
 // How far the ray from a (voxel units) along unit w runs before it enters a solid voxel that
-// begins at least `pass` voxels along it; kClear if it leaves the grid first. `through` is
-// multiplied by the panes it crosses past `pass` before that, `paneAt` is where the first begins.
-float firstHit(vec3 a, vec3 w, int side, float pass, inout vec3 through, inout float paneAt) {
+// begins at least `pass` voxels along it; kClear if it leaves the grid first. With `panes`,
+// `through` is multiplied by the panes it crosses past `pass` before that, `paneAt` is where the
+// first begins (a constant at each call: without, the walk fetches no transmittance).
+float firstHit(vec3 a, vec3 w, int side, float pass, const bool panes, inout vec3 through, inout float paneAt) {
     bool inPane = false;
     ivec3 v = ivec3(floor(a));
     ivec3 stepDir = ivec3(sign(w));
@@ -225,7 +230,7 @@ float firstHit(vec3 a, vec3 w, int side, float pass, inout vec3 through, inout f
         }
         if (any(lessThan(v, ivec3(0))) || any(greaterThanEqual(v, ivec3(side)))) return kClear;
         if (t >= pass && solid(v)) return t;
-        if (t >= pass && crossPane(v, through, inPane)) paneAt = min(paneAt, t);
+        if (panes && t >= pass && crossPane(v, through, inPane)) paneAt = min(paneAt, t);
     }
     return kClear;
 }
@@ -321,7 +326,7 @@ void main() {
         vec2 e = (vec2(t) + 0.5) / float(kDepthSide) * 2.0 - 1.0;
         vec3 through = vec3(1.0);
         float paneAt = paneScale(side);
-        float d = firstHit(xv, octDecode(e), side, max(kPassThroughVoxels, float(side) / float(n)), through, paneAt);
+        float d = firstHit(xv, octDecode(e), side, max(kPassThroughVoxels, float(side) / float(n)), true, through, paneAt);
         ivec3 at = ivec3(id.xy * kTile + ivec2(b % kTile, b / kTile), id.z);
         imageStore(uDepthMaps, at, vec4(d));
 #ifdef TRANSMITTANCE
@@ -350,6 +355,16 @@ vec3 transmitTowards(ivec3 id, vec3 w, float rv) {
 #endif
 
 #ifdef BOUNCE
+// The mean albedo of the surfaces in voxel v (none: black).
+vec3 albedoAt(ivec3 v) {
+    ivec3 at = ivec3(4 * v.x, v.y, v.z);
+    uint count = texelFetch(uAlbedoSums, at + ivec3(3, 0, 0), 0).r;
+    if (count == 0u) return vec3(0.0);
+    uvec3 sum = uvec3(texelFetch(uAlbedoSums, at, 0).r, texelFetch(uAlbedoSums, at + ivec3(1, 0, 0), 0).r,
+                      texelFetch(uAlbedoSums, at + ivec3(2, 0, 0), 0).r);
+    return vec3(sum) / (kAlbedoScale * float(count));
+}
+
 const int kBounceSide = 8; // rays a probe walks per bounce: an octahedral map's texel centres
 // This lane's share of the light probe `id` (at xv, voxel units) gets from one more bounce: the
 // L1 SH per colour of the radiance the surfaces its rays hit reflect back (see the top).
@@ -363,9 +378,18 @@ void gatherBounce(ivec3 id, vec3 xv, int lane, inout vec4 acc[3]) {
         vec3 w = wu / r;
         vec3 through = vec3(1.0);
         float paneAt = 0.0;
-        float d = firstHit(xv, w, side, kPassThroughVoxels, through, paneAt);
+#if defined(TRANSMITTANCE) && !defined(EXACT_VISIBILITY)
+        // The panes before the hit from the probe's transmittance map (one filtered fetch, as the
+        // gather's VPLs) instead of a transmittance fetch at every step of the walk: that made
+        // the box room's bounce passes 1.5 x slower.
+        float d = firstHit(xv, w, side, kPassThroughVoxels, false, through, paneAt);
         if (d >= 0.5 * kClear) continue; // out of the grid
-        vec3 albedo = texelFetch(uAlbedoVoxels, clamp(ivec3(floor(xv + w * (d + 0.01))), ivec3(0), ivec3(side - 1)), 0).rgb;
+        through = transmitTowards(id, w, d);
+#else
+        float d = firstHit(xv, w, side, kPassThroughVoxels, true, through, paneAt);
+        if (d >= 0.5 * kClear) continue; // out of the grid
+#endif
+        vec3 albedo = albedoAt(clamp(ivec3(floor(xv + w * (d + 0.01))), ivec3(0), ivec3(side - 1)));
         if (albedo == vec3(0.0)) continue;
         // The hit's normal: the solid voxel's face the ray entered by (the hit lies on it: the
         // coordinate nearest a whole voxel), facing the probe. Lighting's look-up there: half a
@@ -381,7 +405,10 @@ void gatherBounce(ivec3 id, vec3 xv, int lane, inout vec4 acc[3]) {
                           dot(textureLod(uPrevB, q, 0.0), lobe)), vec3(0.0));
         // Radiance albedo E / pi travelling back along -w, over the texel's solid angle.
         vec4 y = basis(-w) * ((4.0 / float(kBounceSide * kBounceSide)) / (r * r * r) * kInvPi);
-        for (int ch = 0; ch < 3; ++ch) acc[ch] += (albedo[ch] * e[ch]) * y;
+        // Dimmed and tinted by the panes between the probe and the hit (TRANSMITTANCE: firstHit
+        // multiplied `through` by them; without panes it stays 1).
+        vec3 reflected = albedo * e * through;
+        for (int ch = 0; ch < 3; ++ch) acc[ch] += reflected[ch] * y;
     }
 }
 #endif

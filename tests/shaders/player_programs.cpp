@@ -67,7 +67,7 @@ std::vector<PlayerProgram> playerPrograms() {
     out.push_back(voxelize);
     // pass_gi_bounce.cpp (gi.bounces > 1): the voxelisation with albedo, and the bounce gather
     // with either visibility, with and without glass.
-    PlayerProgram albedo = graphics("flat.vert", "gi_voxelize.frag");
+    PlayerProgram albedo = graphics("gi_voxelize.vert", "gi_voxelize.frag");
     albedo.defines = {"ALBEDO"};
     out.push_back(albedo);
     for (bool exact : {false, true})

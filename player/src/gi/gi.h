@@ -84,8 +84,9 @@ struct GiResources {
     // grid (RGBA16F, probes^3), traced again only when the occupancy grid is redrawn.
     GlHandle skyVisibility, traceSky;
     bool skyCurrent = false;
-    // gi.bounces > 1 (pass_gi_bounce.cpp), none of it at 1: the voxels' albedo (RGBA8 beside the
-    // occupancy grid, drawn with it by the ALBEDO voxelisation), the VPLs' gather and the last
+    // gi.bounces > 1 (pass_gi_bounce.cpp), none of it at 1: the voxels' albedo (R32UI sums of
+    // r, g, b and the fragments' count, 4 texels per voxel along x, drawn with the occupancy grid
+    // by the ALBEDO voxelisation), the VPLs' gather and the last
     // pass's volumes (copies of `sum`) and the gather variant that adds one bounce to the first
     // from the second.
     GlHandle albedoVoxels, voxelizeAlbedo, bounceGather;

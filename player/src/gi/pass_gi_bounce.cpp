@@ -1,15 +1,15 @@
 // gi.technique = probes with gi.bounces > 1 (gi.h): light after more than one diffuse bounce, as
 // irradiance-field methods (DDGI) gather it: the probes read their own previous irradiance where
 // their rays hit. After the gather of the VPLs' one bounce (V_1 = G), each further pass computes
-// V_k+1 = G + B(V_k): the gather G kept in `gathered`, plus, per probe, 16 x 16 directions walked
+// V_k+1 = G + B(V_k): the gather G kept in `gathered`, plus, per probe, 8 x 8 directions walked
 // through the occupancy grid to the first solid voxel, the previous volume's irradiance on the
 // face entered, times the voxel's albedo over pi, projected onto the probe's L1 SH
 // (gi_probe_gather.comp, BOUNCE).
 // gi.bounces = N runs N - 1 such passes in the frame the probes are gathered in; with
 // gi.probe_cache nothing runs again until an input changes (gi.bounces is one of them).
 // Why this design: it reuses what the probes already have (occupancy grid, volume format,
-// look-up), adds one RGBA8 volume and six small ones, and costs a walk of 256 rays per probe per
-// bounce only when the probes are updated.
+// look-up), adds one albedo volume (R32UI sums, 4 texels a voxel) and six small ones, and costs
+// a walk of 64 rays per probe per bounce only when the probes are updated.
 #include <array>
 #include <string_view>
 #include <vector>
@@ -34,7 +34,7 @@ PlayResult<uint64_t> ensureGiBounce(GiResources& r, const RenderSettings& s) {
     }
     if (!r.voxelizeAlbedo) {
         const std::string_view define = "ALBEDO";
-        auto p = compileEmbeddedProgram("flat.vert", "gi_voxelize.frag", std::span(&define, 1));
+        auto p = compileEmbeddedProgram("gi_voxelize.vert", "gi_voxelize.frag", std::span(&define, 1));
         if (!p) return p.error();
         r.voxelizeAlbedo = std::move(*p);
     }
@@ -52,7 +52,9 @@ PlayResult<uint64_t> ensureGiBounce(GiResources& r, const RenderSettings& s) {
         r.albedoSide = r.voxelSide;
         r.albedoVoxels = createTexture(GL_TEXTURE_3D);
         const GLsizei side = GLsizei(r.voxelSide);
-        glTextureStorage3D(r.albedoVoxels.id(), 1, GL_RGBA8, side, side, side);
+        // Per voxel four R32UI texels along x: the fixed-point sums of r, g, b and the fragments'
+        // count (gi_voxelize.frag, ALBEDO).
+        glTextureStorage3D(r.albedoVoxels.id(), 1, GL_R32UI, 4 * side, side, side);
         glTextureParameteri(r.albedoVoxels.id(), GL_TEXTURE_MIN_FILTER, GL_NEAREST);
         glTextureParameteri(r.albedoVoxels.id(), GL_TEXTURE_MAG_FILTER, GL_NEAREST);
         glObjectLabel(GL_TEXTURE, r.albedoVoxels.id(), -1, "gi probe albedo voxels");
@@ -68,7 +70,7 @@ PlayResult<uint64_t> ensureGiBounce(GiResources& r, const RenderSettings& s) {
         }
     }
     const uint64_t side = r.voxelSide, cells = r.cells;
-    return side * side * side * 4 + cells * cells * cells * 6 * 8;
+    return side * side * side * 16 + cells * cells * cells * 6 * 8;
 }
 
 void runGiProbeBounces(FrameContext& ctx, GiContext& gi, const glm::vec3& origin, float spacing) {

@@ -87,17 +87,25 @@ void voxelizeScene(FrameContext& ctx, GiContext& gi, const LpvCascade& box) {
     }
     bindVoxelTarget(r.voxelFb.id(), uint32_t(side));
     glBindImageTexture(0, r.voxels.id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_R8UI);
-    if (r.albedoVoxels) { // gi.bounces > 1: the surfaces' albedo beside their voxels
-        const uint8_t none[4] = {0, 0, 0, 0};
-        glClearTexImage(r.albedoVoxels.id(), 0, GL_RGBA, GL_UNSIGNED_BYTE, none);
-        glBindImageTexture(2, r.albedoVoxels.id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA8);
+    std::vector<DrawRef> albedoRefs;
+    if (r.albedoVoxels) { // gi.bounces > 1: the surfaces' albedo sums beside their voxels
+        const uint32_t none = 0;
+        glClearTexImage(r.albedoVoxels.id(), 0, GL_RED_INTEGER, GL_UNSIGNED_INT, &none);
+        glBindImageTexture(2, r.albedoVoxels.id(), 0, GL_TRUE, 0, GL_READ_WRITE, GL_R32UI);
+        // A mesh without a colour stream reads the attribute's current value: white, as the
+        // G-buffer's vColor without HAS_VERTEX_COLOR (gi_voxelize.vert).
+        glVertexAttrib4f(5, 1.0f, 1.0f, 1.0f, 1.0f);
+        albedoRefs = refs;
     }
     const GLuint p = r.albedoVoxels ? r.voxelizeAlbedo.id() : r.voxelize.id();
     glProgramUniform1i(p, 1, GLint(side));
     for (int axis = 0; axis < 3; ++axis) {
         bindAxisFrameBlock(ctx, axis, box.cellSize * double(box.cells), uint32_t(side));
         glProgramUniform1i(p, 0, axis);
-        drawItems(ctx, refs, p, &GpuMaterial::program, true);
+        if (r.albedoVoxels) // per material: whether its base colour unit holds a texture
+            drawTranslucentCasters(ctx, albedoRefs, p);
+        else
+            drawItems(ctx, refs, p, &GpuMaterial::program, true);
         if (glass.empty()) continue;
         glProgramUniform1i(r.transmitVoxelize.id(), 0, axis);
         drawTranslucentCasters(ctx, glass, r.transmitVoxelize.id());
