@@ -143,7 +143,6 @@ TEST_F(PlanFixture, LightsAreCameraRelativeAndClusterOverTheDepthsTheyReach) {
 
 TEST_F(PlanFixture, GiPlacesItsCascadesAndTheSunsRsm) {
     settings.giEnabled = true;
-    settings.giTechnique = GiTechnique::Lpv; // the cascades are the LPV's
     settings.giCascades = 2;
     GiContext gi;
     GiBlock block;
@@ -203,8 +202,6 @@ TEST_F(PlanFixture, AutoSkyVisibilityIsTheProbesWithGiProbesAndNoneElsewhere) {
     RenderSettings s;
     EXPECT_EQ(resolvedSkyVisibility(s), SkyVisibility::None) << "GI off";
     s.giEnabled = true;
-    EXPECT_EQ(resolvedSkyVisibility(s), SkyVisibility::Probes) << "GI with its default, the probes";
-    s.giTechnique = GiTechnique::Lpv;
     EXPECT_EQ(resolvedSkyVisibility(s), SkyVisibility::None) << "GI with the LPV";
     s.giTechnique = GiTechnique::Probes;
     EXPECT_EQ(resolvedSkyVisibility(s), SkyVisibility::Probes);

@@ -111,13 +111,9 @@ GiFrameResult renderGi(const std::string& path, const CameraState& camera, Rende
     return out;
 }
 
-// The LPV with one bounce, what these tests measure against the one-bounce truth (the player's
-// default is the probes with bounces: gi_bounce_test.cpp).
 RenderSettings giSettings() {
     RenderSettings s;
     s.giEnabled = true;
-    s.giTechnique = GiTechnique::Lpv;
-    s.giBounces = 1;
     s.shadowResolution = 512;
     return s;
 }

@@ -386,7 +386,6 @@ TEST(Ibl, TheLightPropagationVolumesGeometryDimsTheSkyInTheCanyon) {
     const CameraState view = lookAt({0, 5, 4}, {0, 0, -14});
     RenderSettings s = quiet();
     s.giEnabled = true;
-    s.giTechnique = GiTechnique::Lpv; // the volume term is the LPV's geometry
     int n = 0;
     const double open = canyonFloorSky(renderFrame(path, s, view), n);
     ASSERT_GT(n, 50);
@@ -448,8 +447,6 @@ TEST(Ibl, TheProbesSkyVisibilityNeedsGiProbesAndExistsOnlyWhileAsked) {
     const CameraState view = lookAt({0, 5, 4}, {0, 0, -14});
     RenderSettings s = quiet();
     s.giEnabled = true;
-    s.giTechnique = GiTechnique::Lpv;
-    s.giBounces = 1; // the memory below is the one-bounce probes'
     int n = 0;
     const double open = canyonFloorSky(renderFrame(path, s, view), n);
     // With the LPV there are no probes to ask: the sky is not dimmed (and the player says so).

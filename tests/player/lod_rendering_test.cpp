@@ -273,7 +273,6 @@ TEST(Lod, TheGiReflectiveShadowMapDrawsTheMainViewsLevel) {
     const uint64_t ground = l.scene->triangles - l.triangles(0);
     RenderSettings on, off;
     on.giEnabled = true;
-    on.giTechnique = GiTechnique::Lpv; // an RSM every frame (the probes' is cached)
     for (double distance : {0.2, 2.0 * switchDistance(l, coarsest) / 0.8}) {
         const uint32_t level = distance < 1 ? 0 : coarsest;
         l.renderer->setSettings(off);

@@ -128,10 +128,7 @@ struct RenderSettings {
     bool giEnabled = false;
     // lpv: the cheap one (RSM -> propagation volumes); probes: a grid of irradiance probes that
     // gather the RSM's lights directly with voxel visibility (docs/PLAYER.md "Global illumination").
-    // The default since issue 40: with 4 bounces the probes are the only technique within 0.75 x
-    // a constant's error of the converged indirect light on every bundled GI scene, and they cost
-    // no more than the LPV's frame while the sun stands still (docs/PLAYER.md "Multiple bounces").
-    GiTechnique giTechnique = GiTechnique::Probes;
+    GiTechnique giTechnique = GiTechnique::Lpv;
     uint32_t giCascades = 3;
     uint32_t giCells = 16;
     float giCellSize = 0.0f;      // finest cell in scene units; 0 = outer cascade fits the scene
@@ -154,7 +151,7 @@ struct RenderSettings {
     // probes: diffuse bounces the probes hold. 1: the VPLs' one bounce; N > 1: N - 1 more
     // gathers, each probe reading the last one's irradiance where its depth rays hit
     // (pass_gi_bounce.cpp); nothing of it exists at 1.
-    uint32_t giBounces = 4;
+    uint32_t giBounces = 1;
 
     // ibl.*: light from the container's environment (ENVM; docs/PLAYER.md "Sky and image-based
     // lighting"). Without an environment none of these has an effect.
