@@ -165,6 +165,10 @@ glm::dmat4 giAxisView(int axis, double extent);
 // Binds `framebuffer` (no attachments: the voxelisations write images) as a side x side target,
 // depth test and blending off.
 void bindVoxelTarget(GLuint framebuffer, uint32_t side);
+// The probes' gather programs (the VPL gather and the bounces) read the same grid: its origin and
+// spacing (uniform 0), sizes (1), occupancy (unit 0), depth maps and their needed flags (unit 1),
+// the panes' maps (units 2, 3) when they exist.
+void bindProbeGatherInputs(const GiResources& r, GLuint program, const glm::vec3& origin, float spacing);
 // A frame block with giAxisView(axis, extent) for a side x side voxelisation target, pushed into
 // the ring and bound at the frame block's binding (the caller binds the frame's own back after).
 void bindAxisFrameBlock(FrameContext& ctx, int axis, double extent, uint32_t side);

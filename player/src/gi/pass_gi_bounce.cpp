@@ -78,15 +78,7 @@ void runGiProbeBounces(FrameContext& ctx, GiContext& gi, const glm::vec3& origin
     const uint32_t bounces = ctx.settings.giBounces;
     if (!r.bounceGather || bounces <= 1) return;
     const GLuint p = r.bounceGather.id();
-    glProgramUniform4f(p, 0, origin.x, origin.y, origin.z, spacing);
-    glProgramUniform3i(p, 1, GLint(r.cells), GLint(r.vplSide * r.vplSide), GLint(r.voxelSide));
-    glBindTextureUnit(0, r.voxels.id());
-    if (r.probeDepth) {
-        glBindTextureUnit(1, r.probeDepth.id());
-        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, PNB_BINDING_GI_PROBE_NEEDED, r.probeNeeded.id());
-    }
-    if (r.probeTransmit) glBindTextureUnit(2, r.probeTransmit.id());
-    if (r.transmitVoxels) glBindTextureUnit(3, r.transmitVoxels.id());
+    bindProbeGatherInputs(r, p, origin, spacing);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, PNB_BINDING_GI_VPLS, r.vpls.id());
     glBindTextureUnit(7, r.albedoVoxels.id());
     const GLsizei n = GLsizei(r.cells);

@@ -45,6 +45,18 @@ void bindVoxelTarget(GLuint framebuffer, uint32_t side) {
     glDisable(GL_BLEND);
 }
 
+void bindProbeGatherInputs(const GiResources& r, GLuint program, const glm::vec3& origin, float spacing) {
+    glProgramUniform4f(program, 0, origin.x, origin.y, origin.z, spacing);
+    glProgramUniform3i(program, 1, GLint(r.cells), GLint(r.vplSide * r.vplSide), GLint(r.voxelSide));
+    glBindTextureUnit(0, r.voxels.id());
+    if (r.probeDepth) {
+        glBindTextureUnit(1, r.probeDepth.id());
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, PNB_BINDING_GI_PROBE_NEEDED, r.probeNeeded.id());
+    }
+    if (r.probeTransmit) glBindTextureUnit(2, r.probeTransmit.id());
+    if (r.transmitVoxels) glBindTextureUnit(3, r.transmitVoxels.id());
+}
+
 void bindAxisFrameBlock(FrameContext& ctx, int axis, double extent, uint32_t side) {
     FrameBlock fb{};
     fb.viewProjection = glm::mat4(giAxisView(axis, extent));
@@ -189,15 +201,7 @@ void runGiProbes(FrameContext& ctx, GiContext& gi) {
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
 
     const GLuint gather = r.gatherProbes.id();
-    glProgramUniform4f(gather, 0, origin.x, origin.y, origin.z, float(box.cellSize));
-    glProgramUniform3i(gather, 1, GLint(r.cells), GLint(r.vplSide * r.vplSide), GLint(r.voxelSide));
-    glBindTextureUnit(0, r.voxels.id());
-    if (r.probeDepth) {
-        glBindTextureUnit(1, r.probeDepth.id());
-        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, PNB_BINDING_GI_PROBE_NEEDED, r.probeNeeded.id());
-    }
-    if (r.probeTransmit) glBindTextureUnit(2, r.probeTransmit.id());
-    if (r.transmitVoxels) glBindTextureUnit(3, r.transmitVoxels.id());
+    bindProbeGatherInputs(r, gather, origin, float(box.cellSize));
     for (GLuint ch = 0; ch < 3; ++ch)
         glBindImageTexture(ch, r.sum[ch].id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA16F);
     glUseProgram(gather);
