@@ -32,6 +32,11 @@ NO_ANSWER = 3  # the exit code when no configuration meets the budget
 FRAME_ERRORS = ("frame_flip_ldr", "frame_flip_hdr", "frame_relmse")
 
 
+# The smallest whole-frame FLIP difference the truth resolves: the player's frame_flip_ldr moved by
+# 0.0009 when the truth's noise target went from 0.003 (the default) to 0.0003 (box room, 160x90;
+# docs/REFERENCE.md "The whole frame in pnb-judge"). A smaller advantage is within noise.
+FLIP_TRUTH_RESOLUTION = 0.001
+
 def add_arguments(p):
     p.add_argument("scene", help="a .pnb container, or a source (.glb, .gltf, .obj) converted with the "
                                  "pnb-convert options after --")
@@ -244,7 +249,8 @@ def main_budget(a, bins, out=print):
     again = m.again([d["settings"], w["settings"]]) if w is not d else m.again([d["settings"]]) * 2
     verdict = {"text": "not measured again: %s" % "; ".join(r.get("failed", "") for r in again if "failed" in r)}
     if all("failed" not in r for r in again):
-        truth = w.get("truth_noise_relmse") if a.error == "frame_relmse" else None
+        truth = (w.get("truth_noise_relmse") if a.error == "frame_relmse"
+                 else FLIP_TRUTH_RESOLUTION if a.error.startswith("frame_flip") else None)
         verdict = budget_search.noise_verdict(w, dict(again[1], settings=w["settings"]), d,
                                               dict(again[0], settings=d["settings"]), truth)
         if again[1]["cost"] > result["budget_ms"]:
