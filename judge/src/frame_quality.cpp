@@ -1,9 +1,11 @@
 // --frame-metrics (frame_quality.h): the player's HDR frame against the path-traced truth.
 #include "frame_quality.h"
 
-#include <cmath>
+#include <algorithm>
+#include <cstdio>
 #include <cstring>
 #include <fstream>
+#include <optional>
 #include <random>
 
 #include <glm/mat3x3.hpp>
@@ -20,9 +22,10 @@ namespace pnb::player {
 namespace {
 
 // The truth cache's file: this header, then the mean and the standard error (rgb float each,
-// rows top-down). Version 1; any change to the tracer's model must bump kTruthModelVersion below,
+// rows top-down). Any change to the tracer's model must bump kTruthModelVersion below,
 // which is part of every key, so that old truths are never read as new ones.
 constexpr char kCacheMagic[8] = {'P', 'N', 'B', 'T', 'R', 'U', 'T', 'H'};
+constexpr uint32_t kCacheFileVersion = 1; // the layout below
 constexpr uint32_t kTruthModelVersion = 1;
 struct CacheHeader {
     char magic[8];
@@ -72,7 +75,7 @@ std::optional<reference::FrameImage> readCachedTruth(const std::string& path, ui
     if (!in) return std::nullopt;
     CacheHeader h{};
     if (!in.read(reinterpret_cast<char*>(&h), sizeof h)) return std::nullopt;
-    if (std::memcmp(h.magic, kCacheMagic, 8) != 0 || h.version != 1 || h.key != key || int(h.width) != width ||
+    if (std::memcmp(h.magic, kCacheMagic, 8) != 0 || h.version != kCacheFileVersion || h.key != key || int(h.width) != width ||
         int(h.height) != height)
         return std::nullopt;
     const size_t pixels = size_t(width) * size_t(height);
@@ -95,7 +98,7 @@ Status writeCachedTruth(const std::string& path, uint64_t key, const reference::
     payload.insert(payload.end(), image.standardError.begin(), image.standardError.end());
     CacheHeader h{};
     std::memcpy(h.magic, kCacheMagic, 8);
-    h.version = 1;
+    h.version = kCacheFileVersion;
     h.width = uint32_t(image.width);
     h.height = uint32_t(image.height);
     h.samples = image.samples;
