@@ -8,15 +8,12 @@
 
 #include <embree3/rtcore.h>
 #include <glm/geometric.hpp>
-#include <glm/gtc/type_ptr.hpp>
 #include <glm/mat4x4.hpp>
 #include <glm/matrix.hpp>
 
 #include "mesh_decode.h"
-#include "pnb/light_range.h"
-#include "pnb/node_transform.h"
+#include "placed_lights.h"
 #include "pnb/texture_transform.h"
-#include "pnb_lighting/scene_lights.h"
 #include "translucency.h"
 
 namespace pnb::reference::detail {
@@ -82,25 +79,8 @@ TracerResult<std::unique_ptr<FrameScene>> FrameScene::build(const Scene& scene, 
     }
     stats.textures = uint32_t(out->mTextures.size());
 
-    // Lights, world transforms in double (pnb/node_transform.h), in the player's order.
-    const std::vector<Matrix4d> worldMatrices = nodeWorldMatrices(scene.nodes);
-    for (size_t i = 0; i < scene.nodes.nodes.size(); ++i) {
-        const Node& n = scene.nodes.nodes[i];
-        if (n.light == kNone || n.light >= scene.lights.lights.size()) continue;
-        const glm::dmat4 world = glm::make_mat4(worldMatrices[i].data());
-        const Light& l = scene.lights.lights[n.light];
-        FrameLight info;
-        info.type = l.type;
-        info.radiance = glm::vec3(l.color.x, l.color.y, l.color.z) * l.intensity;
-        info.position = glm::dvec3(world[3]) - origin;
-        info.travel = glm::vec3(lighting::lightTravel(world));
-        info.range = pnb::effectiveLightRange(l); // as the player shades it (pnb/light_range.h)
-        if (l.type == LightType::Spot) {
-            info.cosOuter = std::cos(l.outerConeRadians);
-            info.cosInner = std::cos(l.innerConeRadians);
-        }
-        out->mLights.push_back(info);
-    }
+    // Lights, as every tracer places them (placed_lights.h).
+    out->mLights = placeLights(scene, origin);
     stats.lights = uint32_t(out->mLights.size());
 
     // The environment's radiance image (as SkyTracer reads it): wraps in azimuth, clamps at the poles.

@@ -19,6 +19,7 @@
 
 #include "frame_environment.h"
 #include "frame_random.h"
+#include "placed_lights.h"
 #include "pnb/scene.h"
 #include "pnb_reference/frame_tracer.h"
 #include "self_intersection.h"
@@ -28,13 +29,8 @@
 namespace pnb::reference::detail {
 
 // One punctual light, origin-relative, as lights.glsl shades it.
-struct FrameLight {
-    LightType type = LightType::Directional;
-    glm::vec3 radiance{0.0f};             // colour x intensity
-    glm::dvec3 position{0.0};             // origin-relative
-    glm::vec3 travel{0.0f, -1.0f, 0.0f};  // the direction it shines in (directional, spot)
-    double range = 0, cosOuter = -1, cosInner = 1;
-};
+// A light as the frame lights with it.
+using FrameLight = PlacedLight;
 
 // A surface a ray met, its material evaluated there (material.glsl's Surface).
 struct FrameSurface {

@@ -12,15 +12,13 @@
 
 #include <embree3/rtcore.h>
 #include <glm/geometric.hpp>
-#include <glm/gtc/type_ptr.hpp>
 #include <glm/mat4x4.hpp>
 #include <glm/vec2.hpp>
 #include <glm/vec4.hpp>
 
 #include "cosine_sampling.h"
 #include "mesh_decode.h"
-#include "pnb/light_range.h"
-#include "pnb/node_transform.h"
+#include "placed_lights.h"
 #include "pnb/texture_transform.h"
 #include "pnb_lighting/scene_lights.h"
 #include "pnb_reference/local_light.h"
@@ -230,25 +228,20 @@ TracerResult<std::unique_ptr<IndirectTracer>> IndirectTracer::build(const Scene&
         impl.materials.push_back(info);
     }
 
-    // Lights, world transforms in double (pnb/node_transform.h).
-    const std::vector<Matrix4d> worldMatrices = nodeWorldMatrices(scene.nodes);
+    // Lights, as every tracer places them (placed_lights.h).
     std::vector<const Light*> placed; // impl.lights' descriptors, in the player's order (by node)
-    for (size_t i = 0; i < scene.nodes.nodes.size(); ++i) {
-        const Node& n = scene.nodes.nodes[i];
-        if (n.light == kNone || n.light >= scene.lights.lights.size()) continue;
-        const glm::dmat4 world = glm::make_mat4(worldMatrices[i].data());
-        const Light& l = scene.lights.lights[n.light];
+    for (const detail::PlacedLight& p : detail::placeLights(scene, origin)) {
         LightInfo info;
-        info.type = l.type;
-        info.radiance = glm::vec3(l.color.x, l.color.y, l.color.z) * l.intensity;
-        info.position = glm::vec3(glm::dvec3(world[3]) - origin);
-        info.travel = glm::vec3(lighting::lightTravel(world));
+        info.type = p.type;
+        info.radiance = p.radiance;
+        info.position = glm::vec3(p.position);
+        info.travel = p.travel;
         info.toward = -info.travel;
-        info.range = pnb::effectiveLightRange(l); // as the player shades it (pnb/light_range.h)
-        info.cosOuter = std::cos(l.outerConeRadians);
-        info.cosInner = std::cos(l.innerConeRadians);
+        info.range = float(p.range);
+        info.cosOuter = float(p.cosOuter);
+        info.cosInner = float(p.cosInner);
         impl.lights.push_back(info);
-        placed.push_back(&l);
+        placed.push_back(p.desc);
     }
     // The sun GI bounces, by the player's rule.
     impl.sun = lighting::bouncedSunIndex(placed.size(), [&](size_t i) -> const Light& { return *placed[i]; });
