@@ -85,6 +85,9 @@ Status SceneAssembler::decode(const ChunkInfo& info, Payload payload) {
     if (tag == tags::kTexture) return decodeAppend(info, std::move(p), s, s.textures);
     if (tag == tags::kMaterial) return decodeAppend(info, std::move(p), s, s.materials);
     if (tag == tags::kMesh) return decodeAppend(info, std::move(p), s, s.meshes);
+    if (tag == tags::kMorphTargets) return decodeAppend(info, std::move(p), s, s.morphTargets);
+    if (tag == tags::kSkin) return decodeAppend(info, std::move(p), s, s.skins);
+    if (tag == tags::kAnimation) return decodeAppend(info, std::move(p), s, s.animations);
     if (tag == tags::kLights) return decodeInto(info, std::move(p), s, s.lights);
     if (tag == tags::kCameras) return decodeInto(info, std::move(p), s, s.cameras);
     if (tag == tags::kNodes) return decodeInto(info, std::move(p), s, s.nodes);
@@ -304,6 +307,7 @@ Status validateScene(const Scene& s) {
                 return makeError(FormatError::BadReference, 0,
                                  "node instances %zu: transform %zu is not finite", k, t);
     }
+    PNB_CHECK(validateAnimationChunks(s));
     for (size_t i = 0; i < s.cameraPaths.size(); ++i) {
         const CameraPath& p = s.cameraPaths[i];
         PNB_CHECK(str("camera path", i, "name", p.name));
@@ -424,9 +428,13 @@ Status writeScene(Writer& w, const Scene& s, Compression bulk) {
     all(s.materials);
     for (const Mesh& m : s.meshes)
         if (isOk(st)) st = writeChunk(w, m, bulk);
+    for (const MorphTargets& m : s.morphTargets)
+        if (isOk(st)) st = writeChunk(w, m, bulk);
     if (isOk(st)) st = writeChunk(w, s.lights);
     if (isOk(st)) st = writeChunk(w, s.cameras);
     if (isOk(st)) st = writeChunk(w, s.nodes);
+    all(s.skins);
+    all(s.animations);
     all(s.cameraPaths);
     if (isOk(st) && s.environment) st = writeChunk(w, *s.environment);
     // The progressive section (§4.1): smallest level first across all textures, so a streaming

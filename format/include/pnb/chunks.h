@@ -246,6 +246,23 @@ struct MeshDetail {
     Mesh detail;
     template <class V> void fields(V& v) { v(mesh); v(detail); }
 };
+// [SECTION] MRPH — one mesh's morph targets (docs/FORMAT.md "MRPH")
+// The mesh's shape at weights w is base + sum_k w_k * delta_k, for each attribute a target moves.
+// Only the attributes the mesh's materials read are kept: Position always, Normal and Tangent
+// where the mesh has those streams. Every delta stream is F32 x 3, Plain, vertexCount long.
+inline constexpr uint32_t kMaxMorphTargets = 256;
+struct MorphTarget {
+    StringRef name = kNone;
+    std::vector<VertexStream> deltas; // semantics Position, Normal, Tangent, each at most once
+    template <class V> void fields(V& v) { v(name); v(deltas); }
+};
+struct MorphTargets {
+    uint32_t mesh = 0;            // the MESH these targets move (no MDET may replace it)
+    std::vector<float> weights;   // the default weights, one per target, finite
+    std::vector<MorphTarget> targets;
+    template <class V> void fields(V& v) { v(mesh); v(weights); v(targets); }
+};
+
 uint32_t componentSizeBytes(ComponentType t);
 // The mesh's index count, and index k (U16 or U32, little-endian; precondition k < the count).
 size_t meshIndexCount(const Mesh& mesh);
@@ -346,6 +363,38 @@ struct NodeGraph {
     template <class V> void fields(V& v) { v(nodes); v(SinceVersion{2}); v(instances); }
 };
 
+// [SECTION] SKIN — one skin: the joints that deform the meshes of some nodes (FORMAT.md "SKIN")
+// A skinned vertex is at sum_i w_i * J[j_i] * v in its node's space, with the joint matrix
+// J[k] = inverse(world(node)) * world(joints[k]) * inverseBindMatrices[k]; j_i and w_i are its
+// Joints0 and Weights0 streams.
+inline constexpr uint32_t kMaxJoints = 1024;
+struct Skin {
+    StringRef name = kNone;
+    std::vector<uint32_t> joints;                          // node indices, at least one
+    std::vector<std::array<float, 16>> inverseBindMatrices; // one per joint, column-major
+    std::vector<uint32_t> nodes; // the nodes whose mesh this skin deforms (each in one skin)
+    template <class V> void fields(V& v) { v(name); v(joints); v(inverseBindMatrices); v(nodes); }
+};
+
+// [SECTION] ANIM — one animation clip: keyframed node properties (FORMAT.md "ANIM")
+enum class AnimatedProperty : uint8_t { Translation, Rotation, Scale, Weights, Count };
+enum class KeyInterpolation : uint8_t { Step, Linear, CubicSpline, Count };
+struct AnimationChannel {
+    uint32_t node = 0;
+    AnimatedProperty property = AnimatedProperty::Translation;
+    KeyInterpolation interpolation = KeyInterpolation::Linear;
+    std::vector<float> times;  // seconds, finite, strictly increasing, at least one key
+    // Per key: width floats (3 translation/scale, 4 rotation xyzw, the target count for
+    // weights); CubicSpline stores in-tangent, value, out-tangent per key (3 x width).
+    std::vector<float> values;
+    template <class V> void fields(V& v) { v(node); v(property); v(interpolation); v(times); v(values); }
+};
+struct Animation {
+    StringRef name = kNone;
+    std::vector<AnimationChannel> channels; // each (node, property) at most once
+    template <class V> void fields(V& v) { v(name); v(channels); }
+};
+
 // [SECTION] PATH — one camera path (fly-through)
 enum class Interpolation : uint8_t { Linear, CatmullRom, Count };
 struct CameraKey {
@@ -413,9 +462,12 @@ PNB_CHUNK_TRAITS(Program, tags::kProgram, Compression::None);
 PNB_CHUNK_TRAITS(TextureDesc, tags::kTexture, Compression::None);
 PNB_CHUNK_TRAITS_V(Material, tags::kMaterial, Compression::None, 2); // 2: `unlit`
 PNB_CHUNK_TRAITS(Mesh, tags::kMesh, Compression::None);
+PNB_CHUNK_TRAITS(MorphTargets, tags::kMorphTargets, Compression::None);
 PNB_CHUNK_TRAITS(LightList, tags::kLights, Compression::None);
 PNB_CHUNK_TRAITS(CameraList, tags::kCameras, Compression::None);
 PNB_CHUNK_TRAITS_V(NodeGraph, tags::kNodes, Compression::Zstd, 2); // 2: `instances`
+PNB_CHUNK_TRAITS(Skin, tags::kSkin, Compression::Zstd);
+PNB_CHUNK_TRAITS(Animation, tags::kAnimation, Compression::Zstd);
 PNB_CHUNK_TRAITS(CameraPath, tags::kCameraPath, Compression::None);
 PNB_CHUNK_TRAITS(TextureMip, tags::kTextureMip, Compression::None);
 PNB_CHUNK_TRAITS(MeshDetail, tags::kMeshDetail, Compression::None);

@@ -27,9 +27,12 @@ struct Scene {
     std::vector<TextureDesc> textures;
     std::vector<Material> materials;
     std::vector<Mesh> meshes;
+    std::vector<MorphTargets> morphTargets; // MRPH: at most one per mesh
     LightList lights;
     CameraList cameras;
     NodeGraph nodes;
+    std::vector<Skin> skins;           // SKIN
+    std::vector<Animation> animations; // ANIM: the clips
     std::vector<CameraPath> cameraPaths;
     std::optional<Environment> environment; // ENVM: sky light and background, if the scene has one
     std::vector<TextureMip> textureMips;
@@ -74,7 +77,7 @@ public:
 
 private:
     int mLastRank = -1;
-    bool mSeen[16] = {};
+    bool mSeen[24] = {};
     bool mLargerTexels = false;
 };
 
@@ -105,6 +108,15 @@ Status validateEnvironment(const Scene& scene, const Environment& environment);
 // kMaxLightOutput; range finite and >= 0; for a spot,
 // 0 <= inner <= outer <= pi/2 (kMaxSpotConeRadians). Errors (BadPayload) name LGHT and `index`.
 Status validateLight(const Light& light, size_t index);
+
+// The animation chunks' rules (FORMAT.md "MRPH", "SKIN", "ANIM"; animation_rules.cpp), which
+// validateScene applies: indices, stream formats the deforming pass reads, joint indices below the
+// joint count, finite keys, strictly increasing times, value counts matching the property.
+Status validateMorphTargets(const Scene& scene, const MorphTargets& targets, size_t index);
+Status validateSkin(const Scene& scene, const Skin& skin, size_t index);
+Status validateAnimation(const Scene& scene, const Animation& clip, size_t index);
+// All of them, and that no mesh has two MRPH and no node two skins.
+Status validateAnimationChunks(const Scene& scene);
 
 // Checks every cross-reference of §4.3: string, shader, program, texture, material, mesh,
 // light, camera and parent indices; mip levels and sizes; stream sizes; index values; the

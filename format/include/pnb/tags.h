@@ -36,9 +36,12 @@ inline constexpr Tag kProgram = detail::makeTag("PROG");        // stages + perm
 inline constexpr Tag kTexture = detail::makeTag("TEXR");        // texture descriptor
 inline constexpr Tag kMaterial = detail::makeTag("MATL");       // one material
 inline constexpr Tag kMesh = detail::makeTag("MESH");           // one mesh
+inline constexpr Tag kMorphTargets = detail::makeTag("MRPH");   // one mesh's morph targets
 inline constexpr Tag kLights = detail::makeTag("LGHT");         // all lights
 inline constexpr Tag kCameras = detail::makeTag("CAMR");        // all cameras
 inline constexpr Tag kNodes = detail::makeTag("NODE");          // node graph
+inline constexpr Tag kSkin = detail::makeTag("SKIN");           // one skin (joints, bind matrices)
+inline constexpr Tag kAnimation = detail::makeTag("ANIM");      // one animation clip
 inline constexpr Tag kCameraPath = detail::makeTag("PATH");     // one camera path
 inline constexpr Tag kEnvironment = detail::makeTag("ENVM");    // sky light and background
 inline constexpr Tag kTextureMip = detail::makeTag("TMIP");     // one mip level of a texture
@@ -46,15 +49,16 @@ inline constexpr Tag kMeshDetail = detail::makeTag("MDET");     // a mesh's full
 inline constexpr Tag kToc = detail::makeTag("TOCX");            // table of contents (last chunk)
 } // namespace tags
 
-// Rank of a known tag in the streamable order of FORMAT.md §4.1 (STRS 0 ... TMIP 13); -1 for
+// Rank of a known tag in the streamable order of FORMAT.md §4.1 (STRS 0 ... TMIP 16); -1 for
 // TOCX and tags this version does not know. Chunks of equal rank may repeat and interleave:
 // MDET shares TMIP's rank (the progressive section, after everything the first frame needs).
 constexpr int streamOrderRank(Tag t) {
-    if (t == tags::kMeshDetail) return 13;
-    constexpr Tag order[] = {tags::kStrings,  tags::kSceneInfo, tags::kRenderSettings,
-                             tags::kShader,   tags::kProgram,   tags::kTexture,
-                             tags::kMaterial, tags::kMesh,      tags::kLights,
-                             tags::kCameras,  tags::kNodes,     tags::kCameraPath,
+    if (t == tags::kMeshDetail) return 16;
+    constexpr Tag order[] = {tags::kStrings,  tags::kSceneInfo,    tags::kRenderSettings,
+                             tags::kShader,   tags::kProgram,      tags::kTexture,
+                             tags::kMaterial, tags::kMesh,         tags::kMorphTargets,
+                             tags::kLights,   tags::kCameras,      tags::kNodes,
+                             tags::kSkin,     tags::kAnimation,    tags::kCameraPath,
                              tags::kEnvironment, tags::kTextureMip};
     for (int i = 0; i < int(sizeof(order) / sizeof(order[0])); ++i)
         if (order[i] == t) return i;
