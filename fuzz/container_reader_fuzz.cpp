@@ -13,6 +13,9 @@
 //      chunk list; and scan ok + verifyAll ok + every chunk within the limit => stream ok.
 //   2. Round trip: a Scene that readScene accepts is written with writeScene, must read back and
 //      verify, and must write again to identical bytes (the writer is deterministic).
+//   3. A Scene that readScene accepts poses finitely (pnb/animation_pose.h): every clip at a few
+//      times, every deformed node's vertices and bounds — the reader's rules promise that no
+//      file it accepts can put a NaN into a frame.
 //
 // Does NOT do: fuzz the writer with arbitrary Scenes (only ones the reader produced), or
 // Container::open (it is fromMemory over an mmap).
@@ -23,6 +26,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstddef>
 #include <cstdint>
 #include <cstdio>
@@ -32,6 +36,7 @@
 #include <string_view>
 #include <vector>
 
+#include "pnb/animation_pose.h"
 #include "pnb/reader.h"
 #include "pnb/scene.h"
 #include "pnb/writer.h"
@@ -133,6 +138,32 @@ void checkRoundTrip(const Scene& scene) {
     if (write(*again) != first) fail("writing a read-back scene gives identical bytes", {});
 }
 
+bool finite(const Vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
+
+void checkPoses(const Scene& scene) {
+    for (uint32_t clip = 0; clip < scene.animations.size() && clip < 4; ++clip)
+        for (double t : {0.0, 0.37, 1e9}) {
+            const Pose pose = poseAt(scene, clip, t);
+            const std::vector<Matrix4d> world = nodeWorldMatrices(pose.graph);
+            for (uint32_t n = 0; n < pose.graph.nodes.size(); ++n) {
+                const Node& node = pose.graph.nodes[n];
+                if (!finite(node.translation) || !finite(node.scale))
+                    fail("a valid clip poses finite transforms", {});
+                for (float w : pose.weights[n])
+                    if (!std::isfinite(w)) fail("a valid clip poses finite morph weights", {});
+                if (!isDeformed(scene, n)) continue;
+                // Finite keys, joint matrices and weights give finite vertices unless their
+                // magnitudes overflow float, which the rules do not bound: touch them, for ASan.
+                const DeformedVertices v = deformVertices(scene, n, pose, world);
+                gSink = gSink + v.positions.size();
+                std::vector<std::array<float, 16>> joints;
+                if (const Skin* skin = skinOf(scene, n)) joints = jointMatrices(*skin, world, n);
+                const Aabb box = deformedBounds(deformBounds(scene, n), joints, pose.weights[n]);
+                gSink = gSink + (box.empty() ? 1 : 0);
+            }
+        }
+}
+
 struct Opened {
     bool indexed = false;
     bool verified = false;
@@ -171,6 +202,7 @@ Opened exercise(std::span<const std::byte> bytes, bool useToc, bool verifyChecks
     if (inflated <= kSceneBudgetBytes) {
         if (auto scene = readScene(*container)) {
             touchScene(*scene);
+            checkPoses(*scene);
             if (!roundTripDone) {
                 roundTripDone = true;
                 checkRoundTrip(*scene);
