@@ -6,27 +6,13 @@
 #include <cmath>
 #include <cstring>
 
+#include "vertex_read.h"
+
 namespace pnb {
 
 namespace {
 
-const VertexStream* findStream(const Mesh& m, VertexSemantic s) {
-    for (const VertexStream& v : m.streams)
-        if (v.semantic == s) return &v;
-    return nullptr;
-}
-
-float readFloat(const Blob& b, size_t index) {
-    float f;
-    std::memcpy(&f, b.data() + index * 4, 4);
-    return f;
-}
-
-uint32_t readJoint(const VertexStream& s, size_t index) {
-    if (s.componentType == ComponentType::U8) return uint8_t(s.data[index]);
-    return uint32_t(uint8_t(s.data[2 * index])) | uint32_t(uint8_t(s.data[2 * index + 1])) << 8;
-}
-
+using detail::findStream;
 // General 4x4 inverse (cofactors); the identity for a singular matrix.
 Matrix4d inverse(const Matrix4d& m) {
     Matrix4d inv{};
@@ -238,8 +224,8 @@ DeformedVertices deformVertices(const Scene& scene, uint32_t node, const Pose& p
         if (!st || st->componentType != ComponentType::F32 || st->componentCount < 3) return;
         dst.resize(n);
         for (size_t v = 0; v < n; ++v)
-            dst[v] = {readFloat(st->data, v * st->componentCount), readFloat(st->data, v * st->componentCount + 1),
-                      readFloat(st->data, v * st->componentCount + 2)};
+            dst[v] = {detail::streamFloat(st->data, v * st->componentCount), detail::streamFloat(st->data, v * st->componentCount + 1),
+                      detail::streamFloat(st->data, v * st->componentCount + 2)};
     };
     read3(VertexSemantic::Position, out.positions);
     read3(VertexSemantic::Normal, out.normals);
@@ -247,8 +233,8 @@ DeformedVertices deformVertices(const Scene& scene, uint32_t node, const Pose& p
         st && st->componentType == ComponentType::F32 && st->componentCount == 4) {
         out.tangents.resize(n);
         for (size_t v = 0; v < n; ++v)
-            out.tangents[v] = {readFloat(st->data, v * 4), readFloat(st->data, v * 4 + 1),
-                               readFloat(st->data, v * 4 + 2), readFloat(st->data, v * 4 + 3)};
+            out.tangents[v] = {detail::streamFloat(st->data, v * 4), detail::streamFloat(st->data, v * 4 + 1),
+                               detail::streamFloat(st->data, v * 4 + 2), detail::streamFloat(st->data, v * 4 + 3)};
     }
     // Morph targets at the node's weights.
     if (const MorphTargets* targets = morphTargetsOf(scene, meshIndex)) {
@@ -257,8 +243,8 @@ DeformedVertices deformVertices(const Scene& scene, uint32_t node, const Pose& p
             if (w[k] == 0) continue;
             for (const VertexStream& d : targets->targets[k].deltas) {
                 for (size_t v = 0; v < n; ++v) {
-                    const Vec3 delta{readFloat(d.data, 3 * v) * w[k], readFloat(d.data, 3 * v + 1) * w[k],
-                                     readFloat(d.data, 3 * v + 2) * w[k]};
+                    const Vec3 delta{detail::streamFloat(d.data, 3 * v) * w[k], detail::streamFloat(d.data, 3 * v + 1) * w[k],
+                                     detail::streamFloat(d.data, 3 * v + 2) * w[k]};
                     auto add = [&](auto& p) { p.x += delta.x, p.y += delta.y, p.z += delta.z; };
                     if (d.semantic == VertexSemantic::Position && !out.positions.empty()) add(out.positions[v]);
                     if (d.semantic == VertexSemantic::Normal && !out.normals.empty()) add(out.normals[v]);
@@ -275,11 +261,11 @@ DeformedVertices deformVertices(const Scene& scene, uint32_t node, const Pose& p
         for (size_t v = 0; v < n; ++v) {
             std::array<float, 16> m{};
             float sum = 0;
-            for (size_t i = 0; i < 4; ++i) sum += readFloat(weights->data, 4 * v + i);
+            for (size_t i = 0; i < 4; ++i) sum += detail::streamFloat(weights->data, 4 * v + i);
             if (!(sum > 0)) continue;
             for (size_t i = 0; i < 4; ++i) {
-                const float w = readFloat(weights->data, 4 * v + i) / sum;
-                const uint32_t j = std::min<uint32_t>(readJoint(*joints, 4 * v + i), uint32_t(jm.size() - 1));
+                const float w = detail::streamFloat(weights->data, 4 * v + i) / sum;
+                const uint32_t j = std::min<uint32_t>(detail::streamJoint(*joints, 4 * v + i), uint32_t(jm.size() - 1));
                 for (size_t e = 0; e < 16; ++e) m[e] += w * jm[j][e];
             }
             if (!out.positions.empty()) out.positions[v] = transformPoint(m, out.positions[v]);
@@ -306,7 +292,7 @@ DeformBounds deformBounds(const Scene& scene, uint32_t node) {
     const VertexStream* pos = findStream(mesh, VertexSemantic::Position);
     if (!pos || pos->componentType != ComponentType::F32) return b;
     auto position = [&](size_t v) {
-        return Vec3{readFloat(pos->data, 3 * v), readFloat(pos->data, 3 * v + 1), readFloat(pos->data, 3 * v + 2)};
+        return Vec3{detail::streamFloat(pos->data, 3 * v), detail::streamFloat(pos->data, 3 * v + 1), detail::streamFloat(pos->data, 3 * v + 2)};
     };
     const Skin* skin = skinOf(scene, node);
     const VertexStream* joints = findStream(mesh, VertexSemantic::Joints0);
@@ -315,10 +301,10 @@ DeformBounds deformBounds(const Scene& scene, uint32_t node) {
         b.jointBoxes.resize(skin->joints.size());
         for (size_t v = 0; v < mesh.vertexCount; ++v) {
             float sum = 0;
-            for (size_t i = 0; i < 4; ++i) sum += readFloat(weights->data, 4 * v + i);
+            for (size_t i = 0; i < 4; ++i) sum += detail::streamFloat(weights->data, 4 * v + i);
             for (size_t i = 0; i < 4; ++i)
-                if (readFloat(weights->data, 4 * v + i) > 0 || !(sum > 0)) {
-                    const uint32_t j = std::min<uint32_t>(readJoint(*joints, 4 * v + i), uint32_t(b.jointBoxes.size() - 1));
+                if (detail::streamFloat(weights->data, 4 * v + i) > 0 || !(sum > 0)) {
+                    const uint32_t j = std::min<uint32_t>(detail::streamJoint(*joints, 4 * v + i), uint32_t(b.jointBoxes.size() - 1));
                     b.jointBoxes[j].grow(position(v));
                 }
         }
@@ -332,8 +318,8 @@ DeformBounds deformBounds(const Scene& scene, uint32_t node) {
             for (const VertexStream& d : t.deltas)
                 if (d.semantic == VertexSemantic::Position)
                     for (size_t v = 0; v < mesh.vertexCount; ++v) {
-                        const float x = readFloat(d.data, 3 * v), y = readFloat(d.data, 3 * v + 1),
-                                    z = readFloat(d.data, 3 * v + 2);
+                        const float x = detail::streamFloat(d.data, 3 * v), y = detail::streamFloat(d.data, 3 * v + 1),
+                                    z = detail::streamFloat(d.data, 3 * v + 2);
                         reach = std::max(reach, std::sqrt(x * x + y * y + z * z));
                     }
             b.targetReach.push_back(reach);

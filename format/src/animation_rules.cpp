@@ -7,6 +7,7 @@
 #include <cstring>
 
 #include "pnb/scene.h"
+#include "vertex_read.h"
 
 namespace pnb {
 
@@ -26,11 +27,7 @@ std::vector<float> floats(const Blob& data) {
     return out;
 }
 
-const VertexStream* findStream(const Mesh& m, VertexSemantic s) {
-    for (const VertexStream& v : m.streams)
-        if (v.semantic == s) return &v;
-    return nullptr;
-}
+using detail::findStream;
 
 bool hasDetail(const Scene& s, uint32_t mesh) {
     return std::any_of(s.meshDetails.begin(), s.meshDetails.end(),
@@ -121,9 +118,7 @@ Status validateSkin(const Scene& s, const Skin& skin, size_t i) {
             return bad("skin %zu: mesh %u of node %u has no Weights0 stream of F32 x 4", i, meshIndex, n);
         const size_t values = size_t(mesh.vertexCount) * 4;
         for (size_t k = 0; k < values; ++k) {
-            const uint32_t j = joints->componentType == ComponentType::U8
-                                   ? uint32_t(uint8_t(joints->data[k]))
-                                   : uint32_t(uint8_t(joints->data[2 * k])) | uint32_t(uint8_t(joints->data[2 * k + 1])) << 8;
+            const uint32_t j = detail::streamJoint(*joints, k);
             if (j >= skin.joints.size())
                 return bad("skin %zu: mesh %u vertex %zu names joint %u, but the skin has %zu", i, meshIndex, k / 4, j,
                            skin.joints.size());
