@@ -273,6 +273,115 @@ Float3 normalize(Float3 v) {
     return {v[0] / len, v[1] / len, v[2] / len};
 }
 
+// The skins' and animations' part of validateDocument.
+std::string validateSkinsAndAnimations(const Document& doc) {
+    auto bad = [](const std::string& what, size_t i, const std::string& why) {
+        return what + " " + std::to_string(i) + ": " + why;
+    };
+    for (size_t i = 0; i < doc.skins.size(); ++i) {
+        const Skin& sk = doc.skins[i];
+        if (sk.joints.empty() || sk.inverseBindMatrices.size() != sk.joints.size())
+            return bad("skin", i, "has no joints or not one inverse bind matrix per joint");
+        if (std::set<uint32_t>(sk.joints.begin(), sk.joints.end()).size() != sk.joints.size())
+            return bad("skin", i, "lists a joint twice");
+        for (uint32_t j : sk.joints)
+            if (j >= doc.nodes.size()) return bad("skin", i, "joint out of range");
+        for (const auto& m : sk.inverseBindMatrices)
+            if (!finite(m)) return bad("skin", i, "non-finite inverse bind matrix");
+        if (sk.skeleton != kNone && (sk.skeleton < 0 || size_t(sk.skeleton) >= doc.nodes.size()))
+            return bad("skin", i, "skeleton out of range");
+    }
+    for (size_t a = 0; a < doc.animations.size(); ++a) {
+        const Animation& anim = doc.animations[a];
+        if (anim.samplers.empty() || anim.channels.empty())
+            return bad("animation", a, "has no samplers or no channels");
+        std::vector<size_t> components(anim.samplers.size(), 0);
+        std::set<std::pair<uint32_t, AnimationPath>> targets;
+        for (const AnimationChannel& c : anim.channels) {
+            if (c.sampler >= anim.samplers.size() || c.node >= doc.nodes.size())
+                return bad("animation", a, "channel sampler or node out of range");
+            if (!targets.insert({c.node, c.path}).second)
+                return bad("animation", a, "two channels animate one node property");
+            const size_t targetCount = targetCountOf(doc, c.node);
+            if (c.path == AnimationPath::Weights && targetCount == 0)
+                return bad("animation", a, "weights channel on a node without morph targets");
+            size_t k = componentsOf(c.path, targetCount);
+            if (components[c.sampler] != 0 && components[c.sampler] != k)
+                return bad("animation", a, "a sampler shared by channels of different widths");
+            components[c.sampler] = k;
+            if (c.path == AnimationPath::Rotation) {
+                const std::vector<float>& out = anim.samplers[c.sampler].output;
+                for (size_t q = 0; q + 3 < out.size(); q += 4) {
+                    float len2 = out[q] * out[q] + out[q + 1] * out[q + 1] +
+                                 out[q + 2] * out[q + 2] + out[q + 3] * out[q + 3];
+                    if (std::fabs(len2 - 1.0f) > 1e-4f)
+                        return bad("animation", a, "rotation key is not a unit quaternion");
+                }
+            }
+        }
+        for (size_t si = 0; si < anim.samplers.size(); ++si) {
+            const AnimationSampler& smp = anim.samplers[si];
+            if (components[si] == 0) return bad("animation", a, "a sampler no channel uses");
+            if (smp.input.empty() || smp.output.size() != smp.input.size() * components[si])
+                return bad("animation", a, "sampler output is not one value per key");
+            if (!finite(smp.input) || !finite(smp.output) || smp.input[0] < 0)
+                return bad("animation", a, "non-finite or negative key");
+            for (size_t k = 1; k < smp.input.size(); ++k)
+                if (!(smp.input[k] > smp.input[k - 1]))
+                    return bad("animation", a, "key times are not strictly increasing");
+        }
+    }
+    return {};
+}
+
+// Skins: joints and the inverse bind matrices (stored once per distinct content).
+json skinsJson(const Document& doc, BinBuilder& b) {
+    json skins = json::array();
+    for (const Skin& sk : doc.skins) {
+        std::vector<float> ibm;
+        for (const auto& m : sk.inverseBindMatrices)
+            ibm.insert(ibm.end(), m.begin(), m.end());
+        json js = {{"joints", sk.joints},
+                   {"inverseBindMatrices", b.addSharedFloats(ibm, "MAT4", 16, false)}};
+        if (sk.skeleton != kNone) js["skeleton"] = sk.skeleton;
+        if (!sk.name.empty()) js["name"] = sk.name;
+        skins.push_back(std::move(js));
+    }
+    return skins;
+}
+
+// Animations: channels and samplers (inputs and outputs stored once per distinct content).
+json animationsJson(const Document& doc, BinBuilder& b) {
+    json animations = json::array();
+    for (const Animation& anim : doc.animations) {
+        std::vector<const char*> types(anim.samplers.size(), "VEC3");
+        std::vector<size_t> widths(anim.samplers.size(), 3);
+        json channels = json::array();
+        for (const AnimationChannel& c : anim.channels) {
+            channels.push_back({{"sampler", c.sampler},
+                                {"target", {{"node", c.node}, {"path", pathName(c.path)}}}});
+            widths[c.sampler] = componentsOf(c.path, targetCountOf(doc, c.node));
+            types[c.sampler] = c.path == AnimationPath::Rotation  ? "VEC4"
+                               : c.path == AnimationPath::Weights ? "SCALAR"
+                                                                  : "VEC3";
+        }
+        json samplers = json::array();
+        for (size_t i = 0; i < anim.samplers.size(); ++i) {
+            const AnimationSampler& smp = anim.samplers[i];
+            // Weights outputs are SCALAR, one per target per key (glTF's layout).
+            const size_t per = types[i] == std::string("SCALAR") ? 1 : widths[i];
+            samplers.push_back(
+                {{"input", b.addSharedFloats(smp.input, "SCALAR", 1, true)},
+                 {"output", b.addSharedFloats(smp.output, types[i], per, false)},
+                 {"interpolation", smp.interpolation == Interpolation::Step ? "STEP" : "LINEAR"}});
+        }
+        json ja = {{"channels", std::move(channels)}, {"samplers", std::move(samplers)}};
+        if (!anim.name.empty()) ja["name"] = anim.name;
+        animations.push_back(std::move(ja));
+    }
+    return animations;
+}
+
 } // namespace
 
 std::string validateDocument(const Document& doc) {
@@ -300,7 +409,8 @@ std::string validateDocument(const Document& doc) {
             }
             for (const Float2& uv : p.uv0)
                 if (!finite(uv)) return bad("mesh", m, "non-finite uv");
-            if (p.joints0.size() != p.weights0.size() || (!p.joints0.empty() && p.joints0.size() != n))
+            if (p.joints0.size() != p.weights0.size() ||
+                (!p.joints0.empty() && p.joints0.size() != n))
                 return bad("mesh", m, "joints0/weights0 sizes differ from positions");
             for (const Float4& w : p.weights0) {
                 if (!finite(w) || std::any_of(w.begin(), w.end(), [](float x) { return x < 0; }))
@@ -323,7 +433,8 @@ std::string validateDocument(const Document& doc) {
         if (!finite(mesh.weights)) return bad("mesh", m, "non-finite morph weight");
         const bool skinned = !mesh.primitives[0].joints0.empty();
         for (const Primitive& p : mesh.primitives)
-            if (p.joints0.empty() == skinned) return bad("mesh", m, "some primitives skinned, some not");
+            if (p.joints0.empty() == skinned)
+                return bad("mesh", m, "some primitives skinned, some not");
     }
     for (size_t i = 0; i < doc.materials.size(); ++i) {
         const Material& mat = doc.materials[i];
@@ -391,59 +502,7 @@ std::string validateDocument(const Document& doc) {
             if (++parents[c] > 1) return bad("node", c, "has more than one parent");
         }
     }
-    for (size_t i = 0; i < doc.skins.size(); ++i) {
-        const Skin& sk = doc.skins[i];
-        if (sk.joints.empty() || sk.inverseBindMatrices.size() != sk.joints.size())
-            return bad("skin", i, "has no joints or not one inverse bind matrix per joint");
-        if (std::set<uint32_t>(sk.joints.begin(), sk.joints.end()).size() != sk.joints.size())
-            return bad("skin", i, "lists a joint twice");
-        for (uint32_t j : sk.joints)
-            if (j >= doc.nodes.size()) return bad("skin", i, "joint out of range");
-        for (const auto& m : sk.inverseBindMatrices)
-            if (!finite(m)) return bad("skin", i, "non-finite inverse bind matrix");
-        if (sk.skeleton != kNone && (sk.skeleton < 0 || size_t(sk.skeleton) >= doc.nodes.size()))
-            return bad("skin", i, "skeleton out of range");
-    }
-    for (size_t a = 0; a < doc.animations.size(); ++a) {
-        const Animation& anim = doc.animations[a];
-        if (anim.samplers.empty() || anim.channels.empty())
-            return bad("animation", a, "has no samplers or no channels");
-        std::vector<size_t> components(anim.samplers.size(), 0);
-        std::set<std::pair<uint32_t, AnimationPath>> targets;
-        for (const AnimationChannel& c : anim.channels) {
-            if (c.sampler >= anim.samplers.size() || c.node >= doc.nodes.size())
-                return bad("animation", a, "channel sampler or node out of range");
-            if (!targets.insert({c.node, c.path}).second)
-                return bad("animation", a, "two channels animate one node property");
-            const size_t targetCount = targetCountOf(doc, c.node);
-            if (c.path == AnimationPath::Weights && targetCount == 0)
-                return bad("animation", a, "weights channel on a node without morph targets");
-            size_t k = componentsOf(c.path, targetCount);
-            if (components[c.sampler] != 0 && components[c.sampler] != k)
-                return bad("animation", a, "a sampler shared by channels of different widths");
-            components[c.sampler] = k;
-            if (c.path == AnimationPath::Rotation) {
-                const std::vector<float>& out = anim.samplers[c.sampler].output;
-                for (size_t q = 0; q + 3 < out.size(); q += 4) {
-                    float len2 = out[q] * out[q] + out[q + 1] * out[q + 1] +
-                                 out[q + 2] * out[q + 2] + out[q + 3] * out[q + 3];
-                    if (std::fabs(len2 - 1.0f) > 1e-4f)
-                        return bad("animation", a, "rotation key is not a unit quaternion");
-                }
-            }
-        }
-        for (size_t si = 0; si < anim.samplers.size(); ++si) {
-            const AnimationSampler& smp = anim.samplers[si];
-            if (components[si] == 0) return bad("animation", a, "a sampler no channel uses");
-            if (smp.input.empty() || smp.output.size() != smp.input.size() * components[si])
-                return bad("animation", a, "sampler output is not one value per key");
-            if (!finite(smp.input) || !finite(smp.output) || smp.input[0] < 0)
-                return bad("animation", a, "non-finite or negative key");
-            for (size_t k = 1; k < smp.input.size(); ++k)
-                if (!(smp.input[k] > smp.input[k - 1]))
-                    return bad("animation", a, "key times are not strictly increasing");
-        }
-    }
+    if (std::string why = validateSkinsAndAnimations(doc); !why.empty()) return why;
     // With at most one parent each, a node is unreachable from the roots iff it is on a cycle.
     std::vector<uint32_t> stack = rootNodes(doc);
     size_t reached = 0;
@@ -549,50 +608,8 @@ std::vector<uint8_t> encodeGlb(const Document& doc, GlbStats* stats) {
             instancing = true;
         }
     putArray("cameras", doc.cameras, cameraJson);
-    if (!doc.skins.empty()) {
-        json skins = json::array();
-        for (const Skin& sk : doc.skins) {
-            std::vector<float> ibm;
-            for (const auto& m : sk.inverseBindMatrices)
-                ibm.insert(ibm.end(), m.begin(), m.end());
-            json js = {{"joints", sk.joints},
-                       {"inverseBindMatrices", b.addSharedFloats(ibm, "MAT4", 16, false)}};
-            if (sk.skeleton != kNone) js["skeleton"] = sk.skeleton;
-            if (!sk.name.empty()) js["name"] = sk.name;
-            skins.push_back(std::move(js));
-        }
-        root["skins"] = std::move(skins);
-    }
-    if (!doc.animations.empty()) {
-        json animations = json::array();
-        for (const Animation& anim : doc.animations) {
-            std::vector<const char*> types(anim.samplers.size(), "VEC3");
-            std::vector<size_t> widths(anim.samplers.size(), 3);
-            json channels = json::array();
-            for (const AnimationChannel& c : anim.channels) {
-                channels.push_back(
-                    {{"sampler", c.sampler}, {"target", {{"node", c.node}, {"path", pathName(c.path)}}}});
-                widths[c.sampler] = componentsOf(c.path, targetCountOf(doc, c.node));
-                types[c.sampler] = c.path == AnimationPath::Rotation  ? "VEC4"
-                                   : c.path == AnimationPath::Weights ? "SCALAR"
-                                                                      : "VEC3";
-            }
-            json samplers = json::array();
-            for (size_t i = 0; i < anim.samplers.size(); ++i) {
-                const AnimationSampler& smp = anim.samplers[i];
-                // Weights outputs are SCALAR, one per target per key (glTF's layout).
-                const size_t per = types[i] == std::string("SCALAR") ? 1 : widths[i];
-                samplers.push_back(
-                    {{"input", b.addSharedFloats(smp.input, "SCALAR", 1, true)},
-                     {"output", b.addSharedFloats(smp.output, types[i], per, false)},
-                     {"interpolation", smp.interpolation == Interpolation::Step ? "STEP" : "LINEAR"}});
-            }
-            json ja = {{"channels", std::move(channels)}, {"samplers", std::move(samplers)}};
-            if (!anim.name.empty()) ja["name"] = anim.name;
-            animations.push_back(std::move(ja));
-        }
-        root["animations"] = std::move(animations);
-    }
+    if (!doc.skins.empty()) root["skins"] = skinsJson(doc, b);
+    if (!doc.animations.empty()) root["animations"] = animationsJson(doc, b);
     if (!doc.lights.empty()) {
         json lights = json::array();
         for (const Light& l : doc.lights)
@@ -641,7 +658,6 @@ std::vector<uint8_t> encodeGlb(const Document& doc, GlbStats* stats) {
     if (stats) *stats = st;
     return out;
 }
-
 
 Float4 lookRotation(Float3 forward, Float3 up) {
     // Columns of the rotation matrix: local X, Y, Z in world space; local -Z is `forward`.

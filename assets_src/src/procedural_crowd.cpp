@@ -275,25 +275,13 @@ constexpr float kWallHeight = 3.5f;
 constexpr float kFirstLane = 1.5f, kLaneStep = 0.5f;
 constexpr uint32_t kLanes = 13; // radii 1.5 .. 7.5 m around the central plinth
 
-} // namespace
-
-gltf::Document buildCrowd(const CrowdOptions& options) {
-    Document doc;
-    doc.sceneName = "crowd";
-    const uint32_t count = std::clamp(options.count, 1u, 1000u);
+// The room (floor, walls, pillars, plinth) and its two lamps, as children of the scene root.
+void addRoomAndLamps(Document& doc, std::vector<uint32_t>& children) {
     const uint32_t floorMat =
         addMaterial(doc, makeMaterial("floor-stone", {0.58f, 0.56f, 0.52f}, 0.85f));
     const uint32_t wallMat = addMaterial(doc, makeMaterial("plaster", {0.75f, 0.73f, 0.70f}, 0.9f));
     const uint32_t stone =
         addMaterial(doc, makeMaterial("pillar-stone", {0.55f, 0.55f, 0.58f}, 0.8f));
-    const uint32_t cloth =
-        addMaterial(doc, makeMaterial("walker-cloth", {0.35f, 0.45f, 0.68f}, 0.7f));
-
-    Node root;
-    root.name = "crowd";
-    const uint32_t rootNode = addNode(doc, std::move(root));
-    std::vector<uint32_t> children;
-
     // Room: a floor, four 0.3 m walls (no roof: the sun comes in from above), four corner
     // pillars outside the outermost lane and a plinth in the middle that the lanes circle.
     Mesh floorMesh;
@@ -334,6 +322,23 @@ gltf::Document buildCrowd(const CrowdOptions& options) {
         n.light = int32_t(doc.lights.size() - 1);
         children.push_back(addNode(doc, std::move(n)));
     }
+}
+
+} // namespace
+
+gltf::Document buildCrowd(const CrowdOptions& options) {
+    Document doc;
+    doc.sceneName = "crowd";
+    const uint32_t count = std::clamp(options.count, 1u, 1000u);
+    const uint32_t cloth =
+        addMaterial(doc, makeMaterial("walker-cloth", {0.35f, 0.45f, 0.68f}, 0.7f));
+
+    Node root;
+    root.name = "crowd";
+    const uint32_t rootNode = addNode(doc, std::move(root));
+    std::vector<uint32_t> children;
+
+    addRoomAndLamps(doc, children);
 
     // The walker mesh and the bind pose every skin shares.
     const int32_t walker = addMesh(doc, walkerMesh(cloth));
