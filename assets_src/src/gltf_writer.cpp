@@ -15,6 +15,9 @@
 #include <cerrno>
 #include <cmath>
 #include <cstring>
+#include <map>
+#include <set>
+#include <utility>
 
 #include <nlohmann/json.hpp>
 
@@ -30,6 +33,7 @@ static_assert(std::endian::native == std::endian::little, "the .glb writer assum
 // glTF enums (OpenGL values, as the specification uses them).
 constexpr int kArrayBuffer = 34962;
 constexpr int kElementArrayBuffer = 34963;
+constexpr int kUnsignedByte = 5121;
 constexpr int kUnsignedShort = 5123;
 constexpr int kUnsignedInt = 5125;
 constexpr int kFloat = 5126;
@@ -103,6 +107,47 @@ struct BinBuilder {
         return a;
     }
 
+    // Non-vertex float data (inverse bind matrices, animation keys): one view without a target
+    // and one accessor per distinct (type, content, with bounds) triple, so shared data is stored
+    // once. `bounds`: write min/max per component (animation inputs require them).
+    std::map<std::pair<std::string, std::vector<float>>, uint32_t> shared;
+    uint32_t addSharedFloats(const std::vector<float>& v, const char* type, size_t components,
+                             bool bounds) {
+        auto key = std::make_pair(std::string(type) + (bounds ? "+bounds" : ""), v);
+        if (auto it = shared.find(key); it != shared.end()) return it->second;
+        uint32_t view = addView(v.data(), v.size() * sizeof(float), 0);
+        uint32_t a = addAccessor(view, kFloat, v.size() / components, type);
+        if (bounds) {
+            std::vector<float> lo(v.begin(), v.begin() + ptrdiff_t(components)), hi = lo;
+            for (size_t i = 0; i < v.size(); ++i) {
+                lo[i % components] = std::min(lo[i % components], v[i]);
+                hi[i % components] = std::max(hi[i % components], v[i]);
+            }
+            accessors[a]["min"] = arr(lo);
+            accessors[a]["max"] = arr(hi);
+        }
+        shared.emplace(std::move(key), a);
+        return a;
+    }
+
+    // JOINTS_0: UNSIGNED_BYTE when every index fits, else UNSIGNED_SHORT.
+    uint32_t addJoints(const std::vector<Joints4>& j) {
+        bool small = std::all_of(j.begin(), j.end(), [](const Joints4& q) {
+            return std::all_of(q.begin(), q.end(), [](uint16_t i) { return i < 256; });
+        });
+        if (small) {
+            std::vector<uint8_t> bytes;
+            bytes.reserve(j.size() * 4);
+            for (const Joints4& q : j)
+                for (uint16_t i : q)
+                    bytes.push_back(uint8_t(i));
+            uint32_t view = addView(bytes.data(), bytes.size(), kArrayBuffer);
+            return addAccessor(view, kUnsignedByte, j.size(), "VEC4");
+        }
+        uint32_t view = addView(j.data(), j.size() * sizeof(Joints4), kArrayBuffer);
+        return addAccessor(view, kUnsignedShort, j.size(), "VEC4");
+    }
+
     uint32_t addIndices(const std::vector<uint32_t>& idx, size_t vertexCount) {
         // note: 65535 is the primitive-restart value for 16-bit indices, which glTF forbids in
         // index data, hence "<= 65535 vertices" (largest index 65534).
@@ -146,6 +191,7 @@ json nodeJson(const Node& n) {
     if (n.mesh != kNone) j["mesh"] = n.mesh;
     if (n.camera != kNone) j["camera"] = n.camera;
     if (n.light != kNone) j["extensions"]["KHR_lights_punctual"]["light"] = n.light;
+    if (n.skin != kNone) j["skin"] = n.skin;
     if (!n.children.empty()) j["children"] = n.children;
     return j;
 }
@@ -178,6 +224,31 @@ json lightJson(const Light& l) {
     return j;
 }
 
+const char* pathName(AnimationPath p) {
+    switch (p) {
+    case AnimationPath::Translation:
+        return "translation";
+    case AnimationPath::Rotation:
+        return "rotation";
+    case AnimationPath::Scale:
+        return "scale";
+    case AnimationPath::Weights:
+        return "weights";
+    }
+    return "";
+}
+
+// Floats per key of a channel of path `p` on a node whose mesh has `targets` morph targets.
+size_t componentsOf(AnimationPath p, size_t targets) {
+    return p == AnimationPath::Rotation ? 4 : p == AnimationPath::Weights ? targets : 3;
+}
+
+// Morph targets of node `node`'s mesh (0 without a mesh).
+size_t targetCountOf(const Document& doc, uint32_t node) {
+    const Node& n = doc.nodes[node];
+    return n.mesh == kNone ? 0 : doc.meshes[size_t(n.mesh)].weights.size();
+}
+
 // Root nodes: those no other node lists as a child, in index order.
 std::vector<uint32_t> rootNodes(const Document& doc) {
     std::vector<bool> isChild(doc.nodes.size(), false);
@@ -200,6 +271,115 @@ Float3 cross(Float3 a, Float3 b) {
 Float3 normalize(Float3 v) {
     float len = std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
     return {v[0] / len, v[1] / len, v[2] / len};
+}
+
+// The skins' and animations' part of validateDocument.
+std::string validateSkinsAndAnimations(const Document& doc) {
+    auto bad = [](const std::string& what, size_t i, const std::string& why) {
+        return what + " " + std::to_string(i) + ": " + why;
+    };
+    for (size_t i = 0; i < doc.skins.size(); ++i) {
+        const Skin& sk = doc.skins[i];
+        if (sk.joints.empty() || sk.inverseBindMatrices.size() != sk.joints.size())
+            return bad("skin", i, "has no joints or not one inverse bind matrix per joint");
+        if (std::set<uint32_t>(sk.joints.begin(), sk.joints.end()).size() != sk.joints.size())
+            return bad("skin", i, "lists a joint twice");
+        for (uint32_t j : sk.joints)
+            if (j >= doc.nodes.size()) return bad("skin", i, "joint out of range");
+        for (const auto& m : sk.inverseBindMatrices)
+            if (!finite(m)) return bad("skin", i, "non-finite inverse bind matrix");
+        if (sk.skeleton != kNone && (sk.skeleton < 0 || size_t(sk.skeleton) >= doc.nodes.size()))
+            return bad("skin", i, "skeleton out of range");
+    }
+    for (size_t a = 0; a < doc.animations.size(); ++a) {
+        const Animation& anim = doc.animations[a];
+        if (anim.samplers.empty() || anim.channels.empty())
+            return bad("animation", a, "has no samplers or no channels");
+        std::vector<size_t> components(anim.samplers.size(), 0);
+        std::set<std::pair<uint32_t, AnimationPath>> targets;
+        for (const AnimationChannel& c : anim.channels) {
+            if (c.sampler >= anim.samplers.size() || c.node >= doc.nodes.size())
+                return bad("animation", a, "channel sampler or node out of range");
+            if (!targets.insert({c.node, c.path}).second)
+                return bad("animation", a, "two channels animate one node property");
+            const size_t targetCount = targetCountOf(doc, c.node);
+            if (c.path == AnimationPath::Weights && targetCount == 0)
+                return bad("animation", a, "weights channel on a node without morph targets");
+            size_t k = componentsOf(c.path, targetCount);
+            if (components[c.sampler] != 0 && components[c.sampler] != k)
+                return bad("animation", a, "a sampler shared by channels of different widths");
+            components[c.sampler] = k;
+            if (c.path == AnimationPath::Rotation) {
+                const std::vector<float>& out = anim.samplers[c.sampler].output;
+                for (size_t q = 0; q + 3 < out.size(); q += 4) {
+                    float len2 = out[q] * out[q] + out[q + 1] * out[q + 1] +
+                                 out[q + 2] * out[q + 2] + out[q + 3] * out[q + 3];
+                    if (std::fabs(len2 - 1.0f) > 1e-4f)
+                        return bad("animation", a, "rotation key is not a unit quaternion");
+                }
+            }
+        }
+        for (size_t si = 0; si < anim.samplers.size(); ++si) {
+            const AnimationSampler& smp = anim.samplers[si];
+            if (components[si] == 0) return bad("animation", a, "a sampler no channel uses");
+            if (smp.input.empty() || smp.output.size() != smp.input.size() * components[si])
+                return bad("animation", a, "sampler output is not one value per key");
+            if (!finite(smp.input) || !finite(smp.output) || smp.input[0] < 0)
+                return bad("animation", a, "non-finite or negative key");
+            for (size_t k = 1; k < smp.input.size(); ++k)
+                if (!(smp.input[k] > smp.input[k - 1]))
+                    return bad("animation", a, "key times are not strictly increasing");
+        }
+    }
+    return {};
+}
+
+// Skins: joints and the inverse bind matrices (stored once per distinct content).
+json skinsJson(const Document& doc, BinBuilder& b) {
+    json skins = json::array();
+    for (const Skin& sk : doc.skins) {
+        std::vector<float> ibm;
+        for (const auto& m : sk.inverseBindMatrices)
+            ibm.insert(ibm.end(), m.begin(), m.end());
+        json js = {{"joints", sk.joints},
+                   {"inverseBindMatrices", b.addSharedFloats(ibm, "MAT4", 16, false)}};
+        if (sk.skeleton != kNone) js["skeleton"] = sk.skeleton;
+        if (!sk.name.empty()) js["name"] = sk.name;
+        skins.push_back(std::move(js));
+    }
+    return skins;
+}
+
+// Animations: channels and samplers (inputs and outputs stored once per distinct content).
+json animationsJson(const Document& doc, BinBuilder& b) {
+    json animations = json::array();
+    for (const Animation& anim : doc.animations) {
+        std::vector<const char*> types(anim.samplers.size(), "VEC3");
+        std::vector<size_t> widths(anim.samplers.size(), 3);
+        json channels = json::array();
+        for (const AnimationChannel& c : anim.channels) {
+            channels.push_back({{"sampler", c.sampler},
+                                {"target", {{"node", c.node}, {"path", pathName(c.path)}}}});
+            widths[c.sampler] = componentsOf(c.path, targetCountOf(doc, c.node));
+            types[c.sampler] = c.path == AnimationPath::Rotation  ? "VEC4"
+                               : c.path == AnimationPath::Weights ? "SCALAR"
+                                                                  : "VEC3";
+        }
+        json samplers = json::array();
+        for (size_t i = 0; i < anim.samplers.size(); ++i) {
+            const AnimationSampler& smp = anim.samplers[i];
+            // Weights outputs are SCALAR, one per target per key (glTF's layout).
+            const size_t per = types[i] == std::string("SCALAR") ? 1 : widths[i];
+            samplers.push_back(
+                {{"input", b.addSharedFloats(smp.input, "SCALAR", 1, true)},
+                 {"output", b.addSharedFloats(smp.output, types[i], per, false)},
+                 {"interpolation", smp.interpolation == Interpolation::Step ? "STEP" : "LINEAR"}});
+        }
+        json ja = {{"channels", std::move(channels)}, {"samplers", std::move(samplers)}};
+        if (!anim.name.empty()) ja["name"] = anim.name;
+        animations.push_back(std::move(ja));
+    }
+    return animations;
 }
 
 } // namespace
@@ -229,7 +409,32 @@ std::string validateDocument(const Document& doc) {
             }
             for (const Float2& uv : p.uv0)
                 if (!finite(uv)) return bad("mesh", m, "non-finite uv");
+            if (p.joints0.size() != p.weights0.size() ||
+                (!p.joints0.empty() && p.joints0.size() != n))
+                return bad("mesh", m, "joints0/weights0 sizes differ from positions");
+            for (const Float4& w : p.weights0) {
+                if (!finite(w) || std::any_of(w.begin(), w.end(), [](float x) { return x < 0; }))
+                    return bad("mesh", m, "negative or non-finite weight");
+                if (std::fabs(w[0] + w[1] + w[2] + w[3] - 1.0f) > 1e-5f)
+                    return bad("mesh", m, "weights do not sum to 1");
+            }
+            if (p.targets.size() != mesh.weights.size())
+                return bad("mesh", m, "a primitive's morph targets differ from the mesh's weights");
+            for (const MorphTarget& t : p.targets) {
+                if (t.positionDeltas.size() != n ||
+                    (!t.normalDeltas.empty() && t.normalDeltas.size() != n))
+                    return bad("mesh", m, "morph target sizes differ from positions");
+                for (const Float3& d : t.positionDeltas)
+                    if (!finite(d)) return bad("mesh", m, "non-finite morph delta");
+                for (const Float3& d : t.normalDeltas)
+                    if (!finite(d)) return bad("mesh", m, "non-finite morph delta");
+            }
         }
+        if (!finite(mesh.weights)) return bad("mesh", m, "non-finite morph weight");
+        const bool skinned = !mesh.primitives[0].joints0.empty();
+        for (const Primitive& p : mesh.primitives)
+            if (p.joints0.empty() == skinned)
+                return bad("mesh", m, "some primitives skinned, some not");
     }
     for (size_t i = 0; i < doc.materials.size(); ++i) {
         const Material& mat = doc.materials[i];
@@ -276,6 +481,19 @@ std::string validateDocument(const Document& doc) {
             return bad("node", i, "mesh, camera or light out of range");
         if (!finite(n.translation) || !finite(n.rotation) || !finite(n.scale))
             return bad("node", i, "non-finite transform");
+        const bool skinnedMesh =
+            n.mesh != kNone && !doc.meshes[size_t(n.mesh)].primitives[0].joints0.empty();
+        if (n.skin != kNone) {
+            if (n.skin < 0 || size_t(n.skin) >= doc.skins.size() || !skinnedMesh)
+                return bad("node", i, "skin out of range or its mesh has no joints0");
+            const size_t joints = doc.skins[size_t(n.skin)].joints.size();
+            for (const Primitive& p : doc.meshes[size_t(n.mesh)].primitives)
+                for (const Joints4& q : p.joints0)
+                    for (uint16_t j : q)
+                        if (j >= joints) return bad("node", i, "a joint index is outside its skin");
+        } else if (skinnedMesh) {
+            return bad("node", i, "draws a skinned mesh without a skin");
+        }
         const Float4& q = n.rotation;
         if (std::fabs(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3] - 1.0f) > 1e-4f)
             return bad("node", i, "rotation is not a unit quaternion");
@@ -284,6 +502,7 @@ std::string validateDocument(const Document& doc) {
             if (++parents[c] > 1) return bad("node", c, "has more than one parent");
         }
     }
+    if (std::string why = validateSkinsAndAnimations(doc); !why.empty()) return why;
     // With at most one parent each, a node is unreachable from the roots iff it is on a cycle.
     std::vector<uint32_t> stack = rootNodes(doc);
     size_t reached = 0;
@@ -327,15 +546,29 @@ std::vector<uint8_t> encodeGlb(const Document& doc, GlbStats* stats) {
                 json attributes = {{"POSITION", b.addPositions(p.positions)},
                                    {"NORMAL", b.addFloatAttribute(p.normals, "VEC3")}};
                 if (!p.uv0.empty()) attributes["TEXCOORD_0"] = b.addFloatAttribute(p.uv0, "VEC2");
+                if (!p.joints0.empty()) {
+                    attributes["JOINTS_0"] = b.addJoints(p.joints0);
+                    attributes["WEIGHTS_0"] = b.addFloatAttribute(p.weights0, "VEC4");
+                }
+                json targets = json::array();
+                for (const MorphTarget& t : p.targets) {
+                    json jt = {{"POSITION", b.addPositions(t.positionDeltas)}};
+                    if (!t.normalDeltas.empty())
+                        jt["NORMAL"] = b.addFloatAttribute(t.normalDeltas, "VEC3");
+                    targets.push_back(std::move(jt));
+                }
                 // mode is omitted: 4 (TRIANGLES) is the default.
-                prims.push_back({{"attributes", std::move(attributes)},
-                                 {"indices", b.addIndices(p.indices, p.positions.size())},
-                                 {"material", p.material}});
+                json jp = {{"attributes", std::move(attributes)},
+                           {"indices", b.addIndices(p.indices, p.positions.size())},
+                           {"material", p.material}};
+                if (!targets.empty()) jp["targets"] = std::move(targets);
+                prims.push_back(std::move(jp));
                 st.uniqueTriangles += p.triangleCount();
                 st.vertices += p.positions.size();
             }
             json jm = {{"primitives", std::move(prims)}};
             if (!m.name.empty()) jm["name"] = m.name;
+            if (!m.weights.empty()) jm["weights"] = arr(m.weights);
             meshes.push_back(std::move(jm));
         }
         root["meshes"] = std::move(meshes);
@@ -375,6 +608,8 @@ std::vector<uint8_t> encodeGlb(const Document& doc, GlbStats* stats) {
             instancing = true;
         }
     putArray("cameras", doc.cameras, cameraJson);
+    if (!doc.skins.empty()) root["skins"] = skinsJson(doc, b);
+    if (!doc.animations.empty()) root["animations"] = animationsJson(doc, b);
     if (!doc.lights.empty()) {
         json lights = json::array();
         for (const Light& l : doc.lights)
@@ -424,7 +659,6 @@ std::vector<uint8_t> encodeGlb(const Document& doc, GlbStats* stats) {
     return out;
 }
 
-
 Float4 lookRotation(Float3 forward, Float3 up) {
     // Columns of the rotation matrix: local X, Y, Z in world space; local -Z is `forward`.
     Float3 z = normalize({-forward[0], -forward[1], -forward[2]});
@@ -466,6 +700,18 @@ Float3 rotate(Float4 q, Float3 v) {
 
 Float4 rotationY(float radians) {
     return {0, std::sin(radians / 2), 0, std::cos(radians / 2)};
+}
+
+Float4 rotationAxis(Float3 axis, float radians) {
+    const float s = std::sin(radians / 2);
+    return {axis[0] * s, axis[1] * s, axis[2] * s, std::cos(radians / 2)};
+}
+
+Float4 multiply(Float4 a, Float4 b) {
+    return {a[3] * b[0] + a[0] * b[3] + a[1] * b[2] - a[2] * b[1],
+            a[3] * b[1] - a[0] * b[2] + a[1] * b[3] + a[2] * b[0],
+            a[3] * b[2] + a[0] * b[1] - a[1] * b[0] + a[2] * b[3],
+            a[3] * b[3] - a[0] * b[0] - a[1] * b[1] - a[2] * b[2]};
 }
 
 } // namespace pnb::assets::gltf

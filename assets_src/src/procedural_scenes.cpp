@@ -11,6 +11,8 @@
 //   procedural_load_test.cpp      load-test
 //   procedural_light_field.cpp    light-field
 //   procedural_window.cpp         window (and its analytic expectations, window_scene.h)
+//   procedural_crowd.cpp          crowd (skinned walkers)
+//   procedural_moving_light.cpp   moving-light (an animated light, rigid motion, a morph)
 
 #include "pnb_assets/procedural_scenes.h"
 #include "pnb_assets/window_scene.h"
@@ -48,6 +50,10 @@ constexpr ProceduralScene kScenes[] = {
                     "multiple bounces)"},
     {"window", "closed room lit only through glass: a sun through a coloured roof pane, a spot "
                "through two overlapping panes (translucent shadows)"},
+    {"crowd", "N skinned walkers (--count N, default 100) circling a plinth in an open-roofed room "
+              "(animation benchmark)"},
+    {"moving-light", "room with a circling point light, a sliding box and a squashing morph ball "
+                     "(moving GI and shadows)"},
 };
 
 uint32_t sqrtRound(double v) {
@@ -120,6 +126,13 @@ std::optional<gltf::Document> buildProceduralScene(std::string_view name,
     if (name == "lamp-room") return buildLampRoom();
     if (name == "window") return buildWindowScene();
     if (name == "colour-room") return buildColourRoom();
+    if (name == "crowd") {
+        CrowdOptions o;
+        o.seed = request.seed;
+        if (request.count) o.count = *request.count;
+        return buildCrowd(o);
+    }
+    if (name == "moving-light") return buildMovingLight();
     return std::nullopt;
 }
 

@@ -75,7 +75,8 @@ private:
 inline constexpr uint64_t kStreamCanyonRows = 11, kStreamCityLayout = 21,
                           kStreamCityArchetypes = 22, kStreamTerrainProps = 31,
                           kStreamGrazingProps = 41, kStreamLoadTestRocks = 51,
-                          kStreamLightFieldBoxes = 61, kStreamLightFieldLights = 62;
+                          kStreamLightFieldBoxes = 61, kStreamLightFieldLights = 62,
+                          kStreamCrowdWalkers = 71;
 
 // Value noise in [0, 1): random values on the integer lattice, blended with Perlin's quintic
 // fade so the surface has continuous first and second derivatives (smooth normals).

@@ -1,8 +1,8 @@
 // pnb-make-scene: writes a procedural source scene (procedural_scenes.h) as a glTF binary.
 //
 //   pnb-make-scene NAME OUT.glb [--triangles N] [--seed N] [--lights N] [--texture-size N]
-//                  [--unit-scale S] [--origin X,Y,Z] [--sun-elevation DEG] [--sun-azimuth DEG]
-//                  [--camera-near M]
+//                  [--count N] [--unit-scale S] [--origin X,Y,Z] [--sun-elevation DEG]
+//                  [--sun-azimuth DEG] [--camera-near M]
 //   pnb-make-scene --list
 //
 // Exit codes: 0 ok, 2 usage error, 4 output error. Output is deterministic: the same arguments
@@ -92,6 +92,7 @@ std::string valueWanted(const std::string& option) {
     if (option == "--triangles") return "--triangles takes a number from 1 to 100000000";
     if (option == "--lights") return "--lights takes a number from 0 to 4096";
     if (option == "--texture-size") return "--texture-size takes a number from 4 to 4096";
+    if (option == "--count") return "--count takes a number from 1 to 1000";
     if (option == "--origin") return "--origin takes X,Y,Z (three numbers)";
     return option + " takes a number";
 }
@@ -117,6 +118,8 @@ std::vector<pnb::cli::Option> options(Request& r) {
                count(r.scene.lights, 0, 4096)),
         valued("", "--texture-size", "N", "texels a side, 4..4096 (load-test only; default 1024)",
                count(r.scene.textureSize, 4, 4096)),
+        valued("", "--count", "N", "walkers, 1..1000 (crowd only; default 100)",
+               count(r.scene.count, 1, 1000)),
         valued("", "--unit-scale", "S",
                "wrap the scene in a root node scaled by S (cameras' near/far,\n"
                "point-light ranges and intensities follow): the same image\n"
@@ -149,7 +152,7 @@ std::vector<pnb::cli::Option> options(Request& r) {
 void printUsage(std::FILE* out, const std::vector<pnb::cli::Option>& table) {
     std::fprintf(
         out, "usage: pnb-make-scene NAME OUT.glb [--triangles N] [--seed N] [--lights N]\n"
-             "                      [--texture-size N] [--unit-scale S] [--origin X,Y,Z]\n"
+             "                      [--texture-size N] [--count N] [--unit-scale S] [--origin X,Y,Z]\n"
              "                      [--sun-elevation DEG] [--sun-azimuth DEG] [--camera-near M]\n"
              "       pnb-make-scene --list\n\n");
     std::fputs(pnb::cli::helpText(table, {.column = 21}).c_str(), out);
@@ -216,6 +219,10 @@ int main(int argc, char** argv) {
 
     if (r.scene.lights && name != "light-field") {
         std::fprintf(stderr, "Error: --lights applies to light-field only\n");
+        return 2;
+    }
+    if (r.scene.count && name != "crowd") {
+        std::fprintf(stderr, "Error: --count applies to crowd only\n");
         return 2;
     }
     if (r.scene.textureSize && name != "load-test") {

@@ -161,7 +161,13 @@ std::string validateMeshes(const ParsedGlb& g) {
                 const json& a = j["accessors"][ai];
                 if (vertexCount == 0) vertexCount = a["count"];
                 if (a["count"] != vertexCount) return "attributes differ in count";
-                if (a["componentType"] != 5126) return "attribute " + it.key() + " is not float";
+                if (it.key() == "JOINTS_0") {
+                    if (a["type"] != "VEC4" || (a["componentType"] != 5121 && a["componentType"] != 5123))
+                        return "JOINTS_0 must be VEC4 of unsigned byte or short";
+                } else if (a["componentType"] != 5126) {
+                    return "attribute " + it.key() + " is not float";
+                }
+                if (it.key() == "WEIGHTS_0" && a["type"] != "VEC4") return "WEIGHTS_0 must be VEC4";
                 if (viewTarget(ai) != 34962) return "attribute view lacks ARRAY_BUFFER target";
             }
             const json& pos = j["accessors"][attr["POSITION"].get<size_t>()];
@@ -202,6 +208,86 @@ std::string validateMeshes(const ParsedGlb& g) {
             for (double idx : readAccessor(g, ii))
                 if (idx >= double(vertexCount) || idx == restart) return "index out of range";
             if (!validRef(p, "material", j, "materials")) return "material out of range";
+            if (attr.contains("JOINTS_0") != attr.contains("WEIGHTS_0"))
+                return "JOINTS_0 without WEIGHTS_0 or the other way round";
+            const size_t targets = p.value("targets", json::array()).size();
+            if (targets != m.value("weights", json::array()).size())
+                return "a primitive's morph targets differ from the mesh's weights";
+            for (const json& t : p.value("targets", json::array())) {
+                if (!t.contains("POSITION")) return "morph target without POSITION";
+                for (auto it = t.begin(); it != t.end(); ++it) {
+                    size_t ai = it.value();
+                    if (ai >= j["accessors"].size() || j["accessors"][ai]["count"] != vertexCount ||
+                        j["accessors"][ai]["type"] != "VEC3" || j["accessors"][ai]["componentType"] != 5126)
+                        return "morph target attribute is not float VEC3 of the vertex count";
+                }
+            }
+        }
+    }
+    return "";
+}
+
+// Skins and animations (glTF 2.0 sections 3.7.3 and 3.11): references in range, one inverse bind
+// matrix per joint, animation inputs SCALAR float with min/max and strictly increasing, outputs
+// one value per key of the width the channel's path needs.
+std::string validateSkinsAndAnimations(const ParsedGlb& g) {
+    const json& j = g.json;
+    const size_t nodeCount = j.contains("nodes") ? j["nodes"].size() : 0;
+    if (j.contains("skins"))
+        for (const json& s : j["skins"]) {
+            std::vector<size_t> joints = s.at("joints");
+            if (joints.empty()) return "skin without joints";
+            for (size_t n : joints)
+                if (n >= nodeCount) return "skin joint out of range";
+            if (!validRef(s, "skeleton", j, "nodes")) return "skin skeleton out of range";
+            if (s.contains("inverseBindMatrices")) {
+                const json& a = j["accessors"][s["inverseBindMatrices"].get<size_t>()];
+                if (a["type"] != "MAT4" || a["componentType"] != 5126 || a["count"] != joints.size())
+                    return "inverseBindMatrices is not one float MAT4 per joint";
+            }
+        }
+    for (size_t i = 0; i < nodeCount; ++i) {
+        const json& n = j["nodes"][i];
+        if (!validRef(n, "skin", j, "skins")) return "node skin out of range";
+        if (n.contains("skin") && !n.contains("mesh")) return "node with a skin but no mesh";
+    }
+    if (!j.contains("animations")) return "";
+    for (const json& anim : j["animations"]) {
+        const json& samplers = anim.at("samplers");
+        const json& channels = anim.at("channels");
+        if (samplers.empty() || channels.empty()) return "animation without samplers or channels";
+        for (const json& c : channels) {
+            size_t si = c.at("sampler");
+            const json& target = c.at("target");
+            if (si >= samplers.size() || !target.contains("node") || target["node"].get<size_t>() >= nodeCount)
+                return "animation channel sampler or node out of range";
+            const json& node = j["nodes"][target["node"].get<size_t>()];
+            const std::string path = target.at("path");
+            size_t width = 0;
+            if (path == "translation" || path == "scale") width = 3;
+            else if (path == "rotation") width = 4;
+            else if (path == "weights" && node.contains("mesh"))
+                width = j["meshes"][node["mesh"].get<size_t>()].value("weights", json::array()).size();
+            if (width == 0) return "animation channel path invalid for its node";
+            const json& smp = samplers[si];
+            std::string interp = smp.value("interpolation", "LINEAR");
+            if (interp != "LINEAR" && interp != "STEP" && interp != "CUBICSPLINE")
+                return "bad sampler interpolation";
+            const json& in = j["accessors"][smp.at("input").get<size_t>()];
+            const json& out = j["accessors"][smp.at("output").get<size_t>()];
+            if (in["type"] != "SCALAR" || in["componentType"] != 5126 || !in.contains("min") ||
+                !in.contains("max"))
+                return "animation input is not SCALAR float with min and max";
+            std::vector<double> times = readAccessor(g, smp["input"]);
+            for (size_t k = 1; k < times.size(); ++k)
+                if (!(times[k] > times[k - 1])) return "animation key times not strictly increasing";
+            if (times.front() < 0 || in["min"][0].get<double>() != times.front() ||
+                in["max"][0].get<double>() != times.back())
+                return "animation input min/max wrong or negative";
+            const size_t values = out["count"].get<size_t>() * componentCount(out["type"]);
+            if (out["componentType"] != 5126 ||
+                values != times.size() * width * (interp == "CUBICSPLINE" ? 3 : 1))
+                return "animation output is not one value of the path's width per key";
         }
     }
     return "";
@@ -336,6 +422,7 @@ std::string validateGltf(const ParsedGlb& g) {
             return "unexpected asset.generator";
         if (std::string e = validateAccessors(g); !e.empty()) return e;
         if (std::string e = validateMeshes(g); !e.empty()) return e;
+        if (std::string e = validateSkinsAndAnimations(g); !e.empty()) return e;
         return validateRest(g);
     } catch (const json::exception& e) {
         return std::string("malformed JSON structure: ") + e.what();

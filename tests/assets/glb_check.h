@@ -28,7 +28,9 @@ std::string parseGlb(std::span<const uint8_t> bytes, ParsedGlb& out);
 // Checks the glTF document: asset, buffers/bufferViews/accessors bounds and alignment, view
 // targets, POSITION min/max against the data, unit normals, index ranges, material/texture/
 // image/camera/light references, node hierarchy (one parent, no cycles, scene roots), non-empty
-// top-level arrays, KHR_lights_punctual declared. Returns "" if valid, else the first problem.
+// top-level arrays, KHR_lights_punctual declared; JOINTS_0/WEIGHTS_0 types, morph targets, skins
+// (joints, inverse bind matrices) and animations (channel targets, sampler inputs and outputs).
+// Returns "" if valid, else the first problem.
 std::string validateGltf(const ParsedGlb& g);
 
 // Accessor contents as doubles (count * components values). Precondition: validateGltf passed.

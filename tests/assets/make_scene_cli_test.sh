@@ -28,7 +28,7 @@ contains() {
 }
 
 expect 0 --list
-for scene in street-canyon flat-city box-room terrain grazing-plane load-test light-field; do
+for scene in street-canyon flat-city box-room terrain grazing-plane load-test light-field crowd moving-light; do
     contains out "$scene"
 done
 expect 0 --help
@@ -83,6 +83,18 @@ if [ "$(wc -c <"$dir/lt16.glb")" -ge "$(wc -c <"$dir/lt64.glb")" ]; then
     echo "FAIL: --texture-size 16 did not make smaller images than 64" >&2
     status=1
 fi
+# --count: crowd only, 1..1000; the walkers follow it (one skin each), the bytes are repeatable.
+expect 2 box-room "$dir/x.glb" --count 3
+contains err "crowd only"
+expect 2 crowd "$dir/x.glb" --count 0
+contains err "from 1 to 1000"
+expect 2 crowd "$dir/x.glb" --count 1001
+expect 0 crowd "$dir/crowd1.glb" --count 1
+expect 0 crowd "$dir/crowd10.glb" --count 10
+expect 0 crowd "$dir/crowd10b.glb" --count 10
+cmp -s "$dir/crowd10.glb" "$dir/crowd10b.glb" || { echo "FAIL: crowd output differs between runs" >&2; status=1; }
+grep -q '"walker-9/body"' "$dir/crowd10.glb" || { echo "FAIL: --count 10 has no walker-9" >&2; status=1; }
+grep -q '"walker-1/body"' "$dir/crowd1.glb" && { echo "FAIL: --count 1 has a walker-1" >&2; status=1; }
 # The extremes' transforms: a scaled, moved, re-lit scene with a new root node.
 expect 0 street-canyon "$dir/scaled.glb" --unit-scale 1e-6 --origin 1e7,0,-1e7 --sun-elevation 90 --camera-near 0.01
 grep -q '"unit-root"' "$dir/scaled.glb" || { echo "FAIL: no unit-root node" >&2; status=1; }

@@ -172,7 +172,8 @@ TEST(ProceduralScenesRegistry, ListsEverySceneAndRejectsUnknownNames) {
     EXPECT_EQ(names,
               (std::vector<std::string>{"street-canyon", "flat-city", "box-room", "terrain",
                                         "grazing-plane", "load-test", "light-field", "one-triangle",
-                                        "wide-flat", "atrium", "lamp-room", "colour-room", "window"}));
+                                        "wide-flat", "atrium", "lamp-room", "colour-room", "window",
+                                        "crowd", "moving-light"}));
     for (const assets::ProceduralScene& s : assets::proceduralScenes())
         EXPECT_FALSE(s.summary.empty());
     EXPECT_FALSE(assets::buildProceduralScene("no-such-scene", {}).has_value());

@@ -22,8 +22,15 @@
 // Conventions are glTF's: metres, +Y up, right-handed; cameras look along their node's local
 // -Z with +Y up; directional and spot lights shine along their node's local -Z.
 //
-// Does NOT do: animation, skins, morph targets, tangents, interleaving, sparse accessors,
-// compression (Draco/meshopt), external .bin or image files, KHR_texture_transform.
+//   - skins, morph targets and animations (the moving scenes, crowd and moving-light): JOINTS_0
+//     as UNSIGNED_BYTE VEC4 when every joint index is below 256, else UNSIGNED_SHORT; WEIGHTS_0
+//     float VEC4; morph targets' POSITION deltas with exact min/max; animation inputs with
+//     min/max; inverse bind matrices, animation inputs and outputs are written once per distinct
+//     content (a thousand characters sharing one bind pose share one accessor), in views
+//     without a target.
+//
+// Does NOT do: tangents, interleaving, sparse accessors, cubic-spline samplers, compression
+// (Draco/meshopt), external .bin or image files, KHR_texture_transform.
 #pragma once
 
 #include <array>
@@ -71,6 +78,15 @@ struct Material {
                                     // tangents from uv0, so primitives using it need uv0.
 };
 
+// A morph target of a primitive: per-vertex displacements (parallel to the primitive's
+// positions); normal displacements are optional (empty: not written).
+struct MorphTarget {
+    std::vector<Float3> positionDeltas;
+    std::vector<Float3> normalDeltas;
+};
+
+using Joints4 = std::array<uint16_t, 4>;
+
 // One triangle list with one material. Vertex arrays are parallel: normals.size() ==
 // positions.size(), and uv0 is either empty (no TEXCOORD_0) or the same size. Normals must be
 // unit length. Triangles are counter-clockwise seen from the front, as glTF requires.
@@ -80,6 +96,12 @@ struct Primitive {
     std::vector<Float2> uv0;       // optional; glTF convention: v = 0 is the image's top row
     std::vector<uint32_t> indices; // multiple of 3, each < positions.size()
     uint32_t material = 0;         // index into Document::materials
+    // Skinning (both empty, or both positions.size()): indices into the skin's joint list, and
+    // weights >= 0 summing to 1 (within 1e-5); a slot of weight 0 should name joint 0.
+    std::vector<Joints4> joints0;
+    std::vector<Float4> weights0;
+    // Morph targets: every primitive of a mesh has the same number (Mesh::weights.size()).
+    std::vector<MorphTarget> targets;
 
     uint64_t triangleCount() const { return indices.size() / 3; }
 };
@@ -87,6 +109,42 @@ struct Primitive {
 struct Mesh {
     std::string name;
     std::vector<Primitive> primitives; // at least one
+    std::vector<float> weights;        // default morph weights, one per morph target
+};
+
+// A skin: its joints (node indices) and one inverse bind matrix per joint (column-major 4x4, the
+// inverse of the joint's world matrix in the bind pose). `skeleton`: the joints' common root
+// node, or kNone.
+struct Skin {
+    std::string name;
+    std::vector<uint32_t> joints; // at least one, distinct
+    std::vector<std::array<float, 16>> inverseBindMatrices;
+    int32_t skeleton = kNone;
+};
+
+enum class AnimationPath : uint8_t { Translation, Rotation, Scale, Weights };
+enum class Interpolation : uint8_t { Linear, Step };
+
+// Key times (seconds, strictly increasing, >= 0) and values: 3 floats a key for translation and
+// scale, 4 (a unit quaternion, x y z w) for rotation, one per morph target for weights.
+struct AnimationSampler {
+    std::vector<float> input;
+    std::vector<float> output;
+    Interpolation interpolation = Interpolation::Linear;
+};
+
+// A channel animates one property of one node with one sampler; several channels may share a
+// sampler. At most one channel per (node, path).
+struct AnimationChannel {
+    uint32_t sampler = 0; // index into Animation::samplers
+    uint32_t node = 0;
+    AnimationPath path = AnimationPath::Rotation;
+};
+
+struct Animation {
+    std::string name;
+    std::vector<AnimationSampler> samplers; // at least one
+    std::vector<AnimationChannel> channels; // at least one
 };
 
 // A node with a TRS transform (written only where not the identity).
@@ -98,6 +156,7 @@ struct Node {
     int32_t mesh = kNone;           // index into Document::meshes
     int32_t camera = kNone;         // index into Document::cameras
     int32_t light = kNone;          // index into Document::lights (KHR_lights_punctual)
+    int32_t skin = kNone;           // index into Document::skins (the node's mesh is skinned)
     std::vector<uint32_t> children; // each node has at most one parent; no cycles
     // EXT_mesh_gpu_instancing: the mesh is drawn once per translation (empty: once, plainly).
     std::vector<Float3> instanceTranslations;
@@ -139,6 +198,8 @@ struct Document {
     std::vector<Node> nodes;
     std::vector<Camera> cameras;
     std::vector<Light> lights;
+    std::vector<Skin> skins;
+    std::vector<Animation> animations;
     std::string sceneName; // glTF scenes[0].name; may be empty
 };
 
@@ -178,5 +239,11 @@ Float3 rotate(Float4 q, Float3 v);
 
 // Rotation of `radians` about the +Y axis.
 Float4 rotationY(float radians);
+
+// Rotation of `radians` about the unit axis `axis`.
+Float4 rotationAxis(Float3 axis, float radians);
+
+// Hamilton product a * b (apply b, then a).
+Float4 multiply(Float4 a, Float4 b);
 
 } // namespace pnb::assets::gltf

@@ -25,8 +25,14 @@
 //   window         a closed room lit only through glass: a sun through a coloured roof pane and
 //                  a spot through two overlapping panes (issue 43's translucent shadows; the
 //                  layout and its analytic values are in window_scene.h)
+//   crowd          N skinned walkers (--count N, 1..1000, default 100) circling a plinth in an
+//                  open-roofed room with pillars, a sun and two point lights: one shared walker
+//                  mesh, a skin per walker, one looping clip (issue 42's animated benchmark)
+//   moving-light   a room whose point light circles under the ceiling, whose box slides and
+//                  turns through the sun and whose ball squashes (a morph target): moving
+//                  lights, rigid motion and morphs (issue 42's GI/shadow benchmark)
 //
-// load-test and light-field exist for benchmarks: they are not generated at build time (not in
+// load-test, light-field and crowd exist for benchmarks: they are not generated at build time (not in
 // assets_src/CMakeLists.txt's PNB_PROCEDURAL_SCENES), the benchmark scripts make them.
 //
 // Conventions: glTF's (metres, +Y up, right-handed, cameras and lights look along local -Z).
@@ -38,7 +44,8 @@
 // the same Document and the same .glb bytes with a given build. (Across libm versions, sin/cos/pow
 // may differ in the last bit; the layouts do not depend on that.)
 //
-// Does NOT do: write files (see gltf_writer.h), animation, textures beyond small checkers
+// Does NOT do: write files (see gltf_writer.h), animation outside crowd and moving-light,
+// textures beyond small checkers
 // (except load-test's procedural noise textures).
 #pragma once
 
@@ -213,6 +220,37 @@ gltf::Document buildLampRoom();
 // ("room-camera") above the front wall looking down into the room. No randomness.
 gltf::Document buildColourRoom();
 
+// crowd: `count` walkers (a low-poly humanoid of welded tapered tubes, ~1000 triangles, 12 joints:
+// hips, spine, chest, head, upper arm and forearm, thigh and shin a side; every vertex weighted
+// over one or two joints, blending across each joint) in an 18 x 18 m room (x, z in [-9, 9]) with
+// 3.5 m walls and no roof, four corner pillars ("pillars", with the 1.6 m plinth in the middle),
+// a sun at 55 degrees ("sun") and two point lights ("lamp-west", "lamp-east", 3 m up).
+// Walker i is node "walker-<i>" (its root: translation, rotation, a height scale of 0.92-1.08)
+// with joint nodes "walker-<i>/<joint>" and a skinned node "walker-<i>/body"; every body draws the
+// one mesh "walker" with its own skin (skin i). Walkers walk 13 circular lanes (radius 1.5 to 7.5
+// m, neighbouring lanes in opposite directions; walker i on lane i % 13, spread along it with a
+// seeded jitter), one lap in the clip's 24 s, so the clip loops seamlessly. The one clip ("walk",
+// linear keys) holds every walker's 12 joint rotations (a 1 s walk cycle in one of 8 seeded
+// phases, 8 keys a cycle; walkers of one phase share those samplers) and its root's translation
+// and rotation (48 keys a lap). At rest (no clip) each walker stands in its bind pose at its
+// start. Cameras: "overview-camera" above the south wall looking down across the room, and
+// "floor-camera" at eye level by the west wall.
+struct CrowdOptions {
+    uint32_t count = 100; // walkers, 1..1000 (clamped). Default 100.
+    uint64_t seed = 1;
+};
+gltf::Document buildCrowd(const CrowdOptions& options = {});
+
+// moving-light: an 8 x 4 x 8 m room (x, z in [-4, 4], y in [0, 4]) open towards +Z, red left and
+// green right walls, a static block, lit by a sun at 35 degrees coming in through the open side
+// and by "moving-lamp", a point light (20 cd, range 10 m) circling 3.2 m up once per clip. One
+// clip ("motion", 4 s, linear keys) also slides "moving-box" (a 0.8 m cube, the node at its base
+// centre) from x = -2 to 2 and back through the sun while it turns once about +Y, and squashes
+// "morph-ball" (a 0.6 m UV sphere with one morph target flattening it onto its base) twice.
+// At rest the lamp, the box and the ball are where the clip starts them. Camera "room-camera"
+// outside the open side looking in. No randomness.
+gltf::Document buildMovingLight();
+
 // --- Registry (what pnb-make-scene lists) -----------------------------------------------------
 
 struct ProceduralScene {
@@ -227,6 +265,7 @@ struct SceneRequest {
     uint64_t seed = 1;              // ignored by box-room
     std::optional<uint32_t> lights; // point lights; light-field only (others ignore it)
     std::optional<uint32_t> textureSize; // texels a side; load-test only (others ignore it)
+    std::optional<uint32_t> count;       // walkers; crowd only (others ignore it)
 };
 // Builds the named scene. targetTriangles maps onto each scene's detail knob (facade cells,
 // grid resolution or subdivisions); the result is as close as that knob allows. Returns nullopt
