@@ -33,6 +33,7 @@
 
 #include "pnb/error.h"
 #include "pnb/scene.h"
+#include "pnb_reference/frame_pose.h"
 
 namespace pnb::reference {
 
@@ -92,7 +93,10 @@ public:
     // stream), Unsupported (octahedral positions), Embree (device or build failure).
     // `scene` is read only during the call. Thread safety: build() may run concurrently with
     // itself (each call owns its Embree device).
-    static TracerResult<std::unique_ptr<ShadowTracer>> build(const Scene& scene, glm::dvec3 origin);
+    // `at`: the instant traced (frame_pose.h; default: the container as stored); Input errors
+    // also for a clip it names that does not exist.
+    static TracerResult<std::unique_ptr<ShadowTracer>> build(const Scene& scene, glm::dvec3 origin,
+                                                             const FramePose& at = {});
 
     ~ShadowTracer();
     ShadowTracer(const ShadowTracer&) = delete;
