@@ -5,7 +5,8 @@
 // Does: builds one Embree scene (RTC_BUILD_QUALITY_HIGH, robust mode, triangle geometry) from the
 // shadow casters of a pnb::Scene — every level-0 submesh instance whose material has
 // castsShadows = true, Blend ones as translucent casters (issue 43) — with world
-// transforms composed in double from the node graph (as the player's buildSceneGraph does) and
+// transforms composed in double from the node graph (as the player's buildSceneGraph does; at a
+// FramePose, the posed graph and deformed meshes: frame_pose.h, docs/REFERENCE.md "Moving frames") and
 // vertices made relative to a caller-given origin before they are rounded to float; then answers
 // "is this point lit?" for many points at once, on all cores, with 16-ray packets: by a ray to
 // infinity (directional) or by the segment to a light's position (visibilityToPoint); and "how
