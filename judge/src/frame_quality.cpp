@@ -12,8 +12,7 @@
 #include <xxhash.h>
 
 #include "pnb/atomic_file.h"
-#include "pnb/reader.h"
-#include "pnb/scene.h"
+#include "judged_scene.h"
 #include "pnb_reference/flip.h"
 #include "pnb_reference/image_error.h"
 
@@ -50,8 +49,11 @@ PlayResult<uint64_t> hashFile(const std::string& path) {
     return h;
 }
 
-// Everything the truth depends on, hashed (the thread count does not change it).
-uint64_t truthKey(uint64_t containerHash, const reference::FrameCamera& c, const reference::FrameTraceSettings& s) {
+// Everything the truth depends on, hashed (the thread count does not change it). `at` is the
+// effective instant (reference::effectivePose): the container as stored adds nothing to the key,
+// so the truths cached before moving frames keep theirs.
+uint64_t truthKey(uint64_t containerHash, const reference::FrameCamera& c, const reference::FrameTraceSettings& s,
+                  const reference::FramePose& at) {
     std::vector<double> v = {double(kTruthModelVersion), double(containerHash >> 32), double(containerHash & 0xffffffffu),
                              c.position.x, c.position.y, c.position.z};
     for (int i = 0; i < 3; ++i)
@@ -60,6 +62,7 @@ uint64_t truthKey(uint64_t containerHash, const reference::FrameCamera& c, const
                        double(c.height), double(s.maxBounces), double(s.samplesPerPass), double(s.minSamples),
                        double(s.maxSamples), s.noiseTarget, s.timeLimitSeconds, double(s.seed >> 32),
                        double(s.seed & 0xffffffffu), s.iblRotationRadians, s.iblIntensity, double(s.lambertianOnly)});
+    if (at.animated) v.insert(v.end(), {1.0, at.clip ? double(*at.clip) : -1.0, at.clipTime});
     return XXH3_64bits(v.data(), v.size() * sizeof(double));
 }
 
@@ -144,13 +147,14 @@ FrameQuality::~FrameQuality() = default;
 
 PlayResult<std::unique_ptr<FrameQuality>> FrameQuality::create(const std::string& containerPath, glm::dvec3 origin,
                                                               const Settings& settings) {
-    auto container = Container::open(containerPath);
-    if (!container) return PlayError{PlayErrorKind::Input, container.error().describe()};
-    auto scene = readScene(*container);
-    if (!scene) return PlayError{PlayErrorKind::Input, scene.error().describe()};
-    auto tracer = reference::FrameTracer::build(*scene, origin);
+    auto judged = JudgedScene::read(containerPath);
+    if (!judged) return judged.error();
+    // Built now at the container as stored, so a scene the tracer refuses fails before any frame.
+    auto tracer = reference::FrameTracer::build((*judged)->scene, origin);
     if (!tracer) return PlayError{PlayErrorKind::Input, "whole-frame reference: " + tracer.error().message};
     std::unique_ptr<FrameQuality> q(new FrameQuality());
+    q->mJudged = std::move(*judged);
+    q->mOrigin = origin;
     if (!settings.cacheDir.empty()) {
         auto hash = hashFile(containerPath);
         if (!hash) return hash.error();
@@ -161,7 +165,8 @@ PlayResult<std::unique_ptr<FrameQuality>> FrameQuality::create(const std::string
     return q;
 }
 
-PlayResult<std::vector<std::pair<std::string, double>>> FrameQuality::measure(Renderer& renderer, bool followUp) {
+PlayResult<std::vector<std::pair<std::string, double>>> FrameQuality::measure(Renderer& renderer, bool followUp,
+                                                                              const reference::FramePose& requested) {
     if (followUp) return std::vector<std::pair<std::string, double>>{};
     auto hdr = renderer.capture(CaptureBuffer::Hdr);
     if (!hdr) return hdr.error();
@@ -177,12 +182,19 @@ PlayResult<std::vector<std::pair<std::string, double>>> FrameQuality::measure(Re
     trace.iblRotationRadians = double(renderer.settings().iblRotationDeg) * (3.14159265358979 / 180.0);
     trace.iblIntensity = renderer.settings().iblIntensity;
     const reference::FrameCamera camera = frameCamera(renderer.lastView(), w, h); // world: any origin
-    const uint64_t key = truthKey(mContainerHash, camera, trace);
+    const reference::FramePose at = reference::effectivePose(mJudged->scene, requested); // the frame's instant
+    const uint64_t key = truthKey(mContainerHash, camera, trace, at);
     std::optional<reference::FrameImage> truth;
     const std::string path = mSettings.cacheDir.empty() ? std::string() : cachePath(mSettings.cacheDir, key);
     if (!path.empty()) truth = readCachedTruth(path, key, w, h);
     const bool cached = truth.has_value();
     if (!truth) {
+        if (!(at == mTracedAt)) { // the geometry and lights of this instant
+            auto tracer = reference::FrameTracer::build(mJudged->scene, mOrigin, at);
+            if (!tracer) return PlayError{PlayErrorKind::Input, "whole-frame reference: " + tracer.error().message};
+            mTracer = std::move(*tracer);
+            mTracedAt = at;
+        }
         truth = mTracer->render(camera, trace);
         if (!path.empty())
             if (Status s = writeCachedTruth(path, key, *truth); !isOk(s))

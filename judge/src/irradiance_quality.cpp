@@ -3,70 +3,73 @@
 #include <cmath>
 #include <limits>
 
-#include "pnb/reader.h"
-#include "pnb/scene.h"
+#include "judged_scene.h"
 #include "pnb_reference/indirect_metrics.h"
 #include "pnb_reference/shadow_metrics.h"
 
 namespace pnb::player {
 
-namespace {
-
-PlayResult<Scene> readContainer(const std::string& path, std::unique_ptr<Container>& keep) {
-    auto container = Container::open(path);
-    if (!container) return PlayError{PlayErrorKind::Input, container.error().describe()};
-    keep = std::make_unique<Container>(std::move(*container));
-    auto scene = readScene(*keep);
-    if (!scene) return PlayError{PlayErrorKind::Input, scene.error().describe()};
-    return std::move(*scene);
-}
-
-} // namespace
-
 IrradianceQuality::~IrradianceQuality() = default;
+
+PlayResult<Done> IrradianceQuality::poseAt(const reference::FramePose& requested) {
+    const reference::FramePose at = reference::effectivePose(mJudged->scene, requested);
+    if (mTrace && at == mTracedAt) return Done{};
+    auto trace = mBuild(at);
+    if (!trace) return trace.error();
+    mTrace = std::move(*trace);
+    mTracedAt = at;
+    return Done{};
+}
 
 PlayResult<std::unique_ptr<IrradianceQuality>> IrradianceQuality::forGi(const std::string& containerPath,
                                                                         glm::dvec3 origin,
                                                                         const reference::IndirectSettings& settings) {
-    std::unique_ptr<Container> container;
-    auto scene = readContainer(containerPath, container);
-    if (!scene) return scene.error();
-    auto tracer = reference::IndirectTracer::build(*scene, origin);
-    if (!tracer) return PlayError{PlayErrorKind::Input, "indirect reference: " + tracer.error().message};
+    auto judged = JudgedScene::read(containerPath);
+    if (!judged) return judged.error();
     std::unique_ptr<IrradianceQuality> q(new IrradianceQuality());
     q->mBuffer = CaptureBuffer::Indirect;
     q->mPrefix = "gi_";
     q->mOrigin = origin;
-    std::shared_ptr<reference::IndirectTracer> t(std::move(*tracer));
-    q->mTrace = [t, settings](const Renderer&, auto points, auto normals, auto truth, auto error, glm::dvec3 eye) {
-        t->irradiance(points, normals, settings, truth, error, eye);
+    q->mJudged = std::move(*judged);
+    q->mBuild = [scene = &q->mJudged->scene, origin, settings](const reference::FramePose& at) -> PlayResult<Trace> {
+        auto tracer = reference::IndirectTracer::build(*scene, origin, at);
+        if (!tracer) return PlayError{PlayErrorKind::Input, "indirect reference: " + tracer.error().message};
+        std::shared_ptr<reference::IndirectTracer> t(std::move(*tracer));
+        return Trace([t, settings](const Renderer&, auto points, auto normals, auto truth, auto error, glm::dvec3 eye) {
+            t->irradiance(points, normals, settings, truth, error, eye);
+        });
     };
+    if (auto built = q->poseAt({}); !built) return built.error(); // a refused scene fails now
     return q;
 }
 
 PlayResult<std::unique_ptr<IrradianceQuality>> IrradianceQuality::forSky(const std::string& containerPath,
                                                                          glm::dvec3 origin,
                                                                          const reference::SkySettings& settings) {
-    std::unique_ptr<Container> container;
-    auto scene = readContainer(containerPath, container);
-    if (!scene) return scene.error();
-    auto tracer = reference::SkyTracer::build(*scene, origin);
-    if (!tracer) return PlayError{PlayErrorKind::Input, "sky reference: " + tracer.error().message};
+    auto judged = JudgedScene::read(containerPath);
+    if (!judged) return judged.error();
     std::unique_ptr<IrradianceQuality> q(new IrradianceQuality());
     q->mBuffer = CaptureBuffer::Sky;
     q->mPrefix = "sky_";
     q->mOrigin = origin;
-    std::shared_ptr<reference::SkyTracer> t(std::move(*tracer));
-    q->mTrace = [t, settings](const Renderer& r, auto points, auto normals, auto truth, auto error, glm::dvec3 eye) {
-        reference::SkySettings s = settings;
-        s.rotationRadians = r.settings().iblRotationDeg * (3.14159265358979f / 180.0f);
-        s.intensity = r.settings().iblIntensity;
-        t->irradiance(points, normals, s, truth, error, eye);
+    q->mJudged = std::move(*judged);
+    q->mBuild = [scene = &q->mJudged->scene, origin, settings](const reference::FramePose& at) -> PlayResult<Trace> {
+        auto tracer = reference::SkyTracer::build(*scene, origin, at);
+        if (!tracer) return PlayError{PlayErrorKind::Input, "sky reference: " + tracer.error().message};
+        std::shared_ptr<reference::SkyTracer> t(std::move(*tracer));
+        return Trace([t, settings](const Renderer& r, auto points, auto normals, auto truth, auto error, glm::dvec3 eye) {
+            reference::SkySettings s = settings;
+            s.rotationRadians = r.settings().iblRotationDeg * (3.14159265358979f / 180.0f);
+            s.intensity = r.settings().iblIntensity;
+            t->irradiance(points, normals, s, truth, error, eye);
+        });
     };
+    if (auto built = q->poseAt({}); !built) return built.error();
     return q;
 }
 
-PlayResult<std::vector<std::pair<std::string, double>>> IrradianceQuality::measure(Renderer& renderer, bool followUp) {
+PlayResult<std::vector<std::pair<std::string, double>>> IrradianceQuality::measure(Renderer& renderer, bool followUp,
+                                                                                   const reference::FramePose& at) {
     auto indirect = renderer.capture(mBuffer);
     if (!indirect) return indirect.error();
     const size_t pixels = size_t(indirect->width) * indirect->height;
@@ -106,6 +109,7 @@ PlayResult<std::vector<std::pair<std::string, double>>> IrradianceQuality::measu
         normals[i] = glm::length(n) > 0.5f ? n : geometric[i];
         if (!std::isfinite(points[i].x)) player[i] = glm::vec3(std::numeric_limits<float>::quiet_NaN());
     }
+    if (auto posed = poseAt(at); !posed) return posed.error(); // the truth of this frame's instant
     std::vector<glm::vec3> truth(pixels), error(pixels);
     mTrace(renderer, points, normals, truth, error, shift);
     reference::IndirectErrorMetrics m = reference::compareIndirect(player, truth, error);

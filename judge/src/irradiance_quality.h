@@ -13,6 +13,7 @@
 #include <utility>
 #include <vector>
 
+#include "judged_scene.h"
 #include "pnb_player/renderer.h"
 #include "pnb_reference/indirect_tracer.h"
 #include "pnb_reference/sky_tracer.h"
@@ -30,7 +31,10 @@ public:
                                                                  const reference::SkySettings& settings);
     ~IrradianceQuality();
 
-    PlayResult<std::vector<std::pair<std::string, double>>> measure(Renderer& renderer, bool followUp);
+    // `at`: the instant the frame was drawn at (judgedPose): the truth is traced there (the
+    // tracer rebuilt only when the effective instant changes; a follow-up traces nothing).
+    PlayResult<std::vector<std::pair<std::string, double>>> measure(Renderer& renderer, bool followUp,
+                                                                     const reference::FramePose& at = {});
 
     // The last measured frame (not a follow-up) exactly as compared: per pixel the player's and
     // the truth's irradiance and the truth's standard error (a pixel counts where
@@ -49,6 +53,12 @@ private:
     using Trace = std::function<void(const Renderer&, std::span<const glm::vec3> points,
                                      std::span<const glm::vec3> normals, std::span<glm::vec3> truth,
                                      std::span<glm::vec3> error, glm::dvec3 eye)>;
+    // A tracer's Trace at an instant; the tracer of the last instant traced.
+    using Build = std::function<PlayResult<Trace>(const reference::FramePose&)>;
+    PlayResult<Done> poseAt(const reference::FramePose& at);
+    std::unique_ptr<JudgedScene> mJudged;
+    Build mBuild;
+    reference::FramePose mTracedAt;
     CaptureBuffer mBuffer = CaptureBuffer::Indirect;
     std::string mPrefix;
     Trace mTrace;

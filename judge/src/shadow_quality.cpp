@@ -3,8 +3,7 @@
 #include <cmath>
 #include <optional>
 
-#include "pnb/reader.h"
-#include "pnb/scene.h"
+#include "judged_scene.h"
 #include "pnb_reference/local_light.h"
 #include "pnb_reference/shadow_color_metrics.h"
 #include "pnb_reference/shadow_metrics.h"
@@ -13,8 +12,15 @@
 namespace pnb::player {
 
 struct ShadowQuality::Impl {
+    std::unique_ptr<JudgedScene> judged; // kept to trace it again at another instant
+    glm::dvec3 origin{0.0};
+    int judgedLight = -1;
+    reference::FramePose tracedAt; // the instant the tracer and the light are posed at (effective)
     std::unique_ptr<reference::ShadowTracer> tracer;
     std::optional<reference::LocalLight> local; // the judged point or spot light, if not the sun
+
+    // The tracer and the judged light posed at `at` (rebuilt only when the instant changes).
+    PlayResult<Done> poseAt(const reference::FramePose& at);
     // The last measured frame, for the follow-up's flicker and lastFrame().
     std::vector<float> previousPlayer, previousTruth;
     // With translucent casters (issue 43): the same frame in colour, as compared.
@@ -44,30 +50,43 @@ void addColorColumns(const reference::ShadowColorMetrics& m, std::vector<std::pa
 
 } // namespace
 
+PlayResult<Done> ShadowQuality::Impl::poseAt(const reference::FramePose& requested) {
+    const reference::FramePose at = reference::effectivePose(judged->scene, requested);
+    if (tracer && at == tracedAt) return Done{};
+    auto built = reference::ShadowTracer::build(judged->scene, origin, at);
+    if (!built) return PlayError{PlayErrorKind::Input, "shadow reference: " + built.error().message};
+    if (judgedLight >= 0) {
+        auto light = reference::placeLocalLight(judged->scene, uint32_t(judgedLight), at);
+        if (!light) return PlayError{PlayErrorKind::Usage, "shadows.judged_light: " + light.error().message};
+        local = std::move(*light);
+    }
+    tracer = std::move(*built);
+    tracedAt = at;
+    return Done{};
+}
+
 ShadowQuality::~ShadowQuality() = default;
 
 PlayResult<std::unique_ptr<ShadowQuality>> ShadowQuality::create(const std::string& containerPath,
                                                                  glm::dvec3 origin, int judgedLight) {
-    auto container = Container::open(containerPath);
-    if (!container) return PlayError{PlayErrorKind::Input, container.error().describe()};
-    auto scene = readScene(*container);
-    if (!scene) return PlayError{PlayErrorKind::Input, scene.error().describe()};
-    auto tracer = reference::ShadowTracer::build(*scene, origin);
-    if (!tracer) return PlayError{PlayErrorKind::Input, "shadow reference: " + tracer.error().message};
+    auto judged = JudgedScene::read(containerPath);
+    if (!judged) return judged.error();
     std::unique_ptr<ShadowQuality> q(new ShadowQuality());
     q->mImpl = std::make_unique<Impl>();
-    q->mImpl->tracer = std::move(*tracer);
-    if (judgedLight >= 0) {
-        auto light = reference::placeLocalLight(*scene, uint32_t(judgedLight));
-        if (!light) return PlayError{PlayErrorKind::Usage, "shadows.judged_light: " + light.error().message};
-        q->mImpl->local = std::move(*light);
-    }
+    q->mImpl->judged = std::move(*judged);
+    q->mImpl->origin = origin;
+    q->mImpl->judgedLight = judgedLight;
+    // Built now at the container as stored, so a scene the tracer refuses fails before any frame.
+    if (auto built = q->mImpl->poseAt({}); !built) return built.error();
     return q;
 }
 
 PlayResult<std::vector<std::pair<std::string, double>>> ShadowQuality::measure(Renderer& renderer,
                                                                                 glm::vec3 towardLight,
-                                                                                bool followUp) {
+                                                                                bool followUp,
+                                                                                const reference::FramePose& at) {
+    // The truth of the instant this frame was drawn at (the follow-up's own, for its flicker).
+    if (auto posed = mImpl->poseAt(at); !posed) return posed.error();
     auto position = renderer.capture(CaptureBuffer::Position);
     if (!position) return position.error();
     auto normal = renderer.capture(CaptureBuffer::Normal);

@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "pnb_player/renderer.h"
+#include "pnb_reference/frame_pose.h"
 
 namespace pnb::player {
 
@@ -31,9 +32,12 @@ public:
 
     // Captures position, normal and shadow buffers of the renderer's last frame and measures.
     // With followUp, the frame is the one displayed right after the previous measurement: only
-    // flicker against it is reported.
+    // flicker against it is reported. `at`: the instant the frame was drawn at (judgedPose): the
+    // truth is traced there, its geometry and the judged light posed (a tracer is rebuilt only
+    // when the effective instant changes).
     PlayResult<std::vector<std::pair<std::string, double>>> measure(Renderer& renderer, glm::vec3 towardLight,
-                                                                     bool followUp);
+                                                                     bool followUp,
+                                                                     const reference::FramePose& at = {});
 
     // The last measured frame (not a follow-up) exactly as compared: per pixel the player's
     // shadow factor and the truth's visibility (NaN where the player left the pixel out), rows

@@ -8,6 +8,7 @@
 #include "frame_error_maps.h"
 #include "frame_quality.h"
 #include "irradiance_quality.h"
+#include "judged_scene.h"
 #include "shadow_quality.h"
 #include "truth_error_maps.h"
 
@@ -20,7 +21,7 @@ public:
     ShadowJudge(std::unique_ptr<ShadowQuality> quality, glm::vec3 towardSun)
         : mQuality(std::move(quality)), mTowardSun(towardSun) {}
     PlayResult<std::vector<std::pair<std::string, double>>> measure(Renderer& renderer, bool followUp) override {
-        return mQuality->measure(renderer, mTowardSun, followUp);
+        return mQuality->measure(renderer, mTowardSun, followUp, judgedPose(renderer));
     }
     std::vector<ErrorMap> errorMaps() const override { return {shadowErrorMap(mQuality->lastFrame())}; }
 
@@ -35,7 +36,7 @@ public:
     IrradianceJudge(std::unique_ptr<IrradianceQuality> quality, std::string metric)
         : mQuality(std::move(quality)), mMetric(std::move(metric)) {}
     PlayResult<std::vector<std::pair<std::string, double>>> measure(Renderer& renderer, bool followUp) override {
-        return mQuality->measure(renderer, followUp);
+        return mQuality->measure(renderer, followUp, judgedPose(renderer));
     }
     std::vector<ErrorMap> errorMaps() const override {
         return {irradianceErrorMap(mMetric, mQuality->lastFrame()), irradianceSideBySide(mMetric, mQuality->lastFrame())};
@@ -51,7 +52,7 @@ class FrameJudge final : public TruthJudge {
 public:
     explicit FrameJudge(std::unique_ptr<FrameQuality> quality) : mQuality(std::move(quality)) {}
     PlayResult<std::vector<std::pair<std::string, double>>> measure(Renderer& renderer, bool followUp) override {
-        return mQuality->measure(renderer, followUp);
+        return mQuality->measure(renderer, followUp, judgedPose(renderer));
     }
     std::vector<ErrorMap> errorMaps() const override {
         return {frameErrorMap(mQuality->lastFrame()), frameSideBySide(mQuality->lastFrame())};

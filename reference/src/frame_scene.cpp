@@ -42,9 +42,11 @@ TracerResult<std::vector<glm::dvec4>> optionalStream(const Scene& scene, uint32_
 } // namespace
 
 TracerResult<std::unique_ptr<FrameScene>> FrameScene::build(const Scene& scene, glm::dvec3 origin,
-                                                            FrameStats& stats) {
+                                                            const FramePose& at, FrameStats& stats) {
     auto out = std::make_unique<FrameScene>();
     out->mOrigin = origin;
+    auto posed = PosedScene::make(scene, at); // the instant traced: geometry and lights
+    if (!posed) return posed.error();
 
     // Materials, each texture decoded once (block-compressed ones: the factor alone, counted).
     std::vector<int> decodedTexture(scene.textures.size(), -2); // -2 not tried, -1 undecodable
@@ -80,7 +82,7 @@ TracerResult<std::unique_ptr<FrameScene>> FrameScene::build(const Scene& scene, 
     stats.textures = uint32_t(out->mTextures.size());
 
     // Lights, as every tracer places them (placed_lights.h).
-    out->mLights = placeLights(scene, origin);
+    out->mLights = placeLights(scene, posed->world(), origin);
     stats.lights = uint32_t(out->mLights.size());
 
     // The environment's radiance image (as SkyTracer reads it): wraps in azimuth, clamps at the poles.
@@ -96,28 +98,37 @@ TracerResult<std::unique_ptr<FrameScene>> FrameScene::build(const Scene& scene, 
     }
     stats.environment = out->mEnvironment.has_value();
 
-    // Geometry: every level-0 surface, Blend included; per mesh what shading reads.
-    std::vector<int> meshSlot(scene.meshes.size(), -1);
+    // Geometry: every level-0 surface, Blend included; per mesh what shading reads, per node for
+    // a deformed one (its own positions, normals and tangents, in its drawing space).
+    std::vector<int> meshSlot(scene.meshes.size(), -1), deformedSlot(scene.nodes.nodes.size(), -1);
     std::vector<std::pair<unsigned, Instance>> placed;
     auto triangles = buildTriangleScene(
-        scene, origin,
-        [&](unsigned id, uint32_t, uint32_t mesh, const Submesh& sm,
+        scene, *posed, origin,
+        [&](unsigned id, uint32_t node, uint32_t mesh, const Submesh& sm,
             std::vector<uint32_t>&& indices) -> std::optional<TracerError> {
-            if (meshSlot[mesh] < 0) {
+            const DeformedVertices* deformed = posed->deformed(node);
+            int& slot = deformed ? deformedSlot[node] : meshSlot[mesh];
+            if (slot < 0) {
                 Mesh m;
-                auto p = decodeStream(scene, mesh, VertexSemantic::Position, true);
-                if (!p) return p.error();
-                m.position = convert<glm::vec3>(*p, [](const glm::dvec4& v) { return glm::vec3(v); });
                 bool flat = false;
-                auto nrm = optionalStream(scene, mesh, VertexSemantic::Normal, flat);
-                if (!nrm) return nrm.error();
-                m.normal = convert<glm::vec3>(*nrm, [](const glm::dvec4& v) { return glm::vec3(v); });
+                if (deformed) {
+                    for (const Vec3& v : deformed->positions) m.position.emplace_back(v.x, v.y, v.z);
+                    for (const Vec3& v : deformed->normals) m.normal.emplace_back(v.x, v.y, v.z);
+                    for (const Vec4& v : deformed->tangents) m.tangent.emplace_back(v.x, v.y, v.z, v.w);
+                } else {
+                    auto p = decodeStream(scene, mesh, VertexSemantic::Position, true);
+                    if (!p) return p.error();
+                    m.position = convert<glm::vec3>(*p, [](const glm::dvec4& v) { return glm::vec3(v); });
+                    auto nrm = optionalStream(scene, mesh, VertexSemantic::Normal, flat);
+                    if (!nrm) return nrm.error();
+                    m.normal = convert<glm::vec3>(*nrm, [](const glm::dvec4& v) { return glm::vec3(v); });
+                    bool ignored = false;
+                    auto tan = optionalStream(scene, mesh, VertexSemantic::Tangent, ignored);
+                    if (!tan) return tan.error();
+                    m.tangent = convert<glm::vec4>(*tan, [](const glm::dvec4& v) { return glm::vec4(v); });
+                }
                 if (m.normal.empty()) flat = true;
                 stats.meshesWithoutNormals += flat;
-                bool ignored = false;
-                auto tan = optionalStream(scene, mesh, VertexSemantic::Tangent, ignored);
-                if (!tan) return tan.error();
-                m.tangent = convert<glm::vec4>(*tan, [](const glm::dvec4& v) { return glm::vec4(v); });
                 for (int set = 0; set < 2; ++set) {
                     auto uv = decodeStream(scene, mesh, set ? VertexSemantic::TexCoord1 : VertexSemantic::TexCoord0, false);
                     if (!uv) return uv.error();
@@ -126,12 +137,12 @@ TracerResult<std::unique_ptr<FrameScene>> FrameScene::build(const Scene& scene, 
                 auto c = decodeStream(scene, mesh, VertexSemantic::Color0, false);
                 if (!c) return c.error();
                 m.color = convert<glm::vec4>(*c, [](const glm::dvec4& v) { return glm::vec4(v); });
-                meshSlot[mesh] = int(out->mMeshes.size());
+                slot = int(out->mMeshes.size());
                 out->mMeshes.push_back(std::move(m));
             }
             Instance inst;
             inst.material = sm.material;
-            inst.mesh = uint32_t(meshSlot[mesh]);
+            inst.mesh = uint32_t(slot);
             inst.indices = std::move(indices);
             placed.emplace_back(id, std::move(inst));
             return std::nullopt;

@@ -46,7 +46,9 @@ struct FrameSurface {
 
 class FrameScene {
 public:
-    static TracerResult<std::unique_ptr<FrameScene>> build(const Scene& scene, glm::dvec3 origin, FrameStats& stats);
+    // At instant `at` (posed_scene.h).
+    static TracerResult<std::unique_ptr<FrameScene>> build(const Scene& scene, glm::dvec3 origin, const FramePose& at,
+                                                           FrameStats& stats);
 
     // A per-thread query context (self_intersection.h) for a camera at origin-relative `eye`.
     TraceContext context(glm::dvec3 eye) const;

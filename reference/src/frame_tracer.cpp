@@ -176,10 +176,11 @@ struct FrameTracer::Impl {
 FrameTracer::FrameTracer() : mImpl(std::make_unique<Impl>()) {}
 FrameTracer::~FrameTracer() = default;
 
-TracerResult<std::unique_ptr<FrameTracer>> FrameTracer::build(const Scene& scene, glm::dvec3 origin) {
+TracerResult<std::unique_ptr<FrameTracer>> FrameTracer::build(const Scene& scene, glm::dvec3 origin,
+                                                              const FramePose& at) {
     const auto start = std::chrono::steady_clock::now();
     std::unique_ptr<FrameTracer> tracer(new FrameTracer);
-    auto built = detail::FrameScene::build(scene, origin, tracer->mStats);
+    auto built = detail::FrameScene::build(scene, origin, at, tracer->mStats);
     if (!built) return built.error();
     tracer->mImpl->scene = std::move(*built);
     tracer->mImpl->origin = origin;

@@ -193,10 +193,13 @@ void IndirectTracer::Impl::addDirect(const std::vector<int>& lightIndices, const
 IndirectTracer::IndirectTracer() : mImpl(std::make_unique<Impl>()) {}
 IndirectTracer::~IndirectTracer() = default;
 
-TracerResult<std::unique_ptr<IndirectTracer>> IndirectTracer::build(const Scene& scene, glm::dvec3 origin) {
+TracerResult<std::unique_ptr<IndirectTracer>> IndirectTracer::build(const Scene& scene, glm::dvec3 origin,
+                                                                    const FramePose& at) {
     auto start = std::chrono::steady_clock::now();
-    auto shadows = ShadowTracer::build(scene, origin); // also validates nodes, meshes, indices
+    auto shadows = ShadowTracer::build(scene, origin, at); // also validates nodes, meshes, indices, the pose
     if (!shadows) return shadows.error();
+    auto posed = detail::PosedScene::make(scene, at);
+    if (!posed) return posed.error();
     std::unique_ptr<IndirectTracer> tracer(new IndirectTracer);
     Impl& impl = *tracer->mImpl;
     IndirectStats& stats = tracer->mStats;
@@ -230,7 +233,7 @@ TracerResult<std::unique_ptr<IndirectTracer>> IndirectTracer::build(const Scene&
 
     // Lights, as every tracer places them (placed_lights.h).
     std::vector<const Light*> placed; // impl.lights' descriptors, in the player's order (by node)
-    for (const detail::PlacedLight& p : detail::placeLights(scene, origin)) {
+    for (const detail::PlacedLight& p : detail::placeLights(scene, posed->world(), origin)) {
         LightInfo info;
         info.type = p.type;
         info.radiance = p.radiance;
@@ -254,7 +257,7 @@ TracerResult<std::unique_ptr<IndirectTracer>> IndirectTracer::build(const Scene&
     uvs[1].resize(scene.meshes.size());
     std::vector<bool> decoded(scene.meshes.size(), false);
     auto reflectors = detail::buildTriangleScene(
-        scene, origin,
+        scene, *posed, origin,
         [&](unsigned id, uint32_t, uint32_t mesh, const Submesh& sm,
             std::vector<uint32_t>&& indices) -> std::optional<TracerError> {
             if (!decoded[mesh]) {

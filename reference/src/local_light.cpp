@@ -11,13 +11,14 @@
 #include <glm/mat4x4.hpp>
 
 #include "mesh_decode.h"
+#include "posed_scene.h"
 #include "pnb/light_range.h"
 #include "pnb/node_transform.h"
 #include "pnb_lighting/scene_lights.h"
 
 namespace pnb::reference {
 
-TracerResult<LocalLight> placeLocalLight(const Scene& scene, uint32_t index) {
+TracerResult<LocalLight> placeLocalLight(const Scene& scene, uint32_t index, const FramePose& at) {
     auto inputError = [](std::string message) {
         return TracerError{TracerErrorKind::Input, std::move(message)};
     };
@@ -35,11 +36,13 @@ TracerResult<LocalLight> placeLocalLight(const Scene& scene, uint32_t index) {
                                      "by its direction, without a light index)");
 
     const std::vector<Node>& nodes = scene.nodes.nodes;
-    std::vector<Matrix4d> world; // computed only when some node places the light
+    // The node placement of the instant traced (posed_scene.h; no vertex is deformed for this).
+    auto posed = detail::PosedScene::make(scene, at);
+    if (!posed) return posed.error();
+    const std::vector<Matrix4d>& world = posed->world();
     for (uint32_t i = 0; i < nodes.size(); ++i) {
         if (nodes[i].light != index) continue;
         if (out.placementNodes++ > 0) continue; // the first node places it
-        world = nodeWorldMatrices(scene.nodes);
         const glm::dmat4 m = glm::make_mat4(world[i].data());
         out.node = i;
         out.position = glm::dvec3(m[3]);

@@ -12,9 +12,9 @@
 
 namespace pnb::reference::detail {
 
-std::vector<PlacedLight> placeLights(const Scene& scene, glm::dvec3 origin) {
+std::vector<PlacedLight> placeLights(const Scene& scene, const std::vector<Matrix4d>& worldMatrices,
+                                     glm::dvec3 origin) {
     std::vector<PlacedLight> lights;
-    const std::vector<Matrix4d> worldMatrices = nodeWorldMatrices(scene.nodes);
     for (size_t i = 0; i < scene.nodes.nodes.size(); ++i) {
         const Node& n = scene.nodes.nodes[i];
         if (n.light == kNone || n.light >= scene.lights.lights.size()) continue;

@@ -1,6 +1,6 @@
 // placed_lights.h — the scene's lights where their nodes put them, as the Monte-Carlo tracers
-// light with them (IndirectTracer, FrameTracer): in the player's order (by node), world transforms
-// composed in double (pnb/node_transform.h), positions relative to the tracer's origin, the range
+// light with them (IndirectTracer, FrameTracer): in the player's order (by node), placed by the
+// world matrices of the pose traced (PosedScene::world(), composed in double), positions relative to the tracer's origin, the range
 // the player shades with (pnb/light_range.h). Internal to pnb_reference.
 #pragma once
 
@@ -8,6 +8,7 @@
 
 #include <glm/vec3.hpp>
 
+#include "pnb/node_transform.h"
 #include "pnb/scene.h"
 
 namespace pnb::reference::detail {
@@ -22,6 +23,7 @@ struct PlacedLight {
     double cosOuter = -1, cosInner = 1;   // a spot's cone (others: every direction)
 };
 
-std::vector<PlacedLight> placeLights(const Scene& scene, glm::dvec3 origin);
+// `world`: every node's world matrix (PosedScene::world()).
+std::vector<PlacedLight> placeLights(const Scene& scene, const std::vector<Matrix4d>& world, glm::dvec3 origin);
 
 } // namespace pnb::reference::detail

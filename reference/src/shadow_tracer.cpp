@@ -8,6 +8,7 @@
 #include "pnb/node_transform.h"
 #include "mesh_decode.h"
 #include "embree_geometry.h"
+#include "posed_scene.h"
 #include "self_intersection.h"
 #include "translucency.h"
 
@@ -104,7 +105,7 @@ private:
 ShadowTracer::~ShadowTracer() = default;
 
 TracerResult<std::unique_ptr<ShadowTracer>> ShadowTracer::build(const Scene& scene,
-                                                                glm::dvec3 origin) {
+                                                                glm::dvec3 origin, const FramePose& at) {
     auto start = Clock::now();
     std::unique_ptr<ShadowTracer> tracer(new ShadowTracer);
     tracer->mOrigin = origin;
@@ -134,8 +135,6 @@ TracerResult<std::unique_ptr<ShadowTracer>> ShadowTracer::build(const Scene& sce
 
     TracerStats& stats = tracer->mStats;
     const std::vector<Node>& nodes = scene.nodes.nodes;
-    std::vector<std::vector<glm::dvec4>> decoded(scene.meshes.size()); // decoded on first use
-    std::vector<bool> isDecoded(scene.meshes.size(), false);
     std::vector<uint32_t> triangleIndices; // the instance's opaque casters, one geometry
     std::vector<std::pair<const Submesh*, std::vector<uint32_t>>> translucent; // one geometry each
 
@@ -143,8 +142,11 @@ TracerResult<std::unique_ptr<ShadowTracer>> ShadowTracer::build(const Scene& sce
         if (nodes[i].parent != kNone && nodes[i].parent >= i)
             return inputError(nodeName(scene, uint32_t(i)) + ": parent " + std::to_string(nodes[i].parent) +
                               " does not precede it");
-    // Every drawn copy of a mesh, as the player places them (EXT_mesh_gpu_instancing included).
-    for (const MeshInstance& copy : meshInstances(scene.nodes, nodeWorldMatrices(scene.nodes))) {
+    // Every drawn copy of a mesh, as the player places them (EXT_mesh_gpu_instancing included),
+    // in the pose traced (posed_scene.h).
+    auto posed = detail::PosedScene::make(scene, at);
+    if (!posed) return posed.error();
+    for (const MeshInstance& copy : posed->instances()) {
         const size_t i = copy.node;
         const Node& n = nodes[i];
         if (n.mesh >= scene.meshes.size())
@@ -198,17 +200,13 @@ TracerResult<std::unique_ptr<ShadowTracer>> ShadowTracer::build(const Scene& sce
         std::erase_if(translucent, [](const auto& t) { return t.second.empty(); });
         if (triangleIndices.empty() && translucent.empty()) continue;
 
-        if (!isDecoded[n.mesh]) {
-            auto positions = detail::decodeStream(scene, n.mesh, VertexSemantic::Position, true);
-            if (!positions) return positions.error();
-            decoded[n.mesh] = std::move(*positions);
-            isDecoded[n.mesh] = true;
-        }
+        auto positions = posed->positions(copy.node);
+        if (!positions) return positions.error();
         const glm::dmat4 world = glm::make_mat4(copy.world.data());
         auto attach = [&](const std::vector<uint32_t>& indices, RTCFilterFunctionN filter) {
             stats.triangles += indices.size() / 3;
             return detail::attachTriangles(embree.device, embree.scene,
-                                           {decoded[n.mesh], world, origin, indices, filter, false},
+                                           {*positions, world, origin, indices, filter, false},
                                            embree.triangleTolerances, tracer->mWorldBand);
         };
         if (!triangleIndices.empty() && !attach(triangleIndices, rejectOwnSurface))

@@ -51,7 +51,7 @@ SkyTracer::~SkyTracer() = default;
 
 bool SkyTracer::hasRadianceImage() const { return mImpl->radiance.has_value(); }
 
-TracerResult<std::unique_ptr<SkyTracer>> SkyTracer::build(const Scene& scene, glm::dvec3 origin) {
+TracerResult<std::unique_ptr<SkyTracer>> SkyTracer::build(const Scene& scene, glm::dvec3 origin, const FramePose& at) {
     auto start = std::chrono::steady_clock::now();
     if (!scene.environment)
         return TracerError{TracerErrorKind::Input,
@@ -89,7 +89,9 @@ TracerResult<std::unique_ptr<SkyTracer>> SkyTracer::build(const Scene& scene, gl
         impl.radianceSh.c[size_t(k)] = glm::dvec3(c.x, c.y, c.z) / kCosineLobe[kBandOf[k]];
     }
 
-    auto occluders = detail::buildTriangleScene(scene, origin);
+    auto posed = detail::PosedScene::make(scene, at);
+    if (!posed) return posed.error();
+    auto occluders = detail::buildTriangleScene(scene, *posed, origin);
     if (!occluders) return occluders.error();
     impl.occluders = std::move(*occluders);
     stats.triangles = impl.occluders->triangles;

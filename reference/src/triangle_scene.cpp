@@ -22,7 +22,7 @@ TriangleScene::~TriangleScene() {
     if (device) rtcReleaseDevice(device);
 }
 
-TracerResult<std::unique_ptr<TriangleScene>> buildTriangleScene(const Scene& scene, glm::dvec3 origin,
+TracerResult<std::unique_ptr<TriangleScene>> buildTriangleScene(const Scene& scene, PosedScene& posed, glm::dvec3 origin,
                                                                 const TriangleInstanceCallback& onInstance,
                                                                 BlendSurfaces blend) {
     auto inputError = [](std::string message) { return TracerError{TracerErrorKind::Input, std::move(message)}; };
@@ -35,11 +35,9 @@ TracerResult<std::unique_ptr<TriangleScene>> buildTriangleScene(const Scene& sce
     rtcSetSceneFlags(out->scene, RTC_SCENE_FLAG_ROBUST);
     rtcSetSceneBuildQuality(out->scene, RTC_BUILD_QUALITY_HIGH);
 
-    const std::vector<Matrix4d> worldMatrices = nodeWorldMatrices(scene.nodes);
-    std::vector<std::vector<glm::dvec4>> positions(scene.meshes.size()); // decoded on first use
-    std::vector<bool> decoded(scene.meshes.size(), false);
-    // Every drawn copy of a mesh, as the player places them (EXT_mesh_gpu_instancing included).
-    for (const MeshInstance& copy : meshInstances(scene.nodes, worldMatrices)) {
+    // Every drawn copy of a mesh, as the player places them (EXT_mesh_gpu_instancing included),
+    // in the pose traced.
+    for (const MeshInstance& copy : posed.instances()) {
         const size_t i = copy.node;
         const Node& n = scene.nodes.nodes[i];
         if (n.mesh >= scene.meshes.size())
@@ -74,18 +72,13 @@ TracerResult<std::unique_ptr<TriangleScene>> buildTriangleScene(const Scene& sce
                 indices.push_back(index);
             }
             if (indices.empty()) continue;
-            if (!decoded[n.mesh]) {
-                auto p = decodeStream(scene, n.mesh, VertexSemantic::Position, true);
-                if (!p) return p.error();
-                positions[n.mesh] = std::move(*p);
-                decoded[n.mesh] = true;
-            }
-            const auto& pos = positions[n.mesh];
+            auto pos = posed.positions(copy.node);
+            if (!pos) return pos.error();
 
             // Both queries: IndirectTracer intersects (it needs the hit), SkyTracer only asks
             // whether anything is in the way.
             const RTCFilterFunctionN filter = translucent ? passTranslucent : rejectOwnSurface;
-            const auto id = attachTriangles(out->device, out->scene, {pos, world, origin, indices, filter, true},
+            const auto id = attachTriangles(out->device, out->scene, {*pos, world, origin, indices, filter, true},
                                             out->tolerances, out->worldBand);
             if (!id) return TracerError{TracerErrorKind::Embree, "Embree: attaching a geometry failed"};
             out->triangles += indices.size() / 3;

@@ -17,6 +17,7 @@
 
 #include "pnb/scene.h"
 #include "pnb_reference/shadow_tracer.h"
+#include "posed_scene.h"
 #include "translucency.h"
 
 namespace pnb::reference::detail {
@@ -56,11 +57,12 @@ enum class BlendSurfaces : uint8_t {
                  // the whole-frame tracer decides per hit whether a ray passes (frame_scene.h)
 };
 
-// World transforms composed in double (pnb/node_transform.h), vertices made relative to `origin`
-// before they are rounded to float, as ShadowTracer does. Errors: Input (a node, material or
+// The copies and positions of `posed` (posed_scene.h: the scene at the instant traced; world
+// transforms composed in double), vertices made relative to `origin` before they are rounded to
+// float, as ShadowTracer does. The callback's node tells a deformed copy (posed.deformed). Errors: Input (a node, material or
 // index out of range, a submesh past the index buffer, no position stream), Unsupported
 // (octahedral positions), Embree.
-TracerResult<std::unique_ptr<TriangleScene>> buildTriangleScene(const Scene& scene, glm::dvec3 origin,
+TracerResult<std::unique_ptr<TriangleScene>> buildTriangleScene(const Scene& scene, PosedScene& posed, glm::dvec3 origin,
                                                                 const TriangleInstanceCallback& onInstance = {},
                                                                 BlendSurfaces blend = BlendSurfaces::Translucent);
 

@@ -126,6 +126,21 @@ std::vector<pnb::cli::Option> options(Settings& s, bool& help) {
                    else s.skyIntensity = v;
                    return true;
                }),
+        valued("", "--anim-clip", "C",
+               "trace the scene posed by clip C (an index, a clip's name, or none: the rest pose) instead of "
+               "frame.json's \"anim\"",
+               [&s](const char* a) { s.animClip = std::string(a); return true; }),
+        valued("", "--anim-time", "T",
+               "trace the scene posed at T seconds into the clip (looped as the player's clock loops it) instead "
+               "of frame.json's \"anim\"; alone: frame.json's clip, else the first",
+               [&s](const char* a) {
+                   char* end = nullptr;
+                   const double v = std::strtod(a, &end);
+                   if (end == a || *end || !std::isfinite(v))
+                       s.usageError = std::string("--anim-time needs a number, not ") + a;
+                   else s.animTime = v;
+                   return true;
+               }),
         flag("", "--whole-frame",
              "instead of the shadow verdict: the whole frame path traced (needs frame.json only): "
              "whole_frame.exr (linear HDR), whole_frame_stderr.exr, whole_frame.png (tone mapped at "
@@ -167,7 +182,9 @@ void printHelp(const std::vector<pnb::cli::Option>& table) {
         "frame path traced (every light, the environment, emissive surfaces, glTF materials, N\n"
         "bounces; needs frame.json only), progressive until the noise target, --spp or the time\n"
         "limit; the defaults (16 bounces, relative noise 0.003, 120 s) converge box-room's\n"
-        "480x270 frame on 2 cores within the limit. See docs/REFERENCE.md.\n\n"
+        "480x270 frame on 2 cores within the limit. Every truth traces the scene posed at the\n"
+        "frame's instant (frame.json's \"anim\": clip and clip time; --anim-clip/--anim-time\n"
+        "override it). See docs/REFERENCE.md.\n\n"
         "options:\n");
     std::fputs(pnb::cli::helpText(table, {.column = 27}).c_str(), stdout);
     std::printf("\nexit codes: 0 ok, 1 usage, 2 input error, 3 unsupported scene data,\n"

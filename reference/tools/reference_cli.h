@@ -23,6 +23,10 @@ struct Settings {
     pnb::reference::FrameTraceSettings frameSettings;
     // Given on the command line (they override what frame.json records).
     std::optional<double> skyRotationDegrees, skyIntensity;
+    // --anim-clip C (an index, a name or none), --anim-time T (seconds): the instant traced,
+    // instead of frame.json's "anim" (reference_pose.h).
+    std::optional<std::string> animClip;
+    std::optional<double> animTime;
     std::string usageError; // an option's value that could not be used (exit 1)
 };
 

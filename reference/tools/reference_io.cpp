@@ -107,6 +107,30 @@ Expected<Frame> readFrameJson(const std::string& path) {
         if (!ok) return fail("\"camera_world_from_view\" must be 3 columns of 3 finite numbers");
         f.worldFromView = m;
     }
+    if (auto it = j.find("anim"); it != j.end()) {
+        const std::string what = "\"anim\" must be an object with \"enabled\" (a boolean), \"clip\" (an integer "
+                                 ">= 0 or null), \"clip_name\" (a string) and \"time\" (a finite number)";
+        if (!it->is_object()) return fail(what);
+        Frame::Animation a;
+        if (auto e = it->find("enabled"); e != it->end()) {
+            if (!e->is_boolean()) return fail(what);
+            a.enabled = e->get<bool>();
+        }
+        if (auto c = it->find("clip"); c != it->end() && !c->is_null()) {
+            if (!c->is_number_integer() || c->get<int64_t>() < 0 || c->get<int64_t>() > int64_t(UINT32_MAX))
+                return fail(what + ", not clip " + c->dump());
+            a.clip = uint32_t(c->get<int64_t>());
+        }
+        if (auto n = it->find("clip_name"); n != it->end() && !n->is_null()) {
+            if (!n->is_string()) return fail(what);
+            a.clipName = n->get<std::string>();
+        }
+        if (auto t = it->find("time"); t != it->end()) {
+            if (!t->is_number() || !std::isfinite(t->get<double>())) return fail(what + ", not time " + t->dump());
+            a.time = t->get<double>();
+        }
+        f.anim = a;
+    }
     return f;
 }
 

@@ -13,6 +13,7 @@
 #include <glm/vec3.hpp>
 
 #include "pnb/error.h"
+#include "pnb_reference/frame_pose.h"
 
 namespace pnb::reference_tool {
 
@@ -42,6 +43,19 @@ struct Frame {
     std::optional<glm::dmat3> worldFromView; // columns: the view's +X, +Y, +Z in world
     std::optional<std::string> projection;   // "perspective" or "orthographic"
     std::optional<double> yfov, aspect, xmag, ymag, exposure;
+    // The animation state the frame was drawn at (optional key "anim", docs/REFERENCE.md "Moving
+    // frames"): the clip (none: the rest pose) and the clip time the player sampled, or enabled =
+    // false (the container as stored). Absent: as stored, as every frame before issue 42.
+    struct Animation {
+        bool enabled = true;
+        std::optional<uint32_t> clip;
+        std::string clipName;
+        double time = 0;
+    };
+    std::optional<Animation> anim;
+    // The instant traced: `anim` with the command line's --anim-clip/--anim-time applied, checked
+    // against the scene (reference_pose.h resolvePose fills it once the scene is read).
+    pnb::reference::FramePose pose;
 };
 
 Expected<Frame> readFrameJson(const std::string& path);

@@ -103,7 +103,7 @@ Expected<nlohmann::ordered_json> runIndirect(const Settings& settings, const pnb
         if (!p) return p.error();
         player = std::move(*p);
     }
-    auto tracer = IndirectTracer::build(scene, frame.cameraPosition);
+    auto tracer = IndirectTracer::build(scene, frame.cameraPosition, frame.pose);
     if (!tracer) return tracerFailure(settings.scene, tracer.error());
     const size_t pixels = positions.size();
     const std::vector<glm::vec3> normals = irradianceNormals(positions, shadingNormals, frame);
@@ -164,7 +164,7 @@ Expected<nlohmann::ordered_json> runSky(const Settings& settings, const pnb::Sce
         if (!p) return p.error();
         player = std::move(*p);
     }
-    auto tracer = SkyTracer::build(scene, frame.cameraPosition);
+    auto tracer = SkyTracer::build(scene, frame.cameraPosition, frame.pose);
     if (!tracer) return tracerFailure(settings.scene, tracer.error());
     pnb::reference::SkySettings sky = settings.skySettings;
     if (sky.source == SkySource::Image && !(*tracer)->hasRadianceImage())

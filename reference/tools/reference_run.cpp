@@ -24,6 +24,7 @@
 #include "reference_color.h"
 #include "reference_io.h"
 #include "reference_irradiance.h"
+#include "reference_pose.h"
 
 namespace pnb::reference_tool {
 
@@ -106,7 +107,7 @@ Expected<JudgedLight> placeJudgedLight(const Settings& settings, const pnb::Scen
                                        const std::string& in) {
     JudgedLight light;
     if (!frame.shadowLightIndex) return light;
-    auto placed = pnb::reference::placeLocalLight(scene, *frame.shadowLightIndex);
+    auto placed = pnb::reference::placeLocalLight(scene, *frame.shadowLightIndex, frame.pose);
     if (!placed)
         return Failure{kExitInput, in + "frame.json: \"shadow_light_index\" " +
                                        std::to_string(*frame.shadowLightIndex) + ": " + placed.error().message +
@@ -340,10 +341,13 @@ int run(const Settings& settings) {
     if (!container) return fail({kExitInput, settings.scene + ": " + container.error().describe()});
     auto scene = pnb::readScene(*container);
     if (!scene) return fail({kExitInput, settings.scene + ": " + scene.error().describe()});
+    auto pose = resolvePose(settings, inputs->frame, *scene, in + "frame.json");
+    if (!pose) return fail(pose.error());
+    inputs->frame.pose = *pose;
     auto light = placeJudgedLight(settings, *scene, inputs->frame, in);
     if (!light) return fail(light.error());
 
-    auto tracer = ShadowTracer::build(*scene, inputs->frame.cameraPosition);
+    auto tracer = ShadowTracer::build(*scene, inputs->frame.cameraPosition, inputs->frame.pose);
     if (!tracer) return fail(tracerFailure(settings.scene, tracer.error()));
     const Truth truth = traceVisibility(**tracer, *inputs, *light);
     const Comparison comparison = compareWithPlayer(*inputs, truth, *light);
@@ -351,6 +355,7 @@ int run(const Settings& settings) {
     if (auto images = writeShadowImages(outDir, *inputs, truth, comparison, *light); !images)
         return fail(images.error());
     nlohmann::ordered_json j = metricsJson(settings, *inputs, truth, comparison, *light, (*tracer)->stats());
+    j["pose"] = poseJson(inputs->frame.pose, *scene);
     std::optional<pnb::reference::ShadowColorMetrics> color;
     if (inputs->shadowColor) {
         auto judged = judgeShadowColor(outDir, inputs->frame, *inputs->shadowColor, truth.color,

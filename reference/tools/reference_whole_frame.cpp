@@ -13,6 +13,7 @@
 #include "pnb_lighting/tonemap.h"
 #include "reference_io.h"
 #include "reference_irradiance.h" // tracerFailure
+#include "reference_pose.h"
 
 namespace pnb::reference_tool {
 
@@ -114,7 +115,9 @@ int runWholeFrame(const Settings& settings) {
     pnb::reference::FrameTraceSettings s = settings.frameSettings;
     s.iblRotationRadians = settings.skyRotationDegrees.value_or(frame->iblRotationDegrees.value_or(0.0)) * kPi / 180.0;
     s.iblIntensity = settings.skyIntensity.value_or(frame->iblIntensity.value_or(1.0));
-    auto tracer = pnb::reference::FrameTracer::build(*scene, frame->cameraPosition);
+    auto pose = resolvePose(settings, *frame, *scene, in + "frame.json");
+    if (!pose) return fail(pose.error());
+    auto tracer = pnb::reference::FrameTracer::build(*scene, frame->cameraPosition, *pose);
     if (!tracer) return fail(tracerFailure(settings.scene, tracer.error()));
     const pnb::reference::FrameImage image = (*tracer)->render(*camera, s);
     const float exposure = float(frame->exposure.value_or(1.0));
@@ -130,6 +133,7 @@ int runWholeFrame(const Settings& settings) {
         if (!parsed.is_discarded() && parsed.is_object()) j = std::move(parsed);
     }
     j["whole_frame"] = wholeFrameJson(image, s, exposure);
+    j["whole_frame"]["pose"] = poseJson(*pose, *scene);
     if (auto json = writeText(metricsPath, j.dump(2) + "\n"); !json) return fail(json.error());
     if (!settings.quiet)
         std::printf("whole frame: %dx%d, %u samples/pixel in %u passes, %u bounces, relative noise %.2e "

@@ -43,7 +43,8 @@ PlayResult<Done> writeTextFile(const std::string& path, const std::string& text)
     return Done{};
 }
 
-std::string tracerFrameJson(const GpuScene& scene, const Renderer& renderer, const BenchOptions& options) {
+std::string tracerFrameJson(const GpuScene& scene, const Renderer& renderer, const BenchOptions& options,
+                            const FrameAnimation& anim) {
     glm::dvec3 eye = renderer.lastView().position;
     glm::vec3 toward = towardShadowingSun(scene);
     nlohmann::json fj = {{"camera_position", {eye.x, eye.y, eye.z}},
@@ -69,6 +70,11 @@ std::string tracerFrameJson(const GpuScene& scene, const Renderer& renderer, con
     // A point or spot light judged (shadows.judged_light): pnb-reference traces that light,
     // placed as the container places it.
     if (renderer.settings().shadowJudgedLight >= 0) fj["shadow_light_index"] = renderer.settings().shadowJudgedLight;
+    // The instant drawn: the truth poses the scene there (pnb-reference reads it).
+    fj["anim"] = {{"enabled", anim.enabled},
+                  {"clip", anim.clip ? nlohmann::json(*anim.clip) : nlohmann::json(nullptr)},
+                  {"clip_name", anim.clipName},
+                  {"time", anim.time}};
     return fj.dump(2) + "\n";
 }
 

@@ -10,14 +10,17 @@
 #include <nlohmann/json.hpp>
 
 #include "bench_records.h"
+#include "pnb_player/frame_animation.h"
 
 namespace pnb::player {
 
 // Writes `text` atomically (pnb/atomic_file.h). Errors are Io.
 PlayResult<Done> writeTextFile(const std::string& path, const std::string& text);
 
-// "<capture>_frame.json": the eye, the light and the environment as lit (docs/REFERENCE.md).
-std::string tracerFrameJson(const GpuScene& scene, const Renderer& renderer, const BenchOptions& options);
+// "<capture>_frame.json": the eye, the light, the environment as lit and the animation state
+// the frame was drawn at ("anim", pnb_player/frame_animation.h) (docs/REFERENCE.md).
+std::string tracerFrameJson(const GpuScene& scene, const Renderer& renderer, const BenchOptions& options,
+                            const FrameAnimation& anim);
 
 // quality.csv and summary.json's "quality" from the quality pass's rows (frame, metric -> value).
 QualityTable qualityTable(const std::vector<std::string>& columns,

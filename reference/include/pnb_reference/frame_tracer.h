@@ -112,8 +112,10 @@ class FrameTracer {
 public:
     // Builds the Embree scene of `scene` (every level-0 submesh instance; Blend ones too),
     // vertices relative to `origin` (world, normally the camera), decodes its textures, lights
-    // and environment. Errors as ShadowTracer::build.
-    static TracerResult<std::unique_ptr<FrameTracer>> build(const Scene& scene, glm::dvec3 origin);
+    // and environment. `at`: the instant traced (frame_pose.h): geometry (deformed normals and
+    // tangents included) and lights posed there. Errors as ShadowTracer::build.
+    static TracerResult<std::unique_ptr<FrameTracer>> build(const Scene& scene, glm::dvec3 origin,
+                                                            const FramePose& at = {});
 
     ~FrameTracer();
     FrameTracer(const FrameTracer&) = delete;

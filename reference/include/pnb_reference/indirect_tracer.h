@@ -92,7 +92,9 @@ class IndirectTracer {
 public:
     // Builds the reflector scene and the shadow-caster tracer of `scene`, vertices relative to
     // `origin` (world, normally the camera). Errors as ShadowTracer::build.
-    static TracerResult<std::unique_ptr<IndirectTracer>> build(const Scene& scene, glm::dvec3 origin);
+    // `at`: the instant traced (frame_pose.h): geometry and lights posed there.
+    static TracerResult<std::unique_ptr<IndirectTracer>> build(const Scene& scene, glm::dvec3 origin,
+                                                               const FramePose& at = {});
 
     ~IndirectTracer();
     IndirectTracer(const IndirectTracer&) = delete;

@@ -46,8 +46,9 @@ struct LocalLight {
 };
 
 // Light `index` of the scene placed by its node. Errors (Input, naming the light): index past the
-// LGHT chunk, a directional light, a light no node references (it has no position).
-TracerResult<LocalLight> placeLocalLight(const Scene& scene, uint32_t index);
+// LGHT chunk, a directional light, a light no node references (it has no position), a pose whose
+// clip does not exist. `at`: the instant whose node placement puts it (frame_pose.h).
+TracerResult<LocalLight> placeLocalLight(const Scene& scene, uint32_t index, const FramePose& at = {});
 
 // lights.glsl's falloff, on the CPU. These must equal shaders/include/lights.glsl
 // (rangeAttenuation and its spot term, where a light is shaded) formula for formula, constants

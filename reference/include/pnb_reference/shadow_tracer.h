@@ -5,7 +5,8 @@
 // Does: builds one Embree scene (RTC_BUILD_QUALITY_HIGH, robust mode, triangle geometry) from the
 // shadow casters of a pnb::Scene — every level-0 submesh instance whose material has
 // castsShadows = true, Blend ones as translucent casters (issue 43) — with world
-// transforms composed in double from the node graph (as the player's buildSceneGraph does) and
+// transforms composed in double from the node graph (as the player's buildSceneGraph does; at a
+// FramePose, the posed graph and deformed meshes: frame_pose.h, docs/REFERENCE.md "Moving frames") and
 // vertices made relative to a caller-given origin before they are rounded to float; then answers
 // "is this point lit?" for many points at once, on all cores, with 16-ray packets: by a ray to
 // infinity (directional) or by the segment to a light's position (visibilityToPoint); and "how
@@ -33,6 +34,7 @@
 
 #include "pnb/error.h"
 #include "pnb/scene.h"
+#include "pnb_reference/frame_pose.h"
 
 namespace pnb::reference {
 
@@ -92,7 +94,10 @@ public:
     // stream), Unsupported (octahedral positions), Embree (device or build failure).
     // `scene` is read only during the call. Thread safety: build() may run concurrently with
     // itself (each call owns its Embree device).
-    static TracerResult<std::unique_ptr<ShadowTracer>> build(const Scene& scene, glm::dvec3 origin);
+    // `at`: the instant traced (frame_pose.h; default: the container as stored); Input errors
+    // also for a clip it names that does not exist.
+    static TracerResult<std::unique_ptr<ShadowTracer>> build(const Scene& scene, glm::dvec3 origin,
+                                                             const FramePose& at = {});
 
     ~ShadowTracer();
     ShadowTracer(const ShadowTracer&) = delete;

@@ -72,7 +72,9 @@ public:
     // ENVM chunk (sky light needs one) or its radiance texture cannot be read (missing level 0,
     // short data, a format other than RGBA16F/RGBA32F); otherwise as ShadowTracer::build. An
     // environment without a radiance texture builds: only SkySource::Sh can then be traced.
-    static TracerResult<std::unique_ptr<SkyTracer>> build(const Scene& scene, glm::dvec3 origin);
+    // `at`: the instant traced (frame_pose.h): the occluders posed there.
+    static TracerResult<std::unique_ptr<SkyTracer>> build(const Scene& scene, glm::dvec3 origin,
+                                                          const FramePose& at = {});
 
     ~SkyTracer();
     SkyTracer(const SkyTracer&) = delete;
