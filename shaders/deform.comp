@@ -61,8 +61,8 @@ vec3 normalised(vec3 v) {
 }
 
 #ifdef MORPH
-vec3 delta(uint target, uint attribute, uint v) {
-    const uint i = (target * uMorphAttributes + attribute) * uMorphStride + 3u * v;
+vec3 delta(uint target, uint slot, uint v) {
+    const uint i = (target * uMorphAttributes + slot) * uMorphStride + 3u * v;
     return vec3(uMorph[i], uMorph[i + 1u], uMorph[i + 2u]);
 }
 #endif

@@ -393,7 +393,9 @@ TEST(Animation, DisabledDrawsTheStoredPoseWithoutDeforming) {
     EXPECT_EQ(readColumn(), stored);
     // The moving block is at rest too.
     for (const DrawItem& item : p.scene->items) {
-        if (item.node == 5) EXPECT_DOUBLE_EQ(item.world[3].x, -0.5);
+        if (item.node == 5) {
+            EXPECT_DOUBLE_EQ(item.world[3].x, -0.5);
+        }
     }
     RenderSettings on = off;
     on.animEnabled = true;
@@ -402,7 +404,9 @@ TEST(Animation, DisabledDrawsTheStoredPoseWithoutDeforming) {
     EXPECT_EQ(p.renderer->lastFrame().deformDispatches, 2u);
     EXPECT_NE(readColumn(), stored);
     for (const DrawItem& item : p.scene->items) {
-        if (item.node == 5) EXPECT_DOUBLE_EQ(item.world[3].x, 0.5);
+        if (item.node == 5) {
+            EXPECT_DOUBLE_EQ(item.world[3].x, 0.5);
+        }
     }
     // The same pose again: nothing to deform.
     ASSERT_TRUE(p.renderer->render(overview(), 64, 48).ok());
