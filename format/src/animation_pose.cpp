@@ -302,8 +302,12 @@ DeformBounds deformBounds(const Scene& scene, uint32_t node) {
         for (size_t v = 0; v < mesh.vertexCount; ++v) {
             float sum = 0;
             for (size_t i = 0; i < 4; ++i) sum += detail::streamFloat(weights->data, 4 * v + i);
+            if (!(sum > 0)) { // deformVertices leaves it unskinned: no joint moves it
+                b.unskinned.grow(position(v));
+                continue;
+            }
             for (size_t i = 0; i < 4; ++i)
-                if (detail::streamFloat(weights->data, 4 * v + i) > 0 || !(sum > 0)) {
+                if (detail::streamFloat(weights->data, 4 * v + i) > 0) {
                     const uint32_t j = std::min<uint32_t>(detail::streamJoint(*joints, 4 * v + i), uint32_t(b.jointBoxes.size() - 1));
                     b.jointBoxes[j].grow(position(v));
                 }
@@ -331,6 +335,11 @@ Aabb deformedBounds(const DeformBounds& b, const std::vector<std::array<float, 1
     float grow = 0;
     for (size_t k = 0; k < b.targetReach.size() && k < weights.size(); ++k) grow += std::abs(weights[k]) * b.targetReach[k];
     Aabb out;
+    if (!b.unskinned.empty())
+        for (int c = 0; c < 8; ++c)
+            out.grow({c & 1 ? b.unskinned.max.x + grow : b.unskinned.min.x - grow,
+                      c & 2 ? b.unskinned.max.y + grow : b.unskinned.min.y - grow,
+                      c & 4 ? b.unskinned.max.z + grow : b.unskinned.min.z - grow});
     for (size_t j = 0; j < b.jointBoxes.size(); ++j) {
         const Aabb& box = b.jointBoxes[j];
         if (box.empty()) continue;

@@ -148,6 +148,7 @@ std::vector<Action> InputMapper::apply(const InputEvent& e, bool uiWantsInput) {
         case GLFW_KEY_K: actions.push_back({ActionType::AddKey, 0, {}}); break;
         case GLFW_KEY_F12: actions.push_back({ActionType::Screenshot, 0, {}}); break;
         case GLFW_KEY_O: actions.push_back({ActionType::ToggleOrbit, 0, {}}); break;
+        case GLFW_KEY_SPACE: actions.push_back({ActionType::TogglePlay, 0, {}}); break;
         default: break;
         }
         break;

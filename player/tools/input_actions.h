@@ -69,6 +69,7 @@ enum class ActionType {
     AddKey,          // K
     Screenshot,      // F12
     ToggleOrbit,     // O
+    TogglePlay,      // Space: play / pause the animation (anim.play)
     Speed,           // wheel: amount = notches (log steps)
     Zoom,            // Ctrl/right button + wheel: amount = notches (> 0 narrows the view)
     Open,            // a dropped file: path

@@ -8,6 +8,7 @@
 #include <imgui.h>
 
 #include <algorithm>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -32,8 +33,46 @@ bool Overlay::wantsInput() const {
     return ImGui::GetIO().WantCaptureMouse || ImGui::GetIO().WantCaptureKeyboard;
 }
 
+namespace {
+
+// Play/pause, the time slider and the clip choice (anim.*).
+bool drawPlayback(const Renderer& renderer, const SceneAnimation& a, RenderSettings& settings) {
+    bool changed = false;
+    const std::optional<uint32_t> clip = resolveClip(a, settings.animClip);
+    const float now = float(renderer.lastFrame().animationTime);
+    if (ImGui::Button(settings.animPlay ? "pause" : "play")) {
+        settings.animTime = now; // resume from (or hold) the pose shown
+        settings.animPlay = !settings.animPlay;
+        changed = true;
+    }
+    ImGui::SameLine();
+    const float length = clip ? float(a.clipDurations[*clip]) : 0.0f;
+    float t = now;
+    if (ImGui::SliderFloat("time", &t, 0.0f, std::max(length, 1e-3f), "%.3f s")) {
+        settings.animTime = t;
+        settings.animPlay = false; // scrubbing holds the pose
+        changed = true;
+    }
+    std::vector<std::string> names = {"none"};
+    int current = 0;
+    for (size_t i = 0; i < a.clipNames.size(); ++i) {
+        names.push_back(std::to_string(i) + (a.clipNames[i].empty() ? "" : ": " + a.clipNames[i]));
+        if (clip && *clip == i) current = int(i + 1);
+    }
+    std::vector<const char*> labels;
+    for (const std::string& n : names) labels.push_back(n.c_str());
+    if (ImGui::Combo("clip", &current, labels.data(), int(labels.size()))) {
+        settings.animClip = current == 0 ? "none" : std::to_string(current - 1);
+        settings.animTime = 0;
+        changed = true;
+    }
+    return changed;
+}
+
+} // namespace
+
 bool Overlay::draw(const Renderer& renderer, const FrameGpuTimes* times, RenderSettings& settings,
-                   const std::vector<std::string>& status) {
+                   const std::vector<std::string>& status, const SceneAnimation* animation) {
     ImGui_ImplOpenGL3_NewFrame();
     ImGui_ImplGlfw_NewFrame();
     ImGui::NewFrame();
@@ -44,6 +83,10 @@ bool Overlay::draw(const Renderer& renderer, const FrameGpuTimes* times, RenderS
     if (!status.empty()) ImGui::Separator();
     if (const std::string& note = renderer.debugViewNote(); !note.empty()) {
         ImGui::TextColored(ImVec4(1, 0.75f, 0.3f, 1), "%s", note.c_str());
+        ImGui::Separator();
+    }
+    if (animation) {
+        changed |= drawPlayback(renderer, *animation, settings);
         ImGui::Separator();
     }
     const FrameStats& s = renderer.lastFrame();
@@ -95,6 +138,7 @@ bool Overlay::draw(const Renderer& renderer, const FrameGpuTimes* times, RenderS
         }
     }
     ImGui::TextDisabled("WASD/QE move, right-drag look, O orbit, wheel speed, Ctrl+wheel zoom");
+    ImGui::TextDisabled("Space play/pause the animation");
     ImGui::TextDisabled("F9 record path, K add key, F12 screenshot, Esc quit, drop a file to open");
     ImGui::End();
     ImGui::Render();

@@ -21,8 +21,11 @@ public:
     // Draws the overlay into the default framebuffer; returns true if a setting changed
     // (`settings` then holds the new values). `status` lines (camera speed and field of view,
     // recording state, the last message) are shown above the timings.
+    // With `animation` (a scene that plays clips), a playback section first: play/pause (which
+    // holds the pose where it is: anim.time takes the current time), a time slider over the
+    // clip's length (scrubbing pauses), and the clip.
     bool draw(const Renderer& renderer, const FrameGpuTimes* lastTimes, RenderSettings& settings,
-              const std::vector<std::string>& status = {});
+              const std::vector<std::string>& status = {}, const SceneAnimation* animation = nullptr);
     bool wantsInput() const;
 };
 

@@ -107,6 +107,11 @@ private:
     InputMapper mMapper;
     std::deque<InputEvent> mQueue;
     std::unique_ptr<Overlay> mOverlay;
+    // Playback (anim.*): the clock since anim.time, anim.play or anim.clip last changed.
+    double mAnimationClock = 0;
+    float mPlayedFrom = 0;
+    bool mPlaying = true;
+    std::string mPlayedClip = "0";
     std::string mSceneFile, mMessage, mTitle;
     bool mQuit = false, mMinimised = false, mScreenshotPending = false;
     uint32_t mScreenshots = 0;
@@ -278,6 +283,12 @@ void Session::handle(const Action& a) {
         break;
     case ActionType::Screenshot: mScreenshotPending = true; break;
     case ActionType::ToggleOrbit: mFly.toggleOrbit(); break;
+    case ActionType::TogglePlay:
+        if (!mScene->animation) break;
+        mSettings.animTime = float(mRenderer->lastFrame().animationTime); // hold / resume here
+        mSettings.animPlay = !mSettings.animPlay;
+        mRenderer->setSettings(mSettings);
+        break;
     case ActionType::Speed: mFly.scaleSpeed(a.amount); break;
     case ActionType::Zoom: mFly.zoom(a.amount); break;
     case ActionType::Open: openScene(a.path); break;
@@ -340,6 +351,17 @@ int Session::run() {
                 break;
             }
         }
+        // Playback's clock: the time played since anim.time or anim.play last changed (pausing,
+        // scrubbing and a clip choice restart it from anim.time), by the window's frame step.
+        if (mSettings.animTime != mPlayedFrom || mSettings.animPlay != mPlaying || mSettings.animClip != mPlayedClip) {
+            mPlayedFrom = mSettings.animTime;
+            mPlaying = mSettings.animPlay;
+            mPlayedClip = mSettings.animClip;
+            mAnimationClock = 0;
+        } else if (mPlaying) {
+            mAnimationClock += dt;
+        }
+        mRenderer->setAnimationClock(mAnimationClock);
         if (auto r = mRenderer->render(mFly.camera(), rw, rh); !r) {
             error(r.error().message);
             mExitCode = 3;
@@ -366,7 +388,7 @@ int Session::run() {
         done.clear();
         mRenderer->presentToWindow(w, h);
         if (mOverlay && mOverlay->draw(*mRenderer, lastTimes.passes.empty() ? nullptr : &lastTimes, mSettings,
-                                       status()))
+                                       status(), mScene->animation.get()))
         {
             mRenderer->setSettings(mSettings);
             applyStreamLimits();

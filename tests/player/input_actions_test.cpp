@@ -50,6 +50,7 @@ TEST(InputMapper, KeysTriggerActionsOnThePressEdgeOnly) {
     EXPECT_EQ(types(m.apply(key(GLFW_KEY_K, true))), std::vector{ActionType::AddKey});
     EXPECT_EQ(types(m.apply(key(GLFW_KEY_F12, true))), std::vector{ActionType::Screenshot});
     EXPECT_EQ(types(m.apply(key(GLFW_KEY_O, true))), std::vector{ActionType::ToggleOrbit});
+    EXPECT_EQ(types(m.apply(key(GLFW_KEY_SPACE, true))), std::vector{ActionType::TogglePlay});
     EXPECT_TRUE(m.apply(key(GLFW_KEY_W, true)).empty());
     EXPECT_TRUE(m.state().key(GLFW_KEY_W));
     m.apply(key(GLFW_KEY_W, false));

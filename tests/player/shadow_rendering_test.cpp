@@ -182,7 +182,7 @@ TEST(ShadowRendering, DeferredMaterialThatDoesNotReceiveIsLitAsWithShadowsOff) {
     struct Frame {
         CapturedImage hdr, position;
     };
-    auto render = [&](const GpuScene& scene, ShadowTechnique t) {
+    auto render = [&](GpuScene& scene, ShadowTechnique t) {
         Frame f;
         auto renderer = Renderer::create(scene, shadowSettings(t));
         EXPECT_TRUE(renderer.ok());

@@ -86,6 +86,7 @@ struct DeformBounds {
     std::vector<Aabb> jointBoxes;       // per joint (empty box: influences nothing); or one box
                                         // without a skin
     std::vector<float> targetReach;     // per morph target: its longest position delta
+    Aabb unskinned; // vertices whose weights sum to 0: the skin leaves them where they are
 };
 DeformBounds deformBounds(const Scene& scene, uint32_t node);
 Aabb deformedBounds(const DeformBounds& bounds, const std::vector<std::array<float, 16>>& joints,

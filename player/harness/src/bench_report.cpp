@@ -108,7 +108,7 @@ QualityTable qualityTable(const std::vector<std::string>& columns,
 }
 
 std::string framesCsv(const std::vector<FrameRecord>& records, const std::vector<std::string>& passNames,
-                      bool streaming) {
+                      bool streaming, bool animated) {
     std::ostringstream csv;
     csv << "frame,time_s,cpu_ms,gpu_total_ms";
     for (const std::string& n : passNames) csv << ",gpu_" << n << "_ms";
@@ -118,6 +118,9 @@ std::string framesCsv(const std::vector<FrameRecord>& records, const std::vector
     if (streaming)
         csv << ",stream_ms,stream_upload_bytes,stream_evicted_bytes,resident_bytes,"
                "needed_bytes,bytes_read,streaming";
+    // Playback (an animated scene only): the pose's clip time, the deform pass's dispatches and
+    // the draw items the pose moved (their GPU time is gpu_deform_ms).
+    if (animated) csv << ",anim_time_s,deform_dispatches,deform_vertices,moved_items";
     csv << '\n';
     for (size_t k = 0; k < records.size(); ++k) {
         const FrameRecord& r = records[k];
@@ -137,6 +140,9 @@ std::string framesCsv(const std::vector<FrameRecord>& records, const std::vector
             csv << ',' << r.streamMs << ',' << r.stream.frame.uploadedBytes << ',' << r.stream.frame.evictedBytes
                 << ',' << r.stream.residentBytes << ',' << r.stream.neededBytes << ','
                 << r.stream.bytesRead << ',' << (r.stream.complete ? 0 : 1);
+        if (animated)
+            csv << ',' << r.stats.animationTime << ',' << r.stats.deformDispatches << ',' << r.stats.deformVertices
+                << ',' << r.stats.movedItems;
         csv << '\n';
     }
     return csv.str();

@@ -28,7 +28,7 @@ QualityTable qualityTable(const std::vector<std::string>& columns,
 
 // frames.csv: one row per timed frame (columns: pnb_player/benchmark.h).
 std::string framesCsv(const std::vector<FrameRecord>& records, const std::vector<std::string>& passNames,
-                      bool streaming);
+                      bool streaming, bool animated = false);
 
 // Everything summary.json is made of.
 struct SummaryInputs {

@@ -114,6 +114,9 @@ PlayResult<TimedRun> runTimedFrames(const GpuScene& scene, Renderer& renderer, c
             rec.stream = options.stream->status();
             if (rec.stream.complete && !run.fullQualityMs) run.fullQualityMs = msBetween(wallStart, Clock::now());
         }
+        // Playback follows the same clock as the path: the fixed step in headless runs, so two
+        // runs pose frame k identically (anim.*, docs/PLAYER.md "Animation").
+        renderer.setAnimationClock(t);
         if (auto r = renderer.render(run.camera, options.width, options.height); !r) return r.error();
         rec.pathTime = t;
         rec.stats = renderer.lastFrame();
@@ -170,6 +173,7 @@ PlayResult<QualityTable> runQualityPass(Renderer& renderer, const BenchOptions& 
             if (plan.path)
                 evaluatePath(plan.path->path, plan.start + run.records[k].pathTime + (followUp ? 1.0 / 60.0 : 0.0),
                              run.camera);
+            renderer.setAnimationClock(run.records[k].pathTime + (followUp ? 1.0 / 60.0 : 0.0));
             if (auto r = renderer.render(run.camera, options.width, options.height); !r) return r.error();
             auto m = options.quality.measure(k, renderer, followUp);
             if (!m) return m.error();
@@ -208,7 +212,8 @@ PlayResult<Done> writeReports(const SummaryInputs& in, const std::vector<std::st
                               BenchResult& result) {
     const std::string& outDir = in.options.outDir;
     std::string csvPath = outDir + "/frames.csv";
-    if (auto w = writeTextFile(csvPath, framesCsv(in.run.records, passNames, in.options.stream != nullptr)); !w)
+    if (auto w = writeTextFile(csvPath, framesCsv(in.run.records, passNames, in.options.stream != nullptr,
+                                                      in.scene.animation != nullptr)); !w)
         return w.error();
     result.written.push_back(csvPath);
     if (!in.quality.summary.empty()) {

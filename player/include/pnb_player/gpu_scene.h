@@ -12,7 +12,9 @@
 // Streaming (scene_stream.h) fills the same GpuScene progressively: the textures' storage
 // (GpuTexture::firstLevel, bytes) changes between frames.
 //
-// Does NOT do: skinning, morph targets, animation other than camera paths.
+// Animation (scene_animation.h): a scene with clips or deformed nodes carries what playing them
+// needs; the renderer poses the items, lights and cameras each frame (Renderer::render), so
+// those fields change between frames for animated nodes.
 #pragma once
 
 #include <array>
@@ -31,6 +33,7 @@
 #include "pnb/scene.h"
 #include "pnb_player/gl_handles.h"
 #include "pnb_player/play_error.h"
+#include "pnb_player/scene_animation.h"
 
 namespace pnb::player {
 
@@ -79,7 +82,9 @@ struct DrawLevel {
 // One level-0 submesh of one mesh instance, with its simplified levels: the unit the renderer
 // culls, sorts, picks a level for and draws. A scene without LODs has levelCount = 1 everywhere.
 struct DrawItem {
-    uint32_t node = 0, mesh = 0, material = 0;
+    uint32_t node = 0, mesh = 0, material = 0; // mesh: GpuScene::meshes, a posed mesh for a
+                                               // deformed node (scene_animation.h)
+    uint32_t containerMesh = 0; // the container's MESH index (= mesh unless the node deforms)
     uint32_t firstLevel = 0, levelCount = 1; // GpuScene::levels[firstLevel ..], level 0 first
     glm::dmat4 world{1.0};
     glm::mat3 normalMatrix{1.0f}; // inverse-transpose of world's 3x3 (no translation: float is fine)
@@ -188,6 +193,9 @@ struct GpuScene {
     std::vector<SceneLight> lights;
     std::vector<SceneCamera> cameras;
     std::vector<ScenePath> paths;
+    // Clips, skins and morph targets, and the deformed nodes' posed meshes (appended to
+    // `meshes` after the container's); null for a scene that neither moves nor deforms.
+    std::unique_ptr<SceneAnimation> animation;
     GpuMemory memory;
     uint64_t triangles = 0; // at level 0
 
@@ -200,6 +208,12 @@ struct GpuScene {
 
     const ScenePath* findPath(std::string_view pathName) const; // "" = the first
 };
+
+// What a cache of the whole scene's geometry compares (the sky's height map): changes with
+// material edits and streamed levels (materialsVersion) and whenever the pose moves an item.
+inline uint64_t geometryVersion(const GpuScene& scene) {
+    return scene.materialsVersion + (scene.animation ? scene.animation->poseVersion : 0);
+}
 
 // Needs a current GL 4.5 context. Errors: Input (damaged or inconsistent container, naming the
 // chunk and byte offset), Gl (a program does not compile).

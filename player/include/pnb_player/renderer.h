@@ -54,6 +54,12 @@ struct FrameStats {
     uint32_t localShadowTiles = 0, localShadowTilesDrawn = 0;
     uint32_t localShadowDraws = 0; // their draws and triangles (not in shadowDraws/Triangles: the sun's)
     uint64_t localShadowTriangles = 0;
+    // Animation (docs/PLAYER.md "Animation"): the deform pass's dispatches and vertices (0 when
+    // the pose did not change), and the draw items the pose moved this frame.
+    uint32_t deformDispatches = 0;
+    uint64_t deformVertices = 0;
+    uint32_t movedItems = 0;
+    double animationTime = 0; // the pose's clip time, seconds (0 without a clip)
 };
 
 struct TargetMemory {
@@ -122,12 +128,21 @@ RenderSettings settingsForCurrentDriver();
 
 class Renderer {
 public:
-    // Compiles the player's built-in programs the scene needs; errors name the program.
-    static PlayResult<std::unique_ptr<Renderer>> create(const GpuScene& scene,
-                                                        const RenderSettings& settings);
+    // Compiles the player's built-in programs the scene needs; errors name the program. The
+    // renderer poses an animated scene's items, lights and cameras each frame (the scene's
+    // animation: scene_animation.h), so it takes the scene to change; a static scene is only read.
+    static PlayResult<std::unique_ptr<Renderer>> create(GpuScene& scene, const RenderSettings& settings);
     ~Renderer();
 
     void setSettings(const RenderSettings& settings);
+
+    // The playback clock: seconds since playback started, for the next frames (the pose is at
+    // anim.time + anim.speed x clock while anim.play). Headless and benchmark runs set it to the
+    // frame's fixed-step time, the window to its played wall time. Starts at 0.
+    void setAnimationClock(double seconds);
+    double animationClock() const;
+    // The pose of the last frame: its time (anim.time + speed x clock) and its clip's time.
+    double animationTime() const;
     const RenderSettings& settings() const { return mSettings; }
 
     // Renders one frame at width x height into the output target.

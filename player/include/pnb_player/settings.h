@@ -166,6 +166,15 @@ struct RenderSettings {
     float iblVisibilityRadius = 0.0f; // ibl.visibility_radius: scene units; 0 = 1/8 of the
                                       // scene bounds' diagonal
     uint32_t iblHeightResolution = 1024; // ibl.height_resolution: the height map's side, texels
+
+    // anim.*: playback of the container's clips, skins and morph targets (docs/PLAYER.md
+    // "Animation"). The pose's time is anim.time + anim.speed x the clock while anim.play.
+    bool animEnabled = true;     // anim.enabled: false = the container as stored (bind pose,
+                                 // nodes at rest, no deform pass): the frozen baseline
+    std::string animClip = "0";  // anim.clip: a clip's index or name; "none" = the rest pose
+    bool animPlay = true;        // anim.play: false = the pose held at anim.time
+    float animTime = 0.0f;       // anim.time: seconds, where playback starts (or holds)
+    float animSpeed = 1.0f;      // anim.speed: clock seconds to clip seconds
 };
 
 // The sky-visibility mode the settings ask for, Auto resolved: Probes when GI runs with the

@@ -34,7 +34,11 @@ struct EnumField {
     int (*get)(const RenderSettings&);
     void (*set)(RenderSettings&, int);
 };
-using Field = std::variant<FloatField, UIntField, IntField, BoolField, EnumField>;
+// Free text, checked by the consumer (anim.clip: an index or a name the scene decides on).
+struct StringField {
+    std::string RenderSettings::*member;
+};
+using Field = std::variant<FloatField, UIntField, IntField, BoolField, EnumField, StringField>;
 
 template <auto Member>
 EnumField enumField(std::span<const std::string_view> names) {
@@ -327,6 +331,22 @@ const Row kRows[] = {
       "pass's real state, so the driver generates its code during load and no frame along a "
       "path pays for it (off: for measuring what it saves)"},
      BoolField{&S::warmUp}},
+    {{"anim.enabled", "bool",
+      "play the container's animation (clips, skins, morph targets); false = the container as "
+      "stored: the bind pose, every node at rest, no deform pass (the frozen baseline)"},
+     BoolField{&S::animEnabled}},
+    {{"anim.clip", "index|name|none",
+      "the clip played: its index (0 = the first), its name, or none (the rest pose; skins and "
+      "morph targets still deform, at the rest pose and default weights)"},
+     StringField{&S::animClip}},
+    {{"anim.play", "bool",
+      "advance the clock (headless and benchmark runs by the fixed frame step, the window by "
+      "wall time); false = the pose held at anim.time"},
+     BoolField{&S::animPlay}},
+    {{"anim.time", "float -1e6..1e6", "seconds into the clip where playback starts (or holds); clips loop"},
+     FloatField{&S::animTime, -1e6f, 1e6f}},
+    {{"anim.speed", "float -100..100", "clip seconds per clock second (negative: backwards)"},
+     FloatField{&S::animSpeed, -100.0f, 100.0f}},
 };
 
 std::span<const Row> rows() { return kRows; }
@@ -393,6 +413,9 @@ PlayResult<Done> applySetting(RenderSettings& settings, std::string_view key,
         if (value == "1" || value == "true" || value == "on") settings.*(b->member) = true;
         else if (value == "0" || value == "false" || value == "off") settings.*(b->member) = false;
         else return usage(key, value, "a bool (1/0, true/false, on/off)");
+    } else if (const auto* t = std::get_if<StringField>(&row->field)) {
+        if (value.empty()) return usage(key, value, row->info.type);
+        settings.*(t->member) = std::string(value);
     } else {
         const auto& e = std::get<EnumField>(row->field);
         auto it = std::find(e.names.begin(), e.names.end(), value);
@@ -421,6 +444,7 @@ std::string settingValue(const RenderSettings& settings, std::string_view key) {
         return std::to_string(settings.*(n->member));
     if (const auto* b = std::get_if<BoolField>(&row->field))
         return settings.*(b->member) ? "true" : "false";
+    if (const auto* t = std::get_if<StringField>(&row->field)) return settings.*(t->member);
     const auto& e = std::get<EnumField>(row->field);
     return std::string(e.names[size_t(e.get(settings))]);
 }
@@ -457,6 +481,7 @@ std::string settingNote(std::string_view key, const RenderSettings& s) {
                " draws one map";
     if (in("ibl.") && key != "ibl.enabled" && !s.iblEnabled) return "ibl.enabled is false";
     if (key == "debug.gi_slice" && s.debugView != DebugView::GiVolume) return "debug.view is not gi_volume";
+    if (in("anim.") && key != "anim.enabled" && !s.animEnabled) return "anim.enabled is false";
     if (key == "gi.bounces" && s.giTechnique != GiTechnique::Probes) return "gi.technique is not probes";
     return {};
 }

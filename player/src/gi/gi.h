@@ -124,6 +124,10 @@ struct GiFrame {
     size_t rsmFrameOffset = 0, blockOffset = 0;
     float lightScale = 0, geometryScale = 0; // fixed-point units per 1.0
     std::vector<uint64_t> probeInputs; // probes: this frame's inputs (GiResources::probeInputs)
+    // The pose version at which something last moved inside the probes' grid (kept across
+    // frames): the occupancy grid and the probes follow moving geometry within it only.
+    uint64_t poseInGrid = 0;
+    uint64_t geometryVersion = 0; // materialsVersion + poseInGrid: the occupancy grid's key
     bool probesCurrent = false;        // probes: the volume already holds them (no RSM, no gather)
 };
 

@@ -166,9 +166,12 @@ void listProbeInputs(const FrameView& in, GiFrame& f) {
     auto put = [&](double v) { f.probeInputs.push_back(std::bit_cast<uint64_t>(v)); };
     for (int k = 0; k < 3; ++k) put(f.toward[k]), put(outer.origin[k]);
     put(outer.cellSize);
+    const glm::dvec3 gridMax = outer.origin + glm::dvec3(outer.cellSize * double(outer.cells));
+    if (movedWithin(in.scene.animation.get(), outer.origin, gridMax)) f.poseInGrid = in.scene.animation->poseVersion;
+    f.geometryVersion = in.scene.materialsVersion + f.poseInGrid;
     f.probeInputs.insert(f.probeInputs.end(), {outer.cells, s.giRsmResolution, s.giVpls, s.giVoxels,
                                                uint64_t(s.giProbeVisibility), s.giBounces,
-                                               in.scene.materialsVersion,
+                                               f.geometryVersion,
                                                in.scene.texelsVersion});
     for (uint32_t i : f.rsmItems) f.probeInputs.push_back(drawLevel(in.scene, in.lod, i));
     for (uint32_t i : f.rsmGlassItems) f.probeInputs.push_back(drawLevel(in.scene, in.lod, i));

@@ -81,9 +81,8 @@ namespace {
 
 void voxelizeScene(FrameContext& ctx, GiContext& gi, const LpvCascade& box) {
     GiResources& r = gi.resources;
-    const GpuScene& scene = ctx.scene;
     const double cell = box.cellSize * double(box.cells) / double(r.voxelSide);
-    if (r.voxelVersion == scene.materialsVersion && r.voxelOrigin == box.origin && r.voxelCell == cell) return;
+    if (r.voxelVersion == gi.frame.geometryVersion && r.voxelOrigin == box.origin && r.voxelCell == cell) return;
     const uint8_t zero = 0;
     glClearTexImage(r.voxels.id(), 0, GL_RED_INTEGER, GL_UNSIGNED_BYTE, &zero);
     const glm::dmat4 toGrid = glm::translate(glm::dmat4(1.0), -box.origin);
@@ -127,7 +126,7 @@ void voxelizeScene(FrameContext& ctx, GiContext& gi, const LpvCascade& box) {
     glEnable(GL_DEPTH_TEST);
     r.skyCurrent = r.depthCurrent = false;
     // The warm-up frame draws cut (Renderer::warmUp): only a real frame's grid is kept.
-    r.voxelVersion = ctx.warmUp ? ~0ull : scene.materialsVersion;
+    r.voxelVersion = ctx.warmUp ? ~0ull : gi.frame.geometryVersion;
     r.voxelOrigin = box.origin;
     r.voxelCell = cell;
 }

@@ -1,5 +1,10 @@
 #include "load/upload.h"
 
+#include <algorithm>
+#include <string>
+
+#include "shared/deform_params.h" // PNB_DEFORM_ABSENT
+
 namespace pnb::player {
 
 namespace {
@@ -80,6 +85,83 @@ PlayResult<GpuMesh> uploadMesh(const Mesh& mesh, uint32_t index, bool withData) 
     m.primitive = kPrimitive[size_t(mesh.primitive)];
     m.submeshes = mesh.submeshes;
     std::string label = "mesh " + std::to_string(index);
+    glObjectLabel(GL_BUFFER, m.buffer.id(), GLsizei(label.size()), label.c_str());
+    return m;
+}
+
+PlayResult<GpuMesh> createPosedMesh(const Mesh& mesh, const GpuMesh& source, DeformedNode& d, uint32_t index) {
+    GpuMesh m;
+    const MeshLayout layout = meshLayout(mesh);
+    auto words = [](uint64_t bytes) { return uint32_t(bytes / 4); };
+    // The posed streams: positions, then normals and tangents where the mesh has them, each at a
+    // 16-byte boundary.
+    uint64_t size = alignUp(uint64_t(mesh.vertexCount) * 12, 16);
+    uint64_t posedOffset[3] = {0, 0, 0};
+    d.normal = d.tangent = d.joints = d.weights = PNB_DEFORM_ABSENT;
+    d.posedNormal = d.posedTangent = PNB_DEFORM_ABSENT;
+    for (size_t i = 0; i < mesh.streams.size(); ++i) {
+        const VertexStream& s = mesh.streams[i];
+        const uint32_t at = words(layout.segments[i].offset);
+        switch (s.semantic) {
+        case VertexSemantic::Position: d.position = at; break;
+        case VertexSemantic::Normal:
+            d.normal = at;
+            posedOffset[1] = size;
+            d.posedNormal = words(size);
+            size = alignUp(size + uint64_t(mesh.vertexCount) * 12, 16);
+            break;
+        case VertexSemantic::Tangent:
+            d.tangent = at;
+            posedOffset[2] = size;
+            d.posedTangent = words(size);
+            size = alignUp(size + uint64_t(mesh.vertexCount) * 16, 16);
+            break;
+        case VertexSemantic::Joints0:
+            d.joints = at;
+            d.jointsU16 = s.componentType == ComponentType::U16;
+            break;
+        case VertexSemantic::Weights0: d.weights = at; break;
+        default: break;
+        }
+    }
+    d.vertexCount = mesh.vertexCount;
+    d.posedBytes = size;
+    m.buffer = createBuffer();
+    glNamedBufferStorage(m.buffer.id(), GLsizeiptr(std::max<uint64_t>(size, 16)), nullptr, 0);
+    // The stored (bind) pose until the deform pass first runs, and while anim.enabled is false.
+    for (size_t i = 0; i < mesh.streams.size(); ++i) {
+        const VertexStream& s = mesh.streams[i];
+        const int moved = s.semantic == VertexSemantic::Position ? 0 : s.semantic == VertexSemantic::Normal ? 1
+                          : s.semantic == VertexSemantic::Tangent ? 2 : -1;
+        if (moved >= 0)
+            glCopyNamedBufferSubData(source.buffer.id(), m.buffer.id(), GLintptr(layout.segments[i].offset),
+                                     GLintptr(posedOffset[moved]), GLsizeiptr(s.data.size()));
+    }
+    m.bytes = size;
+    m.vertexArray = createVertexArray();
+    const GLuint vao = m.vertexArray.id();
+    for (size_t i = 0; i < mesh.streams.size(); ++i) {
+        const VertexStream& s = mesh.streams[i];
+        const int location = attributeLocation(s.semantic);
+        if (location < 0) continue;
+        const auto loc = GLuint(location);
+        const int moved = s.semantic == VertexSemantic::Position ? 0 : s.semantic == VertexSemantic::Normal ? 1
+                          : s.semantic == VertexSemantic::Tangent ? 2 : -1;
+        const GLsizei stride = GLsizei(componentSizeBytes(s.componentType) * s.componentCount);
+        glEnableVertexArrayAttrib(vao, loc);
+        glVertexArrayAttribFormat(vao, loc, s.componentCount, glComponent(s.componentType),
+                                  s.normalized ? GL_TRUE : GL_FALSE, 0);
+        glVertexArrayAttribBinding(vao, loc, loc);
+        if (moved >= 0) glVertexArrayVertexBuffer(vao, loc, m.buffer.id(), GLintptr(posedOffset[moved]), stride);
+        else glVertexArrayVertexBuffer(vao, loc, source.buffer.id(), GLintptr(layout.segments[i].offset), stride);
+    }
+    glVertexArrayElementBuffer(vao, source.buffer.id());
+    m.indexType = source.indexType;
+    m.indexSize = source.indexSize;
+    m.indexOffset = source.indexOffset;
+    m.primitive = source.primitive;
+    m.submeshes = source.submeshes;
+    const std::string label = "posed mesh " + std::to_string(index) + " (node " + std::to_string(d.node) + ")";
     glObjectLabel(GL_BUFFER, m.buffer.id(), GLsizei(label.size()), label.c_str());
     return m;
 }

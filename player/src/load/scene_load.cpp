@@ -129,6 +129,11 @@ PlayResult<Done> compileNeededPrograms(const Scene& scene, GpuScene& gpu) {
                 gpu.shadowSources.emplace_back(i, std::move(kept));
             }
         }
+        // The deform pass's program, where a node deforms (scene_animation.h).
+        if (name == "deform" && gpu.animation && !gpu.animation->deformed.empty() && !gpu.animation->deformProgram) {
+            gpu.animation->deformProgram = i;
+            wanted.insert(i);
+        }
         if (name == "tonemap" && !gpu.tonemapProgram) {
             gpu.tonemapProgram = i;
             wanted.insert(i);
@@ -204,8 +209,11 @@ std::vector<MeshChain> appendMeshLevels(GpuScene& gpu, size_t m) {
     return out;
 }
 
-// World transforms (double) for every node; draw items, lights and cameras from them.
-void buildSceneGraph(const Scene& scene, GpuScene& gpu) {
+// World transforms (double) for every node; draw items, lights and cameras from them. Returns
+// each item's copy: its index in meshInstances() order (animation re-places items by it).
+std::vector<uint32_t> buildSceneGraph(const Scene& scene, GpuScene& gpu) {
+    std::vector<uint32_t> itemCopy;
+    uint32_t copyIndex = 0;
     std::vector<std::vector<MeshChain>> meshLevels;
     for (size_t m = 0; m < gpu.meshes.size(); ++m) meshLevels.push_back(appendMeshLevels(gpu, m));
     const std::vector<Matrix4d> worldMatrices = nodeWorldMatrices(scene.nodes);
@@ -215,6 +223,7 @@ void buildSceneGraph(const Scene& scene, GpuScene& gpu) {
     for (const NodeInstances& in : scene.nodes.instances) instanced[in.node] = true;
     uint32_t groups = 0, groupNode = kNone;
     for (const MeshInstance& copy : meshInstances(scene.nodes, worldMatrices)) {
+        const uint32_t thisCopy = copyIndex++;
         const Node& n = scene.nodes.nodes[copy.node];
         if (instanced[copy.node] && copy.node != groupNode) { // a new instanced node: its chains
             groupNode = copy.node;                             // get groups [groups, groups + n)
@@ -229,7 +238,7 @@ void buildSceneGraph(const Scene& scene, GpuScene& gpu) {
             const DrawLevel& level0 = gpu.levels[chain.firstLevel];
             DrawItem item;
             item.node = copy.node;
-            item.mesh = n.mesh;
+            item.mesh = item.containerMesh = n.mesh;
             item.material = chain.material;
             item.firstLevel = chain.firstLevel;
             item.levelCount = chain.levelCount;
@@ -246,6 +255,7 @@ void buildSceneGraph(const Scene& scene, GpuScene& gpu) {
             gpu.triangles += item.triangles;
             if (item.levelCount > 1) gpu.lodItems.push_back(uint32_t(gpu.items.size()));
             gpu.items.push_back(item);
+            itemCopy.push_back(thisCopy);
         }
     }
     std::vector<glm::dmat4> world(worldMatrices.size());
@@ -271,6 +281,7 @@ void buildSceneGraph(const Scene& scene, GpuScene& gpu) {
             gpu.cameras.push_back(c);
         }
     }
+    return itemCopy;
 }
 
 } // namespace
@@ -283,7 +294,7 @@ void replaceMeshLevels(GpuScene& gpu, uint32_t mesh) {
     size_t k = 0;
     for (uint32_t i = 0; i < gpu.items.size(); ++i) {
         DrawItem& item = gpu.items[i];
-        if (item.mesh != mesh) continue;
+        if (item.containerMesh != mesh) continue;
         if (item.node != node) {
             node = item.node;
             k = 0;
@@ -427,7 +438,8 @@ PlayResult<std::unique_ptr<GpuScene>> uploadSceneWithoutTexels(const Scene& scen
         if (env.specular) env.specularLevels = scene.textures[*env.specular].mipCount;
         gpu->environment = std::move(env);
     }
-    buildSceneGraph(scene, *gpu);
+    const std::vector<uint32_t> itemCopy = buildSceneGraph(scene, *gpu);
+    if (auto a = setUpAnimation(scene, itemCopy, *gpu); !a) return a.error();
     updatePipelineLayout(*gpu);
     return gpu;
 }

@@ -385,7 +385,7 @@ PlayResult<SceneStream::Opened> SceneStream::open(const std::string& path, const
             if (t != kNone) im.everyLevel[t] = true;
     for (uint32_t i = 0; i < im.gpu->items.size(); ++i) {
         const DrawItem& item = im.gpu->items[i];
-        const Mesh& mesh = sc.meshes[item.mesh];
+        const Mesh& mesh = sc.meshes[item.containerMesh]; // a posed mesh is not the container's
         const Submesh& sm = mesh.submeshes[im.gpu->levels[item.firstLevel].submesh];
         double density = uvDensity(mesh, sm);
         if (!(density > 0)) density = uvDensityFromBounds(sm);

@@ -25,4 +25,10 @@ void replaceMeshLevels(GpuScene& gpu, uint32_t mesh);
 // pass if anything is deferred, the tone mapper, the shadow and GI programs.
 PlayResult<Done> compileNeededPrograms(const Scene& scene, GpuScene& gpu);
 
+// The animation of `scene` (scene_animation.h), if it has clips or deformed nodes: a posed mesh
+// per deformed node (appended to gpu.meshes; the node's items draw it, placed at the rest pose's
+// pnb::drawingMatrix), the deform bounds, and which node places each item, light and camera.
+// `itemCopy`: per item, its copy in meshInstances() order. Nothing for a static scene.
+PlayResult<Done> setUpAnimation(const Scene& scene, const std::vector<uint32_t>& itemCopy, GpuScene& gpu);
+
 } // namespace pnb::player

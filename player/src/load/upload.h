@@ -37,4 +37,10 @@ MeshLayout meshLayout(const Mesh& mesh);
 // them. Without data the buffer is left for the caller to fill (streaming: from its staging ring).
 PlayResult<GpuMesh> uploadMesh(const Mesh& mesh, uint32_t index, bool withData = true);
 
+// A deformed node's posed mesh (scene_animation.h): a buffer for the posed F32 position, normal
+// and tangent streams, holding the stored ones until the deform pass first writes it, and a
+// vertex array reading those from it and every other stream and the indices from `source` (the
+// container's mesh, uploaded). Fills d's stream offsets (source and posed) and vertex count.
+PlayResult<GpuMesh> createPosedMesh(const Mesh& mesh, const GpuMesh& source, DeformedNode& d, uint32_t index);
+
 } // namespace pnb::player

@@ -32,8 +32,7 @@ double threadCpuMs() {
 
 } // namespace
 
-PlayResult<std::unique_ptr<Renderer>> Renderer::create(const GpuScene& scene,
-                                                       const RenderSettings& settings) {
+PlayResult<std::unique_ptr<Renderer>> Renderer::create(GpuScene& scene, const RenderSettings& settings) {
     std::unique_ptr<Renderer> r(new Renderer());
     r->mImpl = std::make_unique<Impl>();
     Impl& impl = *r->mImpl;
@@ -138,6 +137,10 @@ TargetMemory Renderer::targetMemory() const {
     return m;
 }
 
+void Renderer::setAnimationClock(double seconds) { mImpl->deform.clock = seconds; }
+double Renderer::animationClock() const { return mImpl->deform.clock; }
+double Renderer::animationTime() const { return mImpl->deform.state.time; }
+
 const CameraState& Renderer::lastCamera() const { return mImpl->lastCamera; }
 const std::string& Renderer::debugViewNote() const { return mImpl->debugViewNote; }
 
@@ -181,6 +184,14 @@ PlayResult<Done> Renderer::render(const CameraState& camera, uint32_t width, uin
     timer.beginFrame(mStats.frame);
     timer.mark("setup");
     impl.ring.beginFrame();
+
+    // Playback, before anything culls or draws: the pose moves items, lights and cameras, then
+    // the deform pass poses the deformed meshes once for every pass of the frame.
+    impl.deform.update = animateScene(*impl.scene, mSettings, impl.deform.clock, impl.deform.state);
+    if (impl.deform.update.posed) ++impl.deform.poseVersion;
+    mStats.movedItems = uint32_t(impl.deform.update.movedItems.size());
+    mStats.animationTime = impl.deform.state.clipTime;
+    runDeformPass(scene, impl.deform, timer, mStats);
 
     DrawLists& lists = impl.lists;
     selectLevels(scene, mView, height, mSettings, impl.lod, mStats);

@@ -5,6 +5,7 @@
 
 #include <string>
 
+#include "anim/deform.h"
 #include "frame/frame_context.h"
 #include "gi/gi.h"
 #include "lights/light_clusters.h"
@@ -17,7 +18,8 @@ namespace pnb::player {
 
 // The renderer's private state (renderer.cpp, frame_capture.cpp).
 struct Renderer::Impl {
-    const GpuScene* scene = nullptr;
+    GpuScene* scene = nullptr;
+    DeformContext deform; // playback: the clock, the last pose, the deform pass's buffer
     FrameTargets targets;
     StreamRing ring;
     BuiltinPrograms builtins;

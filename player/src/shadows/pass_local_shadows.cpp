@@ -221,11 +221,14 @@ void runLocalShadows(FrameContext& ctx, LocalShadowContext& ls, const ShadowCont
         const SceneLight& l = scene.lights[p.light];
         const TileShape shape = tileShape(l, p, s.shadowRadius);
         ShadowBlock block{};
-        bool blockPushed = false;
+        bool blockPushed = false, casterMoved = false;
         for (uint32_t f = 0; f < p.faces; ++f, ++tile) {
             LocalShadowContext::TileKey key{p.light, p.size, f, p.origins[f], l.position, tileDirection(l, p, f),
                                             shape.range, shape.tanHalf, scene.materialsVersion};
-            if (s.shadowLocalCache && !ctx.warmUp && ls.drawn[tile] == key) continue;
+            // A caster that moved (or deformed) within the light's reach this frame redraws
+            // the light's tiles (scene_animation.h movedNear).
+            if (f == 0) casterMoved = movedNear(scene.animation.get(), l.position, double(shape.range));
+            if (s.shadowLocalCache && !ctx.warmUp && ls.drawn[tile] == key && !casterMoved) continue;
             ls.drawn[tile] = ctx.warmUp ? LocalShadowContext::TileKey{} : key;
             if (objectOffsets.empty()) {
                 const glm::dmat4 toCamera = glm::translate(glm::dmat4(1.0), -ctx.view.position);

@@ -20,7 +20,7 @@ namespace pnb::player {
 void renderSkyHeightMap(FrameContext& ctx, IblContext& ibl) {
     const GpuScene& scene = ctx.scene;
     const uint32_t res = ctx.settings.iblHeightResolution;
-    if (ibl.heightMap && ibl.heightVersion == scene.materialsVersion && ibl.heightResolution == res) return;
+    if (ibl.heightMap && ibl.heightVersion == geometryVersion(scene) && ibl.heightResolution == res) return;
     if (!ctx.builtins.depthOnly) return;
     ctx.timer.mark("sky_height");
     glm::dvec3 lo(std::numeric_limits<double>::infinity()), hi(-lo);
@@ -69,7 +69,7 @@ void renderSkyHeightMap(FrameContext& ctx, IblContext& ibl) {
     glDisable(GL_BLEND);
     drawItems(ctx, refs, ctx.builtins.depthOnly.id(), &GpuMaterial::program, true);
     // The warm-up frame draws cut and scissored (Renderer::warmUp): only the real one counts.
-    ibl.heightVersion = ctx.warmUp ? ~0ull : scene.materialsVersion;
+    ibl.heightVersion = ctx.warmUp ? ~0ull : geometryVersion(scene);
     ibl.heightBytes = uint64_t(res) * res * 4;
 }
 
