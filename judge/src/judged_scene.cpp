@@ -14,11 +14,13 @@ PlayResult<std::unique_ptr<JudgedScene>> JudgedScene::read(const std::string& pa
     return out;
 }
 
-reference::FramePose judgedPose(const Renderer&) {
-    // The renderer of this branch draws the container as stored (no clock yet): its truth is
-    // the default pose. Connected to the player's clock where the renderer reports its frame's
-    // clip and clip time.
-    return reference::FramePose{};
+reference::FramePose judgedPose(const Renderer& renderer) {
+    const DrawnPose drawn = renderer.drawnPose();
+    reference::FramePose at;
+    at.animated = drawn.enabled;
+    at.clip = drawn.clip;
+    at.clipTime = drawn.clipTime;
+    return at;
 }
 
 } // namespace pnb::player

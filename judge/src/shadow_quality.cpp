@@ -149,6 +149,7 @@ PlayResult<std::vector<std::pair<std::string, double>>> ShadowQuality::measure(R
         }
 
     std::vector<std::pair<std::string, double>> out;
+    out.reserve(8); // also spares GCC 12 a false -Warray-bounds on the first emplace_back
     if (followUp) {
         if (mImpl->previousPlayer.size() == pixels) {
             // Changes of the player's classification the truth does not have.

@@ -43,8 +43,7 @@ PlayResult<Done> writeTextFile(const std::string& path, const std::string& text)
     return Done{};
 }
 
-std::string tracerFrameJson(const GpuScene& scene, const Renderer& renderer, const BenchOptions& options,
-                            const FrameAnimation& anim) {
+std::string tracerFrameJson(const GpuScene& scene, const Renderer& renderer, const BenchOptions& options) {
     glm::dvec3 eye = renderer.lastView().position;
     glm::vec3 toward = towardShadowingSun(scene);
     nlohmann::json fj = {{"camera_position", {eye.x, eye.y, eye.z}},
@@ -71,10 +70,11 @@ std::string tracerFrameJson(const GpuScene& scene, const Renderer& renderer, con
     // placed as the container places it.
     if (renderer.settings().shadowJudgedLight >= 0) fj["shadow_light_index"] = renderer.settings().shadowJudgedLight;
     // The instant drawn: the truth poses the scene there (pnb-reference reads it).
+    const DrawnPose anim = renderer.drawnPose();
     fj["anim"] = {{"enabled", anim.enabled},
                   {"clip", anim.clip ? nlohmann::json(*anim.clip) : nlohmann::json(nullptr)},
                   {"clip_name", anim.clipName},
-                  {"time", anim.time}};
+                  {"time", anim.clipTime}};
     return fj.dump(2) + "\n";
 }
 

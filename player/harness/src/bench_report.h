@@ -10,7 +10,6 @@
 #include <nlohmann/json.hpp>
 
 #include "bench_records.h"
-#include "pnb_player/frame_animation.h"
 
 namespace pnb::player {
 
@@ -18,9 +17,8 @@ namespace pnb::player {
 PlayResult<Done> writeTextFile(const std::string& path, const std::string& text);
 
 // "<capture>_frame.json": the eye, the light, the environment as lit and the animation state
-// the frame was drawn at ("anim", pnb_player/frame_animation.h) (docs/REFERENCE.md).
-std::string tracerFrameJson(const GpuScene& scene, const Renderer& renderer, const BenchOptions& options,
-                            const FrameAnimation& anim);
+// the frame was drawn at ("anim": Renderer::drawnPose) (docs/REFERENCE.md).
+std::string tracerFrameJson(const GpuScene& scene, const Renderer& renderer, const BenchOptions& options);
 
 // quality.csv and summary.json's "quality" from the quality pass's rows (frame, metric -> value).
 QualityTable qualityTable(const std::vector<std::string>& columns,

@@ -63,7 +63,7 @@ void collectGpuTimes(Renderer& renderer, std::vector<FrameRecord>& records) {
 
 // The captures asked for at frame k, and what a ground-truth tracer needs beside them.
 PlayResult<Done> saveCaptures(const GpuScene& scene, Renderer& renderer, const BenchOptions& options,
-                              uint32_t k, double step, BenchResult& result) {
+                              uint32_t k, BenchResult& result) {
     for (const CaptureRequest& c : options.captures) {
         if (c.frame != k) continue;
         auto img = renderer.capture(c.buffer);
@@ -79,10 +79,7 @@ PlayResult<Done> saveCaptures(const GpuScene& scene, Renderer& renderer, const B
             // frame<N>_<buffer>.exr -> frame<N>_frame.json (a buffer's name may hold a '_')
             const size_t name = c.path.rfind('/') == std::string::npos ? 0 : c.path.rfind('/') + 1;
             std::string jsonPath = c.path.substr(0, c.path.find('_', name)) + "_frame.json";
-            // The clock of anim.* (the container's RSET; the clips from the file) at frame k.
-            const FrameAnimation anim =
-                frameAnimation(animationClock(scene.settings), containerClips(options.sceneFile), k, step);
-            if (auto w = writeTextFile(jsonPath, tracerFrameJson(scene, renderer, options, anim)); !w) return w.error();
+            if (auto w = writeTextFile(jsonPath, tracerFrameJson(scene, renderer, options)); !w) return w.error();
             if (std::find(result.written.begin(), result.written.end(), jsonPath) == result.written.end())
                 result.written.push_back(jsonPath);
         }
@@ -126,7 +123,7 @@ PlayResult<TimedRun> runTimedFrames(const GpuScene& scene, Renderer& renderer, c
         // Timer results are keyed by the renderer's frame number; map them to this run's index.
         for (FrameGpuTimes& f : renderer.timer().completed()) f.frame -= rec.stats.frame - k;
         collectGpuTimes(renderer, records);
-        if (auto s = saveCaptures(scene, renderer, options, k, plan.dt, result); !s) return s.error();
+        if (auto s = saveCaptures(scene, renderer, options, k, result); !s) return s.error();
         if (options.progress) {
             const uint32_t planned = options.lastFrame == ~0u ? plan.frames : std::min(plan.frames, options.lastFrame + 1);
             options.progress(k + 1, planned == ~0u ? 0 : planned,

@@ -20,6 +20,7 @@
 #pragma once
 
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -126,6 +127,16 @@ size_t nonFinitePixels(const CapturedImage& image);
 // RenderSettings defaults with driverDefaults() of the current context's GL_RENDERER applied.
 RenderSettings settingsForCurrentDriver();
 
+// The instant a frame was drawn at (docs/PLAYER.md "Animation"): what a dump's frame.json
+// records as "anim" and the ray-traced truth poses (docs/REFERENCE.md "Moving frames").
+struct DrawnPose {
+    bool enabled = false;         // the scene was posed (anim.enabled, a scene with animation);
+                                  // false: the container as stored
+    std::optional<uint32_t> clip; // the clip played; none: the rest pose
+    std::string clipName;
+    double clipTime = 0;          // seconds into the clip, as sampled (looped)
+};
+
 class Renderer {
 public:
     // Compiles the player's built-in programs the scene needs; errors name the program. The
@@ -143,6 +154,7 @@ public:
     double animationClock() const;
     // The pose of the last frame: its time (anim.time + speed x clock) and its clip's time.
     double animationTime() const;
+    DrawnPose drawnPose() const;
     const RenderSettings& settings() const { return mSettings; }
 
     // Renders one frame at width x height into the output target.

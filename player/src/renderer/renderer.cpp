@@ -141,6 +141,17 @@ void Renderer::setAnimationClock(double seconds) { mImpl->deform.clock = seconds
 double Renderer::animationClock() const { return mImpl->deform.clock; }
 double Renderer::animationTime() const { return mImpl->deform.state.time; }
 
+DrawnPose Renderer::drawnPose() const {
+    DrawnPose p;
+    const auto& posed = mImpl->deform.state.posed;
+    if (!posed || !posed->enabled || !mImpl->scene->animation) return p;
+    p.enabled = true;
+    p.clip = posed->clip;
+    p.clipTime = posed->clipTime;
+    if (p.clip) p.clipName = mImpl->scene->animation->clipNames[*p.clip];
+    return p;
+}
+
 const CameraState& Renderer::lastCamera() const { return mImpl->lastCamera; }
 const std::string& Renderer::debugViewNote() const { return mImpl->debugViewNote; }
 
