@@ -7,6 +7,7 @@
 #include <set>
 
 #include "convert_internal.h"
+#include "pnb/animation_pose.h"
 #include "pnb/compression_memo.h"
 #include "pnb/mesh_levels.h"
 #include "pnb/writer.h"
@@ -255,6 +256,11 @@ void countContainer(const Scene& out, ConvertSummary& sum) {
     sum.lights = out.lights.lights.size();
     sum.cameras = out.cameras.cameras.size();
     sum.cameraPaths = out.cameraPaths.size();
+    sum.skins = out.skins.size();
+    for (const Skin& k : out.skins) sum.joints += k.joints.size();
+    sum.clips = out.animations.size();
+    for (const Animation& a : out.animations) sum.longestClipSeconds = std::max(sum.longestClipSeconds, clipDuration(a));
+    sum.morphedMeshes = out.morphTargets.size();
 }
 
 } // namespace pnb::converter::convert_detail

@@ -19,6 +19,8 @@
 
 namespace pnb::converter::assimp_detail {
 
+using import_detail::format;
+
 namespace {
 
 std::array<float, 16> columnMajor(const aiMatrix4x4& m) {

@@ -10,6 +10,7 @@
 //
 // Index: [SECTION] skins, [SECTION] animations
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <map>
 #include <set>

@@ -12,6 +12,7 @@
 #include <filesystem>
 #include <fstream>
 #include <limits>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -178,16 +179,20 @@ protected:
         mOutput = s.output;
         return convertScene(s);
     }
+    // The scene's streams may be views of the container's mapping: the container stays open
+    // with the fixture.
     Scene load() {
         auto c = Container::open(mOutput);
         EXPECT_TRUE(c.ok());
         if (!c.ok()) return {};
-        auto scene = readScene(*c);
+        mContainers.push_back(std::make_unique<Container>(std::move(*c)));
+        auto scene = readScene(*mContainers.back());
         EXPECT_TRUE(scene.ok()) << scene.error().describe();
         return scene.ok() ? std::move(*scene) : Scene{};
     }
     fs::path mDir;
     std::string mOutput;
+    std::vector<std::unique_ptr<Container>> mContainers;
 };
 
 const VertexStream* streamOf(const Mesh& m, VertexSemantic s) {
