@@ -2,7 +2,8 @@
 // (skins and clips; import_assimp_internal.h). Runs after the node tree, because both refer to
 // nodes by name.
 //
-// Bones: each aiBone names its joint node; its offset matrix (mesh space to bone space in the
+// Bones: each aiBone names its joint node (a mesh with a bone naming no node stays unskinned,
+// warned); its offset matrix (mesh space to bone space in the
 // bind pose) is the joint's inverse bind matrix. An IR mesh made of several aiMeshes gets one
 // skin whose joints are the union of their bones (by name). Per vertex the 4 largest influences
 // are kept (mesh processing renormalises them), with one warning per mesh when more were cut.
@@ -64,11 +65,12 @@ Check skinMeshes(Context& ctx, const std::map<std::vector<unsigned>, int>& meshB
         IrSkin skin;
         std::vector<std::string> names;
         size_t cut = 0;
-        for (size_t k = 0; k < list.size() && k < mesh.primitives.size(); ++k) {
+        std::string missingBone;
+        for (size_t k = 0; k < list.size() && k < mesh.primitives.size() && missingBone.empty(); ++k) {
             const aiMesh* src = ctx.scene->mMeshes[list[k]];
             IrPrimitive& prim = mesh.primitives[k];
             std::vector<Influences> influences(src->mNumVertices);
-            for (unsigned b = 0; b < src->mNumBones; ++b) {
+            for (unsigned b = 0; b < src->mNumBones && missingBone.empty(); ++b) {
                 const aiBone* bone = src->mBones[b];
                 if (bone == nullptr) continue;
                 const std::string name = str(bone->mName);
@@ -76,10 +78,10 @@ Check skinMeshes(Context& ctx, const std::map<std::vector<unsigned>, int>& meshB
                 const uint32_t joint = uint32_t(known - names.begin());
                 if (known == names.end()) {
                     auto node = nodeByName.find(name);
-                    if (node == nodeByName.end())
-                        return ConvertError{ConvertErrorKind::Input,
-                                            format("%s: mesh '%s' bone '%s' names no node", ctx.path.c_str(),
-                                                   mesh.name.c_str(), name.c_str())};
+                    if (node == nodeByName.end()) {
+                        missingBone = name;
+                        break;
+                    }
                     if (!finite(bone->mOffsetMatrix))
                         return ConvertError{ConvertErrorKind::Input,
                                             format("%s: mesh '%s' bone '%s': the offset matrix is not finite",
@@ -108,6 +110,17 @@ Check skinMeshes(Context& ctx, const std::map<std::vector<unsigned>, int>& meshB
                     prim.weights[v * 4 + size_t(i)] = influences[v].weight[size_t(i)];
                 }
             }
+        }
+        // A bone without its node (some loaders name bones after nodes they do not create):
+        // the mesh cannot be posed, so it stays unskinned, in its bind pose.
+        if (!missingBone.empty()) {
+            for (IrPrimitive& prim : mesh.primitives) {
+                prim.joints.clear();
+                prim.weights.clear();
+            }
+            ctx.warn(format("mesh '%s': bone '%s' names no node of the scene; the mesh is drawn "
+                            "unskinned, in its bind pose", mesh.name.c_str(), missingBone.c_str()));
+            continue;
         }
         if (skin.joints.size() > kMaxJoints)
             return ConvertError{ConvertErrorKind::Input,

@@ -51,8 +51,9 @@ Result<std::optional<IrPrimitive>, ConvertError> convertMesh(Context& ctx, unsig
 using Check = std::optional<ConvertError>; // empty = success
 
 // Bones of the meshes (`meshByList`: the aiMeshes of each IR mesh) into IrSkins on the nodes
-// drawing them, with the primitives' Joints0/Weights0. Errors: a bone naming no node, a
-// non-finite offset matrix, a weight of a vertex the mesh lacks, more than kMaxJoints bones.
+// drawing them, with the primitives' Joints0/Weights0 (a mesh with a bone naming no node stays
+// unskinned, warned). Errors: a non-finite offset matrix, a weight of a vertex the mesh
+// lacks, more than kMaxJoints bones.
 Check skinMeshes(Context& ctx, const std::map<std::vector<unsigned>, int>& meshByList,
                  const std::map<std::string, int>& nodeByName);
 // Node animations into IrAnimations. `rootConverted`: the root node carries an axis conversion
