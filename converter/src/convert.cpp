@@ -222,11 +222,20 @@ processSceneMeshes(const ConvertSettings& s, const IrScene& scene,
     });
     std::vector<ProcessedMesh> processed;
     processed.reserve(count);
+    uint64_t renormalised = 0, zero = 0;
     for (size_t i = 0; i < count; ++i) {
         if (meshErrors[i]) return *meshErrors[i]; // the first failing mesh, deterministically
         addMeshStats(scene.meshes[i], meshStats[i], sum);
+        renormalised += meshStats[i].weightsRenormalised;
+        zero += meshStats[i].weightsZero;
         processed.push_back(std::move(*meshes[i]));
     }
+    // One warning for the whole scene: a file that needs it usually needs it everywhere.
+    if (renormalised || zero)
+        sum.warnings.push_back(std::to_string(renormalised) +
+                               " skinned vertices had joint weights not summing to 1 (normalised), " +
+                               std::to_string(zero) +
+                               " had weights summing to 0 (weight 1 on their first joint)");
     report("meshes", count, count);
     return processed;
 }
@@ -265,6 +274,7 @@ processSceneTextures(const ConvertSettings& s, const IrScene& scene,
 
 // What the scene's shaders must handle besides the materials' own features.
 SceneShaderNeeds sceneShaderNeeds(const ConvertSettings& s, const IrScene& scene,
+                                  const std::vector<ProcessedMesh>& meshes,
                                   const ResolvedMaterials& materials, bool hasEnvironment) {
     SceneShaderNeeds needs;
     needs.ibl = hasEnvironment;
@@ -279,6 +289,10 @@ SceneShaderNeeds sceneShaderNeeds(const ConvertSettings& s, const IrScene& scene
     }
     for (const auto& [key, value] : s.renderSettings)
         if (key == "gi.enabled") needs.gi = value == "true"; // the last assignment wins
+    // What the container's SKIN and MRPH chunks will hold (convert_container.cpp writes a skin
+    // for the nodes that still draw a mesh, and morph targets for every morphed mesh).
+    for (const IrNode& n : scene.nodes) needs.skins |= n.skin >= 0 && n.mesh >= 0;
+    for (const ProcessedMesh& m : meshes) needs.morphs |= !m.morphTargets.empty();
     return needs;
 }
 
@@ -302,10 +316,11 @@ Result<bool, ConvertError> validateShaderPlan(const ConvertSettings& s, const Sh
 
 // The program variants the materials and the scene need, validated unless the settings say not.
 Result<ShaderPlan, ConvertError> planSceneShaders(const ConvertSettings& s, const IrScene& scene,
+                                                  const std::vector<ProcessedMesh>& meshes,
                                                   const ResolvedMaterials& materials,
                                                   bool hasEnvironment, const Progress& report,
                                                   ConvertSummary& sum) {
-    const SceneShaderNeeds needs = sceneShaderNeeds(s, scene, materials, hasEnvironment);
+    const SceneShaderNeeds needs = sceneShaderNeeds(s, scene, meshes, materials, hasEnvironment);
     ShaderPlan plan = planShaders(materials.materials, materials.features, needs);
     if (s.validateShaders)
         if (auto r = validateShaderPlan(s, plan, report, sum); !r) return r.error();
@@ -420,7 +435,7 @@ Result<ConvertSummary, ConvertError> convertScene(const ConvertSettings& s,
     if (!environment) return environment.error();
 
     clock.start("shaders");
-    auto plan = planSceneShaders(s, scene, materials, environment->get() != nullptr, report, sum);
+    auto plan = planSceneShaders(s, scene, *meshes, materials, environment->get() != nullptr, report, sum);
     if (!plan) return plan.error();
     clock.stop();
 

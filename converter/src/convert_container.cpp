@@ -7,6 +7,7 @@
 #include <set>
 
 #include "convert_internal.h"
+#include "pnb/animation_pose.h"
 #include "pnb/compression_memo.h"
 #include "pnb/mesh_levels.h"
 #include "pnb/writer.h"
@@ -92,13 +93,71 @@ void appendMeshes(const ConvertSettings& s, const std::vector<ProcessedMesh>& me
         for (Submesh& sm : m.submeshes)
             if (sm.material == kNone) sm.material = uint32_t(defaultMaterial);
         sum.submeshes += m.submeshes.size();
-        if (s.mesh.proxies && hasLevelChains(m)) {
+        // A deformed mesh has no proxy: the deforming pass moves the one mesh it has (its LOD
+        // levels stay, they index the same vertices).
+        if (s.mesh.proxies && hasLevelChains(m) && !pm.deformed) {
             // Coarse first: the proxy for the first frame, the detail once it is drawn.
             out.meshes.push_back(buildCoarseProxy(m, b));
             out.meshDetails.push_back({uint32_t(i), m});
         } else {
             out.meshes.push_back(m);
         }
+    }
+}
+
+// MRPH: each morphed mesh's targets, their deltas views of the processed mesh's bytes.
+void appendMorphTargets(const std::vector<ProcessedMesh>& meshes, SceneBuilder& b) {
+    for (size_t i = 0; i < meshes.size(); ++i) {
+        const ProcessedMesh& pm = meshes[i];
+        if (pm.morphTargets.empty()) continue;
+        MorphTargets out;
+        out.mesh = uint32_t(i);
+        out.weights = pm.morphWeights;
+        for (const ProcessedMorphTarget& t : pm.morphTargets) {
+            MorphTarget target;
+            target.name = t.name.empty() ? kNone : b.intern(t.name);
+            for (const OwnedStream& d : t.deltas) {
+                VertexStream vs = d.desc;
+                vs.data = d.bytes;
+                target.deltas.push_back(vs);
+            }
+            out.targets.push_back(std::move(target));
+        }
+        b.scene.morphTargets.push_back(std::move(out));
+    }
+}
+
+// SKIN: each skin with the nodes it deforms (those that still draw a mesh), ANIM: each clip,
+// less the weights channels of nodes whose mesh lost its morph targets (dropped with it).
+void appendSkinsAndAnimations(const IrScene& scene, const std::vector<ProcessedMesh>& meshes,
+                              SceneBuilder& b, ConvertSummary& sum) {
+    for (size_t k = 0; k < scene.skins.size(); ++k) {
+        const IrSkin& src = scene.skins[k];
+        Skin skin;
+        skin.name = src.name.empty() ? kNone : b.intern(src.name);
+        for (int j : src.joints) skin.joints.push_back(uint32_t(j));
+        skin.inverseBindMatrices = src.inverseBindMatrices;
+        for (size_t n = 0; n < scene.nodes.size(); ++n)
+            if (scene.nodes[n].skin == int(k) && scene.nodes[n].mesh >= 0) skin.nodes.push_back(uint32_t(n));
+        if (skin.nodes.empty()) continue;
+        b.scene.skins.push_back(std::move(skin));
+    }
+    for (const IrAnimation& src : scene.animations) {
+        Animation clip;
+        clip.name = src.name.empty() ? kNone : b.intern(src.name);
+        for (const IrAnimationChannel& c : src.channels) {
+            if (c.property == AnimatedProperty::Weights) {
+                const int mesh = scene.nodes[size_t(c.node)].mesh;
+                if (mesh < 0 || meshes[size_t(mesh)].morphTargets.empty()) continue;
+            }
+            clip.channels.push_back(AnimationChannel{uint32_t(c.node), c.property, c.interpolation,
+                                                     c.times, c.values});
+        }
+        if (clip.channels.empty()) {
+            sum.warnings.push_back("animation '" + src.name + "': every channel animated a dropped mesh; dropped");
+            continue;
+        }
+        b.scene.animations.push_back(std::move(clip));
     }
 }
 
@@ -151,8 +210,10 @@ Result<bool, ConvertError> assembleContainer(const ConvertSettings& s, const Con
     if (parts.environment) appendEnvironmentOf(*parts.environment, b, sum);
     appendMaterials(parts.materials, parts.plan, b, sum);
     appendMeshes(s, parts.meshes, parts.materials.defaultMaterial, b, sum);
+    appendMorphTargets(parts.meshes, b);
     appendLightsAndCameras(parts.scene, parts.graph.generatedLight, b);
     appendNodes(parts.scene, parts.graph.placement, b, sum);
+    appendSkinsAndAnimations(parts.scene, parts.meshes, b, sum);
     for (const PathSpec& p : parts.graph.paths)
         b.scene.cameraPaths.push_back(
             CameraPath{b.intern(p.name), p.interpolation, p.loop, p.keys});
@@ -195,6 +256,11 @@ void countContainer(const Scene& out, ConvertSummary& sum) {
     sum.lights = out.lights.lights.size();
     sum.cameras = out.cameras.cameras.size();
     sum.cameraPaths = out.cameraPaths.size();
+    sum.skins = out.skins.size();
+    for (const Skin& k : out.skins) sum.joints += k.joints.size();
+    sum.clips = out.animations.size();
+    for (const Animation& a : out.animations) sum.longestClipSeconds = std::max(sum.longestClipSeconds, clipDuration(a));
+    sum.morphedMeshes = out.morphTargets.size();
 }
 
 } // namespace pnb::converter::convert_detail

@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 
 #include "convert_internal.h"
 #include "pnb/path_json.h"
@@ -119,6 +120,82 @@ Sphere instancedSphere(const Mat4d& node, const std::vector<InstanceTransform>& 
     return {c, float(radius)};
 }
 
+// The floats of stream `semantic` of a processed mesh (F32 streams only; empty otherwise).
+std::vector<float> floatsOf(const std::vector<OwnedStream>& streams, VertexSemantic semantic) {
+    for (const OwnedStream& st : streams)
+        if (st.desc.semantic == semantic && st.desc.componentType == ComponentType::F32) {
+            std::vector<float> out(st.bytes.size() / 4);
+            if (!out.empty()) std::memcpy(out.data(), st.bytes.data(), out.size() * 4);
+            return out;
+        }
+    return {};
+}
+
+// The joint indices of a processed skinned mesh (U8 or U16 x 4).
+std::vector<uint32_t> jointsOf(const ProcessedMesh& mesh) {
+    for (const OwnedStream& st : mesh.streams)
+        if (st.desc.semantic == VertexSemantic::Joints0) {
+            const bool u8 = st.desc.componentType == ComponentType::U8;
+            std::vector<uint32_t> out(size_t(mesh.vertexCount) * 4);
+            for (size_t k = 0; k < out.size(); ++k)
+                out[k] = u8 ? uint32_t(st.bytes[k])
+                            : uint32_t(st.bytes[2 * k]) | uint32_t(st.bytes[2 * k + 1]) << 8;
+            return out;
+        }
+    return {};
+}
+
+// A deformed node's world bounds in the rest pose (docs/CONVERTER.md): its mesh at the default
+// morph weights, skinned by its joints at rest (world(joint) x inverse bind matrix) or placed by
+// its own world matrix when it has no skin. The player computes per-frame bounds.
+Aabb restPoseBounds(const ProcessedMesh& mesh, const IrSkin* skin, const std::vector<Mat4d>& world,
+                    const Mat4d& nodeWorld) {
+    std::vector<float> positions = floatsOf(mesh.streams, VertexSemantic::Position);
+    const size_t n = positions.size() / 3;
+    for (size_t t = 0; t < mesh.morphTargets.size(); ++t) {
+        const float w = mesh.morphWeights[t];
+        if (w == 0) continue;
+        const std::vector<float> delta = floatsOf(mesh.morphTargets[t].deltas, VertexSemantic::Position);
+        for (size_t i = 0; i < delta.size() && i < positions.size(); ++i) positions[i] += w * delta[i];
+    }
+    Aabb out;
+    if (!skin) {
+        Aabb local;
+        for (size_t i = 0; i < n; ++i) local.grow({positions[i * 3], positions[i * 3 + 1], positions[i * 3 + 2]});
+        return transformBounds(nodeWorld, local);
+    }
+    std::vector<Mat4d> joint(skin->joints.size());
+    for (size_t j = 0; j < joint.size(); ++j) {
+        Mat4d ibm;
+        for (int k = 0; k < 16; ++k) ibm.m[k] = skin->inverseBindMatrices[j][size_t(k)];
+        joint[j] = multiply(world[size_t(skin->joints[j])], ibm);
+    }
+    const std::vector<uint32_t> joints = jointsOf(mesh);
+    const std::vector<float> weights = floatsOf(mesh.streams, VertexSemantic::Weights0);
+    if (joints.size() != n * 4 || weights.size() != n * 4) return out;
+    for (size_t i = 0; i < n; ++i) {
+        double r[3] = {0, 0, 0};
+        const double p[3] = {positions[i * 3], positions[i * 3 + 1], positions[i * 3 + 2]};
+        for (int k = 0; k < 4; ++k) {
+            const double w = weights[i * 4 + size_t(k)];
+            const uint32_t j = joints[i * 4 + size_t(k)];
+            if (w == 0 || j >= joint.size()) continue;
+            const Mat4d& m = joint[j];
+            for (int c = 0; c < 3; ++c)
+                r[c] += w * (m.m[c] * p[0] + m.m[4 + c] * p[1] + m.m[8 + c] * p[2] + m.m[12 + c]);
+        }
+        out.grow({float(r[0]), float(r[1]), float(r[2])});
+    }
+    return out;
+}
+
+Sphere sphereOfBox(const Aabb& b) {
+    if (b.min.x > b.max.x) return {};
+    const Vec3 c{(b.min.x + b.max.x) / 2, (b.min.y + b.max.y) / 2, (b.min.z + b.max.z) / 2};
+    const double dx = b.max.x - c.x, dy = b.max.y - c.y, dz = b.max.z - c.z;
+    return {c, std::nextafter(float(std::sqrt(dx * dx + dy * dy + dz * dz)), 3.4e38f)};
+}
+
 // A root node the converter adds (default sun or camera): placed, without bounds of its own.
 void appendRootNode(IrScene& scene, NodePlacement& placement, IrNode node) {
     placement.world.push_back(trs(node.translation, node.rotation, node.scale));
@@ -137,10 +214,20 @@ NodePlacement placeNodes(const IrScene& scene, const std::vector<ProcessedMesh>&
         const IrNode& n = scene.nodes[i];
         Mat4d local = trs(n.translation, n.rotation, n.scale);
         p.world[i] = n.parent >= 0 ? multiply(p.world[size_t(n.parent)], local) : local;
+    }
+    for (size_t i = 0; i < scene.nodes.size(); ++i) {
+        const IrNode& n = scene.nodes[i];
         if (n.mesh >= 0 && size_t(n.mesh) < meshes.size()) {
             const ProcessedMesh& mesh = meshes[size_t(n.mesh)];
-            p.nodeBounds[i] = instancedBounds(p.world[i], n.instances, mesh.bounds);
-            p.nodeSpheres[i] = instancedSphere(p.world[i], n.instances, mesh.boundingSphere);
+            // Joints may come after the node in the list: every world matrix is known here.
+            const IrSkin* skin = n.skin >= 0 ? &scene.skins[size_t(n.skin)] : nullptr;
+            if (mesh.deformed) {
+                p.nodeBounds[i] = restPoseBounds(mesh, skin, p.world, p.world[i]);
+                p.nodeSpheres[i] = sphereOfBox(p.nodeBounds[i]);
+            } else {
+                p.nodeBounds[i] = instancedBounds(p.world[i], n.instances, mesh.bounds);
+                p.nodeSpheres[i] = instancedSphere(p.world[i], n.instances, mesh.boundingSphere);
+            }
             if (p.nodeBounds[i].min.x <= p.nodeBounds[i].max.x) {
                 p.sceneBounds.grow(p.nodeBounds[i].min);
                 p.sceneBounds.grow(p.nodeBounds[i].max);

@@ -252,8 +252,8 @@ Result<IrScene, ConvertError> translate(Context& ctx) {
 
     convertLights(ctx, nodeByName);
     convertCameras(ctx, nodeByName);
-    if (scene->mNumAnimations > 0)
-        ctx.out->noteNotRendered("animations", scene->mNumAnimations, "clips", "the rest pose");
+    if (auto e = skinMeshes(ctx, meshByList, nodeByName)) return *e;
+    if (auto e = convertAnimations(ctx, nodeByName, rootConversion.has_value())) return *e;
     return std::move(out);
 }
 

@@ -46,6 +46,20 @@ int materialFor(Context& ctx, unsigned index);
 // Errors: an index outside the mesh's vertices.
 Result<std::optional<IrPrimitive>, ConvertError> convertMesh(Context& ctx, unsigned meshIndex);
 
+// [SECTION] skins and clips (import_assimp_animation.cpp)
+
+using Check = std::optional<ConvertError>; // empty = success
+
+// Bones of the meshes (`meshByList`: the aiMeshes of each IR mesh) into IrSkins on the nodes
+// drawing them, with the primitives' Joints0/Weights0 (a mesh with a bone naming no node stays
+// unskinned, warned). Errors: a non-finite offset matrix, a weight of a vertex the mesh
+// lacks, more than kMaxJoints bones.
+Check skinMeshes(Context& ctx, const std::map<std::vector<unsigned>, int>& meshByList,
+                 const std::map<std::string, int>& nodeByName);
+// Node animations into IrAnimations. `rootConverted`: the root node carries an axis conversion
+// (a channel animating it is warned about). Errors: a non-finite key, a negative time.
+Check convertAnimations(Context& ctx, const std::map<std::string, int>& nodeByName, bool rootConverted);
+
 // [SECTION] transforms, axes, lights and cameras (import_assimp_nodes.cpp)
 
 // Whether every element of `m` is finite.

@@ -150,8 +150,7 @@ Result<std::optional<IrPrimitive>, ConvertError> convertMesh(Context& ctx, unsig
             ctx.warn(format("%s: vertex colour set %u ignored", label.c_str(), set));
         }
     }
-    if (mesh->mNumBones > 0)
-        ctx.out->noteNotRendered("skins", 1, "meshes", "the meshes in their bind pose, as stored");
+    // Bones are read with the node tree (skinMeshes, import_assimp_animation.cpp).
     if (mesh->mNumAnimMeshes > 0) {
         ctx.out->noteNotRendered("morph targets", 1, "meshes", "the base shape");
     }

@@ -4,8 +4,8 @@
 // the file gives is checked before it is used. Every count is checked against the bytes behind
 // it before anything is allocated, and the total the importer keeps is capped (kOutputBudget*).
 //
-// Does NOT do: image decoding (images stay paths or encoded bytes), animation, skinning, morph
-// targets (all warned about and ignored), material extensions other than emissive_strength
+// Does NOT do: image decoding (images stay paths or encoded bytes), KHR_animation_pointer (the
+// rest pose, noted), material extensions other than emissive_strength
 // (warned; spec-gloss is approximated), or processing of any kind (welding, tangents, ...).
 //
 // Decisions, each a documented error or a documented repair:
@@ -476,16 +476,15 @@ Result<IrScene, ConvertError> importGltfUnguarded(const std::string& path,
     ctx.lightMap.assign(model.lights.size(), -1);
     ctx.cameraMap.assign(model.cameras.size(), -1);
 
-    if (!model.skins.empty())
-        scene.noteNotRendered("skins", model.skins.size(), "",
-                              "the meshes in their bind pose, as stored");
-    if (!model.animations.empty())
-        scene.noteNotRendered("animations", model.animations.size(), "clips",
-                              "the rest pose (morph targets at their default weights)");
+    ctx.skinnedMeshMap.assign(model.meshes.size(), -1);
+    ctx.nodeMap.assign(model.nodes.size(), -1);
+
     std::string rootsWho;
     auto roots = chooseRoots(ctx, rootsWho);
     if (!roots) return roots.error();
     if (auto e = flattenNodes(ctx, *roots, rootsWho)) return *e;
+    if (auto e = importSkins(ctx)) return *e;
+    if (auto e = importAnimations(ctx)) return *e;
     return scene;
 }
 

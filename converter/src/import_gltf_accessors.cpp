@@ -56,8 +56,10 @@ Result<std::span<const uint8_t>, ConvertError> viewBytes(const Ctx& ctx, int vie
 namespace {
 
 // Validates accessor `index` for one use (`where` names it: "mesh 'Cube' primitive 0 POSITION").
+// `mat4`: a MAT4 accessor is allowed (inverse bind matrices: 16 components, which need no
+// column padding whatever their component type, since each column is 4 components).
 Result<AccessorLayout, ConvertError> layoutOf(const Ctx& ctx, int index, const std::string& where,
-                                              bool forIndices) {
+                                              bool forIndices, bool mat4 = false) {
     const tinygltf::Model& m = ctx.model;
     const std::string who = accessorWho(index, where);
     if (index < 0 || size_t(index) >= m.accessors.size()) {
@@ -79,7 +81,7 @@ Result<AccessorLayout, ConvertError> layoutOf(const Ctx& ctx, int index, const s
                              a.componentType));
     }
     l.components = tinygltf::GetNumComponentsInType(uint32_t(a.type));
-    if (l.components < 1 || l.components > 4) {
+    if ((l.components < 1 || l.components > 4) && !(mat4 && l.components == 16)) {
         return ctx.fail(strf("%s: matrix types are not allowed here", who.c_str()));
     }
     if (a.count == 0) return ctx.fail(who + ": count is 0");
@@ -145,7 +147,7 @@ Check applySparse(const Ctx& ctx, const AccessorLayout& l, const std::string& wh
         const std::string partWho = who + " sparse " + p.name;
         auto view = viewBytes(ctx, p.view, partWho);
         if (!view) return view.error();
-        // n <= accessor count <= 2^32 and elementSize <= 16, so n * elementSize cannot overflow.
+        // n <= accessor count <= 2^32 and elementSize <= 64, so n * elementSize cannot overflow.
         const size_t bytes = n * p.elementSize;
         if (p.offset < 0 || size_t(p.offset) > view->size() ||
             bytes > view->size() - size_t(p.offset)) {
@@ -183,7 +185,7 @@ Check checkComponents(const Ctx& ctx, int components, const AttributeSpec& spec,
 Result<std::vector<float>, ConvertError> readFloats(const Ctx& ctx, int index,
                                                     const std::string& where,
                                                     const AttributeSpec& spec, int& components) {
-    auto layout = layoutOf(ctx, index, where, false);
+    auto layout = layoutOf(ctx, index, where, false, spec.maxComponents == 16);
     if (!layout) return layout.error();
     const AccessorLayout& l = *layout;
     const std::string who = accessorWho(index, where);

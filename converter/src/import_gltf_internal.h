@@ -58,6 +58,8 @@ struct Ctx {
     std::string baseDir; // the source's directory, for external images
     uint64_t budgetBytes = 0, retainedBytes = 0;
     std::vector<int> meshMap, materialMap, imageMap, lightMap, cameraMap;
+    std::vector<int> skinnedMeshMap; // a mesh as a skinned node draws it (joints, weights)
+    std::vector<int> nodeMap;        // glTF node → IR node, -1 when not imported
 
     ConvertError fail(const std::string& msg,
                       ConvertErrorKind kind = ConvertErrorKind::Input) const {
@@ -136,6 +138,7 @@ inline size_t componentSize(int componentType) {
 
 inline const char* typeName(int components) {
     static const char* const kNames[] = {"?", "SCALAR", "VEC2", "VEC3", "VEC4"};
+    if (components == 16) return "MAT4";
     return components >= 1 && components <= 4 ? kNames[components] : "?";
 }
 
@@ -175,7 +178,7 @@ Result<std::span<const uint8_t>, ConvertError> viewBytes(const Ctx& ctx, int vie
 
 // What an attribute must look like.
 struct AttributeSpec {
-    int minComponents = 1, maxComponents = 4;
+    int minComponents = 1, maxComponents = 4; // {16, 16}: MAT4 (inverse bind matrices)
     bool forceNormalized = false; // integer COLOR_0 is always normalized
 };
 
@@ -196,9 +199,10 @@ Result<std::vector<uint32_t>, ConvertError> readIndices(const Ctx& ctx, int inde
 // (the Ctx maps memoise); `who` names the referrer in messages.
 
 // import_gltf_meshes.cpp: the mesh with its primitives as triangle lists (Draco decoded).
-// `nodeWeights`: the node's morph weights (empty: the mesh's default weights).
+// `nodeWeights`: the node's morph weights (empty: the mesh's default weights); `skinned`: a
+// skinned node draws it (its primitives carry JOINTS_0/WEIGHTS_0).
 Result<int, ConvertError> importMesh(Ctx& ctx, int index, const std::vector<double>& nodeWeights,
-                                     const std::string& who);
+                                     bool skinned, const std::string& who);
 
 // import_gltf_materials.cpp: the material with its textures and images.
 Result<int, ConvertError> importMaterial(Ctx& ctx, int index, const std::string& who);
@@ -208,5 +212,11 @@ Result<int, ConvertError> importMaterial(Ctx& ctx, int index, const std::string&
 // the meshes, cameras and lights they reference.
 Result<std::vector<int>, ConvertError> chooseRoots(Ctx& ctx, std::string& rootsWho);
 Check flattenNodes(Ctx& ctx, const std::vector<int>& roots, const std::string& rootsWho);
+
+// import_gltf_animation.cpp, after flattenNodes: the skins of the imported nodes (joint indices
+// of their meshes checked against the joint count) and the clips (channels of nodes that were
+// not imported are dropped with a warning; malformed samplers are errors).
+Check importSkins(Ctx& ctx);
+Check importAnimations(Ctx& ctx);
 
 } // namespace pnb::converter::gltf_internal

@@ -192,33 +192,48 @@ void compactVertices(IrPrimitive& p) {
     compact(p.uv0, 2);
     compact(p.uv1, 2);
     compact(p.colors, 4);
+    compact(p.weights, 4);
+    for (IrMorphTarget& t : p.targets) {
+        compact(t.positions, 3);
+        compact(t.normals, 3);
+        compact(t.tangents, 3);
+    }
+    if (!p.joints.empty()) {
+        for (size_t v = 0; v < n; ++v)
+            if (remap[v] != std::numeric_limits<uint32_t>::max())
+                std::copy_n(p.joints.begin() + std::ptrdiff_t(v * 4), 4,
+                            p.joints.begin() + std::ptrdiff_t(size_t(remap[v]) * 4));
+        p.joints.resize(size_t(used) * 4);
+        p.joints.shrink_to_fit();
+    }
     for (uint32_t& i : p.indices) i = remap[i];
 }
 
 uint64_t sizeBytes(const IrPrimitive& p) {
     const size_t floats = p.positions.size() + p.normals.size() + p.tangents.size() +
-                          p.uv0.size() + p.uv1.size() + p.colors.size();
-    return uint64_t(floats) * sizeof(float) + uint64_t(p.indices.size()) * sizeof(uint32_t);
+                          p.uv0.size() + p.uv1.size() + p.colors.size() + p.weights.size() +
+                          p.joints.size();
+    size_t deltas = 0;
+    for (const IrMorphTarget& t : p.targets)
+        deltas += t.positions.size() + t.normals.size() + t.tangents.size();
+    return uint64_t(floats + deltas) * sizeof(float) +
+           uint64_t(p.indices.size()) * sizeof(uint32_t);
 }
 
 
-// Morph targets at fixed weights, baked into the base attributes (glTF 2.0 §3.7.2.2:
-// attribute = base + sum of weight_i × target_i). Only POSITION, NORMAL and TANGENT (xyz) are
-// morphed, as the specification defines; a zero weight reads nothing. Normals and tangents are
-// renormalised later by mesh processing.
-Check applyMorphTargets(Ctx& ctx, const tinygltf::Primitive& src, std::span<const double> weights,
-                        IrPrimitive& p, const std::string& where) {
-    if (weights.size() != src.targets.size()) {
-        ctx.warn(strf("%s: %zu morph weights for %zu targets; the missing weights are 0",
-                      where.c_str(), weights.size(), src.targets.size()));
-    }
-    struct Morphed { const char* semantic; std::vector<float>* base; size_t stride; };
-    const Morphed morphed[] = {
-        {"POSITION", &p.positions, 3}, {"NORMAL", &p.normals, 3}, {"TANGENT", &p.tangents, 4}};
+// The primitive's morph targets as per-vertex deltas (glTF 2.0 §3.7.2.2: attribute = base + sum
+// of weight_i x target_i). Only POSITION, NORMAL and TANGENT (xyz) are morphed, as the
+// specification defines; a delta of an attribute the primitive lacks is not read (nothing to
+// move). The weights are the mesh's (importMesh).
+Check readMorphTargets(Ctx& ctx, const tinygltf::Primitive& src, IrPrimitive& p,
+                       const std::string& where) {
+    struct Morphed { const char* semantic; const std::vector<float>* base; size_t target; };
     const size_t n = p.vertexCount();
-    for (size_t t = 0; t < src.targets.size() && t < weights.size(); ++t) {
-        const float w = float(weights[t]);
-        if (w == 0 || !std::isfinite(w)) continue;
+    p.targets.resize(src.targets.size());
+    for (size_t t = 0; t < src.targets.size(); ++t) {
+        IrMorphTarget& out = p.targets[t];
+        const Morphed morphed[] = {{"POSITION", &p.positions, 0}, {"NORMAL", &p.normals, 1},
+                                   {"TANGENT", &p.tangents, 2}};
         for (const Morphed& m : morphed) {
             auto it = src.targets[t].find(m.semantic);
             if (it == src.targets[t].end() || m.base->empty()) continue;
@@ -230,18 +245,59 @@ Check applyMorphTargets(Ctx& ctx, const tinygltf::Primitive& src, std::span<cons
                 return ctx.fail(strf("%s: count %zu differs from POSITION's %zu",
                                      accessorWho(it->second, who).c_str(), delta->size() / 3, n));
             }
-            for (size_t v = 0; v < n; ++v)
-                for (size_t k = 0; k < 3; ++k) (*m.base)[v * m.stride + k] += w * (*delta)[v * 3 + k];
+            for (float& d : *delta)
+                if (!std::isfinite(d))
+                    return ctx.fail(strf("%s: a delta is not finite",
+                                         accessorWho(it->second, who).c_str()));
+            std::vector<float>& dst = m.target == 0 ? out.positions : m.target == 1 ? out.normals : out.tangents;
+            dst = std::move(delta).value();
         }
     }
     return std::nullopt;
 }
 
-// One primitive as a triangle list, or nullopt when it is dropped (with a warning). Morph
-// targets are applied at `weights` (the node's, else the mesh's default weights).
+// JOINTS_0 and WEIGHTS_0 of a primitive a skinned node draws: integer joint indices (checked
+// against the skin's joint count by the node, which knows the skin) and the weights as given.
+// A primitive without them gets joint 0 at weight 0, which mesh processing turns into weight 1
+// on joint 0 (counted in its warning).
+Check readSkinAttributes(Ctx& ctx, const tinygltf::Primitive& src, IrPrimitive& p,
+                         const std::string& where) {
+    const size_t n = p.vertexCount();
+    auto joints = src.attributes.find("JOINTS_0");
+    auto weights = src.attributes.find("WEIGHTS_0");
+    if (joints == src.attributes.end() || weights == src.attributes.end()) {
+        p.joints.assign(n * 4, 0);
+        p.weights.assign(n * 4, 0.0f);
+        return std::nullopt;
+    }
+    const std::string jointsWhere = where + " JOINTS_0", weightsWhere = where + " WEIGHTS_0";
+    const tinygltf::Accessor* ja = joints->second >= 0 && size_t(joints->second) < ctx.model.accessors.size()
+                                       ? &ctx.model.accessors[size_t(joints->second)] : nullptr;
+    if (ja && (ja->componentType != TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE &&
+               ja->componentType != TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT))
+        return ctx.fail(strf("%s: component type %d, JOINTS_0 must be unsigned byte or short",
+                             accessorWho(joints->second, jointsWhere).c_str(), ja->componentType));
+    int components = 0;
+    auto j = readFloats(ctx, joints->second, jointsWhere, {4, 4, false}, components);
+    if (!j) return j.error();
+    if (j->size() != n * 4)
+        return ctx.fail(strf("%s: count %zu differs from POSITION's %zu",
+                             accessorWho(joints->second, jointsWhere).c_str(), j->size() / 4, n));
+    auto w = readFloats(ctx, weights->second, weightsWhere, {4, 4, false}, components);
+    if (!w) return w.error();
+    if (w->size() != n * 4)
+        return ctx.fail(strf("%s: count %zu differs from POSITION's %zu",
+                             accessorWho(weights->second, weightsWhere).c_str(), w->size() / 4, n));
+    p.joints.resize(n * 4);
+    for (size_t k = 0; k < j->size(); ++k) p.joints[k] = uint32_t((*j)[k]); // exact: u8/u16
+    p.weights = std::move(w).value();
+    return std::nullopt;
+}
+
+// One primitive as a triangle list, or nullopt when it is dropped (with a warning), with its
+// morph targets' deltas, and its joints and weights when a skinned node draws it.
 Result<std::optional<IrPrimitive>, ConvertError> importPrimitive(Ctx& ctx, int meshIndex,
-                                                                 int primIndex,
-                                                                 std::span<const double> weights) {
+                                                                 int primIndex, bool skinned) {
     const tinygltf::Primitive& src =
         ctx.model.meshes[size_t(meshIndex)].primitives[size_t(primIndex)];
     const std::string where =
@@ -281,10 +337,14 @@ Result<std::optional<IrPrimitive>, ConvertError> importPrimitive(Ctx& ctx, int m
         const std::string& semantic = attribute.first;
         const bool known = std::any_of(std::begin(streams), std::end(streams),
                                        [&](const Stream& s) { return semantic == s.semantic; });
-        // Skinning is reported once per file (importGltf), not per primitive.
-        const bool skinning = semantic.rfind("JOINTS_", 0) == 0 ||
-                              semantic.rfind("WEIGHTS_", 0) == 0;
-        if (!known && !skinning) ctx.warn(where + ": attribute " + semantic + " ignored");
+        // JOINTS_0/WEIGHTS_0 are read when a skinned node draws the mesh (readSkinAttributes),
+        // and ignored silently otherwise, as the specification says of an unskinned node.
+        const bool skinning = semantic == "JOINTS_0" || semantic == "WEIGHTS_0";
+        if (!known && !skinning)
+            ctx.warn(where + ": attribute " + semantic + " ignored" +
+                     (semantic.rfind("JOINTS_", 0) == 0 || semantic.rfind("WEIGHTS_", 0) == 0
+                          ? " (4 joint influences per vertex: JOINTS_0/WEIGHTS_0)"
+                          : ""));
     }
     size_t vertexCount = 0;
     for (const Stream& s : streams) { // POSITION first: it sets the vertex count
@@ -345,10 +405,12 @@ Result<std::optional<IrPrimitive>, ConvertError> importPrimitive(Ctx& ctx, int m
         if (draco) {
             ctx.warn(strf("%s: %zu morph targets of a Draco-compressed primitive ignored",
                           where.c_str(), src.targets.size()));
-        } else if (auto e = applyMorphTargets(ctx, src, weights, p, where)) {
+        } else if (auto e = readMorphTargets(ctx, src, p, where)) {
             return *e;
         }
     }
+    if (skinned)
+        if (auto e = readSkinAttributes(ctx, src, p, where)) return *e;
     auto triangles = triangulate(ctx, std::move(indices), indexMode, where);
     if (!triangles) return triangles.error();
     p.indices = std::move(triangles).value();
@@ -372,31 +434,66 @@ Result<std::optional<IrPrimitive>, ConvertError> importPrimitive(Ctx& ctx, int m
 } // namespace
 
 Result<int, ConvertError> importMesh(Ctx& ctx, int index, const std::vector<double>& nodeWeights,
-                                     const std::string& who) {
+                                     bool skinned, const std::string& who) {
     if (index < 0 || size_t(index) >= ctx.model.meshes.size()) {
         return ctx.fail(strf("%s: mesh %d does not exist (%zu meshes)", who.c_str(), index,
                              ctx.model.meshes.size()));
     }
     const tinygltf::Mesh& src = ctx.model.meshes[size_t(index)];
-    // A node's own morph weights override the mesh's; such a node gets a mesh of its own
-    // (the morph is baked), every other node shares the mesh at its default weights.
+    // A node's own morph weights override the mesh's; such a node gets a mesh of its own whose
+    // default weights are the node's, every other node shares the mesh at its default weights.
+    // A skinned node and an unskinned one drawing the same mesh get a copy each: only the
+    // skinned copy carries joints and weights and is deformed (docs/CONVERTER.md).
     const bool ownWeights = !nodeWeights.empty() && nodeWeights != src.weights;
-    if (!ownWeights && ctx.meshMap[size_t(index)] != -1) return ctx.meshMap[size_t(index)];
+    std::vector<int>& memo = skinned ? ctx.skinnedMeshMap : ctx.meshMap;
+    if (!ownWeights && memo[size_t(index)] != -1) return memo[size_t(index)];
     const std::vector<double>& weights = ownWeights ? nodeWeights : src.weights;
+    const std::string meshWho = label("mesh", index, ctx.model.meshes);
     IrMesh mesh;
     mesh.name = src.name;
+    mesh.skinned = skinned;
     if (src.primitives.empty()) {
-        ctx.warn(label("mesh", index, ctx.model.meshes) + ": no primitives");
+        ctx.warn(meshWho + ": no primitives");
     }
+    size_t targets = 0;
     for (size_t i = 0; i < src.primitives.size(); ++i) {
-        auto p = importPrimitive(ctx, index, int(i), weights);
+        auto p = importPrimitive(ctx, index, int(i), skinned);
         if (!p) return p.error();
-        if (p->has_value()) mesh.primitives.push_back(std::move(**p));
+        if (p->has_value()) {
+            targets = std::max(targets, (**p).targets.size());
+            mesh.primitives.push_back(std::move(**p));
+        }
+    }
+    if (targets > kMaxMorphTargets)
+        return ctx.fail(strf("%s: %zu morph targets, at most %u are supported", meshWho.c_str(),
+                             targets, kMaxMorphTargets));
+    if (targets > 0) {
+        if (weights.size() != targets)
+            ctx.warn(strf("%s: %zu morph weights for %zu targets; the missing weights are 0%s",
+                          (ownWeights ? who : meshWho).c_str(), weights.size(), targets,
+                          weights.size() > targets ? ", the extra ones ignored" : ""));
+        mesh.morphWeights.assign(targets, 0.0f);
+        for (size_t t = 0; t < targets && t < weights.size(); ++t)
+            mesh.morphWeights[t] = std::isfinite(weights[t]) ? float(weights[t]) : 0.0f;
+        for (IrPrimitive& p : mesh.primitives) {
+            if (p.targets.size() != targets && !p.targets.empty())
+                ctx.warn(strf("%s: a primitive has %zu morph targets, another %zu; the missing "
+                              "ones do not move it", meshWho.c_str(), p.targets.size(), targets));
+            p.targets.resize(targets);
+        }
+        // glTF's customary names: mesh.extras.targetNames.
+        if (src.extras.IsObject() && src.extras.Has("targetNames")) {
+            const tinygltf::Value& names = src.extras.Get("targetNames");
+            if (names.IsArray() && names.ArrayLen() == targets)
+                for (size_t t = 0; t < targets; ++t)
+                    mesh.targetNames.push_back(names.Get(int(t)).IsString()
+                                                   ? names.Get(int(t)).Get<std::string>() : "");
+        }
     }
     // An IR mesh is kept even when empty, so a node that names it stays valid.
     ctx.scene.meshes.push_back(std::move(mesh));
     const int imported = int(ctx.scene.meshes.size() - 1);
-    if (!ownWeights) ctx.meshMap[size_t(index)] = imported;
+    if (!ownWeights) memo[size_t(index)] = imported;
     return imported;
 }
 

@@ -284,11 +284,21 @@ Check importNodeContent(Ctx& ctx, int index, IrNode& node) {
     const std::string who = label("node", index, ctx.model.nodes);
     node.name = src.name;
     applyTrs(ctx, src, node, who);
+    if (src.skin >= 0 && size_t(src.skin) >= ctx.model.skins.size())
+        return ctx.fail(strf("%s: skin %d does not exist (%zu skins)", who.c_str(), src.skin,
+                             ctx.model.skins.size()));
     if (src.mesh >= 0) {
-        auto mesh = importMesh(ctx, src.mesh, src.weights, who);
+        const bool skinned = src.skin >= 0;
+        auto mesh = importMesh(ctx, src.mesh, src.weights, skinned, who);
         if (!mesh) return mesh.error();
         node.mesh = *mesh;
-        if (const tinygltf::Value* ext = extensionObject(src.extensions, "EXT_mesh_gpu_instancing"))
+        // The glTF skin index until importSkins turns it into the IR skin's.
+        node.skin = src.skin;
+        const tinygltf::Value* ext = extensionObject(src.extensions, "EXT_mesh_gpu_instancing");
+        if (ext && skinned)
+            ctx.warn(who + ": EXT_mesh_gpu_instancing on a skinned node ignored (a skin deforms "
+                           "one copy); the mesh is drawn once");
+        else if (ext)
             if (auto e = importInstances(ctx, *ext, node, who)) return e;
     }
     if (src.camera >= 0) {
@@ -340,6 +350,7 @@ Check flattenNodes(Ctx& ctx, const std::vector<int>& roots, const std::string& r
         node.parent = cur.irParent;
         if (auto e = importNodeContent(ctx, cur.node, node)) return e;
         irIndexOf[size_t(cur.node)] = int(ctx.scene.nodes.size());
+        ctx.nodeMap[size_t(cur.node)] = int(ctx.scene.nodes.size());
         ctx.scene.nodes.push_back(std::move(node));
         const int irIndex = int(ctx.scene.nodes.size() - 1);
         const std::vector<int>& children = m.nodes[size_t(cur.node)].children;

@@ -132,8 +132,12 @@ void quantizeOctahedral(const float n[3], int16_t& outU, int16_t& outV, double& 
 } // namespace
 
 std::vector<OwnedStream> encodeStreams(const VertexData& v, const StreamNeeds& needs,
-                                       const Aabb& box, bool quantize,
+                                       const Aabb& box, bool quantizeAll,
                                        std::vector<float>& storedPositions, MeshStats& stats) {
+    // A deformed mesh's positions, normals and tangents are what the deforming pass reads and
+    // rewrites: F32 Plain whatever --quantize says (FORMAT.md "MRPH"); its other streams follow
+    // the setting.
+    const bool quantize = quantizeAll && !v.deformed;
     stats.maxPositionError = 0;
     stats.maxNormalErrorRadians = 0;
     const size_t n = v.count;
@@ -201,7 +205,7 @@ std::vector<OwnedStream> encodeStreams(const VertexData& v, const StreamNeeds& n
 
     auto encodeUv = [&](VertexSemantic semantic, const std::vector<float>& uv, bool needed) {
         if (!needed) return;
-        if (!quantize) {
+        if (!quantizeAll) {
             out.push_back(encodeF32(semantic, uv, 2, n));
             return;
         }
@@ -217,7 +221,7 @@ std::vector<OwnedStream> encodeStreams(const VertexData& v, const StreamNeeds& n
     encodeUv(VertexSemantic::TexCoord1, v.uv1, needs.uv1);
 
     if (needs.colors) {
-        if (quantize) {
+        if (quantizeAll) {
             OwnedStream s = makeStream(VertexSemantic::Color0, ComponentType::U8, 4, true,
                                        VertexEncoding::Plain, n);
             for (size_t i = 0; i < n * 4; ++i)
@@ -225,6 +229,38 @@ std::vector<OwnedStream> encodeStreams(const VertexData& v, const StreamNeeds& n
             out.push_back(std::move(s));
         } else {
             out.push_back(encodeF32(VertexSemantic::Color0, v.colors, 4, n));
+        }
+    }
+    if (!v.joints.empty()) {
+        // U8 when every index fits, else U16 (a skin has at most kMaxJoints joints).
+        const bool small = std::all_of(v.joints.begin(), v.joints.end(), [](uint32_t j) { return j < 256; });
+        OwnedStream s = makeStream(VertexSemantic::Joints0, small ? ComponentType::U8 : ComponentType::U16, 4,
+                                   false, VertexEncoding::Plain, n);
+        for (size_t i = 0; i < n * 4; ++i) {
+            if (small) s.bytes[i] = std::byte(v.joints[i]);
+            else store16(&s.bytes[i * 2], uint16_t(v.joints[i]));
+        }
+        out.push_back(std::move(s));
+        out.push_back(encodeF32(VertexSemantic::Weights0, v.weights, 4, n));
+    }
+    return out;
+}
+
+std::vector<ProcessedMorphTarget> encodeMorphTargets(const VertexData& v,
+                                                     const std::vector<MorphSlots>& targets) {
+    std::vector<ProcessedMorphTarget> out(targets.size());
+    const size_t n = v.count;
+    std::vector<float> delta(n * 3);
+    for (size_t t = 0; t < targets.size(); ++t) {
+        const MorphSlots& slots = targets[t];
+        const std::pair<VertexSemantic, int> kept[] = {{VertexSemantic::Position, slots.position},
+                                                       {VertexSemantic::Normal, slots.normal},
+                                                       {VertexSemantic::Tangent, slots.tangent}};
+        for (const auto& [semantic, slot] : kept) {
+            if (slot < 0) continue;
+            for (size_t i = 0; i < n; ++i)
+                std::copy_n(&v.morph[i * v.morphStride + size_t(slot)], 3, &delta[i * 3]);
+            out[t].deltas.push_back(encodeF32(semantic, delta, 3, n));
         }
     }
     return out;

@@ -29,6 +29,21 @@ struct VertexData {
     std::vector<float> tangents;  // xyzw, only if StreamNeeds::tangents
     std::vector<float> uv0, uv1;  // uv, only if needed
     std::vector<float> colors;    // rgba, only if needed
+    // A deformed mesh (skinned or morphed): F32 positions, normals and tangents (encodeStreams).
+    bool deformed = false;
+    std::vector<uint32_t> joints; // 4 per vertex, only for a skinned mesh
+    std::vector<float> weights;   // 4 per vertex (normalised to sum 1), with joints
+    // Morph deltas interleaved per vertex, morphStride floats each: every target's kept
+    // attributes at the offsets its MorphSlots give, xyz each. Empty without morph targets.
+    std::vector<float> morph;
+    size_t morphStride = 0;
+};
+
+// Where a morph target's deltas sit in VertexData::morph (float offset within a vertex), -1
+// for an attribute the target does not keep (the source has no delta for it, or the mesh has no
+// such stream).
+struct MorphSlots {
+    int position = -1, normal = -1, tangent = -1;
 };
 
 // [normals] mesh_normals.cpp
@@ -68,7 +83,8 @@ Sphere boundingSphere(std::span<const float> positions, const Aabb& box);
 // [encode] mesh_encode.cpp
 // Turns the welded float streams into container streams: F32 or, with `quantize`, the
 // encodings documented in mesh_processing.h, quantizing positions within `box` (the box of
-// v.positions). `storedPositions` receives the positions a reader decodes (xyz per vertex), so
+// v.positions; a deformed mesh keeps positions, normals and tangents F32), then Joints0 (U8 or
+// U16 x 4) and Weights0 (F32 x 4) for a skinned one. `storedPositions` receives the positions a reader decodes (xyz per vertex), so
 // bounds can be computed from what is stored. Fills stats.maxPositionError and
 // stats.maxNormalErrorRadians (0 when not quantized). Stream order: Position, Normal,
 // Tangent, TexCoord0, TexCoord1, Color0: position and normal always, the others as `needs` says
@@ -76,6 +92,10 @@ Sphere boundingSphere(std::span<const float> positions, const Aabb& box);
 std::vector<OwnedStream> encodeStreams(const VertexData& v, const StreamNeeds& needs,
                                        const Aabb& box, bool quantize,
                                        std::vector<float>& storedPositions, MeshStats& stats);
+// Each morph target's delta streams (F32 x 3 Plain, semantics Position, Normal, Tangent in that
+// order, each only where its slot is kept).
+std::vector<ProcessedMorphTarget> encodeMorphTargets(const VertexData& v,
+                                                     const std::vector<MorphSlots>& targets);
 // Index bytes, little-endian, of `type`. Precondition: every index fits `type`.
 std::vector<std::byte> encodeIndices(std::span<const uint32_t> indices, IndexType type);
 

@@ -46,6 +46,8 @@
 #include <optional>
 #include <span>
 #include <string>
+#include <cstring>
+#include <unordered_map>
 
 #include <meshoptimizer.h>
 
@@ -106,6 +108,21 @@ std::optional<ConvertError> validate(const IrMesh& mesh, size_t index) {
                                   std::to_string(n * s.components) + " (" + std::to_string(n) +
                                   " vertices × " + std::to_string(s.components) + ")");
     }
+    if (p.joints.size() != p.weights.size() || (!p.joints.empty() && p.joints.size() != n * 4))
+        return inputError(mesh, index,
+                          std::to_string(p.joints.size()) + " joint indices and " +
+                              std::to_string(p.weights.size()) + " weights, expected " +
+                              std::to_string(n * 4) + " of each or none");
+    if (!p.targets.empty() && p.targets.size() != mesh.morphWeights.size())
+        return inputError(mesh, index,
+                          std::to_string(p.targets.size()) + " morph targets, the mesh has " +
+                              std::to_string(mesh.morphWeights.size()) + " weights");
+    for (size_t t = 0; t < p.targets.size(); ++t)
+        for (const std::vector<float>* d : {&p.targets[t].positions, &p.targets[t].normals, &p.targets[t].tangents})
+            if (!d->empty() && d->size() != n * 3)
+                return inputError(mesh, index,
+                                  "morph target " + std::to_string(t) + ": " + std::to_string(d->size()) +
+                                      " delta floats, expected " + std::to_string(n * 3));
     if (p.indices.size() % 3 != 0)
         return inputError(mesh, index,
                           std::to_string(p.indices.size()) + " indices, not a multiple of 3");
@@ -249,7 +266,22 @@ void remapStream(std::vector<float>& stream, size_t components, size_t oldCount,
     stream.swap(out);
 }
 
+// Any element type and width (morph deltas may be wider than meshopt_remapVertexBuffer takes).
+template <class T>
+void remapWide(std::vector<T>& stream, size_t components, size_t oldCount, size_t newCount,
+               const std::vector<uint32_t>& remap) {
+    if (stream.empty()) return;
+    std::vector<T> out(newCount * components);
+    for (size_t i = 0; i < oldCount; ++i)
+        if (remap[i] != ~0u)
+            std::copy_n(&stream[i * components], components, &out[size_t(remap[i]) * components]);
+    stream.swap(out);
+}
+
 void remapAll(VertexData& v, size_t newCount, const std::vector<uint32_t>& remap) {
+    remapWide(v.joints, 4, v.count, newCount, remap);
+    remapStream(v.weights, 4, v.count, newCount, remap);
+    remapWide(v.morph, v.morphStride, v.count, newCount, remap);
     remapStream(v.positions, kPositionComponents, v.count, newCount, remap);
     remapStream(v.normals, kNormalComponents, v.count, newCount, remap);
     remapStream(v.tangents, kTangentComponents, v.count, newCount, remap);
@@ -292,11 +324,14 @@ struct MergedMesh {
     std::vector<uint8_t> generateNormal;
     std::vector<TangentSource> tangentSource; // empty unless tangents are needed
     std::vector<uint8_t> noUv0;               // tangents arbitrary because the primitive has no uv0
+    std::vector<MorphSlots> morphSlots;       // per morph target
 };
 
 // 2. A primitive's triangles, less the non-finite and degenerate ones, appended to the merged
 // indices (its vertices start at `base`).
-void appendKeptTriangles(const IrPrimitive& p, uint32_t base, double diagonal,
+// A deformed mesh (`keepZeroArea`) keeps its zero-area triangles: a morph or a skin may give
+// them area.
+void appendKeptTriangles(const IrPrimitive& p, uint32_t base, double diagonal, bool keepZeroArea,
                          std::vector<uint32_t>& indices, MeshStats& stats) {
     for (size_t t = 0; t < p.indices.size(); t += 3) {
         uint32_t a = p.indices[t], b = p.indices[t + 1], c = p.indices[t + 2];
@@ -305,8 +340,8 @@ void appendKeptTriangles(const IrPrimitive& p, uint32_t base, double diagonal,
             continue;
         }
         if (a == b || b == c || a == c ||
-            isDegenerate(&p.positions[size_t(a) * 3], &p.positions[size_t(b) * 3],
-                         &p.positions[size_t(c) * 3], diagonal)) {
+            (!keepZeroArea && isDegenerate(&p.positions[size_t(a) * 3], &p.positions[size_t(b) * 3],
+                                           &p.positions[size_t(c) * 3], diagonal))) {
             ++stats.degenerateTriangles;
             continue;
         }
@@ -348,12 +383,82 @@ void appendPrimitiveVertices(const IrPrimitive& p, const StreamNeeds& needs, uin
     if (needs.colors) appendSanitised(v.colors, p.colors, n * kColorComponents, 1.0f);
 }
 
+// 3, skinned meshes: a primitive's joints and weights appended, the weights normalised to sum 1
+// (negative and non-finite ones count as 0; a vertex whose weights sum to 0 gets weight 1 on its
+// first joint). A primitive without them (the importer had none) is all joint 0.
+void appendSkinAttributes(const IrPrimitive& p, VertexData& v, MeshStats& stats) {
+    const size_t n = p.vertexCount();
+    for (size_t i = 0; i < n; ++i) {
+        double w[4] = {0, 0, 0, 0}, sum = 0;
+        bool clean = !p.weights.empty();
+        for (int k = 0; k < 4; ++k) {
+            const float x = p.weights.empty() ? 0.0f : p.weights[i * 4 + k];
+            clean &= std::isfinite(x) && x >= 0;
+            w[k] = std::isfinite(x) && x > 0 ? double(x) : 0.0;
+            sum += w[k];
+            v.joints.push_back(p.joints.empty() ? 0 : p.joints[i * 4 + k]);
+        }
+        if (!(sum > 0) || !std::isfinite(sum)) {
+            ++stats.weightsZero;
+            v.weights.insert(v.weights.end(), {1.0f, 0.0f, 0.0f, 0.0f});
+            continue;
+        }
+        // glTF allows a sum within about 2e-7 per weight of 1 (its normalisation tolerance);
+        // anything further off is reported.
+        if (!clean || std::abs(sum - 1.0) > 2e-6) ++stats.weightsRenormalised;
+        for (int k = 0; k < 4; ++k) v.weights.push_back(float(w[k] / sum) + 0.0f);
+    }
+}
+
+// 3, morphed meshes: a primitive's deltas appended at the mesh's slots (zero where the
+// primitive's target does not move the attribute, or the primitive has no such target).
+void appendMorphDeltas(const IrPrimitive& p, const std::vector<MorphSlots>& slots, VertexData& v) {
+    const size_t n = p.vertexCount(), first = v.morph.size();
+    v.morph.resize(first + n * v.morphStride, 0.0f);
+    for (size_t t = 0; t < p.targets.size(); ++t) {
+        const IrMorphTarget& target = p.targets[t];
+        const std::pair<const std::vector<float>*, int> kept[] = {
+            {&target.positions, slots[t].position}, {&target.normals, slots[t].normal},
+            {&target.tangents, slots[t].tangent}};
+        for (const auto& [delta, slot] : kept) {
+            if (slot < 0 || delta->empty()) continue;
+            for (size_t i = 0; i < n; ++i)
+                for (size_t k = 0; k < 3; ++k) {
+                    const float d = (*delta)[i * 3 + k];
+                    v.morph[first + i * v.morphStride + size_t(slot) + k] = std::isfinite(d) ? d + 0.0f : 0.0f;
+                }
+        }
+    }
+}
+
+// Which attributes each morph target keeps: Position always, Normal where a primitive moves
+// normals (the mesh always has them), Tangent where one moves tangents and the mesh keeps them.
+std::vector<MorphSlots> morphSlotsOf(const IrMesh& mesh, const StreamNeeds& needs, size_t& stride) {
+    std::vector<MorphSlots> slots(mesh.morphWeights.size());
+    stride = 0;
+    for (size_t t = 0; t < slots.size(); ++t) {
+        bool normals = false, tangents = false;
+        for (const IrPrimitive& p : mesh.primitives)
+            if (t < p.targets.size()) {
+                normals |= !p.targets[t].normals.empty();
+                tangents |= !p.targets[t].tangents.empty();
+            }
+        slots[t].position = int(stride);
+        stride += 3;
+        if (normals) slots[t].normal = int(stride), stride += 3;
+        if (tangents && needs.tangents) slots[t].tangent = int(stride), stride += 3;
+    }
+    return slots;
+}
+
 // 2 + 3. Filter triangles while merging indices; merge the vertex streams.
 MergedMesh mergePrimitives(const IrMesh& mesh, const StreamNeeds& needs, size_t vertexCount,
                            MeshStats& stats) {
     const double diagonal = finiteDiagonal(mesh);
     MergedMesh m;
     m.v.count = vertexCount;
+    m.v.deformed = mesh.deformed();
+    m.morphSlots = morphSlotsOf(mesh, needs, m.v.morphStride);
     m.generateNormal.assign(vertexCount, 0);
     m.tangentSource.assign(needs.tangents ? vertexCount : 0, TangentSource::Keep);
     m.noUv0.assign(vertexCount, 0);
@@ -363,10 +468,12 @@ MergedMesh mergePrimitives(const IrMesh& mesh, const StreamNeeds& needs, size_t 
     uint32_t base = 0;
     for (const IrPrimitive& p : mesh.primitives) {
         Range range{uint32_t(m.indices.size()), 0};
-        appendKeptTriangles(p, base, diagonal, m.indices, stats);
+        appendKeptTriangles(p, base, diagonal, m.v.deformed, m.indices, stats);
         range.count = uint32_t(m.indices.size() - range.first);
         m.ranges.push_back(range);
         appendPrimitiveVertices(p, needs, base, m);
+        if (mesh.skinned) appendSkinAttributes(p, m.v, stats);
+        if (m.v.morphStride) appendMorphDeltas(p, m.morphSlots, m.v);
         base += uint32_t(p.vertexCount());
     }
     stats.outputTriangles = m.indices.size() / 3;
@@ -390,9 +497,41 @@ void completeNormalsAndTangents(MergedMesh& m, const StreamNeeds& needs, MeshSta
     if (!needs.uv0) m.v.uv0.clear();
 }
 
+// Per vertex, a number equal for two vertices exactly when their morph deltas are bitwise equal:
+// the deltas may be wider than a meshopt_Stream key (256 bytes), so the weld keys on this.
+std::vector<uint32_t> morphClasses(const VertexData& v) {
+    std::vector<uint32_t> out(v.count, 0);
+    if (!v.morphStride) return out;
+    const size_t bytes = v.morphStride * sizeof(float);
+    auto at = [&](uint32_t i) { return reinterpret_cast<const unsigned char*>(&v.morph[size_t(i) * v.morphStride]); };
+    struct Hash {
+        decltype(at)& a; size_t n;
+        size_t operator()(uint32_t i) const {
+            uint64_t h = 1469598103934665603ull; // FNV-1a
+            const unsigned char* p = a(i);
+            for (size_t k = 0; k < n; ++k) h = (h ^ p[k]) * 1099511628211ull;
+            return size_t(h);
+        }
+    };
+    struct Equal {
+        decltype(at)& a; size_t n;
+        bool operator()(uint32_t x, uint32_t y) const { return std::memcmp(a(x), a(y), n) == 0; }
+    };
+    std::unordered_map<uint32_t, uint32_t, Hash, Equal> classes(v.count, Hash{at, bytes}, Equal{at, bytes});
+    for (uint32_t i = 0; i < uint32_t(v.count); ++i)
+        out[i] = classes.emplace(i, uint32_t(classes.size())).first->second;
+    return out;
+}
+
 // 6. Weld over the output streams.
 void weldOutputStreams(VertexData& v, std::vector<uint32_t>& indices) {
     std::vector<meshopt_Stream> keys;
+    if (!v.joints.empty()) {
+        keys.push_back({v.joints.data(), sizeof(uint32_t) * 4, sizeof(uint32_t) * 4});
+        keys.push_back({v.weights.data(), sizeof(float) * 4, sizeof(float) * 4});
+    }
+    const std::vector<uint32_t> morphClass = morphClasses(v);
+    if (v.morphStride) keys.push_back({morphClass.data(), sizeof(uint32_t), sizeof(uint32_t)});
     auto key = [&](const std::vector<float>& s, size_t components) {
         if (!s.empty())
             keys.push_back({s.data(), sizeof(float) * components, sizeof(float) * components});
@@ -548,9 +687,16 @@ Result<ProcessedMesh, ConvertError> processMesh(const IrMesh& mesh, const Stream
 
     ProcessedMesh out;
     out.name = mesh.name;
+    out.deformed = v.deformed;
     out.submeshes = level0Submeshes(mesh, merged.ranges);
     appendLods(v, merged.ranges, settings, indices, out.submeshes, stats);
     encodeWithBounds(v, indices, needs, settings, out, stats);
+    if (v.morphStride) {
+        out.morphWeights = mesh.morphWeights;
+        out.morphTargets = encodeMorphTargets(v, merged.morphSlots);
+        for (size_t t = 0; t < out.morphTargets.size() && t < mesh.targetNames.size(); ++t)
+            out.morphTargets[t].name = mesh.targetNames[t];
+    }
     return out;
 }
 

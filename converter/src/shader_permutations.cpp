@@ -14,10 +14,14 @@ ProgramVariant variant(std::string name, std::vector<std::string> files,
                        std::vector<std::string> defines) {
     ProgramVariant v;
     v.name = std::move(name);
-    for (const std::string& f : files) {
-        bool vertex = f.size() > 5 && f.compare(f.size() - 5, 5, ".vert") == 0;
-        v.stages.push_back(vertex ? ShaderStage::Vertex : ShaderStage::Fragment);
-    }
+    auto endsWith = [](const std::string& f, const char* ext) {
+        const size_t n = std::char_traits<char>::length(ext);
+        return f.size() > n && f.compare(f.size() - n, n, ext) == 0;
+    };
+    for (const std::string& f : files)
+        v.stages.push_back(endsWith(f, ".vert")   ? ShaderStage::Vertex
+                           : endsWith(f, ".comp") ? ShaderStage::Compute
+                                                  : ShaderStage::Fragment);
     v.stageFiles = std::move(files);
     std::sort(defines.begin(), defines.end());
     v.defines = std::move(defines);
@@ -119,6 +123,14 @@ ShaderPlan planShaders(std::span<const Material> materials,
     // GI's own passes (RSM injection, propagation) are the player's compute shaders: they do not
     // depend on the scene's materials, so they are not scene content.
     add(variant("tonemap", {"fullscreen.vert", "tonemap.frag"}, {}));
+    // The deforming pre-pass, only in a scene that deforms something: SKIN with a skinned node,
+    // MORPH with morph targets (a static scene's programs are what they were without it).
+    if (needs.skins || needs.morphs) {
+        std::vector<std::string> defines;
+        if (needs.morphs) defines.push_back("MORPH");
+        if (needs.skins) defines.push_back("SKIN");
+        add(variant("deform", {"deform.comp"}, std::move(defines)));
+    }
     return plan;
 }
 

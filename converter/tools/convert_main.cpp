@@ -312,6 +312,10 @@ void printSummary(const ConvertSettings& s, const ConvertSummary& r) {
     if (r.instances)
         std::printf("  instances %zu (EXT_mesh_gpu_instancing: each mesh stored once, one draw "
                     "item per copy)\n", r.instances);
+    if (r.skins || r.clips || r.morphedMeshes)
+        std::printf("  skins %zu (%zu joints), animations (%zu clips, the longest %.3f s), morphed "
+                    "meshes %zu: played by the deform pass\n",
+                    r.skins, r.joints, r.clips, r.longestClipSeconds, r.morphedMeshes);
     std::printf("  triangles %llu in, %llu out (%llu degenerate, %llu non-finite removed); "
                 "vertices %llu in, %llu out\n",
                 (unsigned long long)r.inputTriangles, (unsigned long long)r.outputTriangles,

@@ -255,6 +255,14 @@ std::string swizzleLabel(const std::array<Swizzle, 4>& sw); // "rgba"
 // Seconds from the first key to the last (0 with fewer than two keys).
 float pathDuration(const CameraPath& p);
 uint32_t storedMipCount(const Scene& s, uint32_t texture);
+// An animation clip's totals: its keys over all channels, and its duration (animation_pose.h).
+struct ClipCounts {
+    uint64_t keys = 0;
+    double durationSeconds = 0;
+};
+ClipCounts countClip(const Animation& clip);
+// The delta streams of a morph target as "position,normal" (the semantics it moves).
+std::string morphDeltaLabel(const MorphTarget& t);
 
 struct NodeCounts {
     uint64_t roots = 0, withMesh = 0, withLight = 0, withCamera = 0;

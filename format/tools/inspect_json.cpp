@@ -300,6 +300,46 @@ void jsonNodesAndCameraPaths(Json& j, const Scene& s) {
     j.endArray();
 }
 
+// "morph_targets", "skins", "animations": only when the file has some (a static scene's
+// report is what it was before they existed).
+void jsonAnimation(Json& j, const Scene& s) {
+    if (!s.morphTargets.empty()) {
+        j.key("morph_targets").beginArray();
+        for (const MorphTargets& m : s.morphTargets) {
+            j.beginObject(true);
+            j.key("mesh").uint(m.mesh);
+            j.key("targets").uint(m.targets.size());
+            j.key("deltas").str(m.targets.empty() ? "none" : morphDeltaLabel(m.targets[0]));
+            j.endObject();
+        }
+        j.endArray();
+    }
+    if (!s.skins.empty()) {
+        j.key("skins").beginArray();
+        for (const Skin& k : s.skins) {
+            j.beginObject(true);
+            j.key("name").name(s, k.name);
+            j.key("joints").uint(k.joints.size());
+            j.key("nodes").uint(k.nodes.size());
+            j.endObject();
+        }
+        j.endArray();
+    }
+    if (!s.animations.empty()) {
+        j.key("animations").beginArray();
+        for (const Animation& a : s.animations) {
+            const ClipCounts c = countClip(a);
+            j.beginObject(true);
+            j.key("name").name(s, a.name);
+            j.key("channels").uint(a.channels.size());
+            j.key("keys").uint(c.keys);
+            j.key("duration_seconds").number(float(c.durationSeconds));
+            j.endObject();
+        }
+        j.endArray();
+    }
+}
+
 } // namespace
 
 // The decoded scene as the object "scene": one member per kind of content, in a fixed order.
@@ -313,6 +353,7 @@ void jsonScene(Json& j, const Scene& s) {
     jsonMeshes(j, s);
     jsonLightsAndCameras(j, s);
     jsonNodesAndCameraPaths(j, s);
+    jsonAnimation(j, s);
     j.endObject();
 }
 

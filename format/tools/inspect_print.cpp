@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "inspect_internal.h"
+#include "pnb/animation_pose.h"
 
 namespace pnb::inspect_detail {
 
@@ -258,6 +259,22 @@ uint32_t storedMipCount(const Scene& s, uint32_t texture) {
     for (const TextureMip& m : s.textureMips)
         n += m.texture == texture;
     return n;
+}
+
+ClipCounts countClip(const Animation& clip) {
+    ClipCounts c;
+    for (const AnimationChannel& ch : clip.channels) c.keys += ch.times.size();
+    c.durationSeconds = clipDuration(clip);
+    return c;
+}
+
+std::string morphDeltaLabel(const MorphTarget& t) {
+    static const char* const kNames[] = {"position", "normal", "tangent"};
+    std::string out;
+    for (const VertexStream& d : t.deltas)
+        out += (out.empty() ? "" : ",") +
+               std::string(unsigned(d.semantic) < 3 ? kNames[unsigned(d.semantic)] : "?");
+    return out.empty() ? "none" : out;
 }
 
 NodeCounts countNodes(const NodeGraph& g) {

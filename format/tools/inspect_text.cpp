@@ -294,6 +294,39 @@ void textNodesAndCameraPaths(std::string& o, const Scene& s) {
     }
 }
 
+// Morph targets, skins and clips (MRPH, SKIN, ANIM), only when the file has some: a static
+// scene's report is what it was before they existed.
+void textAnimation(std::string& o, const Scene& s) {
+    if (!s.morphTargets.empty()) {
+        o += "\nmorph targets (" + u64(s.morphTargets.size()) + " meshes):\n";
+        TextTable t({"#", "mesh", "targets", "deltas"}, "rrrl");
+        for (size_t i = 0; i < s.morphTargets.size(); ++i) {
+            const MorphTargets& m = s.morphTargets[i];
+            t.add({u64(i), u64(m.mesh), u64(m.targets.size()),
+                   m.targets.empty() ? std::string("-") : morphDeltaLabel(m.targets[0])});
+        }
+        t.print(o);
+    }
+    if (!s.skins.empty()) {
+        o += "\nskins (" + u64(s.skins.size()) + "):\n";
+        TextTable t({"#", "name", "joints", "nodes"}, "rlrr");
+        for (size_t i = 0; i < s.skins.size(); ++i)
+            t.add({u64(i), nameText(s, s.skins[i].name), u64(s.skins[i].joints.size()),
+                   u64(s.skins[i].nodes.size())});
+        t.print(o);
+    }
+    if (!s.animations.empty()) {
+        o += "\nanimations (" + u64(s.animations.size()) + " clips):\n";
+        TextTable t({"#", "name", "channels", "keys", "duration (s)"}, "rlrrr");
+        for (size_t i = 0; i < s.animations.size(); ++i) {
+            const ClipCounts c = countClip(s.animations[i]);
+            t.add({u64(i), nameText(s, s.animations[i].name), u64(s.animations[i].channels.size()),
+                   u64(c.keys), num(float(c.durationSeconds))});
+        }
+        t.print(o);
+    }
+}
+
 // The environment (ENVM), when the file has one.
 void textEnvironment(std::string& o, const Scene& s) {
     if (const auto& e = s.environment) {
@@ -326,6 +359,7 @@ void textScene(std::string& o, const Scene& s) {
     textLights(o, s);
     textCameras(o, s);
     textNodesAndCameraPaths(o, s);
+    textAnimation(o, s);
     textEnvironment(o, s);
 }
 

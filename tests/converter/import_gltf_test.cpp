@@ -427,17 +427,30 @@ TEST(GltfImport, SpecularGlossinessUsesTheFallback) {
     EXPECT_FLOAT_EQ(r->materials[0].pbr.metallicFactor, 0.0f);
 }
 
-TEST(GltfImport, SkinsAndAnimationsAreNamedAmongWhatIsNotRendered) {
+TEST(GltfImport, SkinsAndAnimationsAreImported) {
     PNB_REQUIRE_MODELS();
     auto skin = load("simple_skin/simple_skin.gltf");
     ASSERT_TRUE(skin.ok()) << skin.error().message;
-    ASSERT_NE(notRendered(*skin, "skins"), nullptr);
-    EXPECT_TRUE(contains(notRendered(*skin, "skins")->fallback, "bind pose"));
+    EXPECT_EQ(notRendered(*skin, "skins"), nullptr);
+    ASSERT_EQ(skin->skins.size(), 1u);
+    EXPECT_EQ(skin->skins[0].joints.size(), 2u);
+    EXPECT_EQ(skin->animations.size(), 1u);
     EXPECT_GT(triangleCount(*skin), 0u);
+    const IrNode* skinned = nullptr;
+    for (const IrNode& n : skin->nodes)
+        if (n.skin == 0) skinned = &n;
+    ASSERT_NE(skinned, nullptr);
+    ASSERT_GE(skinned->mesh, 0);
+    const IrMesh& mesh = skin->meshes[size_t(skinned->mesh)];
+    EXPECT_TRUE(mesh.skinned);
+    EXPECT_EQ(mesh.primitives[0].joints.size(), mesh.primitives[0].vertexCount() * 4);
     auto morph = load("glTF-Sample-Models/AnimatedMorphCube-glTF/AnimatedMorphCube.gltf");
     ASSERT_TRUE(morph.ok()) << morph.error().message;
-    ASSERT_NE(notRendered(*morph, "animations"), nullptr);
-    EXPECT_EQ(notRendered(*morph, "animations")->count, 1u);
+    EXPECT_EQ(notRendered(*morph, "animations"), nullptr);
+    ASSERT_EQ(morph->animations.size(), 1u);
+    EXPECT_EQ(morph->animations[0].channels[0].property, AnimatedProperty::Weights);
+    ASSERT_EQ(morph->meshes.size(), 1u);
+    EXPECT_EQ(morph->meshes[0].morphWeights.size(), 2u);
 }
 
 // Every file in the corpus: no crash (the suite runs under ASan/UBSan), and either a scene whose
@@ -793,9 +806,9 @@ TEST_F(GltfCrafted, MatricesDecomposeWithMirrorAndShearWarnings) {
     EXPECT_FALSE(hasWarning(*r, "node 'S'")) << allWarnings(*r);
 }
 
-// Morph targets at the mesh's default weights are baked into the rest shape (glTF §3.7.2.2);
-// a node's own weights override the mesh's and give that node a mesh of its own.
-TEST_F(GltfCrafted, MorphTargetsAreBakedAtTheDefaultWeights) {
+// Morph targets are carried as deltas with the mesh's default weights (glTF §3.7.2.2); a node's
+// own weights override the mesh's and give that node a mesh of its own, with its weights.
+TEST_F(GltfCrafted, MorphTargetsKeepTheirDeltasAndDefaultWeights) {
     Bin bin;
     bin.add<float>({0, 0, 0, 1, 0, 0, 0, 1, 0});    // base triangle
     bin.add<float>({0, 0, 2, 0, 0, 2, 0, 0, 2});    // target 0: +2 z everywhere
@@ -814,10 +827,14 @@ TEST_F(GltfCrafted, MorphTargetsAreBakedAtTheDefaultWeights) {
     ASSERT_EQ(r->nodes.size(), 3u);
     EXPECT_EQ(r->nodes[0].mesh, r->nodes[1].mesh) << "nodes at the default weights share the mesh";
     ASSERT_NE(r->nodes[2].mesh, r->nodes[0].mesh) << "a node with its own weights gets its own";
-    const std::vector<float>& rest = r->meshes[size_t(r->nodes[0].mesh)].primitives[0].positions;
-    EXPECT_EQ(rest, (std::vector<float>{0.25f, 0, 1, 1, 0, 1, 0, 1, 1}));
-    const std::vector<float>& own = r->meshes[size_t(r->nodes[2].mesh)].primitives[0].positions;
-    EXPECT_EQ(own, (std::vector<float>{0, 0, 2, 1, 0, 2, 0, 1, 2}));
+    const IrMesh& shared = r->meshes[size_t(r->nodes[0].mesh)];
+    EXPECT_EQ(shared.primitives[0].positions, (std::vector<float>{0, 0, 0, 1, 0, 0, 0, 1, 0}));
+    EXPECT_EQ(shared.morphWeights, (std::vector<float>{0.5f, 0.25f}));
+    ASSERT_EQ(shared.primitives[0].targets.size(), 2u);
+    EXPECT_EQ(shared.primitives[0].targets[1].positions, (std::vector<float>{1, 0, 0, 0, 0, 0, 0, 0, 0}));
+    EXPECT_TRUE(shared.primitives[0].targets[0].normals.empty()) << "the mesh has no normals to move";
+    const IrMesh& own = r->meshes[size_t(r->nodes[2].mesh)];
+    EXPECT_EQ(own.morphWeights, (std::vector<float>{1, 0}));
 }
 
 TEST_F(GltfCrafted, LightsEmissiveStrengthAndCameraDefaults) {

@@ -73,6 +73,10 @@ struct ConvertSummary {
     size_t meshes = 0, submeshes = 0, nodes = 0, materials = 0, textures = 0, lights = 0,
            cameras = 0, cameraPaths = 0;
     size_t instances = 0; // EXT_mesh_gpu_instancing copies (NODE version 2), all nodes together
+    // Moving scenes (SKIN, ANIM, MRPH): skins and their joints, clips and the longest one's
+    // duration, meshes with morph targets.
+    size_t skins = 0, joints = 0, clips = 0, morphedMeshes = 0;
+    double longestClipSeconds = 0;
     uint64_t inputTriangles = 0, outputTriangles = 0, degenerateTriangles = 0,
              nonFiniteTriangles = 0, inputVertices = 0, outputVertices = 0;
     float maxPositionError = 0, maxNormalErrorRadians = 0; // quantisation, worst mesh

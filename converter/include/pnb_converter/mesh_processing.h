@@ -44,6 +44,9 @@ struct StreamNeeds {
 //             w = exactly ±1. (Octahedral would need a third component for w; not worth it.)
 //   TexCoord  F16 ×2, Plain, not normalized (IEEE half; magnitudes clamped to 65504).
 //   Color0    U8 ×4 normalized, Plain (linear RGBA clamped to [0, 1]).
+// A deformed mesh keeps Position, Normal and Tangent F32 Plain with `quantize` (the deforming
+// pass reads and writes them); its Joints0 is U8 ×4 when every index is below 256, else U16 ×4,
+// and Weights0 F32 ×4, quantized or not.
 // Indices: U16 when vertexCount <= 65535, else U32, quantized or not.
 struct MeshSettings {
     bool optimize = true;    // meshoptimizer cache/overdraw/fetch passes. Default: true.
@@ -74,6 +77,9 @@ struct MeshStats {
     float maxNormalErrorRadians = 0;    // quantisation error of normals
     std::vector<float> lodErrors;       // per extra level produced, mesh units: the largest
                                         // Submesh::lodError of that level (against level 0)
+    uint64_t weightsRenormalised = 0;   // skinned vertices whose weights did not sum to 1
+                                        // (or held a negative or non-finite weight)
+    uint64_t weightsZero = 0;           // ... whose weights summed to 0: weight 1 on joint 0
 };
 
 // A vertex stream with the bytes it owns (a pnb::VertexStream's `data` is filled from `bytes`
@@ -83,8 +89,21 @@ struct OwnedStream {
     std::vector<std::byte> bytes;
 };
 
+// One morph target of a processed mesh: its delta streams, vertexCount long, in the mesh's
+// final vertex order (F32 x 3 Plain: Position always, Normal where the source moves normals,
+// Tangent where it moves tangents and the mesh keeps them).
+struct ProcessedMorphTarget {
+    std::string name;
+    std::vector<OwnedStream> deltas;
+};
+
 struct ProcessedMesh {
     std::string name;
+    // A deformed mesh (IrMesh::deformed): Position/Normal/Tangent F32 Plain even with
+    // `quantize`, Joints0/Weights0 streams when skinned, no coarse proxy (MDET).
+    bool deformed = false;
+    std::vector<ProcessedMorphTarget> morphTargets; // empty or one per IrMesh::morphWeights
+    std::vector<float> morphWeights;                // the default weights
     uint32_t vertexCount = 0;
     std::vector<OwnedStream> streams;
     IndexType indexType = IndexType::U32; // U16 when vertexCount <= 65535
@@ -94,6 +113,13 @@ struct ProcessedMesh {
     Sphere boundingSphere;
 };
 
+// A deformed mesh (skinned or morphed, IrMesh::deformed) goes through the same steps, its
+// Joints0/Weights0 and morph deltas carried through every weld and reorder with the other
+// streams (vertices that differ in them are not welded), its weights normalised to sum 1 (a
+// vertex whose weights sum to 0 gets weight 1 on its first joint; both counted in `stats`),
+// and zero-area triangles kept (a morph or a skin may give them area; triangles repeating an
+// index are still dropped). See MeshSettings for what `quantize` leaves F32.
+//
 // Processes one mesh; `stats` is overwritten. Errors (Input): no primitives, no positions, index
 // out of range, index count not a multiple of 3, array sizes that do not match the vertex count,
 // material below -1 — each naming the mesh and primitive — and lodRatio outside (0, 1) when

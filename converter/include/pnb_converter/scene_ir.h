@@ -70,6 +70,12 @@ struct IrMaterial {
     std::optional<SpecGlossFactors> specGloss;
 };
 
+// One morph target of a primitive: per-vertex displacements (xyz), each stream empty when the
+// target does not move that attribute (glTF 2.0 §3.7.2.2). Tangent deltas are xyz only.
+struct IrMorphTarget {
+    std::vector<float> positions, normals, tangents;
+};
+
 // One draw's worth of geometry: separate float streams, empty when the source has none.
 struct IrPrimitive {
     std::vector<float> positions; // xyz per vertex (required)
@@ -77,6 +83,12 @@ struct IrPrimitive {
     std::vector<float> tangents;  // xyzw (w = bitangent sign)
     std::vector<float> uv0, uv1;  // uv, glTF orientation (v down the image)
     std::vector<float> colors;    // rgba, linear
+    // Skinning (only in a mesh a skinned node draws): four joint indices into the node's skin
+    // and four weights per vertex, as the source gave them (the weights are normalised by mesh
+    // processing). Both empty, or both 4 x vertexCount.
+    std::vector<uint32_t> joints;
+    std::vector<float> weights;
+    std::vector<IrMorphTarget> targets; // empty, or one per IrMesh::morphWeights entry
     std::vector<uint32_t> indices; // triangle list; importers generate 0..n-1 when unindexed
     int material = -1;             // IrScene::materials index, -1 = the default material
 
@@ -86,6 +98,13 @@ struct IrPrimitive {
 struct IrMesh {
     std::string name;
     std::vector<IrPrimitive> primitives;
+    // Morph targets: their default weights and names (empty: the mesh has none). A primitive
+    // with fewer targets than this (or none) does not move under the missing ones.
+    std::vector<float> morphWeights;
+    std::vector<std::string> targetNames; // empty or one per target
+    bool skinned = false; // drawn by a skinned node: every primitive carries joints and weights
+
+    bool deformed() const { return skinned || !morphWeights.empty(); }
 };
 
 struct IrNode {
@@ -95,6 +114,7 @@ struct IrNode {
     Vec4 rotation{0, 0, 0, 1}; // unit quaternion xyzw
     Vec3 scale{1, 1, 1};
     int mesh = -1, light = -1, camera = -1;
+    int skin = -1; // IrScene::skins index deforming the node's mesh (which is then skinned)
     // EXT_mesh_gpu_instancing: the mesh's copies, each at the node's transform times its own;
     // empty = the node draws its mesh once (docs/FORMAT.md NODE version 2).
     std::vector<InstanceTransform> instances;
@@ -118,6 +138,29 @@ struct IrCamera {
     float yfovRadians = 0.8f, aspectRatio = 0, znear = 0.1f, zfar = 0, xmag = 1, ymag = 1;
 };
 
+// A skin: the nodes (IR indices) whose world transforms deform the vertices of the skinned nodes'
+// meshes, with one inverse bind matrix (column-major) per joint. The nodes it deforms are those
+// with IrNode::skin naming it.
+struct IrSkin {
+    std::string name;
+    std::vector<int> joints;
+    std::vector<std::array<float, 16>> inverseBindMatrices;
+};
+
+// A clip's channel: one property of one node (IR index), as pnb::AnimationChannel stores it
+// (times in seconds, rotations xyzw, cubic-spline keys as in-tangent, value, out-tangent).
+struct IrAnimationChannel {
+    int node = -1;
+    AnimatedProperty property = AnimatedProperty::Translation;
+    KeyInterpolation interpolation = KeyInterpolation::Linear;
+    std::vector<float> times, values;
+};
+
+struct IrAnimation {
+    std::string name;
+    std::vector<IrAnimationChannel> channels;
+};
+
 // A feature of the source the player does not draw, once per feature: how much of the scene
 // uses it and what is drawn instead ({"KHR_materials_sheen", 3, "materials", "the base layer,
 // without sheen"}). The summary lists them once, not as a warning per item.
@@ -138,6 +181,8 @@ struct IrScene {
     std::vector<IrNode> nodes;
     std::vector<IrLight> lights;
     std::vector<IrCamera> cameras;
+    std::vector<IrSkin> skins;
+    std::vector<IrAnimation> animations;
     // Non-fatal findings, each naming the item ("material 'Wood': alphaMode 'X' is invalid").
     std::vector<std::string> warnings;
     std::vector<IrNotRendered> notRendered; // noteNotRendered adds to it

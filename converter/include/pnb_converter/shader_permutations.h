@@ -62,6 +62,8 @@ struct SceneShaderNeeds {
     bool translucentCasters = false;
     bool gi = false;            // GI: lighting with GI, G-buffer variants for forward materials
     bool ibl = false;           // an environment (ENVM) is written: lighting with IBL
+    bool skins = false;         // a skinned node (SKIN): `deform[SKIN]`
+    bool morphs = false;        // morph targets (MRPH): `deform[MORPH]`
 };
 
 // A program with its stage files and the sorted defines of this permutation.
