@@ -81,6 +81,12 @@ PosedFrameCheck checkPosedFrame(const std::string& pnbPath, double time, const s
                                              std::abs(double(t.w) - tangents[4 * v + 3])});
             }
         }
+        for (const DrawItem& item : g.items)
+            if (item.node == d.node) {
+                for (size_t v = 0; v < d.vertexCount; ++v)
+                    out.worldPositions.emplace_back(item.world * glm::dvec4(positions[3 * v], positions[3 * v + 1], positions[3 * v + 2], 1.0));
+                break;
+            }
         // Every posed vertex, placed in the world, inside the bounds of each of the node's items.
         const glm::dmat4 drawing = glm::make_mat4(drawingMatrix(*cpu, d.node, world).data());
         for (const DrawItem& item : g.items) {

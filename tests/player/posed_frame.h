@@ -7,6 +7,9 @@
 
 #include <optional>
 #include <string>
+#include <vector>
+
+#include <glm/glm.hpp>
 
 namespace pnb::player::test {
 
@@ -17,6 +20,9 @@ struct PosedFrameCheck {
     // (the diagonal of its CPU-posed box), normals and tangents as unit vectors.
     double positionError = 0, normalError = 0, tangentError = 0;
     size_t outsideBounds = 0; // posed vertices outside their items' world bounds
+    // Every deformed node's posed vertices as the GPU wrote them, placed in the world by the
+    // node's draw item (what the frame drew), for comparisons with an independent pose.
+    std::vector<glm::dvec3> worldPositions;
 };
 
 // Loads `pnbPath`, renders one 64x64 frame with the pose held at `time` seconds of clip `clip`
