@@ -191,6 +191,17 @@ def summary_names(ctx, feature, patterns):
               f"draw): {hit if hit else lines}")
 
 
+def summary_plays(ctx, feature, pattern):
+    """pnb-convert's summary counts the feature among what the deform pass plays (issue 42), and
+    its "not rendered" list no longer names skins, animations or morph targets."""
+    dropped = [l for l in ctx.summary.get("not_rendered", [])
+               if re.match(r"(skins|animations|morph)", l, re.I)]
+    line = next((l for l in ctx.convert_text.splitlines() if "played by the deform pass" in l), "")
+    ctx.check(bool(re.search(pattern, line)) and not dropped,
+              f"the summary plays {feature}: {line.strip() or 'no deform line'}"
+              f"{'; not rendered: ' + str(dropped) if dropped else ''}")
+
+
 def no_red_marks(ctx, img, mask, what, limit=0.002):
     red = colour_pixels(img, mask, "red", min_sat=0.5, min_val=0.12)  # also a red X in shade
     area = max(mask.count(), 1)
@@ -630,29 +641,32 @@ def _emissive_strength(ctx):
 
 def _skinned(ctx, features):
     ctx.require_converted()
-    for feature, patterns in features:
-        summary_names(ctx, feature, patterns)
+    for feature, pattern in features:
+        summary_plays(ctx, feature, pattern)
     converts_and_plays(ctx, min_coverage=0.02, size=(384, 288),
                        direction=(1, 0.3, 1) if ctx.name == "Fox" else (0, 0, 1))
 
 
-@model("CesiumMan", "skin and animation not drawn yet: converts, plays in its bind pose "
-       "(covers >= 2 % of the frame), and the summary names the skin and the animation")
+@model("CesiumMan", "skin and animation played (the pose at a time is checked against the glTF's "
+       "own by render.KhronosPose.*): converts, plays its walk (covers >= 2 % of the frame), "
+       "and the summary names the skin and the animation")
 def _cesium_man(ctx):
-    _skinned(ctx, (("the skin", [r"skins "]), ("the animation", [r"animations "])))
+    _skinned(ctx, (("the skin", r"skins 1 \(19 joints\)"), ("the animation", r"animations \(1 clips")))
 
 
-@model("Fox", "skin and 3 animations not drawn yet: converts, plays in its bind pose "
-       "(covers >= 2 % of the frame), and the summary names the skin and the animations")
+@model("Fox", "skin and 3 animations played (the pose checked by render.KhronosPose.*): "
+       "converts, plays its first clip (covers >= 2 % of the frame), and the summary names the "
+       "skin and the animations")
 def _fox(ctx):
-    _skinned(ctx, (("the skin", [r"skins "]), ("the animations", [r"animations \(3 "])))
+    _skinned(ctx, (("the skin", r"skins 1 \(24 joints\)"), ("the animations", r"animations \(3 clips")))
 
 
-@model("AnimatedMorphCube", "morph animation not played: converts, plays in its rest shape "
-       "(default weights 0: a cube filling its projected box), and the summary names the animation")
+@model("AnimatedMorphCube", "morph animation played (the pose checked by render.KhronosPose.*): "
+       "converts, plays its first frame (weights 0 at t = 0: a cube filling its projected box), "
+       "and the summary names the animation")
 def _animated_morph_cube(ctx):
     ctx.require_converted()
-    summary_names(ctx, "the animation", [r"animations "])
+    summary_plays(ctx, "the morph animation", r"animations \(1 clips.*morphed meshes 1")
     m = converts_and_plays(ctx, min_coverage=0.05, size=(288, 288), direction=(1, 0.8, 1.2))
     bb = m.bbox()
     if bb:
