@@ -152,8 +152,8 @@ void checkPoses(const Scene& scene) {
                 for (float w : pose.weights[n])
                     if (!std::isfinite(w)) fail("a valid clip poses finite morph weights", {});
                 if (!isDeformed(scene, n)) continue;
-                // Finite keys, joint matrices and weights give finite vertices unless their
-                // magnitudes overflow float, which the rules do not bound: touch them, for ASan.
+                // A vertex carried beyond float stays where it is stored (whose finiteness the
+                // rules do not check: a static draw of it would be as wrong): touch, for ASan.
                 const DeformedVertices v = deformVertices(scene, n, pose, world);
                 gSink = gSink + v.positions.size();
                 std::vector<std::array<float, 16>> joints;

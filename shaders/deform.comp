@@ -8,7 +8,8 @@
 // truth and the tests agree with the frame: morph targets first (base + sum_k w_k delta_k, for
 // positions, normals and tangents), then the skin: M = sum_i (w_i / sum w) J[joint_i], position
 // by M, normal and tangent.xyz by M's 3x3; weights summing to 0 leave the vertex where the morph
-// put it. Normals and tangents are renormalised (0 length: +Z), tangent.w kept.
+// put it. Normals and tangents are renormalised (0 length or not finite: +Z), tangent.w kept; a
+// position that is not finite after all that is the stored one.
 //
 // Defines: SKIN (the scene has skinned nodes), MORPH (it has morph targets). One program serves
 // both kinds of node: a morph-only node runs with uJointCount 0, a skin-only one with
@@ -118,6 +119,9 @@ void main() {
         }
     }
 #endif
+    // A vertex carried beyond float (extreme but finite joints or deltas) stays where the
+    // container stores it: no frame ever draws a NaN (FORMAT.md "SKIN"), as deformVertices does.
+    if (any(isnan(position)) || any(isinf(position))) position = source3(uSourcePosition, v);
     write3(0u, v, position);
     if (hasNormal) write3(uPosedNormal, v, normalised(normal));
     if (hasTangent) {

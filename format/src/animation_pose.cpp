@@ -276,6 +276,15 @@ DeformedVertices deformVertices(const Scene& scene, uint32_t node, const Pose& p
             }
         }
     }
+    // A vertex carried beyond float (extreme but finite joints or deltas) stays where the mesh
+    // stores it, so no frame holds a NaN (FORMAT.md "SKIN"; deform.comp does the same).
+    if (const VertexStream* stored = findStream(mesh, VertexSemantic::Position))
+        for (size_t v = 0; v < out.positions.size(); ++v) {
+            const Vec3& p = out.positions[v];
+            if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z))
+                out.positions[v] = {detail::streamFloat(stored->data, 3 * v), detail::streamFloat(stored->data, 3 * v + 1),
+                                    detail::streamFloat(stored->data, 3 * v + 2)};
+        }
     for (Vec3& nrm : out.normals) nrm = normalised(nrm);
     for (Vec4& t : out.tangents) {
         const Vec3 d = normalised({t.x, t.y, t.z});

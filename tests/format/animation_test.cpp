@@ -199,6 +199,29 @@ TEST(AnimationPose, SkinsAndMorphsVerticesAsComputedByHand) {
     EXPECT_NEAR(still.positions[3].y, 2, 1e-6);
 }
 
+TEST(AnimationPose, AVertexCarriedBeyondFloatStaysWhereItIsStored) {
+    SceneBuilder b;
+    buildAnimatedScene(b);
+    const float big = std::numeric_limits<float>::max();
+    b.scene.skins[0].inverseBindMatrices[1] = {big, 0, 0, 0, 0, big, 0, 0, 0, 0, big, 0, big, big, 0, 1};
+    b.scene.morphTargets[0].targets[0].deltas[0] = f32Stream(b, VertexSemantic::Position, {big, big, big, 0, 0, 1, 0, 0, 1}, 3);
+    ASSERT_TRUE(isOk(validate(b))) << validate(b).message; // finite, so a reader accepts it
+    Pose p = restPose(b.scene);
+    applyClip(b.scene, b.scene.animations[0], 1.0, p);
+    p.weights[3][0] = big; // as a clip may set it
+    const auto world = nodeWorldMatrices(p.graph);
+    for (uint32_t node : {2u, 3u}) {
+        const DeformedVertices d = deformVertices(b.scene, node, p, world);
+        for (const Vec3& v : d.positions) EXPECT_TRUE(std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z)) << node;
+        for (const Vec3& n : d.normals) EXPECT_TRUE(std::isfinite(n.x) && std::isfinite(n.y) && std::isfinite(n.z)) << node;
+    }
+    // The top row, whose joint overflows, is where the mesh stores it; the bottom row is skinned.
+    const DeformedVertices strip = deformVertices(b.scene, 2, p, world);
+    EXPECT_EQ(strip.positions[3].x, 1.0f);
+    EXPECT_EQ(strip.positions[3].y, 2.0f);
+    EXPECT_NEAR(strip.positions[1].x + 5, 1, 1e-6);
+}
+
 TEST(AnimationPose, DeformedBoundsHoldEveryPosedVertex) {
     SceneBuilder b;
     buildAnimatedScene(b);

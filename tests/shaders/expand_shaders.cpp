@@ -77,6 +77,16 @@ std::vector<ProgramVariant> everySceneVariant() {
                     ShaderPlan plan = planShaders(std::span(&m, 1), std::span(&f, 1), needs);
                     for (ProgramVariant& v : plan.programs) variants.emplace(describeVariant(v), v);
                 }
+    // The deform pass's variants (skins, morph targets or both) do not depend on the materials.
+    for (int deforms = 1; deforms < 4; ++deforms) {
+        Material m;
+        MaterialFeatures f;
+        SceneShaderNeeds needs;
+        needs.skins = deforms & 1;
+        needs.morphs = deforms & 2;
+        for (ProgramVariant& v : planShaders(std::span(&m, 1), std::span(&f, 1), needs).programs)
+            variants.emplace(describeVariant(v), v);
+    }
     std::vector<ProgramVariant> out;
     for (auto& [label, v] : variants) out.push_back(std::move(v));
     return out;

@@ -65,7 +65,8 @@ bool isDeformed(const Scene& scene, uint32_t node);
 // The vertices of mesh `mesh` as node `node` draws them in `pose`: morph targets applied at the
 // node's weights, then the skin (each vertex at sum_i w_i J[j_i] v with its weights divided by
 // their sum; weights summing to 0 leave the vertex where the morph put it), normals and tangents
-// by the joints' 3x3 and renormalised. Positions are in the node's drawing space: its world
+// by the joints' 3x3 and renormalised; a position that float cannot hold after all that (extreme
+// but finite joint matrices or deltas) is the stored one. Positions are in the node's drawing space: its world
 // matrix, or skinnedPlacement of it for a skinned node. Reads F32 streams (FORMAT.md requires
 // them of deformed meshes); `normals`/`tangents` stay empty without those streams.
 struct DeformedVertices {

@@ -7,10 +7,9 @@
 #include <cstring>
 #include <limits>
 
-#include <glm/gtc/matrix_inverse.hpp>
 #include <glm/gtc/type_ptr.hpp>
 
-#include "lod_select.h" // maxStretch
+#include "load/place_item.h"
 #include "pnb_lighting/scene_lights.h"
 
 namespace pnb::player {
@@ -18,22 +17,6 @@ namespace pnb::player {
 namespace {
 
 glm::dmat4 toGlm(const Matrix4d& m) { return glm::make_mat4(m.data()); }
-
-void placeBox(const glm::dmat4& m, const Aabb& box, glm::dvec3& outMin, glm::dvec3& outMax) {
-    outMin = glm::dvec3(std::numeric_limits<double>::max());
-    outMax = -outMin;
-    if (box.empty()) { // nothing to bound: a point at the origin of the placement
-        outMin = outMax = glm::dvec3(m[3]);
-        return;
-    }
-    for (int c = 0; c < 8; ++c) {
-        const glm::dvec3 p((c & 1) ? box.max.x : box.min.x, (c & 2) ? box.max.y : box.min.y,
-                           (c & 4) ? box.max.z : box.min.z);
-        const glm::dvec3 w = glm::dvec3(m * glm::dvec4(p, 1.0));
-        outMin = glm::min(outMin, w);
-        outMax = glm::max(outMax, w);
-    }
-}
 
 } // namespace
 
@@ -67,14 +50,6 @@ bool movedNear(const SceneAnimation* a, const glm::dvec3& centre, double radius)
         if (!(glm::length(closest - centre) > radius)) return true; // a NaN radius: moved
     }
     return false;
-}
-
-void placeItem(DrawItem& item, const glm::dmat4& world, const Aabb& local) {
-    item.world = world;
-    item.normalMatrix = glm::mat3(glm::inverseTranspose(glm::dmat3(world)));
-    item.worldScale = maxStretch(glm::dmat3(world));
-    item.mirrored = glm::determinant(glm::dmat3(world)) < 0.0;
-    placeBox(world, local, item.boundsMin, item.boundsMax);
 }
 
 AnimationUpdate animateScene(GpuScene& scene, const RenderSettings& s, double clock, AnimationState& state) {

@@ -14,10 +14,6 @@
 
 namespace pnb::player {
 
-// Places item `item` at `world` with `local` (its mesh-space box) as its bounds: the world
-// matrix, normal matrix, world scale, winding and world-space box.
-void placeItem(DrawItem& item, const glm::dmat4& world, const Aabb& local);
-
 // What the last update posed, so an unchanged pose costs nothing (no dispatch, no cache redraw).
 struct PoseKey {
     bool enabled = false;

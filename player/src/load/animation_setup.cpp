@@ -4,8 +4,8 @@
 
 #include <glm/gtc/type_ptr.hpp>
 
-#include "anim/animate_scene.h"
 #include "gl/gl_allocation.h"
+#include "load/place_item.h"
 #include "load/scene_upload.h"
 #include "load/upload.h"
 #include "shared/deform_params.h" // PNB_DEFORM_ABSENT

@@ -7,7 +7,6 @@
 #include <limits>
 #include <set>
 
-#include <glm/gtc/matrix_inverse.hpp>
 #include <glm/gtc/type_ptr.hpp>
 
 #include "pnb/mesh_levels.h"
@@ -15,7 +14,7 @@
 #include "pnb/scene.h"
 #include "pnb_lighting/scene_lights.h"
 #include "gl/gl_allocation.h"
-#include "lod_select.h"
+#include "load/place_item.h"
 #include "gl/program_compile.h"
 #include "load/scene_upload.h"
 #include "load/upload.h"
@@ -46,18 +45,6 @@ MaterialBlock materialBlock(const Material& m) {
         b.texTransform[i * 2 + 1] = {s.rotationRadians, float(s.texCoord), 0, 0};
     }
     return b;
-}
-
-void transformBounds(const glm::dmat4& m, const Aabb& box, glm::dvec3& outMin, glm::dvec3& outMax) {
-    outMin = glm::dvec3(std::numeric_limits<double>::max());
-    outMax = -outMin;
-    for (int c = 0; c < 8; ++c) {
-        glm::dvec3 p((c & 1) ? box.max.x : box.min.x, (c & 2) ? box.max.y : box.min.y,
-                     (c & 4) ? box.max.z : box.min.z);
-        glm::dvec3 w = glm::dvec3(m * glm::dvec4(p, 1.0));
-        outMin = glm::min(outMin, w);
-        outMax = glm::max(outMax, w);
-    }
 }
 
 // Deferred layer priorities and whether anything is forward, over the drawn items (materials
@@ -232,8 +219,6 @@ std::vector<uint32_t> buildSceneGraph(const Scene& scene, GpuScene& gpu) {
         uint32_t chainIndex = 0;
         const glm::dmat4 placed = glm::make_mat4(copy.world.data());
         const GpuMesh& mesh = gpu.meshes[n.mesh];
-        glm::mat3 normal = glm::mat3(glm::inverseTranspose(glm::dmat3(placed)));
-        const double worldScale = maxStretch(glm::dmat3(placed));
         for (const MeshChain& chain : meshLevels[n.mesh]) {
             const DrawLevel& level0 = gpu.levels[chain.firstLevel];
             DrawItem item;
@@ -242,15 +227,11 @@ std::vector<uint32_t> buildSceneGraph(const Scene& scene, GpuScene& gpu) {
             item.material = chain.material;
             item.firstLevel = chain.firstLevel;
             item.levelCount = chain.levelCount;
-            item.world = placed;
-            item.normalMatrix = normal;
-            item.worldScale = worldScale;
-            item.mirrored = glm::determinant(glm::dmat3(placed)) < 0.0;
             if (instanced[copy.node])
                 item.instanceGroup = groups - uint32_t(meshLevels[n.mesh].size()) + chainIndex;
             ++chainIndex;
             // The coarser levels reuse level 0's vertices, so its bounds hold them all.
-            transformBounds(placed, mesh.submeshes[level0.submesh].bounds, item.boundsMin, item.boundsMax);
+            placeItem(item, placed, mesh.submeshes[level0.submesh].bounds);
             item.triangles = level0.triangles;
             gpu.triangles += item.triangles;
             if (item.levelCount > 1) gpu.lodItems.push_back(uint32_t(gpu.items.size()));
