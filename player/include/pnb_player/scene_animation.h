@@ -31,6 +31,7 @@ namespace pnb::player {
 struct DeformedNode {
     uint32_t node = 0, sourceMesh = 0, posedMesh = 0; // container node and mesh; GpuScene::meshes index
     uint32_t vertexCount = 0;
+    std::vector<uint32_t> items; // its draw items (GpuScene::items), re-placed with every pose
     uint32_t position = 0, normal = 0, tangent = 0, joints = 0, weights = 0; // in the source buffer
     bool jointsU16 = false;
     uint32_t posedNormal = 0, posedTangent = 0; // in the posed buffer (positions at 0)

@@ -109,11 +109,10 @@ AnimationUpdate animateScene(GpuScene& scene, const RenderSettings& s, double cl
             for (size_t k = 0; k < w.size() && k < d.targetCount; ++k) state.frameData[d.weightBase + k] = w[k];
             local = deformedBounds(d.bounds, joints, w);
         }
-        for (uint32_t i = 0; i < scene.items.size(); ++i)
-            if (scene.items[i].node == d.node) {
-                placeItem(scene.items[i], drawing, local);
-                up.movedItems.push_back(i);
-            }
+        for (uint32_t i : d.items) {
+            placeItem(scene.items[i], drawing, local);
+            up.movedItems.push_back(i);
+        }
     }
     up.deform = key.enabled && !a.deformed.empty();
     up.restore = !key.enabled && wasEnabled && !a.deformed.empty();

@@ -69,6 +69,8 @@ PlayResult<Done> setUpAnimation(const Scene& scene, const std::vector<uint32_t>&
     }
 
     // A posed mesh per deformed node; its items draw it.
+    std::vector<std::vector<uint32_t>> itemsOf(scene.nodes.nodes.size());
+    for (uint32_t i = 0; i < gpu.items.size(); ++i) itemsOf[gpu.items[i].node].push_back(i);
     for (uint32_t n = 0; n < scene.nodes.nodes.size(); ++n) {
         if (!isDeformed(scene, n)) continue;
         const uint32_t meshIndex = scene.nodes.nodes[n].mesh;
@@ -102,11 +104,11 @@ PlayResult<Done> setUpAnimation(const Scene& scene, const std::vector<uint32_t>&
         d.bounds = deformBounds(scene, n);
         d.bindBounds = mesh.bounds;
         const glm::dmat4 drawing = glm::make_mat4(drawingMatrix(scene, n, a->restWorld).data());
-        for (DrawItem& item : gpu.items)
-            if (item.node == n) {
-                item.mesh = d.posedMesh;
-                placeItem(item, drawing, d.bindBounds);
-            }
+        d.items = std::move(itemsOf[n]);
+        for (uint32_t i : d.items) {
+            gpu.items[i].mesh = d.posedMesh;
+            placeItem(gpu.items[i], drawing, d.bindBounds);
+        }
         gpu.memory.meshBytes += posed->bytes;
         gpu.meshes.push_back(std::move(*posed));
         a->deformed.push_back(std::move(d));
