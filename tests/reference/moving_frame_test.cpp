@@ -356,24 +356,6 @@ TEST(MovingFrame, IndirectTracerSeesThePosedBox) {
 
 namespace {
 
-struct RunResult {
-    int exitCode = -1;
-    std::string output;
-};
-
-RunResult run(const std::string& args) {
-    std::string command = std::string("'") + PNB_REFERENCE_EXE + "' " + args + " 2>&1";
-    RunResult r;
-    FILE* pipe = ::popen(command.c_str(), "r");
-    if (!pipe) return r;
-    char buffer[4096];
-    size_t n;
-    while ((n = std::fread(buffer, 1, sizeof buffer, pipe)) > 0) r.output.append(buffer, n);
-    int status = ::pclose(pipe);
-    r.exitCode = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-    return r;
-}
-
 void writeContainer(const Scene& scene, const fs::path& path) {
     std::vector<std::byte> bytes;
     Writer w = Writer::toMemory(&bytes, {});

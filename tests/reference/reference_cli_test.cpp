@@ -23,24 +23,6 @@ namespace {
 
 constexpr float kNaN = std::numeric_limits<float>::quiet_NaN();
 
-struct RunResult {
-    int exitCode = -1;
-    std::string output; // stdout and stderr
-};
-
-RunResult run(const std::string& args) {
-    std::string command = std::string("'") + PNB_REFERENCE_EXE + "' " + args + " 2>&1";
-    RunResult r;
-    FILE* pipe = ::popen(command.c_str(), "r");
-    if (!pipe) return r;
-    char buffer[4096];
-    size_t n;
-    while ((n = std::fread(buffer, 1, sizeof buffer, pipe)) > 0) r.output.append(buffer, n);
-    int status = ::pclose(pipe);
-    r.exitCode = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-    return r;
-}
-
 std::string shellQuote(const fs::path& p) { return "'" + p.string() + "'"; }
 
 void writeExr(const fs::path& path, int width, int height, int channels,

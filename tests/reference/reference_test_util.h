@@ -2,9 +2,11 @@
 // loading converted containers, and the ground + box scene whose shadow footprint is known.
 #pragma once
 
+#include <sys/wait.h>
 #include <unistd.h>
 
 #include <atomic>
+#include <cstdio>
 #include <filesystem>
 #include <memory>
 #include <string>
@@ -79,5 +81,26 @@ inline gltf::Document groundAndBox(gltf::Float3 offset = {0, 0, 0}) {
                     {offset[0], offset[1] + 3, offset[2]});
     return doc;
 }
+
+#ifdef PNB_REFERENCE_EXE
+// pnb-reference run as a child process with `args` (already shell-quoted where needed).
+struct RunResult {
+    int exitCode = -1;
+    std::string output; // stdout and stderr
+};
+
+inline RunResult run(const std::string& args) {
+    const std::string command = std::string("'") + PNB_REFERENCE_EXE + "' " + args + " 2>&1";
+    RunResult r;
+    FILE* pipe = ::popen(command.c_str(), "r");
+    if (!pipe) return r;
+    char buffer[4096];
+    size_t n;
+    while ((n = std::fread(buffer, 1, sizeof buffer, pipe)) > 0) r.output.append(buffer, n);
+    const int status = ::pclose(pipe);
+    r.exitCode = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    return r;
+}
+#endif
 
 } // namespace pnb::reference::test

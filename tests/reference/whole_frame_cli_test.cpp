@@ -18,24 +18,6 @@
 namespace pnb::reference::test {
 namespace {
 
-struct RunResult {
-    int exitCode = -1;
-    std::string output; // stdout and stderr
-};
-
-RunResult run(const std::string& args) {
-    const std::string command = std::string("'") + PNB_REFERENCE_EXE + "' " + args + " 2>&1";
-    RunResult r;
-    FILE* pipe = ::popen(command.c_str(), "r");
-    if (!pipe) return r;
-    char buffer[4096];
-    size_t n;
-    while ((n = std::fread(buffer, 1, sizeof buffer, pipe)) > 0) r.output.append(buffer, n);
-    const int status = ::pclose(pipe);
-    r.exitCode = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-    return r;
-}
-
 std::string quote(const fs::path& p) { return "'" + p.string() + "'"; }
 
 // The camera at (0, 10, 10) looking at the origin (down 45 degrees), +Y up: view +X = world +X,
